@@ -1,0 +1,28 @@
+//! vito: variational contact-implicit trajectory optimisation for legged robots.
+//!
+//! The pipeline (see `../shared/DESIGN.md`): a TOML problem file is parsed and checked into a
+//! [`problem::ProblemSpec`]; the robot comes from a URDF as a [`model::Model`]; the
+//! [`transcription`] turns both into a sparse nonlinear program whose derivatives come from
+//! [`autodiff`] over the [`discrete`] mechanics and [`contact`] geometry; [`ipopt`] solves it;
+//! [`report`] writes what a researcher reads.
+//!
+//! Module map:
+//! - `ipopt`: the only place with `unsafe`: FFI bindings and the safe solver wrapper.
+//! - `model`: URDF → kinematic tree, energies, springs, dampers, loop closures (generic scalar).
+//! - `autodiff`: dense local Jacobians and Hessians of small functions by forward-mode duals.
+//! - `discrete`: discrete Lagrangians (midpoint, first-order Euler), forces, forward stepping.
+//! - `contact`: terrain, signed distance, friction directions.
+//! - `transcription`: variable layout, constraint blocks, costs, sparse assembly, the NLP.
+//! - `problem`: TOML schema, validation into a checked `ProblemSpec`.
+//! - `report`: trajectory CSV, summary JSON, SVG plots, regression records.
+#![deny(unsafe_code)]
+
+pub mod autodiff;
+pub mod contact;
+pub mod discrete;
+#[allow(unsafe_code)]
+pub mod ipopt;
+pub mod model;
+pub mod problem;
+pub mod report;
+pub mod transcription;

@@ -1,0 +1,3 @@
+fn main() {
+    println!("vito {}", env!("CARGO_PKG_VERSION"));
+}

@@ -1,0 +1,226 @@
+//! The checked problem: what the transcription builds an NLP from.
+//!
+//! A `ProblemSpec` is produced by validating a TOML file (`problem::load`) or built in Rust.
+//! Everything a user names (coordinates, inputs, links) is resolved here to indices into
+//! the model's coordinate and input order, and every vector has its full length, so the
+//! transcription never looks up a name and never checks a length.
+//! Units are the robot's units (SI unless the problem declares otherwise).
+
+use std::path::PathBuf;
+
+use crate::contact::Terrain;
+use crate::model::BaseType;
+
+/// Which discrete mechanics the dynamics constraints use.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Integrator {
+    /// Midpoint discrete Lagrangian Ld = h·L((qa+qb)/2, (qb−qa)/h): second order, the paper's.
+    #[default]
+    Midpoint,
+    /// First-order semi-implicit Euler time stepping (Posa et al. 2014, eq. 1 of the paper).
+    Euler,
+}
+
+/// How the Lagrangian Hessian is obtained.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum HessianMode {
+    /// Exact, assembled from AD per block.
+    #[default]
+    Exact,
+    /// Ipopt's limited-memory quasi-Newton approximation.
+    Lbfgs,
+}
+
+/// How many complementarity slacks the relaxation uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SlackMode {
+    /// One slack s_k per interval shared by all contacts (the paper's and SPEC's).
+    #[default]
+    PerInterval,
+    /// One slack per interval, contact and complementarity pair.
+    PerContact,
+}
+
+/// The robot model and its environment constants.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RobotSpec {
+    /// URDF file (absolute, or relative to the working directory once resolved).
+    pub urdf: PathBuf,
+    /// Base joint the problem chooses.
+    pub base: BaseType,
+    /// Gravity vector in world coordinates (robot units), e.g. [0, 0, −9.81].
+    pub gravity: [f64; 3],
+}
+
+/// One point contact: a point fixed on a link, against the terrain.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ContactSpec {
+    /// Display name (defaults to the collision or link name), used in outputs.
+    pub name: String,
+    /// Link the point is fixed to (URDF link name; resolved by the model).
+    pub link: String,
+    /// Point in the link frame.
+    pub point: [f64; 3],
+    /// Coulomb friction coefficient μ ≥ 0.
+    pub friction: f64,
+}
+
+/// Time steps h_k, k = 1..N−1.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum TimeSteps {
+    /// Every h_k fixed to this value (> 0).
+    Fixed(f64),
+    /// Free, equal steps with total time T in [t_min, t_max]: bounds T/(N−1) on each h_k, N−2
+    /// rows h_k − h_{k+1} = 0 after all per-interval rows; guess h = t_max/(N−1).
+    FreeEqual { t_min: f64, t_max: f64 },
+}
+
+/// Lower and upper bound (±∞ for none).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Interval {
+    pub lower: f64,
+    pub upper: f64,
+}
+
+impl Interval {
+    pub const FREE: Interval = Interval {
+        lower: f64::NEG_INFINITY,
+        upper: f64::INFINITY,
+    };
+    pub fn fixed(value: f64) -> Interval {
+        Interval {
+            lower: value,
+            upper: value,
+        }
+    }
+}
+
+/// Which knots (1-based in the maths, 0-based here: knot 0 is q_1) a bound applies to.
+#[derive(Debug, Clone, PartialEq)]
+pub enum KnotSet {
+    All,
+    /// All but the first and last knot.
+    Interior,
+    First,
+    Last,
+    /// Explicit 0-based knot indices.
+    List(Vec<usize>),
+}
+
+/// A bound on one coordinate at a set of knots (intersected with other bounds).
+#[derive(Debug, Clone, PartialEq)]
+pub struct CoordinateBound {
+    /// Index into the model's coordinates.
+    pub coordinate: usize,
+    pub knots: KnotSet,
+    pub bound: Interval,
+}
+
+/// One cost term. Running terms are summed over intervals k = 1..N−1 and weighted by h_k
+/// when `time_weighted` is set. Every quadratic term carries the factor ½:
+/// ½ (a − b)ᵀ diag(w) (a − b). Weight vectors have full length (n, or m for inputs).
+#[derive(Debug, Clone, PartialEq)]
+pub enum CostTerm {
+    /// Σ_k [h_k] ½ (x̄_k − x_g)ᵀ diag(w_q, w_v) (x̄_k − x_g), with the midpoint state
+    /// x̄_k = [(q_k+q_{k+1})/2 ; (q_{k+1}−q_k)/h_k] and target x_g = [q_target; v_target].
+    StateTracking {
+        q_target: Vec<f64>,
+        v_target: Vec<f64>,
+        q_weights: Vec<f64>,
+        v_weights: Vec<f64>,
+        time_weighted: bool,
+    },
+    /// Σ_k [h_k] ½ u_kᵀ diag(w) u_k.
+    Input {
+        weights: Vec<f64>,
+        time_weighted: bool,
+    },
+    /// Σ_{k=2}^{N−1} ½ (u_k − u_{k−1})ᵀ diag(w) (u_k − u_{k−1}).
+    InputRate { weights: Vec<f64> },
+    /// Σ_{k=1}^{N−1} ½ (q_{k+1} − q_k)ᵀ diag(w) (q_{k+1} − q_k).
+    ConfigurationDifference { weights: Vec<f64> },
+    /// ½ (q_N − q_target)ᵀ diag(w) (q_N − q_target).
+    FinalState {
+        q_target: Vec<f64>,
+        weights: Vec<f64>,
+    },
+    /// w · Σ_k h_k (total time).
+    Time { weight: f64 },
+}
+
+/// Periodicity between the first and last knot for one coordinate.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Periodicity {
+    pub coordinate: usize,
+    /// q_N[c] − q_1[c] = offset.
+    pub position: bool,
+    pub offset: f64,
+    /// Finite-difference velocity of the last interval equals that of the first.
+    pub velocity: bool,
+}
+
+/// Where the solver starts.
+#[derive(Debug, Clone, PartialEq)]
+pub enum InitialGuess {
+    /// The common rule of SPEC.md: q linear from `from` (q_1) to `to`, u = 0, contact
+    /// variables 0.01, s = 0.01, h as given (t_max/(N−1) when free), v_0 its fixed value or 0.
+    Linear { from: Vec<f64>, to: Vec<f64> },
+    /// A previous solution resampled to this problem's knots (times from 0 to T).
+    WarmStart(WarmStart),
+}
+
+/// A previous trajectory to start from, by knot times.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WarmStart {
+    /// File it was read from (for messages).
+    pub source: PathBuf,
+    /// Knot times of the previous solution (length N').
+    pub times: Vec<f64>,
+    /// Configurations at those times (N' × n).
+    pub q: Vec<Vec<f64>>,
+    /// Inputs per interval (N'−1 × m), empty when absent.
+    pub u: Vec<Vec<f64>>,
+}
+
+/// An Ipopt option value as written in a problem file.
+#[derive(Debug, Clone, PartialEq)]
+pub enum OptionValue {
+    Str(String),
+    Num(f64),
+    Int(i64),
+}
+
+/// A complete, checked trajectory-optimisation problem.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ProblemSpec {
+    /// Short name (the file stem), used in outputs and regression records.
+    pub name: String,
+    pub robot: RobotSpec,
+    pub contacts: Vec<ContactSpec>,
+    pub terrain: Terrain,
+    /// Number of knots N ≥ 2.
+    pub knots: usize,
+    pub time_steps: TimeSteps,
+    pub integrator: Integrator,
+    /// Slack penalty α > 0 in the objective α Σ s.
+    pub slack_weight: f64,
+    pub slack_mode: SlackMode,
+    /// q_1, fixed (length n).
+    pub q_initial: Vec<f64>,
+    /// v_0 fixed to this value when set (length n); free otherwise.
+    pub v_initial: Option<Vec<f64>>,
+    /// Bounds on q_N per coordinate (length n); `Interval::fixed` for a fixed goal.
+    pub q_final: Vec<Interval>,
+    /// Extra coordinate bounds (joint limits from the URDF are added when `joint_limits`).
+    pub bounds: Vec<CoordinateBound>,
+    /// Apply the URDF joint limits on every knot.
+    pub joint_limits: bool,
+    /// Bounds per input (length m).
+    pub input_bounds: Vec<Interval>,
+    pub costs: Vec<CostTerm>,
+    pub periodic: Vec<Periodicity>,
+    pub initial_guess: InitialGuess,
+    pub hessian: HessianMode,
+    /// Ipopt options in the order given (checked by the wrapper).
+    pub solver_options: Vec<(String, OptionValue)>,
+}
