@@ -2,5 +2,7 @@
 //! bindgen in `build.rs`). The only module with `unsafe`.
 
 mod nlp;
+mod status;
 
 pub use nlp::{IterationInfo, Nlp};
+pub use status::Status;

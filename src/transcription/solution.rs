@@ -1,0 +1,59 @@
+//! What a solve returns: the trajectory by knot, with names, and the numbers a summary needs.
+
+use crate::ipopt::Status;
+
+/// Sizes of the NLP as Ipopt sees it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct NlpSize {
+    pub n_variables: usize,
+    pub n_constraints: usize,
+    pub nnz_jacobian: usize,
+    pub nnz_hessian: usize,
+}
+
+/// A solved (or stopped) trajectory. Knot k = 0..N−1, interval k = 0..N−2 (0-based).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Solution {
+    pub status: Status,
+    /// Total objective (problem cost + slack penalty).
+    pub objective: f64,
+    /// The objective split by term, named like "state_tracking", "input", "slack_penalty".
+    pub objective_terms: Vec<(String, f64)>,
+    pub iterations: usize,
+    pub wall_time_s: f64,
+    /// Time spent in vito's callbacks (function and derivative evaluation).
+    pub callback_time_s: f64,
+    /// Time spent inside Ipopt (linear algebra, line search), i.e. wall minus callbacks.
+    pub ipopt_time_s: f64,
+    pub size: NlpSize,
+    /// Model coordinate names (length n), input names (m), contact names (nc).
+    pub coordinate_names: Vec<String>,
+    pub input_names: Vec<String>,
+    pub contact_names: Vec<String>,
+    /// Friction directions per contact (2 planar, 4 spatial: [+x, +y, −x, −y] or [+x, −x]).
+    pub friction_directions: usize,
+    /// Knot times t_k (length N), t_0 = 0.
+    pub times: Vec<f64>,
+    /// Time steps h_k (length N−1).
+    pub time_steps: Vec<f64>,
+    /// Configurations q_k (N × n).
+    pub q: Vec<Vec<f64>>,
+    /// Velocities at the knots (N × n): v_0 at knot 0, (q_k − q_{k−1})/h_{k−1} after.
+    pub v: Vec<Vec<f64>>,
+    /// Inputs u_k per interval (N−1 × m).
+    pub u: Vec<Vec<f64>>,
+    /// Normal impulses c_k,i (N−1 × nc).
+    pub normal_impulse: Vec<Vec<f64>>,
+    /// Friction impulses β_k,i (N−1 × nc × nd).
+    pub friction_impulse: Vec<Vec<Vec<f64>>>,
+    /// Signed distance φ_i(q_{k+1}) per interval (N−1 × nc).
+    pub signed_distance: Vec<Vec<f64>>,
+    /// Slacks per interval (N−1 × slacks per interval: 1, or 3·nc in per-contact mode).
+    pub slack: Vec<Vec<f64>>,
+    /// Largest slack value.
+    pub max_slack: f64,
+    /// Largest complementarity residual max(c·max(φ,0), ...) over intervals and contacts.
+    pub max_complementarity: f64,
+    /// Largest constraint violation at the returned point.
+    pub max_constraint_violation: f64,
+}
