@@ -8,10 +8,12 @@ mod robot;
 pub mod schema;
 mod source;
 mod spec;
+mod starter;
 mod validate;
 
 pub use error::{Location, ProblemError};
 pub use robot::{CoordinateKind, RobotError, RobotInfo, UrdfContact};
 pub use source::{edit_distance, nearest};
 pub use spec::*;
+pub use starter::starter_problem;
 pub use validate::{LoadedProblem, Override, Units, load};

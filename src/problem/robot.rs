@@ -14,7 +14,8 @@ use crate::problem::Interval;
 /// A contact point declared in the URDF (a zero-radius collision sphere).
 #[derive(Debug, Clone, PartialEq)]
 pub struct UrdfContact {
-    /// Collision `name` attribute, else `<link>_<group>`, else `<link>_<k>` (k-th on the link).
+    /// Collision `name` attribute, else `<link>_contact<k>` (k-th point on the link, from 0),
+    /// as `model::ContactPoint` names it.
     pub name: String,
     /// Link it is fixed to.
     pub link: String,
@@ -161,10 +162,9 @@ impl RobotInfo {
                             .ok_or_else(|| {
                                 content(format!("link `{name}`: bad collision origin xyz"))
                             })?;
-                        let contact_name = match (collision.attribute("name"), collision.attribute("group")) {
-                            (Some(n), _) => n.to_owned(),
-                            (None, Some(g)) => format!("{name}_{g}"),
-                            (None, None) => format!("{name}_{on_link}"),
+                        let contact_name = match collision.attribute("name") {
+                            Some(n) => n.to_owned(),
+                            None => format!("{name}_contact{on_link}"),
                         };
                         on_link += 1;
                         info.contacts.push(UrdfContact {
@@ -269,7 +269,7 @@ mod tests {
         assert_eq!(info.inputs, ["hip"]);
         assert_eq!(info.effort_limits, [30.0]);
         assert_eq!(info.contacts.len(), 1);
-        assert_eq!(info.contacts[0].name, "leg_toe");
+        assert_eq!(info.contacts[0].name, "leg_contact0");
         assert_eq!(info.contacts[0].point, [0.0, 0.0, -0.5]);
     }
 }
