@@ -33,7 +33,7 @@ impl fmt::Display for Location {
 /// Formats ", did you mean `x`?" or nothing.
 fn did_you_mean(s: &Option<String>) -> String {
     match s {
-        Some(s) => format!("; did you mean `{s}`?"),
+        Some(s) => format!(", did you mean `{s}`?"),
         None => String::new(),
     }
 }
@@ -48,9 +48,11 @@ pub enum ProblemError {
     },
     #[error("{at}: TOML syntax error: {message}")]
     Syntax { at: Location, message: String },
-    #[error("{at}: unknown key `{key}`{}; valid keys here: {valid}", did_you_mean(.suggestion))]
+    #[error("{at}: unknown {what} `{key}`{}; valid {what}s here: {valid}", did_you_mean(.suggestion))]
     UnknownKey {
         at: Location,
+        /// `key`, or `value` for a tag such as a cost `type`.
+        what: &'static str,
         key: String,
         suggestion: Option<String>,
         valid: String,

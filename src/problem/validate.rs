@@ -278,6 +278,7 @@ impl Context {
                     .unwrap_or_default();
                 return ProblemError::UnknownKey {
                     at,
+                    what: if prefix.contains("variant") { "value" } else { "key" },
                     suggestion: nearest(&key, expected.iter().map(String::as_str)),
                     key,
                     valid: list_names(&expected, 40),
@@ -947,4 +948,120 @@ fn read_warm_start(ctx: &Context, path: &Path, robot: &RobotInfo) -> Result<Warm
         q,
         u,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn problems_dir() -> PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("problems")
+    }
+
+    #[test]
+    fn override_parses_toml_values_and_bare_words() {
+        let o = Override::parse("slack.weight=1e3").unwrap();
+        assert_eq!(o.path, "slack.weight");
+        assert_eq!(o.value, toml::Value::Float(1000.0));
+        let o = Override::parse("robot.base=planar").unwrap();
+        assert_eq!(o.value, toml::Value::String("planar".into()));
+        let o = Override::parse("horizon.total_time=[1, 2.5]").unwrap();
+        assert!(o.value.is_array());
+        assert!(Override::parse("no_equals_sign").is_err());
+        assert!(Override::parse("a={b=1}").is_err());
+    }
+
+    #[test]
+    fn hopper_file_is_spec_hopper() {
+        let p = load(&problems_dir().join("hopper_2d.toml"), &[]).unwrap();
+        let s = &p.spec;
+        assert_eq!(s.name, "hopper-2d");
+        assert_eq!(s.knots, 21);
+        assert_eq!(s.time_steps, TimeSteps::Fixed(0.05));
+        assert_eq!(s.q_initial, [0.0, 0.5, 0.0, 0.5]);
+        assert_eq!(s.v_initial, Some(vec![0.0; 4]));
+        let goal = [0.5, 0.5, 0.0, 0.5];
+        for (b, g) in s.q_final.iter().zip(goal) {
+            assert_eq!(*b, Interval::fixed(g));
+        }
+        assert_eq!(s.input_bounds[0], Interval { lower: -10.0, upper: 10.0 });
+        assert_eq!(s.input_bounds[1], Interval { lower: -100.0, upper: 100.0 });
+        assert_eq!(s.contacts.len(), 1);
+        assert_eq!(s.contacts[0].friction, 0.8);
+        assert_eq!(s.slack_weight, 100.0);
+        assert_eq!(
+            s.costs,
+            vec![
+                CostTerm::StateTracking {
+                    q_target: goal.to_vec(),
+                    v_target: vec![0.0; 4],
+                    q_weights: vec![1.0; 4],
+                    v_weights: vec![0.0; 4],
+                    time_weighted: true,
+                },
+                CostTerm::Input {
+                    weights: vec![0.1, 0.01],
+                    time_weighted: true,
+                },
+            ]
+        );
+        assert_eq!(
+            s.initial_guess,
+            InitialGuess::Linear {
+                from: s.q_initial.clone(),
+                to: goal.to_vec()
+            }
+        );
+        assert_eq!(p.sha256.len(), 64);
+    }
+
+    #[test]
+    fn spring_flamingo_weights_are_doubled_for_the_half() {
+        let p = load(&problems_dir().join("spring_flamingo_walk.toml"), &[]).unwrap();
+        let s = &p.spec;
+        assert_eq!(s.time_steps, TimeSteps::FreeEqual { t_min: 0.5, t_max: 2.5 });
+        let delta = std::f64::consts::FRAC_PI_2 - 1.57075;
+        assert!((s.q_initial[5] - delta).abs() < 1e-15);
+        assert_eq!(s.q_final[0], Interval::fixed(-0.9));
+        assert_eq!(s.q_final[1], Interval::fixed(0.875));
+        match &s.costs[0] {
+            CostTerm::StateTracking { q_weights, v_weights, .. } => {
+                assert_eq!(q_weights, &vec![0.2; 9]);
+                assert_eq!(v_weights, &vec![0.2; 9]);
+            }
+            other => panic!("expected state tracking, got {other:?}"),
+        }
+        assert_eq!(s.costs[1], CostTerm::Input { weights: vec![2.0; 4], time_weighted: true });
+        assert_eq!(s.input_bounds, vec![Interval { lower: -300.0, upper: 300.0 }; 4]);
+        assert_eq!(s.contacts.len(), 4);
+        assert_eq!(s.contacts[0].point, [0.0, 0.0, 0.0]);
+    }
+
+    #[test]
+    fn littledog_goal_is_a_box_and_terrain_has_the_step() {
+        let p = load(&problems_dir().join("littledog_step.toml"), &[]).unwrap();
+        let s = &p.spec;
+        assert_eq!(s.q_final[0].lower, 0.45 - 0.01);
+        assert_eq!(s.q_final[0].upper, 0.45 + 0.01);
+        assert!((s.q_final[2].lower - 0.236).abs() < 1e-15);
+        assert_eq!(s.terrain.steps, vec![Step { edge_x: 0.25, rise: 0.11, width: 0.005 }]);
+        match &s.costs[0] {
+            CostTerm::StateTracking { q_weights, q_target, .. } => {
+                assert_eq!(&q_weights[..7], &[0.0, 0.0, 0.0, 10.0, 10.0, 10.0, 5.0]);
+                assert_eq!(q_weights[7], 1.0);
+                assert_eq!(q_target[0], 0.45);
+                assert_eq!(q_target[2], 0.246);
+            }
+            other => panic!("expected state tracking, got {other:?}"),
+        }
+        assert!(s.input_bounds.iter().all(|b| *b == Interval::FREE));
+    }
+
+    #[test]
+    fn overrides_change_values_and_are_recorded() {
+        let o = [Override::parse("contacts.friction=0.3").unwrap()];
+        let p = load(&problems_dir().join("hopper_2d.toml"), &o).unwrap();
+        assert_eq!(p.spec.contacts[0].friction, 0.3);
+        assert_eq!(p.parameters, vec![("contacts.friction".to_owned(), "0.3".to_owned())]);
+    }
 }
