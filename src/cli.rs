@@ -247,21 +247,37 @@ fn check(file: &Path, set: &[String]) -> Result<u8, CliError> {
     if let Some(d) = &p.description {
         println!("  {}", d.trim());
     }
-    println!("  robot:       {} ({:?} base)", s.robot.urdf.display(), s.robot.base);
+    println!(
+        "  robot:       {} ({:?} base)",
+        s.robot.urdf.display(),
+        s.robot.base
+    );
     println!(
         "  coordinates: {} ({})",
         p.robot.coordinates.len(),
         p.robot.coordinates.join(", ")
     );
-    println!("  inputs:      {} ({})", p.robot.inputs.len(), p.robot.inputs.join(", "));
+    println!(
+        "  inputs:      {} ({})",
+        p.robot.inputs.len(),
+        p.robot.inputs.join(", ")
+    );
     let contacts: Vec<String> = s
         .contacts
         .iter()
         .map(|c| format!("{} (mu {})", c.name, c.friction))
         .collect();
-    println!("  contacts:    {} ({})", s.contacts.len(), contacts.join(", "));
+    println!(
+        "  contacts:    {} ({})",
+        s.contacts.len(),
+        contacts.join(", ")
+    );
     println!("  horizon:     {horizon}");
-    println!("  costs:       {} terms, slack weight {}", s.costs.len(), s.slack_weight);
+    println!(
+        "  costs:       {} terms, slack weight {}",
+        s.costs.len(),
+        s.slack_weight
+    );
     println!(
         "  NLP size:    {variables} variables, {constraints} constraints (SPEC.md layout, {} friction directions per contact)",
         friction_directions(s.robot.base)
@@ -270,7 +286,13 @@ fn check(file: &Path, set: &[String]) -> Result<u8, CliError> {
 }
 
 /// Progress line printed on stderr at each Ipopt iteration.
-pub fn progress_line(iteration: usize, objective: f64, inf_pr: f64, inf_du: f64, max_slack: f64) -> String {
+pub fn progress_line(
+    iteration: usize,
+    objective: f64,
+    inf_pr: f64,
+    inf_du: f64,
+    max_slack: f64,
+) -> String {
     format!("{iteration:>5}  {objective:>14.7e}  {inf_pr:>9.2e}  {inf_du:>9.2e}  {max_slack:>9.2e}")
 }
 
@@ -290,7 +312,10 @@ fn solve(file: &Path, set: &[String], out: Option<&Path>, quiet: bool) -> Result
         let _ = ctrlc::set_handler(move || cancel.store(true, Ordering::SeqCst));
     }
     if !quiet {
-        eprintln!("solving {} ({} knots)", problem.spec.name, problem.spec.knots);
+        eprintln!(
+            "solving {} ({} knots)",
+            problem.spec.name, problem.spec.knots
+        );
         eprintln!(" iter       objective     inf_pr     inf_du  max_slack");
     }
     let solution = run_solver(&problem, cancel.clone(), quiet)?;
@@ -303,10 +328,24 @@ fn solve(file: &Path, set: &[String], out: Option<&Path>, quiet: bool) -> Result
 ///
 /// PENDING: `transcription::solve(spec, &SolveOptions)` has not landed on `main`; until it
 /// does, this reports an internal error instead of solving.
-fn run_solver(problem: &LoadedProblem, cancel: Arc<AtomicBool>, quiet: bool) -> Result<Solution, CliError> {
-    let _ = (problem, cancel, quiet);
+fn run_solver(
+    problem: &LoadedProblem,
+    cancel: Arc<AtomicBool>,
+    quiet: bool,
+) -> Result<Solution, CliError> {
+    // The progress callback SolveOptions will carry: one line per Ipopt iteration on stderr.
+    let progress = move |it: &vito::ipopt::IterationInfo, max_slack: f64| {
+        if !quiet {
+            eprintln!(
+                "{}",
+                progress_line(it.iteration, it.objective, it.inf_pr, it.inf_du, max_slack)
+            );
+        }
+    };
+    let _ = (problem, cancel, progress);
     Err(CliError::Internal(
-        "this build has no solver yet (transcription::solve is not merged); `vito check` works".into(),
+        "this build has no solver yet (transcription::solve is not merged); `vito check` works"
+            .into(),
     ))
 }
 
@@ -363,7 +402,11 @@ fn init(urdf: &Path, base: BaseType, out: Option<&Path>) -> Result<u8, CliError>
 fn relative_path(target: &Path, dir: &Path) -> String {
     let abs = |p: &Path| std::path::absolute(p).unwrap_or_else(|_| p.to_owned());
     let (t, d) = (abs(target), abs(dir));
-    let common = t.components().zip(d.components()).take_while(|(a, b)| a == b).count();
+    let common = t
+        .components()
+        .zip(d.components())
+        .take_while(|(a, b)| a == b)
+        .count();
     let ups = d.components().count() - common;
     let mut rel = PathBuf::new();
     for _ in 0..ups {
@@ -376,10 +419,12 @@ fn relative_path(target: &Path, dir: &Path) -> String {
 }
 
 fn inspect(urdf: &Path, base: BaseType, json: bool) -> Result<u8, CliError> {
-    let model = vito::model::Model::from_urdf_file(urdf, base).map_err(|e| CliError::Input(e.to_string()))?;
+    let model = vito::model::Model::from_urdf_file(urdf, base)
+        .map_err(|e| CliError::Input(e.to_string()))?;
     let inspection = vito::model::inspect(&model);
     if json {
-        let text = serde_json::to_string_pretty(&inspection).map_err(|e| CliError::Internal(e.to_string()))?;
+        let text = serde_json::to_string_pretty(&inspection)
+            .map_err(|e| CliError::Internal(e.to_string()))?;
         println!("{text}");
     } else {
         println!("{inspection}");
@@ -424,7 +469,14 @@ fn regress(record_path: &Path, files: &[PathBuf], bless: bool) -> Result<u8, Cli
     let base = record_path.parent().unwrap_or(Path::new("")).to_owned();
     let mut names: Vec<String> = record.problem.iter().map(|e| e.file.clone()).collect();
     for f in files {
-        let name = relative_path(f, if base.as_os_str().is_empty() { Path::new(".") } else { &base });
+        let name = relative_path(
+            f,
+            if base.as_os_str().is_empty() {
+                Path::new(".")
+            } else {
+                &base
+            },
+        );
         if !names.contains(&name) {
             names.push(name);
         }
@@ -470,7 +522,10 @@ fn regress(record_path: &Path, files: &[PathBuf], bless: bool) -> Result<u8, Cli
             Some(summary) => {
                 let objective = summary["objective"].as_f64().unwrap_or(f64::NAN);
                 let status_text = summary["status"].as_str().unwrap_or("?").to_owned();
-                let solved = matches!(status_text.as_str(), "solve_succeeded" | "solved_to_acceptable_level");
+                let solved = matches!(
+                    status_text.as_str(),
+                    "solve_succeeded" | "solved_to_acceptable_level"
+                );
                 let verdict = match (&recorded, solved) {
                     (_, false) => "FAIL",
                     (None, true) => "NEW",
@@ -481,7 +536,9 @@ fn regress(record_path: &Path, files: &[PathBuf], bless: bool) -> Result<u8, Cli
                     record.upsert(GoldenEntry {
                         file: name.clone(),
                         objective,
-                        tolerance: recorded.as_ref().map_or(report::DEFAULT_TOLERANCE, |e| e.tolerance),
+                        tolerance: recorded
+                            .as_ref()
+                            .map_or(report::DEFAULT_TOLERANCE, |e| e.tolerance),
                         status: status_text.clone(),
                         iterations: summary["iterations"].as_u64().unwrap_or(0) as usize,
                         max_slack: summary["max_slack"].as_f64().unwrap_or(f64::NAN),
@@ -523,7 +580,11 @@ fn regress(record_path: &Path, files: &[PathBuf], bless: bool) -> Result<u8, Cli
     if bless {
         record.write(record_path)?;
         println!("blessed {}", record_path.display());
-        return Ok(if rows.iter().any(|r| r.verdict == "FAIL") { 1 } else { 0 });
+        return Ok(if rows.iter().any(|r| r.verdict == "FAIL") {
+            1
+        } else {
+            0
+        });
     }
     Ok(if failed { 1 } else { 0 })
 }
@@ -532,8 +593,11 @@ fn tempdir_near(path: &Path) -> Result<PathBuf, CliError> {
     let dir = std::env::temp_dir().join(format!(
         "vito-regress-{}-{}",
         std::process::id(),
-        path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default()
+        path.file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default()
     ));
-    std::fs::create_dir_all(&dir).map_err(|e| CliError::Internal(format!("cannot create {}: {e}", dir.display())))?;
+    std::fs::create_dir_all(&dir)
+        .map_err(|e| CliError::Internal(format!("cannot create {}: {e}", dir.display())))?;
     Ok(dir)
 }

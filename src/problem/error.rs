@@ -47,10 +47,10 @@ pub enum ProblemError {
         source: std::io::Error,
     },
     #[error("{at}: TOML syntax error: {message}")]
-    Syntax { at: Location, message: String },
+    Syntax { at: Box<Location>, message: String },
     #[error("{at}: unknown {what} `{key}`{}; valid {what}s here: {valid}", did_you_mean(.suggestion))]
     UnknownKey {
-        at: Location,
+        at: Box<Location>,
         /// `key`, or `value` for a tag such as a cost `type`.
         what: &'static str,
         key: String,
@@ -58,10 +58,10 @@ pub enum ProblemError {
         valid: String,
     },
     #[error("{at}: {message}")]
-    Invalid { at: Location, message: String },
+    Invalid { at: Box<Location>, message: String },
     #[error("{at}: unknown {kind} `{name}`{}; the {kind}s are: {valid}", did_you_mean(.suggestion))]
     UnknownName {
-        at: Location,
+        at: Box<Location>,
         kind: &'static str,
         name: String,
         suggestion: Option<String>,
@@ -69,14 +69,14 @@ pub enum ProblemError {
     },
     #[error("{at}: {source}")]
     Robot {
-        at: Location,
+        at: Box<Location>,
         source: crate::problem::RobotError,
     },
     #[error("--set {arg}: {message}")]
     Override { arg: String, message: String },
     #[error("{at}: warm start {path}: {message}")]
     WarmStart {
-        at: Location,
+        at: Box<Location>,
         path: PathBuf,
         message: String,
     },
@@ -91,7 +91,7 @@ impl ProblemError {
             | ProblemError::Invalid { at, .. }
             | ProblemError::UnknownName { at, .. }
             | ProblemError::Robot { at, .. }
-            | ProblemError::WarmStart { at, .. } => Some(at),
+            | ProblemError::WarmStart { at, .. } => Some(at.as_ref()),
             ProblemError::Io { .. } | ProblemError::Override { .. } => None,
         }
     }

@@ -191,11 +191,16 @@ impl RobotInfo {
                     let limit = node.children().find(|c| c.has_tag_name("limit"));
                     let bad = || content(format!("joint `{name}`: bad <limit> number"));
                     let (lower, upper, effort) = match limit {
-                        Some(l) if l.attribute("lower").is_some() || l.attribute("upper").is_some() => (
-                            parse_number(l.attribute("lower"), 0.0).ok_or_else(bad)?,
-                            parse_number(l.attribute("upper"), 0.0).ok_or_else(bad)?,
-                            parse_number(l.attribute("effort"), f64::INFINITY).ok_or_else(bad)?,
-                        ),
+                        Some(l)
+                            if l.attribute("lower").is_some() || l.attribute("upper").is_some() =>
+                        {
+                            (
+                                parse_number(l.attribute("lower"), 0.0).ok_or_else(bad)?,
+                                parse_number(l.attribute("upper"), 0.0).ok_or_else(bad)?,
+                                parse_number(l.attribute("effort"), f64::INFINITY)
+                                    .ok_or_else(bad)?,
+                            )
+                        }
                         Some(l) => (
                             f64::NEG_INFINITY,
                             f64::INFINITY,
@@ -264,7 +269,13 @@ mod tests {
             info.coordinates,
             ["base_x", "base_z", "base_pitch", "hip", "slide"]
         );
-        assert_eq!(info.coordinate_limits[3], Interval { lower: -1.0, upper: 2.0 });
+        assert_eq!(
+            info.coordinate_limits[3],
+            Interval {
+                lower: -1.0,
+                upper: 2.0
+            }
+        );
         assert_eq!(info.coordinate_limits[4], Interval::FREE);
         assert_eq!(info.inputs, ["hip"]);
         assert_eq!(info.effort_limits, [30.0]);

@@ -6,7 +6,11 @@ use toml::de::{DeTable, DeValue};
 /// 1-based line of a byte offset in `text`.
 pub fn line_of_offset(text: &str, offset: usize) -> usize {
     let end = offset.min(text.len());
-    text.as_bytes()[..end].iter().filter(|&&b| b == b'\n').count() + 1
+    text.as_bytes()[..end]
+        .iter()
+        .filter(|&&b| b == b'\n')
+        .count()
+        + 1
 }
 
 /// One step of a TOML path: a key or an array index.
@@ -108,9 +112,9 @@ fn container_contains(value: &Spanned<DeValue>, offset: usize) -> bool {
         DeValue::Table(t) => t
             .iter()
             .any(|(k, v)| k.span().contains(&offset) || container_contains(v, offset)),
-        DeValue::Array(a) => a.iter().any(|v| {
-            v.span().contains(&offset) || container_contains(v, offset)
-        }),
+        DeValue::Array(a) => a
+            .iter()
+            .any(|v| v.span().contains(&offset) || container_contains(v, offset)),
         _ => value.span().contains(&offset),
     }
 }

@@ -93,7 +93,9 @@ impl Override {
                         .ok_or_else(|| err(format!("`{key}` is not an array in the file")))?;
                     let len = array.len();
                     let element = array.get_mut(idx).ok_or_else(|| {
-                        err(format!("`{key}` has {len} elements, index {idx} is out of range"))
+                        err(format!(
+                            "`{key}` has {len} elements, index {idx} is out of range"
+                        ))
                     })?;
                     if last {
                         *element = self.value.clone();
@@ -164,12 +166,12 @@ pub fn load(path: &Path, overrides: &[Override]) -> Result<LoadedProblem, Proble
         .map(|b| format!("{b:02x}"))
         .collect();
     let text = String::from_utf8(bytes).map_err(|_| ProblemError::Invalid {
-        at: Location {
+        at: Box::new(Location {
             file: path.to_owned(),
             line: None,
             field: String::new(),
             from_override: false,
-        },
+        }),
         message: "the file is not UTF-8 text".into(),
     })?;
     let ctx = Context {
@@ -180,7 +182,8 @@ pub fn load(path: &Path, overrides: &[Override]) -> Result<LoadedProblem, Proble
     let raw: ProblemFile = if overrides.is_empty() {
         toml::from_str(&text).map_err(|e| ctx.serde_error(&e, &text))?
     } else {
-        let mut table: toml::Table = toml::from_str(&text).map_err(|e| ctx.serde_error(&e, &text))?;
+        let mut table: toml::Table =
+            toml::from_str(&text).map_err(|e| ctx.serde_error(&e, &text))?;
         for o in overrides {
             o.apply(&mut table)?;
         }
@@ -207,12 +210,12 @@ struct Context {
 }
 
 impl Context {
-    fn at(&self, field: &str) -> Location {
+    fn at(&self, field: &str) -> Box<Location> {
         let from_override = self
             .overridden
             .iter()
             .any(|o| field == o || field.starts_with(&format!("{o}.")));
-        Location {
+        Box::new(Location {
             file: self.file.clone(),
             line: if from_override {
                 None
@@ -221,7 +224,7 @@ impl Context {
             },
             field: field.to_owned(),
             from_override,
-        }
+        })
     }
 
     fn invalid(&self, field: &str, message: impl Into<String>) -> ProblemError {
@@ -231,7 +234,13 @@ impl Context {
         }
     }
 
-    fn unknown_name(&self, field: &str, kind: &'static str, name: &str, valid: &[String]) -> ProblemError {
+    fn unknown_name(
+        &self,
+        field: &str,
+        kind: &'static str,
+        name: &str,
+        valid: &[String],
+    ) -> ProblemError {
         ProblemError::UnknownName {
             at: self.at(field),
             kind,
@@ -251,12 +260,14 @@ impl Context {
             .map(|s| path_at_offset(parsed, s.start))
             .unwrap_or_default();
         let mut at = if field.is_empty() {
-            Location {
+            Box::new(Location {
                 file: self.file.clone(),
-                line: span.map(|s| line_of_offset(parsed, s.start)).filter(|_| parsed == self.text),
+                line: span
+                    .map(|s| line_of_offset(parsed, s.start))
+                    .filter(|_| parsed == self.text),
                 field: String::new(),
                 from_override: false,
-            }
+            })
         } else {
             self.at(&field)
         };
@@ -278,7 +289,11 @@ impl Context {
                     .unwrap_or_default();
                 return ProblemError::UnknownKey {
                     at,
-                    what: if prefix.contains("variant") { "value" } else { "key" },
+                    what: if prefix.contains("variant") {
+                        "value"
+                    } else {
+                        "key"
+                    },
                     suggestion: nearest(&key, expected.iter().map(String::as_str)),
                     key,
                     valid: list_names(&expected, 40),
@@ -483,7 +498,11 @@ fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, ProblemError>
         });
     }
     let terrain = Terrain {
-        ground_height: finite(ctx, "terrain.ground_height", raw.terrain.ground_height.unwrap_or(0.0))?,
+        ground_height: finite(
+            ctx,
+            "terrain.ground_height",
+            raw.terrain.ground_height.unwrap_or(0.0),
+        )?,
         steps,
     };
 
@@ -528,7 +547,14 @@ fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, ProblemError>
     let v_initial = match &raw.initial.v {
         None | Some(VelocitySpec::Zero) => Some(vec![0.0; n]),
         Some(VelocitySpec::Free) => None,
-        Some(VelocitySpec::Vector(v)) => Some(resolve(ctx, "initial.v", "coordinate", coords, v, Some(&vec![0.0; n]))?),
+        Some(VelocitySpec::Vector(v)) => Some(resolve(
+            ctx,
+            "initial.v",
+            "coordinate",
+            coords,
+            v,
+            Some(&vec![0.0; n]),
+        )?),
     };
     let goal = match &raw.final_.q {
         Some(q) => resolve(ctx, "final.q", "coordinate", coords, q, Some(&q_initial))?,
@@ -561,7 +587,12 @@ fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, ProblemError>
     for (i, b) in raw.bounds.iter().enumerate() {
         let field = format!("bounds[{i}]");
         let coordinate = robot.coordinate_index(&b.coordinate).ok_or_else(|| {
-            ctx.unknown_name(&format!("{field}.coordinate"), "coordinate", &b.coordinate, coords)
+            ctx.unknown_name(
+                &format!("{field}.coordinate"),
+                "coordinate",
+                &b.coordinate,
+                coords,
+            )
         })?;
         let knots_set = match &b.knots {
             None => KnotSet::All,
@@ -572,7 +603,12 @@ fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, ProblemError>
                 "last" => KnotSet::Last,
                 other => {
                     let valid = ["all", "interior", "first", "last"].map(String::from);
-                    return Err(ctx.unknown_name(&format!("{field}.knots"), "knot set", other, &valid));
+                    return Err(ctx.unknown_name(
+                        &format!("{field}.knots"),
+                        "knot set",
+                        other,
+                        &valid,
+                    ));
                 }
             },
             Some(KnotsName::List(list)) => {
@@ -610,7 +646,10 @@ fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, ProblemError>
         robot
             .effort_limits
             .iter()
-            .map(|&e| Interval { lower: -e, upper: e })
+            .map(|&e| Interval {
+                lower: -e,
+                upper: e,
+            })
             .collect()
     } else {
         vec![Interval::FREE; m]
@@ -647,7 +686,9 @@ fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, ProblemError>
                     None => goal.clone(),
                 },
                 v_target: match v_target {
-                    Some(t) => resolve(ctx, &f("v_target"), "coordinate", coords, t, Some(&zeros_n))?,
+                    Some(t) => {
+                        resolve(ctx, &f("v_target"), "coordinate", coords, t, Some(&zeros_n))?
+                    }
                     None => zeros_n.clone(),
                 },
                 q_weights: weights(ctx, &f("q_weights"), coords, "coordinate", q_weights)?,
@@ -667,10 +708,15 @@ fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, ProblemError>
             CostEntry::InputRate { weights: w } => CostTerm::InputRate {
                 weights: weights(ctx, &f("weights"), &robot.inputs, "input", w)?,
             },
-            CostEntry::ConfigurationDifference { weights: w } => CostTerm::ConfigurationDifference {
-                weights: weights(ctx, &f("weights"), coords, "coordinate", w)?,
-            },
-            CostEntry::FinalState { q_target, weights: w } => CostTerm::FinalState {
+            CostEntry::ConfigurationDifference { weights: w } => {
+                CostTerm::ConfigurationDifference {
+                    weights: weights(ctx, &f("weights"), coords, "coordinate", w)?,
+                }
+            }
+            CostEntry::FinalState {
+                q_target,
+                weights: w,
+            } => CostTerm::FinalState {
                 q_target: match q_target {
                     Some(t) => resolve(ctx, &f("q_target"), "coordinate", coords, t, Some(&goal))?,
                     None => goal.clone(),
@@ -705,7 +751,11 @@ fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, ProblemError>
         periodic.push(Periodicity {
             coordinate,
             position: p.position.unwrap_or(true),
-            offset: finite(ctx, &format!("periodic[{i}].offset"), p.offset.unwrap_or(0.0))?,
+            offset: finite(
+                ctx,
+                &format!("periodic[{i}].offset"),
+                p.offset.unwrap_or(0.0),
+            )?,
             velocity: p.velocity.unwrap_or(false),
         });
     }
@@ -724,7 +774,14 @@ fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, ProblemError>
             to: match to {
                 None | Some(GuessTarget::Final) => goal.clone(),
                 Some(GuessTarget::Initial) => q_initial.clone(),
-                Some(GuessTarget::Pose(p)) => resolve(ctx, "initial_guess.to", "coordinate", coords, p, Some(&q_initial))?,
+                Some(GuessTarget::Pose(p)) => resolve(
+                    ctx,
+                    "initial_guess.to",
+                    "coordinate",
+                    coords,
+                    p,
+                    Some(&q_initial),
+                )?,
             },
         },
     };
@@ -754,7 +811,10 @@ fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, ProblemError>
             toml::Value::Integer(i) => OptionValue::Int(*i),
             toml::Value::Float(x) => OptionValue::Num(*x),
             _ => {
-                return Err(ctx.invalid(&field, "an Ipopt option is a string, an integer or a number"));
+                return Err(ctx.invalid(
+                    &field,
+                    "an Ipopt option is a string, an integer or a number",
+                ));
             }
         };
         if key == "linear_solver" && matches!(&v, OptionValue::Str(s) if s != "mumps") {
@@ -768,7 +828,11 @@ fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, ProblemError>
 
     let spec = ProblemSpec {
         name,
-        robot: RobotSpec { urdf, base, gravity },
+        robot: RobotSpec {
+            urdf,
+            base,
+            gravity,
+        },
         contacts,
         terrain,
         knots,
@@ -818,7 +882,10 @@ fn weights(
 ) -> Result<Vec<f64>, ProblemError> {
     let values = resolve(ctx, field, kind, names, w, None)?;
     if let Some((i, v)) = values.iter().enumerate().find(|(_, v)| **v < 0.0) {
-        return Err(ctx.invalid(field, format!("weight of `{}` is {v}; weights must be ≥ 0", names[i])));
+        return Err(ctx.invalid(
+            field,
+            format!("weight of `{}` is {v}; weights must be ≥ 0", names[i]),
+        ));
     }
     Ok(values)
 }
@@ -829,11 +896,14 @@ fn check_contacts(
     robot: &RobotInfo,
 ) -> Result<Vec<ContactSpec>, ProblemError> {
     let default_friction = nonnegative(ctx, "contacts.friction", section.friction.unwrap_or(1.0))?;
-    let selection = section.from_urdf.clone().unwrap_or(if section.point.is_empty() {
-        ContactSelection::All
-    } else {
-        ContactSelection::None
-    });
+    let selection = section
+        .from_urdf
+        .clone()
+        .unwrap_or(if section.point.is_empty() {
+            ContactSelection::All
+        } else {
+            ContactSelection::None
+        });
     let mut contacts: Vec<ContactSpec> = Vec::new();
     let urdf_names: Vec<String> = robot.contacts.iter().map(|c| c.name.clone()).collect();
     let from_urdf = |c: &crate::problem::UrdfContact| ContactSpec {
@@ -847,9 +917,18 @@ fn check_contacts(
         ContactSelection::None => {}
         ContactSelection::Names(names) => {
             for (i, name) in names.iter().enumerate() {
-                let c = robot.contacts.iter().find(|c| &c.name == name).ok_or_else(|| {
-                    ctx.unknown_name(&format!("contacts.from_urdf[{i}]"), "URDF contact", name, &urdf_names)
-                })?;
+                let c = robot
+                    .contacts
+                    .iter()
+                    .find(|c| &c.name == name)
+                    .ok_or_else(|| {
+                        ctx.unknown_name(
+                            &format!("contacts.from_urdf[{i}]"),
+                            "URDF contact",
+                            name,
+                            &urdf_names,
+                        )
+                    })?;
                 contacts.push(from_urdf(c));
             }
         }
@@ -876,7 +955,10 @@ fn check_contacts(
         if contacts[..i].iter().any(|d| d.name == c.name) {
             return Err(ctx.invalid(
                 "contacts",
-                format!("two contacts are named `{}`; contact names must be unique", c.name),
+                format!(
+                    "two contacts are named `{}`; contact names must be unique",
+                    c.name
+                ),
             ));
         }
     }
@@ -895,7 +977,11 @@ fn check_contacts(
 
 /// Reads a `trajectory.csv` written by vito: the time column, one column per coordinate
 /// (by name) and, when present, one per input.
-fn read_warm_start(ctx: &Context, path: &Path, robot: &RobotInfo) -> Result<WarmStart, ProblemError> {
+fn read_warm_start(
+    ctx: &Context,
+    path: &Path,
+    robot: &RobotInfo,
+) -> Result<WarmStart, ProblemError> {
     let field = "initial_guess.warm_start";
     let err = |message: String| ProblemError::WarmStart {
         at: ctx.at(field),
@@ -907,8 +993,11 @@ fn read_warm_start(ctx: &Context, path: &Path, robot: &RobotInfo) -> Result<Warm
     let times = table
         .column("time")
         .ok_or_else(|| err("no `time` column".into()))?;
-    if times.len() < 2 || times.iter().any(|t| t.is_nan()) || times.windows(2).any(|w| w[1] <= w[0]) {
-        return Err(err("the `time` column must hold at least two increasing numbers".into()));
+    if times.len() < 2 || times.iter().any(|t| t.is_nan()) || times.windows(2).any(|w| w[1] <= w[0])
+    {
+        return Err(err(
+            "the `time` column must hold at least two increasing numbers".into(),
+        ));
     }
     let mut q = vec![vec![0.0; robot.coordinates.len()]; times.len()];
     for (j, name) in robot.coordinates.iter().enumerate() {
@@ -920,7 +1009,10 @@ fn read_warm_start(ctx: &Context, path: &Path, robot: &RobotInfo) -> Result<Warm
         })?;
         for (k, v) in column.iter().enumerate() {
             if v.is_nan() {
-                return Err(err(format!("coordinate `{name}` has no value in row {}", k + 1)));
+                return Err(err(format!(
+                    "coordinate `{name}` has no value in row {}",
+                    k + 1
+                )));
             }
             q[k][j] = *v;
         }
@@ -984,8 +1076,20 @@ mod tests {
         for (b, g) in s.q_final.iter().zip(goal) {
             assert_eq!(*b, Interval::fixed(g));
         }
-        assert_eq!(s.input_bounds[0], Interval { lower: -10.0, upper: 10.0 });
-        assert_eq!(s.input_bounds[1], Interval { lower: -100.0, upper: 100.0 });
+        assert_eq!(
+            s.input_bounds[0],
+            Interval {
+                lower: -10.0,
+                upper: 10.0
+            }
+        );
+        assert_eq!(
+            s.input_bounds[1],
+            Interval {
+                lower: -100.0,
+                upper: 100.0
+            }
+        );
         assert_eq!(s.contacts.len(), 1);
         assert_eq!(s.contacts[0].friction, 0.8);
         assert_eq!(s.slack_weight, 100.0);
@@ -1019,20 +1123,45 @@ mod tests {
     fn spring_flamingo_weights_are_doubled_for_the_half() {
         let p = load(&problems_dir().join("spring_flamingo_walk.toml"), &[]).unwrap();
         let s = &p.spec;
-        assert_eq!(s.time_steps, TimeSteps::FreeEqual { t_min: 0.5, t_max: 2.5 });
+        assert_eq!(
+            s.time_steps,
+            TimeSteps::FreeEqual {
+                t_min: 0.5,
+                t_max: 2.5
+            }
+        );
         let delta = std::f64::consts::FRAC_PI_2 - 1.57075;
         assert!((s.q_initial[5] - delta).abs() < 1e-15);
         assert_eq!(s.q_final[0], Interval::fixed(-0.9));
         assert_eq!(s.q_final[1], Interval::fixed(0.875));
         match &s.costs[0] {
-            CostTerm::StateTracking { q_weights, v_weights, .. } => {
+            CostTerm::StateTracking {
+                q_weights,
+                v_weights,
+                ..
+            } => {
                 assert_eq!(q_weights, &vec![0.2; 9]);
                 assert_eq!(v_weights, &vec![0.2; 9]);
             }
             other => panic!("expected state tracking, got {other:?}"),
         }
-        assert_eq!(s.costs[1], CostTerm::Input { weights: vec![2.0; 4], time_weighted: true });
-        assert_eq!(s.input_bounds, vec![Interval { lower: -300.0, upper: 300.0 }; 4]);
+        assert_eq!(
+            s.costs[1],
+            CostTerm::Input {
+                weights: vec![2.0; 4],
+                time_weighted: true
+            }
+        );
+        assert_eq!(
+            s.input_bounds,
+            vec![
+                Interval {
+                    lower: -300.0,
+                    upper: 300.0
+                };
+                4
+            ]
+        );
         assert_eq!(s.contacts.len(), 4);
         assert_eq!(s.contacts[0].point, [0.0, 0.0, 0.0]);
     }
@@ -1044,9 +1173,20 @@ mod tests {
         assert_eq!(s.q_final[0].lower, 0.45 - 0.01);
         assert_eq!(s.q_final[0].upper, 0.45 + 0.01);
         assert!((s.q_final[2].lower - 0.236).abs() < 1e-15);
-        assert_eq!(s.terrain.steps, vec![Step { edge_x: 0.25, rise: 0.11, width: 0.005 }]);
+        assert_eq!(
+            s.terrain.steps,
+            vec![Step {
+                edge_x: 0.25,
+                rise: 0.11,
+                width: 0.005
+            }]
+        );
         match &s.costs[0] {
-            CostTerm::StateTracking { q_weights, q_target, .. } => {
+            CostTerm::StateTracking {
+                q_weights,
+                q_target,
+                ..
+            } => {
                 assert_eq!(&q_weights[..7], &[0.0, 0.0, 0.0, 10.0, 10.0, 10.0, 5.0]);
                 assert_eq!(q_weights[7], 1.0);
                 assert_eq!(q_target[0], 0.45);
@@ -1062,6 +1202,9 @@ mod tests {
         let o = [Override::parse("contacts.friction=0.3").unwrap()];
         let p = load(&problems_dir().join("hopper_2d.toml"), &o).unwrap();
         assert_eq!(p.spec.contacts[0].friction, 0.3);
-        assert_eq!(p.parameters, vec![("contacts.friction".to_owned(), "0.3".to_owned())]);
+        assert_eq!(
+            p.parameters,
+            vec![("contacts.friction".to_owned(), "0.3".to_owned())]
+        );
     }
 }

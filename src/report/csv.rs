@@ -61,7 +61,10 @@ pub fn trajectory_csv(solution: &Solution, units: &ColumnUnits) -> String {
         names.push(header(c, unit));
     }
     for (c, unit) in s.coordinate_names.iter().zip(&units.coordinates) {
-        names.push(header(&format!("{c}_dot"), &format!("{unit}/{}", units.time)));
+        names.push(header(
+            &format!("{c}_dot"),
+            &format!("{unit}/{}", units.time),
+        ));
     }
     for (u, unit) in s.input_names.iter().zip(&units.inputs) {
         names.push(header(&input_column_name(u), unit));
@@ -164,7 +167,11 @@ pub fn read_csv(text: &str) -> Result<CsvTable, String> {
                 f64::NAN
             } else {
                 cell.parse::<f64>().map_err(|_| {
-                    format!("row {}, column `{}`: `{cell}` is not a number", r + 2, names[c])
+                    format!(
+                        "row {}, column `{}`: `{cell}` is not a number",
+                        r + 2,
+                        names[c]
+                    )
                 })?
             };
             columns[c].push(v);

@@ -117,7 +117,10 @@ mod tests {
             max_slack: 1e-9,
         };
         record.upsert(entry.clone());
-        record.upsert(GoldenEntry { file: "a.toml".into(), ..entry.clone() });
+        record.upsert(GoldenEntry {
+            file: "a.toml".into(),
+            ..entry.clone()
+        });
         record.write(&path).unwrap();
         let back = GoldenRecord::read(&path).unwrap();
         assert_eq!(back, record);

@@ -17,8 +17,8 @@ pub use summary::*;
 
 use std::path::{Path, PathBuf};
 
-use crate::problem::{LoadedProblem, RobotInfo, Units};
 use crate::problem::CoordinateKind;
+use crate::problem::{LoadedProblem, RobotInfo, Units};
 use crate::transcription::Solution;
 
 /// Why outputs could not be written.
@@ -85,8 +85,13 @@ pub fn write_outputs(
     inputs_svg(&dir.join("inputs.svg"), solution, &units.time).map_err(plot_err("inputs.svg"))?;
     let friction: Vec<f64> = problem.spec.contacts.iter().map(|c| c.friction).collect();
     let modes = contact_modes(solution, &friction);
-    contact_modes_svg(&dir.join("contact_modes.svg"), solution, &modes, &units.time)
-        .map_err(plot_err("contact_modes.svg"))?;
+    contact_modes_svg(
+        &dir.join("contact_modes.svg"),
+        solution,
+        &modes,
+        &units.time,
+    )
+    .map_err(plot_err("contact_modes.svg"))?;
     staged.commit().map_err(io(target))
 }
 
@@ -101,20 +106,38 @@ mod tests {
         Solution {
             status: Status::SolveSucceeded,
             objective: 1.25,
-            objective_terms: vec![("state_tracking".into(), 1.0), ("slack_penalty".into(), 0.25)],
+            objective_terms: vec![
+                ("state_tracking".into(), 1.0),
+                ("slack_penalty".into(), 0.25),
+            ],
             iterations: 17,
             wall_time_s: 0.5,
             callback_time_s: 0.2,
             ipopt_time_s: 0.3,
-            size: NlpSize { n_variables: 40, n_constraints: 30, nnz_jacobian: 200, nnz_hessian: 90 },
+            size: NlpSize {
+                n_variables: 40,
+                n_constraints: 30,
+                nnz_jacobian: 200,
+                nnz_hessian: 90,
+            },
             coordinate_names: vec!["x".into(), "theta".into()],
             input_names: vec!["theta".into()],
             contact_names: vec!["toe".into(), "heel".into()],
             friction_directions: 2,
             times: vec![0.0, 0.1, 0.2, 0.3],
             time_steps: vec![0.1; 3],
-            q: vec![vec![0.0, 0.0], vec![0.1, 0.2], vec![0.2, 0.3], vec![0.3, 0.25]],
-            v: vec![vec![0.0, 0.0], vec![1.0, 2.0], vec![1.0, 1.0], vec![1.0, -0.5]],
+            q: vec![
+                vec![0.0, 0.0],
+                vec![0.1, 0.2],
+                vec![0.2, 0.3],
+                vec![0.3, 0.25],
+            ],
+            v: vec![
+                vec![0.0, 0.0],
+                vec![1.0, 2.0],
+                vec![1.0, 1.0],
+                vec![1.0, -0.5],
+            ],
             u: vec![vec![1.0], vec![-2.0], vec![0.5]],
             // toe: flight, stick, slide; heel: stick, flight, flight.
             normal_impulse: vec![vec![0.0, 2.0], vec![1.0, 1e-7], vec![1.0, 0.0]],
@@ -135,7 +158,14 @@ mod tests {
     fn modes_follow_the_stated_thresholds() {
         let modes = contact_modes(&sample_solution(), &[1.0, 1.0]);
         use ContactMode::*;
-        assert_eq!(modes, vec![vec![Flight, Stick], vec![Stick, Flight], vec![Slide, Flight]]);
+        assert_eq!(
+            modes,
+            vec![
+                vec![Flight, Stick],
+                vec![Stick, Flight],
+                vec![Slide, Flight]
+            ]
+        );
     }
 
     #[test]
@@ -172,7 +202,9 @@ mod output_tests {
         s.coordinate_names = ["x", "z", "theta", "r"].map(String::from).to_vec();
         s.input_names = vec!["theta".into(), "r".into()];
         s.contact_names = vec!["foot_contact".into()];
-        s.q = (0..4).map(|k| vec![0.1 * k as f64, 0.5, 0.01 * k as f64, 0.5]).collect();
+        s.q = (0..4)
+            .map(|k| vec![0.1 * k as f64, 0.5, 0.01 * k as f64, 0.5])
+            .collect();
         s.v = vec![vec![0.0; 4]; 4];
         s.u = vec![vec![1.0, 2.0]; 3];
         s.normal_impulse = vec![vec![1.0]; 3];
@@ -198,22 +230,39 @@ mod output_tests {
             assert!(text.contains("<svg"), "{svg} is not an SVG");
         }
         let summary: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(target.join("summary.json")).unwrap()).unwrap();
+            serde_json::from_str(&std::fs::read_to_string(target.join("summary.json")).unwrap())
+                .unwrap();
         for key in [
-            "status", "objective", "iterations", "wall_time_s", "callback_time_s", "ipopt_time_s",
-            "max_slack", "max_complementarity", "n_variables", "n_constraints", "nnz_jacobian",
-            "nnz_hessian", "problem", "parameters", "vito_version",
+            "status",
+            "objective",
+            "iterations",
+            "wall_time_s",
+            "callback_time_s",
+            "ipopt_time_s",
+            "max_slack",
+            "max_complementarity",
+            "n_variables",
+            "n_constraints",
+            "nnz_jacobian",
+            "nnz_hessian",
+            "problem",
+            "parameters",
+            "vito_version",
         ] {
             assert!(summary.get(key).is_some(), "summary.json lacks `{key}`");
         }
         assert_eq!(summary["status"], "solve_succeeded");
         assert_eq!(summary["objective"], 1.25);
-        let table = read_csv(&std::fs::read_to_string(target.join("trajectory.csv")).unwrap()).unwrap();
+        let table =
+            read_csv(&std::fs::read_to_string(target.join("trajectory.csv")).unwrap()).unwrap();
         assert_eq!(table.rows(), s.times.len());
         for name in ["x", "z", "theta", "r"] {
             let last = *table.column(name).unwrap().last().unwrap();
             assert_eq!(summary["final_q"][name].as_f64().unwrap(), last);
         }
-        assert_eq!(table.column("time").unwrap().last().copied(), summary["total_time"].as_f64());
+        assert_eq!(
+            table.column("time").unwrap().last().copied(),
+            summary["total_time"].as_f64()
+        );
     }
 }

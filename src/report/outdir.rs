@@ -121,7 +121,10 @@ mod tests {
         std::fs::write(staged.path().join("new.txt"), "new").unwrap();
         staged.commit().unwrap();
         assert!(!target.join("old.txt").exists());
-        assert_eq!(std::fs::read_to_string(target.join("new.txt")).unwrap(), "new");
+        assert_eq!(
+            std::fs::read_to_string(target.join("new.txt")).unwrap(),
+            "new"
+        );
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
     }
 }

@@ -26,7 +26,9 @@ const PALETTE: [RGBColor; 10] = [
 fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     let (lo, hi) = values
         .filter(|v| v.is_finite())
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(v), b.max(v)));
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+            (a.min(v), b.max(v))
+        });
     if !lo.is_finite() {
         return (-1.0, 1.0);
     }
@@ -64,10 +66,15 @@ fn line_plot(
     for (i, (label, points)) in series.iter().enumerate() {
         let color = PALETTE[i % PALETTE.len()];
         chart
-            .draw_series(LineSeries::new(points.iter().copied(), color.stroke_width(2)))
+            .draw_series(LineSeries::new(
+                points.iter().copied(),
+                color.stroke_width(2),
+            ))
             .map_err(|x| e(&x))?
             .label(label.as_str())
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2)));
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2))
+            });
     }
     chart
         .configure_series_labels()
@@ -86,9 +93,20 @@ pub fn coordinates_svg(path: &Path, s: &Solution, time_unit: &str) -> Result<(),
         .coordinate_names
         .iter()
         .enumerate()
-        .map(|(j, name)| (name.clone(), s.times.iter().zip(&s.q).map(|(&t, q)| (t, q[j])).collect()))
+        .map(|(j, name)| {
+            (
+                name.clone(),
+                s.times.iter().zip(&s.q).map(|(&t, q)| (t, q[j])).collect(),
+            )
+        })
         .collect();
-    line_plot(path, "coordinates", &format!("time [{time_unit}]"), "q [m or rad]", &series)
+    line_plot(
+        path,
+        "coordinates",
+        &format!("time [{time_unit}]"),
+        "q [m or rad]",
+        &series,
+    )
 }
 
 /// Inputs u_k over time, held constant over each interval (a staircase).
@@ -108,7 +126,13 @@ pub fn inputs_svg(path: &Path, s: &Solution, time_unit: &str) -> Result<(), Plot
             (name.clone(), points)
         })
         .collect();
-    line_plot(path, "inputs", &format!("time [{time_unit}]"), "u [N or N·m]", &series)
+    line_plot(
+        path,
+        "inputs",
+        &format!("time [{time_unit}]"),
+        "u [N or N·m]",
+        &series,
+    )
 }
 
 /// Colour of a mode bar.

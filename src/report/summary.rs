@@ -34,7 +34,10 @@ pub fn status_name(status: Status) -> &'static str {
 
 /// Whether a status counts as solved (exit code 0).
 pub fn is_solved(status: Status) -> bool {
-    matches!(status, Status::SolveSucceeded | Status::SolvedToAcceptableLevel)
+    matches!(
+        status,
+        Status::SolveSucceeded | Status::SolvedToAcceptableLevel
+    )
 }
 
 /// JSON-safe number: NaN and ±∞ become null.

@@ -10,8 +10,15 @@ fn solve_fails(name: &str, text: &str) -> String {
     t.write("bad.toml", text);
     std::fs::create_dir(t.path().join("out")).unwrap();
     t.write("out/keep.txt", "previous results");
-    let run = t.vito().args(["solve", "bad.toml", "--out", "out"]).assert_exit(2);
-    let errors: Vec<&str> = run.stderr.lines().filter(|l| l.starts_with("error:")).collect();
+    let run = t
+        .vito()
+        .args(["solve", "bad.toml", "--out", "out"])
+        .assert_exit(2);
+    let errors: Vec<&str> = run
+        .stderr
+        .lines()
+        .filter(|l| l.starts_with("error:"))
+        .collect();
     assert_eq!(errors.len(), 1, "one error expected:\n{}", run.stderr);
     assert_eq!(
         std::fs::read_to_string(t.path().join("out/keep.txt")).unwrap(),
@@ -39,16 +46,28 @@ fn toml_syntax_error() {
 fn unknown_key_suggests_the_nearest() {
     let text = hopper_text().replace("friction = 0.8", "frition = 0.8");
     let err = solve_fails("unknown_key_suggests_the_nearest", &text);
-    assert!(err.contains("bad.toml:15: field `contacts.frition`"), "{err}");
+    assert!(
+        err.contains("bad.toml:15: field `contacts.frition`"),
+        "{err}"
+    );
     assert!(err.contains("did you mean `friction`?"), "{err}");
 }
 
 #[test]
 fn unknown_joint_name() {
-    let text = hopper_text().replace("weights = { theta = 0.1, r = 0.01 }", "weights = { theta = 0.1, rr = 0.01 }");
+    let text = hopper_text().replace(
+        "weights = { theta = 0.1, r = 0.01 }",
+        "weights = { theta = 0.1, rr = 0.01 }",
+    );
     let err = solve_fails("unknown_joint_name", &text);
-    assert!(err.contains("field `cost[1].weights.rr`: unknown input `rr`, did you mean `r`?"), "{err}");
-    let text = hopper_text().replace("q = { x = 0.0, z = 0.5, theta = 0.0, r = 0.5 }", "q = { x = 0.0, z = 0.5, tehta = 0.0, r = 0.5 }");
+    assert!(
+        err.contains("field `cost[1].weights.rr`: unknown input `rr`, did you mean `r`?"),
+        "{err}"
+    );
+    let text = hopper_text().replace(
+        "q = { x = 0.0, z = 0.5, theta = 0.0, r = 0.5 }",
+        "q = { x = 0.0, z = 0.5, tehta = 0.0, r = 0.5 }",
+    );
     let err = solve_fails("unknown_joint_name_2", &text);
     assert!(err.contains("bad.toml:22: field `initial.q.tehta`: unknown coordinate `tehta`, did you mean `theta`?"), "{err}");
 }
@@ -65,31 +84,65 @@ fn missing_urdf() {
 fn negative_time_step() {
     let text = hopper_text().replace("time_step = 0.05 ", "time_step = -0.05 ");
     let err = solve_fails("negative_time_step", &text);
-    assert!(err.contains("bad.toml:19: field `horizon.time_step`: must be a finite number > 0, got -0.05"), "{err}");
+    assert!(
+        err.contains(
+            "bad.toml:19: field `horizon.time_step`: must be a finite number > 0, got -0.05"
+        ),
+        "{err}"
+    );
 }
 
 #[test]
 fn inconsistent_vector_length() {
-    let text = hopper_text().replace("q = { x = 0.0, z = 0.5, theta = 0.0, r = 0.5 }", "q = [0.0, 0.5, 0.0]");
+    let text = hopper_text().replace(
+        "q = { x = 0.0, z = 0.5, theta = 0.0, r = 0.5 }",
+        "q = [0.0, 0.5, 0.0]",
+    );
     let err = solve_fails("inconsistent_vector_length", &text);
-    assert!(err.contains("bad.toml:22: field `initial.q`: has 3 values but the robot has 4 coordinates"), "{err}");
+    assert!(
+        err.contains(
+            "bad.toml:22: field `initial.q`: has 3 values but the robot has 4 coordinates"
+        ),
+        "{err}"
+    );
 }
 
 #[test]
 fn bad_override_names_the_setting() {
     let t = TestDir::with_hopper("bad_override_names_the_setting");
     t.write("p.toml", &hopper_text());
-    let run = t.vito().args(["check", "p.toml", "--set", "slack.wieght=3"]).assert_exit(2);
-    assert!(run.stderr.contains("field `slack.wieght` (set with --set): unknown key `wieght`, did you mean `weight`?"), "{}", run.stderr);
-    let run = t.vito().args(["check", "p.toml", "--set", "slack.weight"]).assert_exit(2);
-    assert!(run.stderr.contains("--set slack.weight: expected key.path=value"), "{}", run.stderr);
+    let run = t
+        .vito()
+        .args(["check", "p.toml", "--set", "slack.wieght=3"])
+        .assert_exit(2);
+    assert!(
+        run.stderr.contains(
+            "field `slack.wieght` (set with --set): unknown key `wieght`, did you mean `weight`?"
+        ),
+        "{}",
+        run.stderr
+    );
+    let run = t
+        .vito()
+        .args(["check", "p.toml", "--set", "slack.weight"])
+        .assert_exit(2);
+    assert!(
+        run.stderr
+            .contains("--set slack.weight: expected key.path=value"),
+        "{}",
+        run.stderr
+    );
 }
 
 #[test]
 fn missing_problem_file_and_usage_errors_exit_2() {
     let t = TestDir::new("missing_problem_file_and_usage_errors_exit_2");
     let run = t.vito().args(["check", "nope.toml"]).assert_exit(2);
-    assert!(run.stderr.contains("cannot read problem file nope.toml"), "{}", run.stderr);
+    assert!(
+        run.stderr.contains("cannot read problem file nope.toml"),
+        "{}",
+        run.stderr
+    );
     t.vito().args(["solve"]).assert_exit(2);
     t.vito().args(["frobnicate"]).assert_exit(2);
 }

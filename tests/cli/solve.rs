@@ -12,20 +12,33 @@ fn solve_and_check(name: &str, file: &str, max_slack: f64) {
     let problem = problems_dir().join(file);
     let run = t
         .vito()
-        .args([std::ffi::OsStr::new("solve"), problem.as_os_str(), "--out".as_ref(), out.as_os_str(), "--quiet".as_ref()])
+        .args([
+            std::ffi::OsStr::new("solve"),
+            problem.as_os_str(),
+            "--out".as_ref(),
+            out.as_os_str(),
+            "--quiet".as_ref(),
+        ])
         .assert_exit(0);
     let s = summary(&out);
     assert_eq!(s["status"], "solve_succeeded", "{}", run.stdout);
-    assert!(s["max_slack"].as_f64().unwrap() < max_slack, "max slack {}", s["max_slack"]);
+    assert!(
+        s["max_slack"].as_f64().unwrap() < max_slack,
+        "max slack {}",
+        s["max_slack"]
+    );
     // Objective against the regression record.
     let record: toml::Table =
-        toml::from_str(&std::fs::read_to_string(problems_dir().join("golden.toml")).unwrap()).unwrap();
+        toml::from_str(&std::fs::read_to_string(problems_dir().join("golden.toml")).unwrap())
+            .unwrap();
     let entry = record["problem"]
         .as_array()
         .unwrap()
         .iter()
         .find(|e| e["file"].as_str() == Some(file))
-        .unwrap_or_else(|| panic!("{file} is not in problems/golden.toml; run `vito regress --bless {file}`"));
+        .unwrap_or_else(|| {
+            panic!("{file} is not in problems/golden.toml; run `vito regress --bless {file}`")
+        });
     let recorded = entry["objective"].as_float().unwrap();
     let tolerance = entry["tolerance"].as_float().unwrap();
     let objective = s["objective"].as_f64().unwrap();
@@ -35,7 +48,11 @@ fn solve_and_check(name: &str, file: &str, max_slack: f64) {
     );
     check_csv_agrees(&out, &s);
     for svg in ["coordinates.svg", "inputs.svg", "contact_modes.svg"] {
-        assert!(std::fs::read_to_string(out.join(svg)).unwrap().contains("<svg"));
+        assert!(
+            std::fs::read_to_string(out.join(svg))
+                .unwrap()
+                .contains("<svg")
+        );
     }
 }
 
@@ -49,7 +66,9 @@ fn check_csv_agrees(out: &Path, s: &serde_json::Value) {
         .split(',')
         .map(|h| h.split(" [").next().unwrap().to_owned())
         .collect();
-    let rows: Vec<Vec<String>> = lines.map(|l| l.split(',').map(str::to_owned).collect()).collect();
+    let rows: Vec<Vec<String>> = lines
+        .map(|l| l.split(',').map(str::to_owned).collect())
+        .collect();
     assert_eq!(rows.len() as u64, s["knots"].as_u64().unwrap());
     let last = rows.last().unwrap();
     let cell = |name: &str| -> f64 {
@@ -78,7 +97,11 @@ fn brick_3d_solves() {
 #[test]
 #[ignore = "slow: cargo test --release -- --ignored spring_flamingo"]
 fn spring_flamingo_walk_solves() {
-    solve_and_check("spring_flamingo_walk_solves", "spring_flamingo_walk.toml", 1e-4);
+    solve_and_check(
+        "spring_flamingo_walk_solves",
+        "spring_flamingo_walk.toml",
+        1e-4,
+    );
 }
 
 /// The paper's tolerance for LittleDog: max slack below 1e-5. Minutes: `--ignored`.
