@@ -1207,4 +1207,43 @@ mod tests {
             vec![("contacts.friction".to_owned(), "0.3".to_owned())]
         );
     }
+
+    #[test]
+    fn warm_start_reads_a_trajectory_csv_by_name() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::create_dir(dir.path().join("robots")).unwrap();
+        std::fs::copy(
+            problems_dir().join("robots/hopper_2d.urdf"),
+            dir.path().join("robots/hopper_2d.urdf"),
+        )
+        .unwrap();
+        // Columns in another order than the model's, with units, and an empty last input cell.
+        std::fs::write(
+            dir.path().join("prev.csv"),
+            "time [s],r [m],theta [rad],z [m],x [m],u_theta [N·m],u_r [N],slack\n\
+             0,0.5,0,0.5,0,1.5,-2,0.01\n\
+             0.5,0.45,0.1,0.6,0.25,0.5,3,0.01\n\
+             1,0.5,0,0.5,0.5,,,\n",
+        )
+        .unwrap();
+        let text = std::fs::read_to_string(problems_dir().join("hopper_2d.toml"))
+            .unwrap()
+            .replace("to = \"final\"", "warm_start = \"prev.csv\"");
+        std::fs::write(dir.path().join("p.toml"), text).unwrap();
+        let p = load(&dir.path().join("p.toml"), &[]).unwrap();
+        let InitialGuess::WarmStart(w) = &p.spec.initial_guess else {
+            panic!("expected a warm start, got {:?}", p.spec.initial_guess);
+        };
+        assert_eq!(w.times, [0.0, 0.5, 1.0]);
+        assert_eq!(w.q[1], [0.25, 0.6, 0.1, 0.45]);
+        assert_eq!(w.u, vec![vec![1.5, -2.0], vec![0.5, 3.0]]);
+
+        // A missing coordinate column is an error naming the column and the file's line.
+        std::fs::write(dir.path().join("prev.csv"), "time [s],x [m]\n0,0\n1,1\n").unwrap();
+        let err = load(&dir.path().join("p.toml"), &[])
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("field `initial_guess.warm_start`"), "{err}");
+        assert!(err.contains("no column for coordinate `z`"), "{err}");
+    }
 }
