@@ -107,17 +107,16 @@ fn repair(xml: &str, origin: &str, warnings: &mut Vec<String>) -> Result<String,
             if tag == "limit"
                 && (name == "lower" || name == "upper")
                 && value.parse::<f64>().is_err()
+                && let Some(v) = eval_pi_expression(value)
             {
-                if let Some(v) = eval_pi_expression(value) {
-                    warnings.push(format!(
-                        "line {}: evaluated limit {name}=\"{value}\" as {v:?}",
-                        line(attr.range().start)
-                    ));
-                    edits.push(Edit {
-                        range: attr.range_value(),
-                        text: format!("{v:?}"),
-                    });
-                }
+                warnings.push(format!(
+                    "line {}: evaluated limit {name}=\"{value}\" as {v:?}",
+                    line(attr.range().start)
+                ));
+                edits.push(Edit {
+                    range: attr.range_value(),
+                    text: format!("{v:?}"),
+                });
             }
             if tag == "mesh" && name == "scale" && value.split_whitespace().count() == 1 {
                 edits.push(Edit {
@@ -459,8 +458,8 @@ fn perpendicular_pair(axis: [f64; 3]) -> [[f64; 3]; 2] {
         e[k] = 1.0;
         e
     };
-    for k in 0..3 {
-        if (axis[k].abs() - 1.0).abs() < 1e-12 {
+    for (k, component) in axis.iter().enumerate() {
+        if (component.abs() - 1.0).abs() < 1e-12 {
             let others: Vec<usize> = (0..3).filter(|&j| j != k).collect();
             return [unit(others[0]), unit(others[1])];
         }
@@ -500,7 +499,10 @@ fn transpose(m: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
 }
 
 /// The virtual base frames: (coordinate name, motion, axis, coordinate index).
-fn base_chain(base: BaseType) -> (Vec<&'static str>, Vec<(Motion, [f64; 3], usize)>) {
+/// One virtual base frame: its motion, axis and coordinate index.
+type BaseFrame = (Motion, [f64; 3], usize);
+
+fn base_chain(base: BaseType) -> (Vec<&'static str>, Vec<BaseFrame>) {
     const X: [f64; 3] = [1.0, 0.0, 0.0];
     const Y: [f64; 3] = [0.0, 1.0, 0.0];
     const Z: [f64; 3] = [0.0, 0.0, 1.0];
@@ -784,21 +786,20 @@ fn build(
         let is_point = |c: &&urdf_rs::Collision| matches!(c.geometry, urdf_rs::Geometry::Sphere { radius } if radius == 0.0);
         let n_points = link.collision.iter().filter(is_point).count();
         for (k, collision) in link.collision.iter().enumerate() {
-            if let urdf_rs::Geometry::Sphere { radius } = collision.geometry {
-                if radius == 0.0 {
-                    // Unnamed: the link's name when it is the link's only point.
-                    let fallback = if n_points == 1 {
-                        link.name.clone()
-                    } else {
-                        format!("{}_contact{k}", link.name)
-                    };
-                    contact_points.push(ContactPoint {
-                        name: collision.name.clone().unwrap_or(fallback),
-                        link: link.name.clone(),
-                        point: *collision.origin.xyz,
-                    });
-                }
+            if !is_point(&collision) {
+                continue;
             }
+            // Unnamed: the link's name when it is the link's only point.
+            let fallback = if n_points == 1 {
+                link.name.clone()
+            } else {
+                format!("{}_contact{k}", link.name)
+            };
+            contact_points.push(ContactPoint {
+                name: collision.name.clone().unwrap_or(fallback),
+                link: link.name.clone(),
+                point: *collision.origin.xyz,
+            });
         }
     }
     // Springs.
