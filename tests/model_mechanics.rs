@@ -7,8 +7,9 @@ use std::path::Path;
 
 use num_dual::{Dual64, HyperDual64};
 use vito::model::{
-    BaseType, Model, generalized_input_force, generalized_momentum, inverse_dynamics,
-    kinetic_energy, loop_residual, mass_matrix, point_position, potential_energy, sample,
+    BaseType, Model, generalized_damping_force, generalized_input_force, generalized_momentum,
+    generalized_point_force, inverse_dynamics, kinetic_energy, loop_residual, mass_matrix,
+    point_position, potential_energy, sample,
 };
 
 /// A deterministic pseudo-random sequence in [-1, 1).
@@ -365,6 +366,45 @@ fn input_map_is_the_transmission_selection() {
     let m = from_str(sample::hopper_2d(), BaseType::Fixed);
     let f = generalized_input_force(&m, &[0.0; 4], &[2.5, -7.0]);
     assert_eq!(f, [0.0, 0.0, 2.5, -7.0]);
+}
+
+#[test]
+fn damping_force_opposes_velocity() {
+    let m = robot(
+        "spring_flamingo/spring_flamingo_passive_ankle.normalized.urdf",
+        BaseType::Planar,
+    );
+    let v: Vec<f64> = (0..9).map(|i| i as f64 - 4.0).collect();
+    let f = generalized_damping_force(&m, &v);
+    let want = [0.0, 0.0, 0.0, 0.0, 0.0, -0.1, 0.0, 0.0, -0.4];
+    for (a, b) in f.iter().zip(want) {
+        assert!((a - b).abs() < 1e-15, "{f:?}");
+    }
+}
+
+#[test]
+fn point_force_is_the_jacobian_transpose() {
+    // Jᵀf = ∂(f·p(q))/∂q, the right side by forward duals.
+    let mut rng = Lcg(26);
+    for (name, model) in all_models() {
+        let n = model.nq();
+        let (q, _, _) = random_state(&model, &mut rng);
+        let force = [rng.next(), rng.next(), rng.next()];
+        let point = [0.1, 0.2, -0.3];
+        for link_name in model.link_names() {
+            let link = model.link_index(link_name).expect("own link");
+            let got = generalized_point_force(&model, link, &point, force, &q);
+            for i in 0..n {
+                let p = point_position(&model, link, &point, &dual_at(&q, &unit(n, i)));
+                let want = force[0] * p[0].eps + force[1] * p[1].eps + force[2] * p[2].eps;
+                assert!(
+                    close(got[i], want, 1e-12, 1e-12),
+                    "{name} {link_name}[{i}]: {} vs {want}",
+                    got[i]
+                );
+            }
+        }
+    }
 }
 
 // ---- AD against finite differences --------------------------------------------------------

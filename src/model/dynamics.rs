@@ -1,10 +1,10 @@
 //! Generalised forces: inputs, damping and inverse dynamics (RNEA in world coordinates).
 
 use super::energy::{com_position, project_wrenches, world_inertia_times};
-use super::kinematics::{Pose, Twist, check_len, child_pose, child_twist};
+use super::kinematics::{Pose, Twist, check_len, child_pose, child_twist, frame_poses};
 use super::spatial::{Vec3, add, cross, mat_vec_const, scale, sub};
 use super::tree::Motion;
-use super::{Model, Scalar};
+use super::{LinkId, Model, Scalar};
 
 /// B(q)·u: input i adds u[i] to coordinate `model.input_coordinates()[i]` (length `nq`;
 /// B is a constant selection matrix, `q` is accepted for the general signature).
@@ -22,6 +22,30 @@ pub fn generalized_input_force<D: Scalar>(model: &Model, q: &[D], u: &[D]) -> Ve
         out[coordinate] += value;
     }
     out
+}
+
+/// Generalised force Jᵀ(q)·f of a world-frame force `force` applied at `point` (given in the
+/// `link` frame), length `nq`: for actuators or contact forces that act at a point.
+pub fn generalized_point_force<D: Scalar>(
+    model: &Model,
+    link: LinkId,
+    point: &[f64; 3],
+    force: [D; 3],
+    q: &[D],
+) -> Vec<D> {
+    check_len(model, q.len(), "q");
+    let poses = frame_poses(model, q);
+    let frame = model.link_frame[link.0];
+    let at = add(
+        poses[frame].origin,
+        mat_vec_const(&poses[frame].rotation, point),
+    );
+    let zero = [D::from(0.0); 3];
+    let mut forces = vec![zero; model.frames.len()];
+    let mut moments = vec![zero; model.frames.len()];
+    forces[frame] = force;
+    moments[frame] = cross(at, force);
+    project_wrenches(model, &poses, forces, moments)
 }
 
 /// Viscous damping force −diag(d)·v (length `nq`; d from URDF `<dynamics damping>`).
