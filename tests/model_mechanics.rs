@@ -394,13 +394,12 @@ fn point_force_is_the_jacobian_transpose() {
         for link_name in model.link_names() {
             let link = model.link_index(link_name).expect("own link");
             let got = generalized_point_force(&model, link, &point, force, &q);
-            for i in 0..n {
+            for (i, value) in got.iter().enumerate() {
                 let p = point_position(&model, link, &point, &dual_at(&q, &unit(n, i)));
                 let want = force[0] * p[0].eps + force[1] * p[1].eps + force[2] * p[2].eps;
                 assert!(
-                    close(got[i], want, 1e-12, 1e-12),
-                    "{name} {link_name}[{i}]: {} vs {want}",
-                    got[i]
+                    close(*value, want, 1e-12, 1e-12),
+                    "{name} {link_name}[{i}]: {value} vs {want}"
                 );
             }
         }
