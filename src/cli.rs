@@ -542,6 +542,7 @@ fn regress(record_path: &Path, files: &[PathBuf], bless: bool) -> Result<u8, Cli
                         status: status_text.clone(),
                         iterations: summary["iterations"].as_u64().unwrap_or(0) as usize,
                         max_slack: summary["max_slack"].as_f64().unwrap_or(f64::NAN),
+                        source: Some(format!("vito {}", env!("CARGO_PKG_VERSION"))),
                     });
                 }
                 failed |= verdict != "ok";

@@ -20,6 +20,9 @@ pub struct GoldenEntry {
     pub iterations: usize,
     /// Largest slack when recorded.
     pub max_slack: f64,
+    /// What produced the numbers, e.g. `vito 0.1.0` or the independent CasADi implementation.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub source: Option<String>,
 }
 
 /// The whole record.
@@ -115,6 +118,7 @@ mod tests {
             status: "solve_succeeded".into(),
             iterations: 12,
             max_slack: 1e-9,
+            source: None,
         };
         record.upsert(entry.clone());
         record.upsert(GoldenEntry {

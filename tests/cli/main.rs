@@ -7,4 +7,5 @@ mod util;
 mod check;
 mod errors;
 mod init;
+mod regression;
 mod solve;
