@@ -140,7 +140,24 @@ impl CliError {
 
 /// Runs a parsed command; prints the error (once, with its chain) and returns the exit code.
 pub fn run(args: Args) -> ExitCode {
-    let result = match args.command {
+    // A panic is a bug, never an input error: report it as internal (exit 3), once.
+    let outcome = std::panic::catch_unwind(move || dispatch(args));
+    let result = outcome.unwrap_or_else(|_| {
+        Err(CliError::Internal(
+            "vito panicked (a bug; the message above says where)".into(),
+        ))
+    });
+    match result {
+        Ok(code) => ExitCode::from(code),
+        Err(e) => {
+            print_error(&e);
+            ExitCode::from(e.exit_code())
+        }
+    }
+}
+
+fn dispatch(args: Args) -> Result<u8, CliError> {
+    match args.command {
         Command::Solve {
             file,
             set,
@@ -156,13 +173,6 @@ pub fn run(args: Args) -> ExitCode {
             record,
             files,
         } => regress(&record, &files, bless),
-    };
-    match result {
-        Ok(code) => ExitCode::from(code),
-        Err(e) => {
-            print_error(&e);
-            ExitCode::from(e.exit_code())
-        }
     }
 }
 

@@ -1,10 +1,10 @@
 //! What problem validation needs to know about a robot: its names, limits and contact points.
 //!
-//! TRANSITIONAL: until `model::Model::from_urdf_file` lands on `main`, [`RobotInfo::read`]
-//! reads these facts itself with roxmltree, following SPEC.md's URDF conventions (q = base
-//! coordinates, then non-fixed joints in document order; inputs = `<transmission>` joints in
-//! document order; contacts = `<collision>` spheres of radius 0 in document order). Once the
-//! model is merged, `read` becomes `Model::from_urdf_file` + `RobotInfo::from(&model)`.
+//! [`RobotInfo::read`] loads the robot with `model::Model::from_urdf_file` (the authority on
+//! names, limits, inputs and contact points) and adds what outputs need for units: whether
+//! each coordinate is a length or an angle, read from the joint types with roxmltree.
+//! [`RobotInfo::parse`] is that plain XML pass alone (SPEC.md's URDF conventions), kept for
+//! tests and for files the model rejects.
 
 use std::path::{Path, PathBuf};
 
@@ -65,6 +65,8 @@ pub enum RobotError {
     Xml { path: PathBuf, message: String },
     #[error("URDF {path}: {what}")]
     Content { path: PathBuf, what: String },
+    #[error(transparent)]
+    Model(#[from] crate::model::ModelError),
 }
 
 fn parse_triple(text: Option<&str>) -> Option<[f64; 3]> {
@@ -90,13 +92,54 @@ fn parse_number(text: Option<&str>, default: f64) -> Option<f64> {
 }
 
 impl RobotInfo {
-    /// Reads a URDF and lists its coordinates for the given base.
+    /// Reads a URDF and lists its coordinates for the given base (names, limits, inputs and
+    /// contacts as `model::Model` has them).
     pub fn read(path: &Path, base: BaseType) -> Result<RobotInfo, RobotError> {
         let text = std::fs::read_to_string(path).map_err(|source| RobotError::Io {
             path: path.to_owned(),
             source,
         })?;
-        Self::parse(path, &text, base)
+        let model = crate::model::Model::from_urdf_str(&text, base)?;
+        let xml = Self::parse(path, &text, base)?;
+        let kind_of = |name: &str| {
+            xml.coordinate_index(name)
+                .map_or(CoordinateKind::Angular, |i| xml.coordinate_kinds[i])
+        };
+        let coordinates = model.coordinate_names().to_vec();
+        let coordinate_kinds: Vec<CoordinateKind> =
+            coordinates.iter().map(|c| kind_of(c)).collect();
+        Ok(RobotInfo {
+            urdf: path.to_owned(),
+            coordinate_limits: model
+                .coordinate_limits()
+                .iter()
+                .map(|&(lower, upper)| Interval { lower, upper })
+                .collect(),
+            inputs: model.input_names().to_vec(),
+            input_kinds: model
+                .input_coordinates()
+                .iter()
+                .map(|&c| {
+                    coordinate_kinds
+                        .get(c)
+                        .copied()
+                        .unwrap_or(CoordinateKind::Angular)
+                })
+                .collect(),
+            effort_limits: model.effort_limits().to_vec(),
+            links: model.link_names().to_vec(),
+            contacts: model
+                .contact_points()
+                .iter()
+                .map(|c| UrdfContact {
+                    name: c.name.clone(),
+                    link: c.link.clone(),
+                    point: c.point,
+                })
+                .collect(),
+            coordinates,
+            coordinate_kinds,
+        })
     }
 
     /// Parses URDF text (`path` only names it in errors).
