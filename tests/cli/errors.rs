@@ -146,3 +146,18 @@ fn missing_problem_file_and_usage_errors_exit_2() {
     t.vito().args(["solve"]).assert_exit(2);
     t.vito().args(["frobnicate"]).assert_exit(2);
 }
+
+#[test]
+fn infeasible_bounds_name_the_coordinate() {
+    let text = hopper_text().replace("theta = 0.0, r = 0.5 }", "theta = 0.0, r = 0.8 }");
+    let err = solve_fails("infeasible_bounds_name_the_coordinate", &text);
+    assert!(
+        err.contains(
+            "bad.toml:22: field `initial.q.r`: q_1 r = 0.8 is outside URDF limits [0.3, 0.7]"
+        ),
+        "{err}"
+    );
+    let text = hopper_text().replace("lower = 0.3\nupper = 0.7", "lower = 0.6\nupper = 0.7");
+    let err = solve_fails("infeasible_bounds_name_the_coordinate_2", &text);
+    assert!(err.contains("field `initial.q.r`"), "{err}");
+}
