@@ -6,7 +6,9 @@ use std::path::PathBuf;
 /// Where in a problem file something is: file, 1-based line (when known) and TOML path.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Location {
+    /// The problem file.
     pub file: PathBuf,
+    /// 1-based line, when the field is written in the file.
     pub line: Option<usize>,
     /// TOML path such as `contacts.point[1].link`; empty for the whole file.
     pub field: String,
@@ -41,43 +43,82 @@ fn did_you_mean(s: &Option<String>) -> String {
 /// A problem file that cannot become a `ProblemSpec`.
 #[derive(Debug, thiserror::Error)]
 pub enum ProblemError {
+    /// The problem file could not be read.
     #[error("cannot read problem file {path}: {source}")]
     Io {
+        /// The file.
         path: PathBuf,
+        /// The operating-system error.
         source: std::io::Error,
     },
+    /// The file is not valid TOML.
     #[error("{at}: TOML syntax error: {message}")]
-    Syntax { at: Box<Location>, message: String },
+    Syntax {
+        /// Where.
+        at: Box<Location>,
+        /// The TOML parser's message.
+        message: String,
+    },
     #[error("{at}: unknown {what} `{key}`{}; valid {what}s here: {valid}", did_you_mean(.suggestion))]
+    /// A key (or a tag value such as a cost `type`) that the schema does not have.
     UnknownKey {
+        /// Where.
         at: Box<Location>,
         /// `key`, or `value` for a tag such as a cost `type`.
         what: &'static str,
+        /// The unknown key.
         key: String,
+        /// The nearest valid key, if close.
         suggestion: Option<String>,
+        /// The valid keys, listed for the message.
         valid: String,
     },
+    /// A value the checks reject.
     #[error("{at}: {message}")]
-    Invalid { at: Box<Location>, message: String },
-    #[error("{at}: unknown {kind} `{name}`{}; the {kind}s are: {valid}", did_you_mean(.suggestion))]
-    UnknownName {
+    Invalid {
+        /// Where.
         at: Box<Location>,
+        /// What is wrong and how to fix it.
+        message: String,
+    },
+    #[error("{at}: unknown {kind} `{name}`{}; the {kind}s are: {valid}", did_you_mean(.suggestion))]
+    /// A coordinate, input, contact or link name the robot does not have.
+    UnknownName {
+        /// Where.
+        at: Box<Location>,
+        /// What kind of name (`coordinate`, `input`, ...).
         kind: &'static str,
+        /// The unknown name.
         name: String,
+        /// The nearest valid name, if close.
         suggestion: Option<String>,
+        /// The valid names, listed for the message.
         valid: String,
     },
     #[error("{at}: {source}")]
+    /// The robot's URDF could not be loaded.
     Robot {
+        /// Where the URDF is named.
         at: Box<Location>,
+        /// Why it failed.
         source: crate::problem::RobotError,
     },
     #[error("--set {arg}: {message}")]
-    Override { arg: String, message: String },
+    /// A `--set` argument that cannot be applied.
+    Override {
+        /// The argument as given.
+        arg: String,
+        /// What is wrong.
+        message: String,
+    },
     #[error("{at}: warm start {path}: {message}")]
+    /// The warm-start trajectory could not be used.
     WarmStart {
+        /// Where it is named.
         at: Box<Location>,
+        /// The CSV file.
         path: PathBuf,
+        /// What is wrong.
         message: String,
     },
 }

@@ -26,7 +26,9 @@ pub struct UrdfContact {
 /// Whether a coordinate is a length or an angle (for units in outputs).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum CoordinateKind {
+    /// A length (prismatic joint, base translation).
     Linear,
+    /// An angle (revolute or continuous joint, base rotation).
     Angular,
 }
 
@@ -56,15 +58,31 @@ pub struct RobotInfo {
 /// Why a URDF could not be read.
 #[derive(Debug, thiserror::Error)]
 pub enum RobotError {
+    /// The file could not be read.
     #[error("cannot read URDF {path}: {source}")]
     Io {
+        /// The URDF.
         path: PathBuf,
+        /// The operating-system error.
         source: std::io::Error,
     },
+    /// The file is not well-formed XML.
     #[error("URDF {path} is not valid XML: {message}")]
-    Xml { path: PathBuf, message: String },
+    Xml {
+        /// The URDF.
+        path: PathBuf,
+        /// The XML parser's message.
+        message: String,
+    },
+    /// The XML is not a URDF vito reads.
     #[error("URDF {path}: {what}")]
-    Content { path: PathBuf, what: String },
+    Content {
+        /// The URDF.
+        path: PathBuf,
+        /// What is wrong.
+        what: String,
+    },
+    /// The model loader rejected it.
     #[error(transparent)]
     Model(#[from] crate::model::ModelError),
 }

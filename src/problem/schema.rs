@@ -19,30 +19,42 @@ pub struct ProblemFile {
     pub name: Option<String>,
     /// Free text shown by `vito check`.
     pub description: Option<String>,
+    /// `[robot]`.
     pub robot: RobotSection,
+    /// `[contacts]`.
     #[serde(default)]
     pub contacts: ContactsSection,
+    /// `[terrain]`.
     #[serde(default)]
     pub terrain: TerrainSection,
+    /// `[horizon]`.
     pub horizon: HorizonSection,
+    /// `[initial]`.
     pub initial: InitialSection,
+    /// `[final]`.
     #[serde(rename = "final", default)]
     pub final_: FinalSection,
     /// Extra coordinate bounds, intersected with each other and with the joint limits.
     #[serde(default)]
     pub bounds: Vec<BoundEntry>,
+    /// `[inputs]`.
     #[serde(default)]
     pub inputs: InputsSection,
     /// Cost terms; the slack penalty is added on top (see `slack`).
     #[serde(default)]
     pub cost: Vec<CostEntry>,
+    /// `[slack]`.
     pub slack: SlackSection,
+    /// `[[periodic]]` conditions.
     #[serde(default)]
     pub periodic: Vec<PeriodicEntry>,
+    /// `[initial_guess]`.
     #[serde(default)]
     pub initial_guess: InitialGuessSection,
+    /// `[solver]`.
     #[serde(default)]
     pub solver: SolverSection,
+    /// `[output]`.
     #[serde(default)]
     pub output: OutputSection,
 }
@@ -70,9 +82,12 @@ pub struct RobotSection {
 #[derive(Debug, Clone, Copy, Deserialize, Default, PartialEq, Eq)]
 #[serde(rename_all = "snake_case")]
 pub enum BaseName {
+    /// Root link welded to the world (default).
     #[default]
     Fixed,
+    /// base_x, base_z, base_pitch.
     Planar,
+    /// base_x, base_y, base_z, base_roll, base_pitch, base_yaw.
     Floating,
 }
 
@@ -96,8 +111,11 @@ pub struct ContactsSection {
 /// `"all"`, `"none"` or a list of names.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ContactSelection {
+    /// Every zero-radius collision sphere of the URDF.
     All,
+    /// None of them.
     None,
+    /// These, by contact name, in this order.
     Names(Vec<String>),
 }
 
@@ -191,8 +209,11 @@ pub struct InitialSection {
 /// `"zero"`, `"free"` or a vector.
 #[derive(Debug, Clone, PartialEq)]
 pub enum VelocitySpec {
+    /// v_0 = 0, fixed.
     Zero,
+    /// v_0 is a variable.
     Free,
+    /// v_0 fixed to these values.
     Vector(NamedVector),
 }
 
@@ -290,7 +311,9 @@ pub struct BoundEntry {
 /// A named set of knots or an explicit list.
 #[derive(Debug, Clone, PartialEq)]
 pub enum KnotsName {
+    /// `all`, `interior`, `first` or `last` (checked by validation).
     Named(String),
+    /// 0-based knot indices.
     List(Vec<i64>),
 }
 
@@ -339,27 +362,42 @@ pub enum CostEntry {
         q_target: Option<NamedVector>,
         /// Target velocity (default zero).
         v_target: Option<NamedVector>,
+        /// Weights on the configuration error, per coordinate.
         q_weights: NamedVector,
+        /// Weights on the velocity error, per coordinate (default 0).
         v_weights: Option<NamedVector>,
         /// Multiply each interval's term by h_k (default true).
         time_weighted: Option<bool>,
     },
     /// Σ_k [h_k] ½ u_kᵀ diag(w) u_k.
     Input {
+        /// Weights per input.
         weights: NamedVector,
+        /// Multiply by h_k (default true).
         time_weighted: Option<bool>,
     },
     /// Σ_k ½ (u_k − u_{k−1})ᵀ diag(w) (u_k − u_{k−1}).
-    InputRate { weights: NamedVector },
+    InputRate {
+        /// Weights per input.
+        weights: NamedVector,
+    },
     /// Σ_k ½ (q_{k+1} − q_k)ᵀ diag(w) (q_{k+1} − q_k).
-    ConfigurationDifference { weights: NamedVector },
+    ConfigurationDifference {
+        /// Weights per coordinate.
+        weights: NamedVector,
+    },
     /// ½ (q_N − q_target)ᵀ diag(w) (q_N − q_target).
     FinalState {
+        /// Target (default: the final goal).
         q_target: Option<NamedVector>,
+        /// Weights per coordinate.
         weights: NamedVector,
     },
     /// w · total time.
-    Time { weight: f64 },
+    Time {
+        /// Weight per unit of time.
+        weight: f64,
+    },
 }
 
 /// `[slack]`: the complementarity relaxation.
@@ -376,9 +414,13 @@ pub struct SlackSection {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PeriodicEntry {
+    /// Coordinate name.
     pub coordinate: String,
+    /// Constrain q_N − q_1 = offset (default true).
     pub position: Option<bool>,
+    /// The offset (default 0), e.g. a stride length.
     pub offset: Option<f64>,
+    /// Constrain the last interval's velocity to equal the first's (default false).
     pub velocity: Option<bool>,
 }
 
@@ -396,8 +438,11 @@ pub struct InitialGuessSection {
 /// `"initial"`, `"final"` or a pose.
 #[derive(Debug, Clone, PartialEq)]
 pub enum GuessTarget {
+    /// Hold q_1 at every knot.
     Initial,
+    /// Towards the final goal (default).
     Final,
+    /// Towards this pose (unnamed coordinates keep q_1's value).
     Pose(NamedVector),
 }
 

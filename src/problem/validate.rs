@@ -114,6 +114,7 @@ impl Override {
 /// A checked problem with what outputs need to say where it came from.
 #[derive(Debug, Clone)]
 pub struct LoadedProblem {
+    /// The checked problem the transcription solves.
     pub spec: ProblemSpec,
     /// Names, limits and units of the robot.
     pub robot: RobotInfo,
@@ -136,8 +137,11 @@ pub struct LoadedProblem {
 /// Unit names for labels in outputs.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Units {
+    /// Length unit, e.g. `m`.
     pub length: String,
+    /// Mass unit, e.g. `kg`.
     pub mass: String,
+    /// Time unit, e.g. `s`.
     pub time: String,
 }
 

@@ -123,7 +123,9 @@ pub fn trajectory_csv(solution: &Solution, units: &ColumnUnits) -> String {
 /// (empty cells are NaN).
 #[derive(Debug, Clone, PartialEq)]
 pub struct CsvTable {
+    /// Column names, units stripped.
     pub names: Vec<String>,
+    /// One vector per column (rows in order).
     pub columns: Vec<Vec<f64>>,
 }
 

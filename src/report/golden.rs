@@ -29,6 +29,7 @@ pub struct GoldenEntry {
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct GoldenRecord {
+    /// One entry per problem file.
     #[serde(default)]
     pub problem: Vec<GoldenEntry>,
 }
@@ -44,13 +45,22 @@ const HEADER: &str = "# Regression record of solved costs, checked by `vito regr
 /// Why the record could not be read or written.
 #[derive(Debug, thiserror::Error)]
 pub enum GoldenError {
+    /// The record could not be read or written.
     #[error("cannot read regression record {path}: {source}")]
     Io {
+        /// The record file.
         path: PathBuf,
+        /// The operating-system error.
         source: std::io::Error,
     },
+    /// The record is not valid.
     #[error("regression record {path}: {message}")]
-    Parse { path: PathBuf, message: String },
+    Parse {
+        /// The record file.
+        path: PathBuf,
+        /// The TOML parser's message.
+        message: String,
+    },
 }
 
 impl GoldenRecord {

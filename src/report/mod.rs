@@ -1,6 +1,8 @@
 //! What a researcher reads: trajectory CSV, summary JSON, SVG plots (written atomically),
 //! and the regression record of solved costs.
 
+#![warn(missing_docs)]
+
 mod csv;
 mod golden;
 mod modes;
@@ -24,13 +26,22 @@ use crate::transcription::Solution;
 /// Why outputs could not be written.
 #[derive(Debug, thiserror::Error)]
 pub enum ReportError {
+    /// A file or directory could not be written.
     #[error("cannot write output directory {path}: {source}")]
     Io {
+        /// The file or directory.
         path: PathBuf,
+        /// The operating-system error.
         source: std::io::Error,
     },
+    /// plotters failed to draw.
     #[error("cannot draw {path}: {message}")]
-    Plot { path: PathBuf, message: String },
+    Plot {
+        /// The plot file.
+        path: PathBuf,
+        /// plotters' message.
+        message: String,
+    },
 }
 
 /// Column units for a robot in the given unit system.

@@ -17,8 +17,11 @@ pub const SLIDE_CONE_FRACTION: f64 = 0.99;
 /// One contact's mode over one interval.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ContactMode {
+    /// No normal impulse.
     Flight,
+    /// In contact, friction inside the cone.
     Stick,
+    /// In contact, friction on the cone's edge.
     Slide,
 }
 
