@@ -1,5 +1,7 @@
 //! Errors of reading and checking a problem file: each names the file, line and field.
 
+#![warn(missing_docs)]
+
 use std::fmt;
 use std::path::PathBuf;
 

@@ -3,8 +3,6 @@
 //! `load(path, overrides)` reads a problem file, applies `--set` overrides, resolves every
 //! name against the robot and returns a [`LoadedProblem`] holding the [`ProblemSpec`].
 
-#![warn(missing_docs)]
-
 mod error;
 mod robot;
 pub mod schema;

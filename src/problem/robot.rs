@@ -6,6 +6,8 @@
 //! [`RobotInfo::parse`] is that plain XML pass alone (SPEC.md's URDF conventions), kept for
 //! tests and for files the model rejects.
 
+#![warn(missing_docs)]
+
 use std::path::{Path, PathBuf};
 
 use crate::model::BaseType;

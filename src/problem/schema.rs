@@ -5,6 +5,8 @@
 //! otherwise (HAMR: mm, g, ms, with gravity given explicitly). `validate` turns a
 //! [`ProblemFile`] into a checked [`crate::problem::ProblemSpec`].
 
+#![warn(missing_docs)]
+
 use std::collections::BTreeMap;
 use std::fmt;
 

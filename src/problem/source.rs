@@ -1,5 +1,7 @@
 //! Where a field lives in a problem file: TOML paths ↔ lines, and nearest-name suggestions.
 
+#![warn(missing_docs)]
+
 use toml::Spanned;
 use toml::de::{DeTable, DeValue};
 

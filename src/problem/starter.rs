@@ -1,5 +1,7 @@
 //! `vito init`: a commented starter problem for a URDF, which `vito check` accepts as is.
 
+#![warn(missing_docs)]
+
 use crate::model::BaseType;
 use crate::problem::{CoordinateKind, RobotInfo};
 

@@ -2,6 +2,8 @@
 //! resolution against the robot, and every check a user can fail, each error naming the
 //! file, line and field (and the nearest valid name for a typo).
 
+#![warn(missing_docs)]
+
 use std::path::{Path, PathBuf};
 
 use sha2::{Digest, Sha256};
