@@ -35,10 +35,11 @@ pub fn generalized_point_force<D: Scalar>(
 ) -> Vec<D> {
     check_len(model, q.len(), "q");
     let poses = frame_poses(model, q);
-    let frame = model.link_frame[link.0];
+    let placement = &model.link_frame[link.0];
+    let frame = placement.frame;
     let at = add(
         poses[frame].origin,
-        mat_vec_const(&poses[frame].rotation, point),
+        mat_vec_const(&poses[frame].rotation, &placement.point_in_frame(point)),
     );
     let zero = [D::from(0.0); 3];
     let mut forces = vec![zero; model.frames.len()];
