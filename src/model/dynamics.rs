@@ -6,7 +6,7 @@ use super::spatial::{Vec3, add, cross, mat_vec_const, scale, sub};
 use super::tree::Motion;
 use super::{LinkId, Model, Scalar};
 
-/// B(q)·u: input i adds u[i] to coordinate `model.input_coordinates()[i]` (length `nq`;
+/// B(q)·u: input i adds `u[i]` to coordinate `model.input_coordinates()[i]` (length `nq`;
 /// B is a constant selection matrix, `q` is accepted for the general signature).
 pub fn generalized_input_force<D: Scalar>(model: &Model, q: &[D], u: &[D]) -> Vec<D> {
     check_len(model, q.len(), "q");

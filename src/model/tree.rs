@@ -39,7 +39,7 @@ pub enum SpringKind {
     Prismatic,
 }
 
-/// A linear joint spring with energy ½·stiffness·(q[coordinate] − rest)².
+/// A linear joint spring with energy ½·stiffness·(`q[coordinate]` − rest)².
 #[derive(Debug, Clone, PartialEq)]
 pub struct Spring {
     /// The `<force_element>` name.
@@ -177,6 +177,15 @@ impl Model {
     }
 
     /// Loads a URDF from a string; see [`Model::from_urdf_file`].
+    ///
+    /// # Example
+    /// ```
+    /// use vito::model::{BaseType, Model, mass_matrix, sample};
+    /// let model = Model::from_urdf_str(&sample::pendulum(), BaseType::Fixed).unwrap();
+    /// assert_eq!(model.coordinate_names(), ["joint1"]);
+    /// // A uniform 1 kg, 1 m rod about its end: m l²/3.
+    /// assert!((mass_matrix(&model, &[0.4])[(0, 0)] - 1.0 / 3.0).abs() < 1e-14);
+    /// ```
     pub fn from_urdf_str(xml: &str, base: BaseType) -> Result<Model, ModelError> {
         super::urdf::load(xml, "<string>", base)
     }

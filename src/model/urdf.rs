@@ -987,3 +987,52 @@ fn build(
         warnings,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pi_expressions() {
+        let pi = std::f64::consts::PI;
+        assert_eq!(eval_pi_expression("-pi/4"), Some(-pi / 4.0));
+        assert_eq!(eval_pi_expression(" pi "), Some(pi));
+        assert_eq!(eval_pi_expression("2*pi"), Some(2.0 * pi));
+        assert_eq!(eval_pi_expression("-0.5*pi/2"), Some(-0.25 * pi));
+        assert_eq!(eval_pi_expression("pie"), None);
+        assert_eq!(eval_pi_expression("4/pi"), None);
+    }
+
+    #[test]
+    fn perpendicular_pairs_are_orthonormal() {
+        assert_eq!(
+            perpendicular_pair([0.0, 1.0, 0.0]),
+            [[1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]
+        );
+        assert_eq!(
+            perpendicular_pair([0.0, 0.0, -1.0]),
+            [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]
+        );
+        let axis = normalized([1.0, 2.0, -0.5]).expect("non-zero");
+        let [e1, e2] = perpendicular_pair(axis);
+        let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        for (a, b, want) in [
+            (e1, e1, 1.0),
+            (e2, e2, 1.0),
+            (e1, e2, 0.0),
+            (e1, axis, 0.0),
+            (e2, axis, 0.0),
+        ] {
+            assert!((dot(a, b) - want).abs() < 1e-15);
+        }
+    }
+
+    #[test]
+    fn lumping_two_point_masses() {
+        // Two 1 kg points at x = ±1: mass 2, centre 0, Iyy = Izz = 2, Ixx = 0.
+        let zero = [[0.0; 3]; 3];
+        let (m, c, i) = lump(&[(1.0, [1.0, 0.0, 0.0], zero), (1.0, [-1.0, 0.0, 0.0], zero)]);
+        assert_eq!((m, c), (2.0, [0.0; 3]));
+        assert_eq!(i, [[0.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 2.0]]);
+    }
+}
