@@ -164,6 +164,9 @@ fn repair(xml: &str, origin: &str, warnings: &mut Vec<String>) -> Result<String,
     let mut out = String::with_capacity(xml.len() + 64 * edits.len());
     let mut cursor = 0;
     for edit in edits {
+        if edit.range.start < cursor {
+            continue; // overlapping edits cannot arise from distinct attributes; be safe
+        }
         out.push_str(&xml[cursor..edit.range.start]);
         out.push_str(&edit.text);
         cursor = edit.range.end;
