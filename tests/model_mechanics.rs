@@ -273,9 +273,10 @@ fn mass_matrix_is_the_hessian_of_the_kinetic_energy_recursion() {
             0.5 * vmv
         );
         let eig = mm.symmetric_eigenvalues();
-        if name != "four_bar" && name != "hamr" {
-            assert!(eig.min() > 0.0, "{name}: M not positive definite: {eig}");
-        }
+        assert!(
+            eig.min() > 1e-9 * eig.max(),
+            "{name}: M not positive definite: {eig}"
+        );
     }
 }
 
@@ -457,11 +458,41 @@ fn four_bar_closes_at_zero_and_opens_when_one_joint_moves() {
     assert_eq!(m.num_loop_constraints(), 2);
     let r: Vec<f64> = loop_residual(&m, &[0.0; 3]);
     assert!(r.iter().all(|x| x.abs() < 1e-15), "{r:?}");
-    // Crank by 0.1 alone: the rocker's end follows the rigid chain rotated about O.
+    // Crank by 0.1 alone: the rigid chain turns about O, its end E = Ry(0.1)·D with
+    // D = (4.6, 0, −0.2); the gap E − D in ground axes.
     let r: Vec<f64> = loop_residual(&m, &[0.1, 0.0, 0.0]);
-    // End point E = Ry(0.1)·(4, 0, 0) = (4 cos 0.1, 0, −4 sin 0.1), gap E − D in ground axes.
-    assert!(close(r[0], 4.0 * 0.1f64.cos() - 4.0, 1e-12, 1e-15), "{r:?}");
-    assert!(close(r[1], -4.0 * 0.1f64.sin(), 1e-12, 1e-15), "{r:?}");
+    let (s, c) = 0.1f64.sin_cos();
+    let end = [4.6 * c - 0.2 * s, -4.6 * s - 0.2 * c];
+    assert!(close(r[0], end[0] - 4.6, 1e-12, 1e-15), "{r:?}");
+    assert!(close(r[1], end[1] + 0.2, 1e-12, 1e-15), "{r:?}");
+    // Not an equilibrium at q = 0: gravity does work along the one feasible direction
+    // (the null space of the 2×3 loop Jacobian).
+    let jac: Vec<Vec<f64>> = (0..3)
+        .map(|i| {
+            loop_residual(&m, &dual_at(&[0.0; 3], &unit(3, i)))
+                .iter()
+                .map(|x| x.eps)
+                .collect()
+        })
+        .collect();
+    // Null direction = cross product of the two rows of J (J[row][col] = jac[col][row]).
+    let (a, b) = (
+        [jac[0][0], jac[1][0], jac[2][0]],
+        [jac[0][1], jac[1][1], jac[2][1]],
+    );
+    let null = [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ];
+    let grad = dv_dq(&m, &[0.0; 3]);
+    let work: f64 = (0..3).map(|i| grad[i] * null[i]).sum();
+    let norm = null.iter().map(|x| x * x).sum::<f64>().sqrt();
+    assert!(norm > 1e-3, "loop Jacobian rank deficient at q = 0");
+    assert!(
+        (work / norm).abs() > 1.0,
+        "four-bar in equilibrium at q = 0: {work}"
+    );
 }
 
 /// R(rpy) = Rz(y)·Ry(p)·Rx(r), written out independently of the library.
