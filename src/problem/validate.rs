@@ -417,12 +417,17 @@ fn resolve(
     }
 }
 
-fn parse_units(ctx: &Context, units: Option<&str>) -> Result<Units, ProblemError> {
-    let si = Units {
+/// SI: m, kg, s.
+fn si_units() -> Units {
+    Units {
         length: "m".into(),
         mass: "kg".into(),
         time: "s".into(),
-    };
+    }
+}
+
+fn parse_units(ctx: &Context, units: Option<&str>) -> Result<Units, ProblemError> {
+    let si = si_units();
     match units.map(str::trim) {
         None | Some("SI") | Some("si") => Ok(si),
         Some(text) => {
@@ -478,6 +483,15 @@ fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, ProblemError>
                 finite(ctx, &format!("robot.gravity[{i}]"), *v)?;
             }
             g
+        }
+        None if raw.robot.units.is_some() && units != si_units() => {
+            return Err(ctx.invalid(
+                "robot.gravity",
+                format!(
+                    "the robot uses units `{} {} {}`: give gravity in them (e.g. [0, 0, -9.81e-3] for mm/ms²)",
+                    units.length, units.mass, units.time
+                ),
+            ));
         }
         None => [0.0, 0.0, -9.81],
     };
@@ -1353,5 +1367,31 @@ mod tests {
             .to_string();
         assert!(err.contains("field `initial_guess.warm_start`"), "{err}");
         assert!(err.contains("no column for coordinate `z`"), "{err}");
+    }
+
+    #[test]
+    fn other_units_need_explicit_gravity() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::create_dir(dir.path().join("robots")).unwrap();
+        std::fs::copy(
+            problems_dir().join("robots/hopper_2d.urdf"),
+            dir.path().join("robots/hopper_2d.urdf"),
+        )
+        .unwrap();
+        let text = std::fs::read_to_string(problems_dir().join("hopper_2d.toml"))
+            .unwrap()
+            .replace("gravity = [0.0, 0.0, -9.81]", "units = \"mm g ms\"");
+        std::fs::write(dir.path().join("p.toml"), text).unwrap();
+        let err = load(&dir.path().join("p.toml"), &[])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("field `robot.gravity`") && err.contains("mm g ms"),
+            "{err}"
+        );
+        let o = [Override::parse("robot.gravity=[0, 0, -9.81e-3]").unwrap()];
+        let p = load(&dir.path().join("p.toml"), &o).unwrap();
+        assert_eq!(p.spec.robot.gravity, [0.0, 0.0, -9.81e-3]);
+        assert_eq!(p.units.force(), "g·mm/ms²");
     }
 }
