@@ -2,6 +2,7 @@
 //! bindgen in `build.rs`). The only module with `unsafe`.
 
 mod nlp;
+mod sys;
 mod status;
 
 pub use nlp::{IterationInfo, Nlp};
