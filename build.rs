@@ -95,7 +95,11 @@ fn from_pkg_config() -> Result<IpoptInstall, String> {
         .cargo_metadata(false)
         .env_metadata(true)
         .probe("ipopt")
-        .map_err(|e| format!("pkg-config could not find ipopt >= {MIN_VERSION}, < {MAX_VERSION_EXCLUSIVE}: {e}"))?;
+        .map_err(|e| {
+            format!(
+                "pkg-config could not find ipopt >= {MIN_VERSION}, < {MAX_VERSION_EXCLUSIVE}: {e}"
+            )
+        })?;
     let lib_dir = pkg_config::get_variable("ipopt", "libdir")
         .map_err(|e| format!("pkg-config has no libdir for ipopt: {e}"))?;
     // The .pc file gives `.../include/coin`; the wrapper includes `coin/IpStdCInterface.h`, so
@@ -103,10 +107,10 @@ fn from_pkg_config() -> Result<IpoptInstall, String> {
     let mut include_dirs = Vec::new();
     for dir in &library.include_paths {
         include_dirs.push(dir.clone());
-        if dir.ends_with("coin") {
-            if let Some(parent) = dir.parent() {
-                include_dirs.push(parent.to_path_buf());
-            }
+        if dir.ends_with("coin")
+            && let Some(parent) = dir.parent()
+        {
+            include_dirs.push(parent.to_path_buf());
         }
     }
     Ok(IpoptInstall {
@@ -137,7 +141,8 @@ fn generate_bindings(install: &IpoptInstall, out: &Path) -> Result<(), String> {
     // bindgen panics when libclang cannot be loaded; turn that into our message.
     let default_hook = std::panic::take_hook();
     std::panic::set_hook(Box::new(|_| {}));
-    let generated = std::panic::catch_unwind(std::panic::AssertUnwindSafe(move || builder.generate()));
+    let generated =
+        std::panic::catch_unwind(std::panic::AssertUnwindSafe(move || builder.generate()));
     std::panic::set_hook(default_hook);
     let bindings = match generated {
         Ok(Ok(bindings)) => bindings,
@@ -148,7 +153,9 @@ fn generate_bindings(install: &IpoptInstall, out: &Path) -> Result<(), String> {
                 .cloned()
                 .or_else(|| payload.downcast_ref::<&str>().map(|s| s.to_string()))
                 .unwrap_or_else(|| "unknown panic".to_string());
-            return Err(format!("bindgen could not run (libclang missing?): {message}"));
+            return Err(format!(
+                "bindgen could not run (libclang missing?): {message}"
+            ));
         }
     };
     bindings
