@@ -652,3 +652,11 @@ fn solve_from_inside_a_callback_is_an_error() {
     ));
     assert_hs071_optimum(&report, 0.0, 1e-5);
 }
+
+/// A problem chosen at run time can be solved through `dyn Nlp`.
+#[test]
+fn hs071_through_a_trait_object() {
+    let mut boxed: Box<dyn Nlp> = Box::new(Hs071::default());
+    let report = Solver::new().solve(boxed.as_mut()).unwrap();
+    assert_hs071_optimum(&report, 0.0, 1e-6);
+}

@@ -20,7 +20,7 @@ const FALSE: Bool = 0;
 
 /// What `solve` shares with the trampolines through Ipopt's `user_data` pointer; it lives on
 /// `solve`'s stack for the duration of `IpoptSolve` only.
-pub(super) struct Context<'a, P: Nlp> {
+pub(super) struct Context<'a, P: Nlp + ?Sized> {
     /// The problem being solved.
     pub problem: &'a mut P,
     /// Constraint Jacobian sparsity, validated, in Ipopt's index type.
@@ -47,7 +47,7 @@ pub(super) struct Context<'a, P: Nlp> {
     pub panic: Option<(&'static str, String)>,
 }
 
-impl<'a, P: Nlp> Context<'a, P> {
+impl<'a, P: Nlp + ?Sized> Context<'a, P> {
     /// A context with no time spent and nothing kept yet.
     pub fn new(problem: &'a mut P, cancel: Option<&'a AtomicBool>) -> Self {
         Context {
@@ -90,7 +90,7 @@ pub(super) fn panic_message(payload: &(dyn Any + Send)) -> String {
 
 /// Runs one callback body: skips it after an earlier panic, catches a panic, counts
 /// non-finite outputs and adds the time spent.
-fn guard<P: Nlp>(
+fn guard<P: Nlp + ?Sized>(
     ctx: &mut Context<'_, P>,
     callback: &'static str,
     body: impl FnOnce(&mut Context<'_, P>) -> Flow,
@@ -157,13 +157,13 @@ unsafe fn output<'s, T>(ptr: *mut T, len: Index) -> &'s mut [T] {
 /// `user_data` must be the `*mut Context<P>` that `solve` passed to `IpoptSolve`, which
 /// outlives the call and is not otherwise borrowed while a callback runs (Ipopt calls the
 /// callbacks one at a time on the solving thread).
-unsafe fn context<'c, 'a, P: Nlp>(user_data: UserDataPtr) -> &'c mut Context<'a, P> {
+unsafe fn context<'c, 'a, P: Nlp + ?Sized>(user_data: UserDataPtr) -> &'c mut Context<'a, P> {
     // SAFETY: the caller's promise above.
     unsafe { &mut *(user_data as *mut Context<'a, P>) }
 }
 
 /// Ipopt's `eval_f`: the objective.
-pub(super) extern "C" fn eval_f<P: Nlp>(
+pub(super) extern "C" fn eval_f<P: Nlp + ?Sized>(
     n: Index,
     x: *mut Number,
     new_x: Bool,
@@ -186,7 +186,7 @@ pub(super) extern "C" fn eval_f<P: Nlp>(
 }
 
 /// Ipopt's `eval_grad_f`: the objective gradient.
-pub(super) extern "C" fn eval_grad_f<P: Nlp>(
+pub(super) extern "C" fn eval_grad_f<P: Nlp + ?Sized>(
     n: Index,
     x: *mut Number,
     new_x: Bool,
@@ -204,7 +204,7 @@ pub(super) extern "C" fn eval_grad_f<P: Nlp>(
 }
 
 /// Ipopt's `eval_g`: the constraint values.
-pub(super) extern "C" fn eval_g<P: Nlp>(
+pub(super) extern "C" fn eval_g<P: Nlp + ?Sized>(
     n: Index,
     x: *mut Number,
     new_x: Bool,
@@ -223,7 +223,7 @@ pub(super) extern "C" fn eval_g<P: Nlp>(
 }
 
 /// Ipopt's `eval_jac_g`: the Jacobian structure (when `values` is null) or its values.
-pub(super) extern "C" fn eval_jac_g<P: Nlp>(
+pub(super) extern "C" fn eval_jac_g<P: Nlp + ?Sized>(
     n: Index,
     x: *mut Number,
     new_x: Bool,
@@ -264,7 +264,7 @@ pub(super) extern "C" fn eval_jac_g<P: Nlp>(
 }
 
 /// Ipopt's `eval_h`: the Lagrangian Hessian structure (when `values` is null) or its values.
-pub(super) extern "C" fn eval_h<P: Nlp>(
+pub(super) extern "C" fn eval_h<P: Nlp + ?Sized>(
     n: Index,
     x: *mut Number,
     new_x: Bool,
@@ -312,7 +312,7 @@ pub(super) extern "C" fn eval_h<P: Nlp>(
 
 /// Ipopt's intermediate callback: counts iterations, honours the cancel flag, and calls
 /// the problem's `intermediate` (progress display, its own stop rule).
-pub(super) extern "C" fn intermediate<P: Nlp>(
+pub(super) extern "C" fn intermediate<P: Nlp + ?Sized>(
     alg_mod: Index,
     iter_count: Index,
     obj_value: Number,

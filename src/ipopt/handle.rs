@@ -55,7 +55,7 @@ fn index(value: usize) -> Option<sys::Index> {
 impl Handle {
     /// Creates the C problem for `P` (its trampolines as callbacks), or `None` if a size does
     /// not fit Ipopt's 32-bit indices or Ipopt returns null.
-    pub fn create<P: Nlp>(def: &Definition<'_>) -> Option<Handle> {
+    pub fn create<P: Nlp + ?Sized>(def: &Definition<'_>) -> Option<Handle> {
         let n = index(def.x_lower.len())?;
         let m = index(def.g_lower.len())?;
         if def.x_upper.len() != def.x_lower.len() || def.g_upper.len() != def.g_lower.len() {
@@ -141,7 +141,12 @@ impl Handle {
     }
 
     /// Runs `IpoptSolve` from `x0` with `ctx` as the callbacks' user data.
-    pub fn solve<P: Nlp>(&mut self, x0: Vec<f64>, m: usize, ctx: &mut Context<'_, P>) -> Outputs {
+    pub fn solve<P: Nlp + ?Sized>(
+        &mut self,
+        x0: Vec<f64>,
+        m: usize,
+        ctx: &mut Context<'_, P>,
+    ) -> Outputs {
         let n = x0.len();
         let mut out = Outputs {
             x: x0,

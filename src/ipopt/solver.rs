@@ -179,7 +179,7 @@ impl Solver {
     /// sparsity are checked first ([`IpoptError::InvalidProblem`]); a panic in any method of
     /// `problem` stops the solve and becomes [`IpoptError::CallbackPanicked`]. Without
     /// `hessian_nnz` the solve uses `hessian_approximation limited-memory`.
-    pub fn solve<P: Nlp>(&mut self, problem: &mut P) -> Result<SolveReport, IpoptError> {
+    pub fn solve<P: Nlp + ?Sized>(&mut self, problem: &mut P) -> Result<SolveReport, IpoptError> {
         let lock = IpoptLock::acquire()?;
         let wall_start = Instant::now();
         let setup = catch_unwind(AssertUnwindSafe(|| Setup::query(problem)));
@@ -277,7 +277,7 @@ fn invalid(what: String) -> IpoptError {
 }
 
 impl Setup {
-    fn query<P: Nlp>(problem: &P) -> Result<Setup, IpoptError> {
+    fn query<P: Nlp + ?Sized>(problem: &P) -> Result<Setup, IpoptError> {
         let n = problem.num_variables();
         let m = problem.num_constraints();
         let max = i32::MAX as usize;
