@@ -16,6 +16,23 @@ use vito::problem::{LoadedProblem, Override, ProblemError, RobotInfo, TimeSteps,
 use vito::report::{self, GoldenEntry, GoldenRecord, is_solved, objective_matches, status_name};
 use vito::transcription::Solution;
 
+/// A closed stdout (`vito check x | head -1`) ends the command quietly with success,
+/// like ripgrep; any other write error is left to the caller.
+fn exit_quietly_on_broken_pipe(e: &std::io::Error) {
+    if e.kind() == std::io::ErrorKind::BrokenPipe {
+        std::process::exit(0);
+    }
+}
+
+/// `println!` that treats a broken pipe as the end of the output.
+macro_rules! out {
+    ($($arg:tt)*) => {
+        if let Err(e) = writeln!(std::io::stdout(), $($arg)*) {
+            exit_quietly_on_broken_pipe(&e);
+        }
+    };
+}
+
 const EXIT_CODES: &str = "Exit codes:\n  0  solved (check, inspect, regress: passed)\n  1  finished but not optimal (or stopped with Ctrl-C; regress: a result differs)\n  2  input or usage error (the message names the file, line and field)\n  3  internal error";
 
 /// vito: variational contact-implicit trajectory optimisation for legged robots.
@@ -236,9 +253,27 @@ fn expected_size(p: &LoadedProblem) -> (usize, usize) {
     (variables, intervals * per_interval + equal_steps + periodic)
 }
 
+/// Asks Ipopt whether it takes every option of the problem (name, type, range), so that a
+/// typo in `[solver.ipopt]` is an input error naming its line, before any solve.
+fn check_solver_options(p: &LoadedProblem) -> Result<(), CliError> {
+    use vito::problem::OptionValue;
+    for (name, value) in &p.spec.solver_options {
+        let value = match value {
+            OptionValue::Str(s) => vito::ipopt::OptionValue::Str(s.clone()),
+            OptionValue::Num(x) => vito::ipopt::OptionValue::Num(*x),
+            OptionValue::Int(i) => vito::ipopt::OptionValue::Int(*i),
+        };
+        vito::ipopt::Solver::new()
+            .set_option(name, value)
+            .map_err(|e| p.field_error(&format!("solver.ipopt.{name}"), e.to_string()))?;
+    }
+    Ok(())
+}
+
 fn check(file: &Path, set: &[String]) -> Result<u8, CliError> {
     let overrides = parse_overrides(set)?;
     let p = load(file, &overrides)?;
+    check_solver_options(&p)?;
     let s = &p.spec;
     let (variables, constraints) = expected_size(&p);
     let horizon = match s.time_steps {
@@ -253,21 +288,21 @@ fn check(file: &Path, set: &[String]) -> Result<u8, CliError> {
             s.knots, p.units.time
         ),
     };
-    println!("{}: ok ({})", file.display(), s.name);
+    out!("{}: ok ({})", file.display(), s.name);
     if let Some(d) = &p.description {
-        println!("  {}", d.trim());
+        out!("  {}", d.trim());
     }
-    println!(
+    out!(
         "  robot:       {} ({:?} base)",
         s.robot.urdf.display(),
         s.robot.base
     );
-    println!(
+    out!(
         "  coordinates: {} ({})",
         p.robot.coordinates.len(),
         p.robot.coordinates.join(", ")
     );
-    println!(
+    out!(
         "  inputs:      {} ({})",
         p.robot.inputs.len(),
         p.robot.inputs.join(", ")
@@ -277,18 +312,18 @@ fn check(file: &Path, set: &[String]) -> Result<u8, CliError> {
         .iter()
         .map(|c| format!("{} (mu {})", c.name, c.friction))
         .collect();
-    println!(
+    out!(
         "  contacts:    {} ({})",
         s.contacts.len(),
         contacts.join(", ")
     );
-    println!("  horizon:     {horizon}");
-    println!(
+    out!("  horizon:     {horizon}");
+    out!(
         "  costs:       {} terms, slack weight {}",
         s.costs.len(),
         s.slack_weight
     );
-    println!(
+    out!(
         "  NLP size:    {variables} variables, {constraints} constraints (SPEC.md layout, {} friction directions per contact)",
         friction_directions(s.robot.base)
     );
@@ -309,6 +344,7 @@ pub fn progress_line(
 fn solve(file: &Path, set: &[String], out: Option<&Path>, quiet: bool) -> Result<u8, CliError> {
     let overrides = parse_overrides(set)?;
     let problem = load(file, &overrides)?;
+    check_solver_options(&problem)?;
     let target = match (out, &problem.output_dir) {
         (Some(o), _) => o.to_owned(),
         (None, Some(d)) => d.clone(),
@@ -360,28 +396,33 @@ fn run_solver(
 }
 
 fn print_summary(problem: &LoadedProblem, s: &Solution, dir: &Path) {
-    println!("problem      {}", problem.spec.name);
-    println!("status       {}", status_name(s.status));
-    println!("objective    {:.10e}", s.objective);
+    out!("problem      {}", problem.spec.name);
+    out!("status       {}", status_name(s.status));
+    out!("objective    {:.10e}", s.objective);
     for (name, value) in &s.objective_terms {
-        println!("  {name:<22} {value:.6e}");
+        out!("  {name:<22} {value:.6e}");
     }
-    println!("iterations   {}", s.iterations);
-    println!(
+    out!("iterations   {}", s.iterations);
+    out!(
         "time         {:.3} s wall ({:.3} s in vito callbacks, {:.3} s in Ipopt)",
-        s.wall_time_s, s.callback_time_s, s.ipopt_time_s
+        s.wall_time_s,
+        s.callback_time_s,
+        s.ipopt_time_s
     );
-    println!("max slack    {:.3e}", s.max_slack);
-    println!("max compl.   {:.3e}", s.max_complementarity);
-    println!("max viol.    {:.3e}", s.max_constraint_violation);
-    println!(
+    out!("max slack    {:.3e}", s.max_slack);
+    out!("max compl.   {:.3e}", s.max_complementarity);
+    out!("max viol.    {:.3e}", s.max_constraint_violation);
+    out!(
         "size         {} variables, {} constraints, nnz J {}, nnz H {}",
-        s.size.n_variables, s.size.n_constraints, s.size.nnz_jacobian, s.size.nnz_hessian
+        s.size.n_variables,
+        s.size.n_constraints,
+        s.size.nnz_jacobian,
+        s.size.nnz_hessian
     );
     if let Some(t) = s.times.last() {
-        println!("horizon      T = {t:.6} {}", problem.units.time);
+        out!("horizon      T = {t:.6} {}", problem.units.time);
     }
-    println!("written to   {}", dir.display());
+    out!("written to   {}", dir.display());
 }
 
 fn init(urdf: &Path, base: BaseType, out: Option<&Path>) -> Result<u8, CliError> {
@@ -392,7 +433,11 @@ fn init(urdf: &Path, base: BaseType, out: Option<&Path>) -> Result<u8, CliError>
     };
     let text = vito::problem::starter_problem(&robot, base, &urdf_text);
     match out {
-        None => print!("{text}"),
+        None => {
+            if let Err(e) = std::io::stdout().write_all(text.as_bytes()) {
+                exit_quietly_on_broken_pipe(&e);
+            }
+        }
         Some(path) => {
             if path.exists() {
                 return Err(CliError::Input(format!(
@@ -435,9 +480,9 @@ fn inspect(urdf: &Path, base: BaseType, json: bool) -> Result<u8, CliError> {
     if json {
         let text = serde_json::to_string_pretty(&inspection)
             .map_err(|e| CliError::Internal(e.to_string()))?;
-        println!("{text}");
+        out!("{text}");
     } else {
-        println!("{inspection}");
+        out!("{inspection}");
     }
     Ok(0)
 }
@@ -568,9 +613,13 @@ fn regress(record_path: &Path, files: &[PathBuf], bless: bool) -> Result<u8, Cli
         rows.push(row);
     }
     let _ = std::fs::remove_dir_all(&scratch);
-    println!(
+    out!(
         "{:<32} {:<28} {:>18} {:>18} {:>10}  result",
-        "problem", "status", "objective", "recorded", "rel. diff"
+        "problem",
+        "status",
+        "objective",
+        "recorded",
+        "rel. diff"
     );
     for r in &rows {
         let fmt = |x: Option<f64>| x.map_or("-".to_owned(), |v| format!("{v:.10e}"));
@@ -578,7 +627,7 @@ fn regress(record_path: &Path, files: &[PathBuf], bless: bool) -> Result<u8, Cli
             (Some(a), Some(b)) => format!("{:.2e}", (a - b).abs() / b.abs().max(1.0)),
             _ => "-".into(),
         };
-        println!(
+        out!(
             "{:<32} {:<28} {:>18} {:>18} {:>10}  {}",
             r.file,
             r.status,
@@ -590,7 +639,7 @@ fn regress(record_path: &Path, files: &[PathBuf], bless: bool) -> Result<u8, Cli
     }
     if bless {
         record.write(record_path)?;
-        println!("blessed {}", record_path.display());
+        out!("blessed {}", record_path.display());
         return Ok(if rows.iter().any(|r| r.verdict == "FAIL") {
             1
         } else {

@@ -136,6 +136,19 @@ pub struct LoadedProblem {
     pub goal: Vec<f64>,
 }
 
+impl LoadedProblem {
+    /// An error about `field` (a TOML path such as `solver.ipopt.tol`) located in the
+    /// problem file, for checks made after loading (e.g. by Ipopt).
+    pub fn field_error(&self, field: &str, message: impl Into<String>) -> ProblemError {
+        let ctx = Context {
+            file: self.file.clone(),
+            text: std::fs::read_to_string(&self.file).unwrap_or_default(),
+            overridden: self.parameters.iter().map(|(p, _)| p.clone()).collect(),
+        };
+        ctx.invalid(field, message)
+    }
+}
+
 /// Unit names for labels in outputs.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Units {

@@ -9,27 +9,7 @@ use crate::transcription::Solution;
 
 /// Ipopt's return status in snake case, e.g. `solve_succeeded`.
 pub fn status_name(status: Status) -> &'static str {
-    match status {
-        Status::SolveSucceeded => "solve_succeeded",
-        Status::SolvedToAcceptableLevel => "solved_to_acceptable_level",
-        Status::InfeasibleProblemDetected => "infeasible_problem_detected",
-        Status::SearchDirectionBecomesTooSmall => "search_direction_becomes_too_small",
-        Status::DivergingIterates => "diverging_iterates",
-        Status::UserRequestedStop => "user_requested_stop",
-        Status::FeasiblePointFound => "feasible_point_found",
-        Status::MaximumIterationsExceeded => "maximum_iterations_exceeded",
-        Status::RestorationFailed => "restoration_failed",
-        Status::ErrorInStepComputation => "error_in_step_computation",
-        Status::MaximumCpuTimeExceeded => "maximum_cpu_time_exceeded",
-        Status::NotEnoughDegreesOfFreedom => "not_enough_degrees_of_freedom",
-        Status::InvalidProblemDefinition => "invalid_problem_definition",
-        Status::InvalidOption => "invalid_option",
-        Status::InvalidNumberDetected => "invalid_number_detected",
-        Status::UnrecoverableException => "unrecoverable_exception",
-        Status::NonIpoptExceptionThrown => "non_ipopt_exception_thrown",
-        Status::InsufficientMemory => "insufficient_memory",
-        Status::InternalError => "internal_error",
-    }
+    status.as_snake_case()
 }
 
 /// Whether a status counts as solved (exit code 0).

@@ -161,3 +161,36 @@ fn infeasible_bounds_name_the_coordinate() {
     let err = solve_fails("infeasible_bounds_name_the_coordinate_2", &text);
     assert!(err.contains("field `initial.q.r`"), "{err}");
 }
+
+/// Ipopt itself checks `[solver.ipopt]` before any solve; a typo names its line.
+#[test]
+fn ipopt_option_typo() {
+    let text = hopper_text().replace("mu_strategy = \"adaptive\"", "mu_strategy = \"adaptiv\"");
+    let err = solve_fails("ipopt_option_typo", &text);
+    assert!(err.contains("bad.toml:70: field `solver.ipopt.mu_strategy`: Ipopt option `mu_strategy` = \"adaptiv\" is invalid"), "{err}");
+    let text = hopper_text().replace("linear_solver = \"mumps\"", "linear_solver = \"ma97\"");
+    let err = solve_fails("ipopt_option_typo_2", &text);
+    assert!(err.contains("field `solver.ipopt.linear_solver`"), "{err}");
+}
+
+/// `vito check x | head -1` ends quietly with success when stdout closes.
+#[test]
+fn broken_pipe_is_not_an_error() {
+    let t = TestDir::with_hopper("broken_pipe_is_not_an_error");
+    t.write("p.toml", &hopper_text());
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_vito"))
+        .args(["check", "p.toml"])
+        .current_dir(t.path())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
