@@ -353,9 +353,17 @@ fn solve(file: &Path, set: &[String], out: Option<&Path>, quiet: bool) -> Result
     let cancel = Arc::new(AtomicBool::new(false));
     {
         let cancel = cancel.clone();
+        // First Ctrl-C: stop at the next iteration and write the best iterate. A second one
+        // exits at once (exit 1) without writing, leaving any previous output untouched.
         // A second handler cannot be installed in one process; ignoring that error keeps the
         // first (which sets the same kind of flag) in place.
-        let _ = ctrlc::set_handler(move || cancel.store(true, Ordering::SeqCst));
+        let _ = ctrlc::set_handler(move || {
+            if cancel.swap(true, Ordering::SeqCst) {
+                eprintln!("interrupted again: exiting without writing results");
+                std::process::exit(1);
+            }
+            eprintln!("interrupted: stopping after this iteration (Ctrl-C again to quit now)");
+        });
     }
     if !quiet {
         eprintln!(
