@@ -1333,7 +1333,12 @@ mod tests {
         // The explicit feet are the URDF's own zero-radius spheres, in the same order.
         assert_eq!(s.contacts.len(), 4);
         for (c, u) in s.contacts.iter().zip(&p.robot.contacts) {
-            assert_eq!((c.link.as_str(), c.point), (u.link.as_str(), u.point), "{}", c.name);
+            assert_eq!(
+                (c.link.as_str(), c.point),
+                (u.link.as_str(), u.point),
+                "{}",
+                c.name
+            );
         }
         assert_eq!(s.contacts[3].name, "back_right_foot");
     }
