@@ -1,5 +1,24 @@
 //! The variational contact NLP: variable layout, constraint blocks, costs, sparse assembly.
+//!
+//! [`Transcription`] builds SPEC.md's nonlinear program for a [`ProblemSpec`] and a robot
+//! given as [`Mechanics`]; its value methods assemble exact sparse derivatives from
+//! per-block forward-mode AD.
 
+mod assemble;
+mod blocks;
+mod error;
+mod layout;
+mod mechanics;
+mod pattern;
 mod solution;
 
+pub use assemble::Transcription;
+pub use blocks::{Context, ScalarKind, VectorKind};
+pub use error::TranscriptionError;
+pub use layout::{Dims, Layout};
+pub use mechanics::Mechanics;
+pub use pattern::{Pattern, PatternBuilder};
 pub use solution::{NlpSize, Solution};
+
+#[allow(unused_imports)]
+use crate::problem::ProblemSpec;
