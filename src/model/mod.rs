@@ -1,8 +1,31 @@
 //! Robot mechanics from URDF, generic over the scalar type.
+//!
+//! Frame rule: `world_t_frame` maps frame coordinates into the world; a child frame is
+//! parent · Trans(xyz) · R(rpy) · Rot(axis, q) with R(rpy) = Rz(y)·Ry(p)·Rx(r) (URDF).
+//! The configuration is q = [base coordinates; non-fixed joints in `<joint>` document order].
+//! The [`Model`] is immutable and all `f64`; the algorithms are free functions generic over
+//! [`Scalar`], so plain floats and (nested) dual numbers flow through the same formulas.
 
+mod dynamics;
+mod energy;
+mod error;
+mod inspect;
+mod kinematics;
+mod loops;
+pub mod sample;
 mod scalar;
+mod spatial;
+mod tree;
+mod urdf;
 
+pub use dynamics::{generalized_damping_force, generalized_input_force, inverse_dynamics};
+pub use energy::{generalized_momentum, kinetic_energy, mass_matrix, potential_energy};
+pub use error::ModelError;
+pub use inspect::{CoordinateInfo, Inspection, LoopInfo, SpringInfo, inspect};
+pub use kinematics::{link_pose, point_position};
+pub use loops::loop_residual;
 pub use scalar::Scalar;
+pub use tree::{ContactPoint, LinkId, LoopClosure, Model, Spring, SpringKind};
 
 /// How the robot's root link is attached to the world.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

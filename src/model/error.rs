@@ -1,0 +1,148 @@
+//! Errors of URDF loading: each names the file, link or joint and says how to fix it.
+
+use std::path::PathBuf;
+
+/// Why a URDF could not be turned into a [`crate::model::Model`].
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum ModelError {
+    /// The file could not be read.
+    #[error("cannot read URDF file {path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The operating-system error.
+        source: std::io::Error,
+    },
+    /// The text is not well-formed XML.
+    #[error("{origin}: not well-formed XML: {message}; fix the XML syntax")]
+    Xml {
+        /// File path or `<string>`.
+        origin: String,
+        /// The parser's message (with line and column).
+        message: String,
+    },
+    /// urdf-rs rejected the document.
+    #[error("{origin}: not a valid URDF: {message}")]
+    Urdf {
+        /// File path or `<string>`.
+        origin: String,
+        /// urdf-rs's message.
+        message: String,
+    },
+    /// A joint refers to a link that does not exist.
+    #[error(
+        "joint '{joint}' names {role} link '{link}', which is not defined; add <link name=\"{link}\"> or fix the name"
+    )]
+    MissingLink {
+        /// The joint.
+        joint: String,
+        /// `parent` or `child`.
+        role: &'static str,
+        /// The missing link name.
+        link: String,
+    },
+    /// Two links or two joints share a name.
+    #[error("{kind} name '{name}' is used twice; names must be unique")]
+    DuplicateName {
+        /// `link` or `joint`.
+        kind: &'static str,
+        /// The repeated name.
+        name: String,
+    },
+    /// A link is the child of more than one joint.
+    #[error(
+        "link '{link}' is the child of both joint '{first}' and joint '{second}'; a URDF is a tree, close loops with <loop_joint>"
+    )]
+    MultipleParents {
+        /// The link.
+        link: String,
+        /// First joint.
+        first: String,
+        /// Second joint.
+        second: String,
+    },
+    /// The joints form a cycle.
+    #[error(
+        "joints form a cycle through link '{link}'; a URDF is a tree, close loops with <loop_joint>"
+    )]
+    Cycle {
+        /// A link on the cycle.
+        link: String,
+    },
+    /// More than one link has no parent.
+    #[error("the URDF has {} root links ({}); connect all but one with joints", roots.len(), roots.join(", "))]
+    MultipleRoots {
+        /// The parentless links.
+        roots: Vec<String>,
+    },
+    /// No links at all.
+    #[error("the URDF has no links")]
+    NoLinks,
+    /// A link's `<inertial>` has mass ≤ 0 (or not finite).
+    #[error(
+        "link '{link}' has mass {mass}; an <inertial> needs a positive finite mass (remove <inertial> for a massless link)"
+    )]
+    NonPositiveMass {
+        /// The link.
+        link: String,
+        /// The mass read.
+        mass: f64,
+    },
+    /// A link's inertia matrix is not positive definite.
+    #[error(
+        "link '{link}' has an inertia matrix that is not positive definite (ixx={ixx}, iyy={iyy}, izz={izz}, ixy={ixy}, ixz={ixz}, iyz={iyz}); fix the <inertia> values"
+    )]
+    InertiaNotPositiveDefinite {
+        /// The link.
+        link: String,
+        /// Components as read.
+        ixx: f64,
+        /// Component.
+        iyy: f64,
+        /// Component.
+        izz: f64,
+        /// Component.
+        ixy: f64,
+        /// Component.
+        ixz: f64,
+        /// Component.
+        iyz: f64,
+    },
+    /// A joint type vito does not model inside a URDF.
+    #[error(
+        "joint '{joint}' has type '{joint_type}', which vito does not support inside a URDF; use fixed, revolute, continuous or prismatic, and choose a planar/floating base with --base"
+    )]
+    UnsupportedJointType {
+        /// The joint.
+        joint: String,
+        /// The type as written.
+        joint_type: String,
+    },
+    /// A joint axis of zero length or with non-finite entries.
+    #[error(
+        "joint '{joint}' has axis {axis:?}, which has no direction; give a non-zero <axis xyz>"
+    )]
+    BadAxis {
+        /// The joint (or loop joint).
+        joint: String,
+        /// The axis as read.
+        axis: [f64; 3],
+    },
+    /// A base coordinate name collides with a joint name.
+    #[error("joint '{joint}' has the same name as a base coordinate; rename the joint")]
+    NameClash {
+        /// The joint.
+        joint: String,
+    },
+    /// A Drake extension element is malformed.
+    #[error("{element} '{name}': {problem}")]
+    BadExtension {
+        /// The element kind (`force_element`, `loop_joint`, `transmission`).
+        element: &'static str,
+        /// Its name attribute (or the joint it refers to).
+        name: String,
+        /// What is wrong and how to fix it.
+        problem: String,
+    },
+}

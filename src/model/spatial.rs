@@ -1,0 +1,104 @@
+//! Small 3-D rotations and vectors over any [`Scalar`], as plain arrays (nested duals are not
+//! nalgebra `RealField`).
+
+use super::Scalar;
+
+/// A 3-vector.
+pub(crate) type Vec3<D> = [D; 3];
+/// A row-major 3×3 matrix.
+pub(crate) type Mat3<D> = [[D; 3]; 3];
+
+/// Lifts an f64 vector.
+pub(crate) fn lift3<D: Scalar>(v: &[f64; 3]) -> Vec3<D> {
+    [D::from(v[0]), D::from(v[1]), D::from(v[2])]
+}
+
+/// Lifts an f64 matrix.
+pub(crate) fn lift33<D: Scalar>(m: &[[f64; 3]; 3]) -> Mat3<D> {
+    [lift3(&m[0]), lift3(&m[1]), lift3(&m[2])]
+}
+
+/// a + b.
+pub(crate) fn add<D: Scalar>(a: Vec3<D>, b: Vec3<D>) -> Vec3<D> {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+
+/// a − b.
+pub(crate) fn sub<D: Scalar>(a: Vec3<D>, b: Vec3<D>) -> Vec3<D> {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+/// s·a.
+pub(crate) fn scale<D: Scalar>(s: D, a: Vec3<D>) -> Vec3<D> {
+    [s * a[0], s * a[1], s * a[2]]
+}
+
+/// a·b.
+pub(crate) fn dot<D: Scalar>(a: Vec3<D>, b: Vec3<D>) -> D {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// a × b.
+pub(crate) fn cross<D: Scalar>(a: Vec3<D>, b: Vec3<D>) -> Vec3<D> {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// M·v.
+pub(crate) fn mat_vec<D: Scalar>(m: &Mat3<D>, v: Vec3<D>) -> Vec3<D> {
+    [dot(m[0], v), dot(m[1], v), dot(m[2], v)]
+}
+
+/// Mᵀ·v.
+pub(crate) fn mat_t_vec<D: Scalar>(m: &Mat3<D>, v: Vec3<D>) -> Vec3<D> {
+    [
+        m[0][0] * v[0] + m[1][0] * v[1] + m[2][0] * v[2],
+        m[0][1] * v[0] + m[1][1] * v[1] + m[2][1] * v[2],
+        m[0][2] * v[0] + m[1][2] * v[1] + m[2][2] * v[2],
+    ]
+}
+
+/// A·B.
+pub(crate) fn mat_mul<D: Scalar>(a: &Mat3<D>, b: &Mat3<D>) -> Mat3<D> {
+    let mut out = [[D::from(0.0); 3]; 3];
+    for (i, row) in out.iter_mut().enumerate() {
+        for (j, entry) in row.iter_mut().enumerate() {
+            *entry = a[i][0] * b[0][j] + a[i][1] * b[1][j] + a[i][2] * b[2][j];
+        }
+    }
+    out
+}
+
+/// The identity.
+pub(crate) fn identity<D: Scalar>() -> Mat3<D> {
+    let (o, z) = (D::from(1.0), D::from(0.0));
+    [[o, z, z], [z, o, z], [z, z, o]]
+}
+
+/// Rotation by `angle` about the unit `axis` (Rodrigues: I cos + sin [a]× + (1 − cos) a aᵀ).
+pub(crate) fn axis_angle<D: Scalar>(axis: &[f64; 3], angle: D) -> Mat3<D> {
+    let (s, c) = (angle.sin(), angle.cos());
+    let t = D::from(1.0) - c;
+    let [x, y, z] = *axis;
+    let [xd, yd, zd]: [D; 3] = lift3(axis);
+    [
+        [c + t * (x * x), t * (x * y) - s * zd, t * (x * z) + s * yd],
+        [t * (x * y) + s * zd, c + t * (y * y), t * (y * z) - s * xd],
+        [t * (x * z) - s * yd, t * (y * z) + s * xd, c + t * (z * z)],
+    ]
+}
+
+/// R(rpy) = Rz(yaw)·Ry(pitch)·Rx(roll), the URDF convention.
+pub(crate) fn rpy_to_matrix<D: Scalar>(roll: D, pitch: D, yaw: D) -> Mat3<D> {
+    let (sr, cr) = (roll.sin(), roll.cos());
+    let (sp, cp) = (pitch.sin(), pitch.cos());
+    let (sy, cy) = (yaw.sin(), yaw.cos());
+    [
+        [cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
+        [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
+        [-sp, cp * sr, cp * cr],
+    ]
+}

@@ -1,0 +1,255 @@
+//! The immutable model: a kinematic tree of frames in topological order, plus names,
+//! limits, springs, dampers, inputs, contact points and loop closures.
+
+use std::path::Path;
+
+use super::{BaseType, ModelError};
+
+/// Index of a URDF link in [`Model::link_names`].
+#[repr(transparent)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct LinkId(pub(crate) usize);
+
+impl LinkId {
+    /// The position of the link in [`Model::link_names`].
+    pub fn index(self) -> usize {
+        self.0
+    }
+}
+
+/// A point contact: a zero-radius collision sphere of the URDF.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ContactPoint {
+    /// The collision element's `name`, or `<link>_contact<i>` when it has none.
+    pub name: String,
+    /// The URDF link the point is fixed to.
+    pub link: String,
+    /// The point in the link frame (the collision origin's xyz), in model length units.
+    pub point: [f64; 3],
+}
+
+/// Whether a spring acts on an angle or a length.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SpringKind {
+    /// Drake `<torsional_spring>`: stiffness in torque per radian.
+    Torsional,
+    /// Drake `<prismatic_spring>`: stiffness in force per length.
+    Prismatic,
+}
+
+/// A linear joint spring with energy ½·stiffness·(q[coordinate] − rest)².
+#[derive(Debug, Clone, PartialEq)]
+pub struct Spring {
+    /// The `<force_element>` name.
+    pub name: String,
+    /// Torsional or prismatic.
+    pub kind: SpringKind,
+    /// Index of the coordinate the spring acts on.
+    pub coordinate: usize,
+    /// Stiffness (N·m/rad or N/m in SI).
+    pub stiffness: f64,
+    /// Rest angle (rad) or rest length.
+    pub rest: f64,
+}
+
+/// A holonomic loop closure (Drake `<loop_joint>`): the point `point1` of `link1` and the
+/// point `point2` of `link2` coincide, in the plane perpendicular to `axis`.
+///
+/// Residual rows (2 per loop): d = R_Bᵀ(p1 − p2) with frame B = link2 · R(rpy2), projected on
+/// two unit vectors perpendicular to `axis` (for a coordinate axis, the other two coordinate
+/// axes in increasing order, as Drake's `HamrRBM` kept them).
+#[derive(Debug, Clone, PartialEq)]
+pub struct LoopClosure {
+    /// The `<loop_joint>` name.
+    pub name: String,
+    /// First link.
+    pub link1: LinkId,
+    /// Point in `link1` frame.
+    pub point1: [f64; 3],
+    /// Second link.
+    pub link2: LinkId,
+    /// Point in `link2` frame.
+    pub point2: [f64; 3],
+    /// Rotation R(rpy2) of frame B in `link2`, row-major.
+    pub(crate) rotation2: [[f64; 3]; 3],
+    /// The pin axis, unit, in frame B.
+    pub axis: [f64; 3],
+    /// The two unit directions (in frame B) whose components are constrained.
+    pub(crate) directions: [[f64; 3]; 2],
+}
+
+/// How a frame moves relative to its parent.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Motion {
+    /// Welded.
+    Fixed,
+    /// Rotation about `axis` by q.
+    Revolute,
+    /// Translation along `axis` by q.
+    Prismatic,
+}
+
+/// One frame of the tree: a URDF link, or a massless virtual frame of the base chain.
+#[derive(Debug, Clone)]
+pub(crate) struct Frame {
+    /// Parent frame (index < own index), `None` for the world.
+    pub parent: Option<usize>,
+    /// Joint origin rotation R(rpy), row-major.
+    pub rotation: [[f64; 3]; 3],
+    /// Joint origin translation, in the parent frame.
+    pub translation: [f64; 3],
+    /// Joint axis, unit, in the joint frame (after R(rpy)).
+    pub axis: [f64; 3],
+    /// Joint motion.
+    pub motion: Motion,
+    /// Coordinate index (meaningless for `Fixed`).
+    pub coordinate: usize,
+    /// Mass (0 for massless frames).
+    pub mass: f64,
+    /// Centre of mass in this frame.
+    pub com: [f64; 3],
+    /// Inertia about the centre of mass, in this frame's axes.
+    pub inertia: [[f64; 3]; 3],
+}
+
+/// A robot model loaded from URDF: immutable, `f64`, frames in topological order.
+#[derive(Debug, Clone)]
+pub struct Model {
+    pub(crate) frames: Vec<Frame>,
+    pub(crate) link_frame: Vec<usize>,
+    pub(crate) link_names: Vec<String>,
+    pub(crate) coordinate_names: Vec<String>,
+    pub(crate) coordinate_limits: Vec<(f64, f64)>,
+    pub(crate) damping: Vec<f64>,
+    pub(crate) input_names: Vec<String>,
+    pub(crate) input_coordinates: Vec<usize>,
+    pub(crate) effort_limits: Vec<f64>,
+    pub(crate) contact_points: Vec<ContactPoint>,
+    pub(crate) springs: Vec<Spring>,
+    pub(crate) loop_closures: Vec<LoopClosure>,
+    pub(crate) gravity: [f64; 3],
+    pub(crate) total_mass: f64,
+    pub(crate) base: BaseType,
+    pub(crate) name: String,
+    pub(crate) warnings: Vec<String>,
+}
+
+impl Model {
+    /// Loads a URDF file (Drake extensions included) with the given base.
+    ///
+    /// Repairs that are unambiguous (a `<limit>` without `velocity` or `effort`, which then
+    /// mean "no limit") are made and listed in [`Model::warnings`].
+    pub fn from_urdf_file(path: &Path, base: BaseType) -> Result<Model, ModelError> {
+        let xml = std::fs::read_to_string(path).map_err(|source| ModelError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        super::urdf::load(&xml, &path.display().to_string(), base)
+    }
+
+    /// Loads a URDF from a string; see [`Model::from_urdf_file`].
+    pub fn from_urdf_str(xml: &str, base: BaseType) -> Result<Model, ModelError> {
+        super::urdf::load(xml, "<string>", base)
+    }
+
+    /// The robot's name (URDF `<robot name>`).
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// The base the model was loaded with.
+    pub fn base(&self) -> BaseType {
+        self.base
+    }
+
+    /// Number of generalised coordinates.
+    pub fn nq(&self) -> usize {
+        self.coordinate_names.len()
+    }
+
+    /// Coordinate names, length `nq`: base coordinates, then joints in document order.
+    pub fn coordinate_names(&self) -> &[String] {
+        &self.coordinate_names
+    }
+
+    /// Index of the coordinate with this name.
+    pub fn coordinate_index(&self, name: &str) -> Option<usize> {
+        self.coordinate_names.iter().position(|n| n == name)
+    }
+
+    /// (lower, upper) per coordinate, ±inf where the URDF gives none (base coordinates: none).
+    pub fn coordinate_limits(&self) -> &[(f64, f64)] {
+        &self.coordinate_limits
+    }
+
+    /// Viscous damping per coordinate (URDF `<dynamics damping>`), 0 where none.
+    pub fn damping(&self) -> &[f64] {
+        &self.damping
+    }
+
+    /// Input names: the `<transmission>` joints, in document order.
+    pub fn input_names(&self) -> &[String] {
+        &self.input_names
+    }
+
+    /// Input i acts on coordinate `input_coordinates()[i]` (B is a selection matrix).
+    pub fn input_coordinates(&self) -> &[usize] {
+        &self.input_coordinates
+    }
+
+    /// Effort limit per input (URDF `<limit effort>`), +inf where none.
+    pub fn effort_limits(&self) -> &[f64] {
+        &self.effort_limits
+    }
+
+    /// URDF link names, in topological order (parents before children).
+    pub fn link_names(&self) -> &[String] {
+        &self.link_names
+    }
+
+    /// The link with this name.
+    pub fn link_index(&self, name: &str) -> Option<LinkId> {
+        self.link_names.iter().position(|n| n == name).map(LinkId)
+    }
+
+    /// Zero-radius collision spheres, in document order.
+    pub fn contact_points(&self) -> &[ContactPoint] {
+        &self.contact_points
+    }
+
+    /// Sum of the link masses.
+    pub fn total_mass(&self) -> f64 {
+        self.total_mass
+    }
+
+    /// Gravity acceleration in the world frame; default [0, 0, −9.81].
+    pub fn gravity(&self) -> [f64; 3] {
+        self.gravity
+    }
+
+    /// Sets gravity (e.g. [0, 0, −9.81e-3] for HAMR's mm/g/ms units).
+    pub fn set_gravity(&mut self, g: [f64; 3]) {
+        self.gravity = g;
+    }
+
+    /// Joint springs (torsional and prismatic).
+    pub fn springs(&self) -> &[Spring] {
+        &self.springs
+    }
+
+    /// Loop closures, in document order.
+    pub fn loop_closures(&self) -> &[LoopClosure] {
+        &self.loop_closures
+    }
+
+    /// Number of loop-closure residual rows (2 per loop).
+    pub fn num_loop_constraints(&self) -> usize {
+        2 * self.loop_closures.len()
+    }
+
+    /// What the loader repaired or ignored (unknown elements, inserted limits, ...).
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
+    }
+}
