@@ -9,10 +9,24 @@ use super::layout::{Dims, Layout};
 use super::pattern::{Pattern, PatternBuilder};
 use super::{Mechanics, TranscriptionError};
 use crate::autodiff::{gradient_hessian, gradient_hessian_third, jacobian, weighted_hessian};
+use num_dual::Dual64;
+
 use crate::contact::FrictionBasis;
+use crate::model::BaseType;
 use crate::problem::{
     CostTerm, HessianMode, InitialGuess, Interval, KnotSet, ProblemSpec, TimeSteps,
 };
+
+/// SPEC.md's values at the initial guess (no solver involved).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct InitialGuessReport {
+    /// Objective f(x₀) (problem cost + slack penalty).
+    pub objective: f64,
+    /// Largest constraint violation at x₀.
+    pub max_constraint_violation: f64,
+    /// 2-norm of the equality-constraint residuals at x₀.
+    pub equality_residual_norm: f64,
+}
 
 /// The variational contact NLP of one problem (SPEC.md), ready for Ipopt.
 pub struct Transcription<M> {
@@ -75,7 +89,7 @@ impl<M: Mechanics> Transcription<M> {
                 message: format!("{} knots; a trajectory needs at least 2", spec.knots),
             });
         }
-        let basis = FrictionBasis::for_base(spec.robot.base);
+        let basis = detect_basis(&mech, spec.robot.base, &spec.q_initial);
         let nd = basis.num_directions();
         let ctx = Context {
             n,
@@ -590,6 +604,35 @@ impl<M: Mechanics> Transcription<M> {
         }
     }
 
+    /// Objective, largest constraint violation and ‖equality residuals‖₂ at the initial
+    /// point (SPEC.md's "values at the initial guess").
+    pub fn initial_guess_report(&self) -> InitialGuessReport {
+        let x = &self.x_initial;
+        let (max_violation, eq_norm) = self.violation(x);
+        InitialGuessReport {
+            objective: self.objective(x),
+            max_constraint_violation: max_violation,
+            equality_residual_norm: eq_norm,
+        }
+    }
+
+    /// Largest violation of the constraint rows (|g| for equalities, the shortfall below
+    /// the lower bound for inequalities) and the 2-norm of the equality residuals at x.
+    pub fn violation(&self, x: &[f64]) -> (f64, f64) {
+        let mut g = vec![0.0; self.layout.num_constraints()];
+        self.constraints(x, &mut g);
+        let mut max = 0.0_f64;
+        let mut sq = 0.0;
+        for (r, &gr) in g.iter().enumerate() {
+            let v = (self.g_lower[r] - gr).max(gr - self.g_upper[r]).max(0.0);
+            max = max.max(v);
+            if self.layout.is_equality(r) {
+                sq += gr * gr;
+            }
+        }
+        (max, sq.sqrt())
+    }
+
     /// Problem cost per term (names as in `Solution::objective_terms`) and the slack penalty.
     pub fn objective_terms(&self, x: &[f64]) -> Vec<(String, f64)> {
         let mut terms: Vec<(String, f64)> = Vec::new();
@@ -767,6 +810,32 @@ fn check_cost_lengths(
         }
         CostTerm::Time { .. } => Ok(()),
     }
+}
+
+/// The friction basis: planar when the base is planar, or when no contact point can move
+/// along world y (a planar robot built from a fixed base and sliders, like SPEC's hopper;
+/// checked by the y-rates of every contact along every coordinate at two configurations).
+fn detect_basis<M: Mechanics>(mech: &M, base: BaseType, q0: &[f64]) -> FrictionBasis {
+    if base == BaseType::Planar {
+        return FrictionBasis::Planar;
+    }
+    let n = mech.nq();
+    for shift in [0.0, 0.3] {
+        for c in 0..n {
+            let q: Vec<Dual64> = (0..n)
+                .map(|k| {
+                    let value = q0[k] + shift * (1.0 + k as f64 * 0.37);
+                    Dual64::new(value, if k == c { 1.0 } else { 0.0 })
+                })
+                .collect();
+            for i in 0..mech.num_contacts() {
+                if mech.contact_position(i, &q)[1].eps.abs() > 1e-12 {
+                    return FrictionBasis::Spatial;
+                }
+            }
+        }
+    }
+    FrictionBasis::Planar
 }
 
 /// x[vars] as a dense local vector.

@@ -12,7 +12,7 @@ mod mechanics;
 mod pattern;
 mod solution;
 
-pub use assemble::Transcription;
+pub use assemble::{InitialGuessReport, Transcription};
 pub use blocks::{Context, ScalarKind, VectorKind};
 pub use error::TranscriptionError;
 pub use layout::{Dims, Layout};
