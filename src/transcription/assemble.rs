@@ -247,27 +247,32 @@ impl<M: Mechanics> Transcription<M> {
                 v.extend(l.eta(j, i));
                 v
             };
+            // One block per contact keeps the Hessian sparse (products of different
+            // contacts never meet); in per-interval mode the shared slack rides on the
+            // first block and every block adds into the same three rows.
             let rows = range_vec(l.complementarity_rows_of(j));
             let slacks = range_vec(l.slack(j));
-            let groups: Vec<(Vec<usize>, usize)> = if slacks.len() == 1 {
-                vec![((0..nc).collect(), 0)]
+            let shared = slacks.len() == 1;
+            let groups: Vec<Vec<usize>> = if nc == 0 {
+                vec![vec![]]
             } else {
-                (0..nc).map(|i| (vec![i], i)).collect()
+                (0..nc).map(|i| vec![i]).collect()
             };
-            for (contacts, g) in groups {
+            for (g, contacts) in groups.into_iter().enumerate() {
                 let mut vars = range_vec(l.q(j + 1));
                 for &i in &contacts {
                     vars.extend(contact_vars(i));
                 }
-                let nonlinear = vars.len();
-                let own = if slacks.len() == 1 {
-                    vec![slacks[0]]
+                let nonlinear = if contacts.is_empty() { 0 } else { vars.len() };
+                let (own, block_rows) = if shared {
+                    let own = if g == 0 { vec![slacks[0]] } else { vec![] };
+                    (own, &rows[..3])
                 } else {
-                    slacks[3 * g..3 * g + 3].to_vec()
+                    (slacks[3 * g..3 * g + 3].to_vec(), &rows[3 * g..3 * g + 3])
                 };
                 let num_slacks = own.len();
                 vars.extend(own);
-                let targets = rows[3 * g..3 * g + 3].iter().map(|&r| vec![r]).collect();
+                let targets = block_rows.iter().map(|&r| vec![r]).collect();
                 self.vector_blocks.push(Block::new(
                     VectorKind::Complementarity {
                         contacts,

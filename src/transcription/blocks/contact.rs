@@ -62,7 +62,8 @@ pub fn friction_cone<D: Scalar>(ctx: &Context, contact: usize, z: &[D]) -> D {
 }
 
 /// The relaxed products s − Σ ηᵀβ, s − Σ c·φ, s − Σ ψ(μc − eᵀβ) over the listed contacts;
-/// z = [q; (c, β, ψ, η) per contact; slacks (1 shared, or one per product)], out length 3.
+/// z = [q; (c, β, ψ, η) per contact; slacks (none, 1 shared, or one per product)], out
+/// length 3. With no slack the block adds only −products (another block holds s).
 pub fn complementarity<D: Scalar, M: Mechanics>(
     mech: &M,
     ctx: &Context,
@@ -91,7 +92,11 @@ pub fn complementarity<D: Scalar, M: Mechanics>(
     }
     let s = &z[n + contacts.len() * stride..];
     for p in 0..3 {
-        let slack = if slacks == 1 { s[0] } else { s[p] };
+        let slack = match slacks {
+            0 => D::from(0.0),
+            1 => s[0],
+            _ => s[p],
+        };
         out[p] = slack - sums[p];
     }
 }

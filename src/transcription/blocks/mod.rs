@@ -62,7 +62,7 @@ pub enum VectorKind {
     /// μ c − eᵀβ; z = [c; β].
     FrictionCone { contact: usize },
     /// The three relaxed products of the listed contacts; z = [q; (c, β, ψ, η) per contact;
-    /// slacks (1 shared, or 3)].
+    /// slacks (0: added by another block, 1 shared, or 3)].
     Complementarity { contacts: Vec<usize>, slacks: usize },
     /// a(q); z = [q].
     LoopClosure,
