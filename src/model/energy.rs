@@ -2,29 +2,142 @@
 
 use nalgebra::DMatrix;
 
+use super::kinematics::{Pose, Twist, check_len, frame_poses, frame_twists};
+use super::spatial::{
+    Vec3, add, const_mat_vec, cross, dot, mat_t_vec, mat_vec, mat_vec_const, scale, sub,
+};
+use super::tree::{Frame, Motion};
 use super::{Model, Scalar};
 
+/// World position of a frame's centre of mass.
+pub(crate) fn com_position<D: Scalar>(frame: &Frame, pose: &Pose<D>) -> Vec3<D> {
+    add(pose.origin, mat_vec_const(&pose.rotation, &frame.com))
+}
+
+/// World velocity of a frame's centre of mass.
+fn com_velocity<D: Scalar>(frame: &Frame, pose: &Pose<D>, twist: &Twist<D>) -> Vec3<D> {
+    let lever = mat_vec_const(&pose.rotation, &frame.com);
+    add(twist.linear, cross(twist.angular, lever))
+}
+
+/// World inertia (about the centre of mass) times a world vector: R·I_c·Rᵀ·w.
+pub(crate) fn world_inertia_times<D: Scalar>(frame: &Frame, pose: &Pose<D>, w: Vec3<D>) -> Vec3<D> {
+    let body = mat_t_vec(&pose.rotation, w);
+    mat_vec(&pose.rotation, const_mat_vec(&frame.inertia, body))
+}
+
 /// Kinetic energy T(q, q̇) = Σ ½ m |ṗ_com|² + ½ ω_bᵀ I_c ω_b, by a recursion over the tree
-/// (slices of length `nq`).
+/// (body velocities from parent to child; M is never assembled). Slices of length `nq`.
 pub fn kinetic_energy<D: Scalar>(model: &Model, q: &[D], qdot: &[D]) -> D {
-    let _ = (model, q, qdot);
-    unimplemented!("kinetic_energy")
+    check_len(model, q.len(), "q");
+    check_len(model, qdot.len(), "qdot");
+    let (poses, twists) = frame_twists(model, q, qdot);
+    let mut twice_energy = D::from(0.0);
+    for ((frame, pose), twist) in model.frames.iter().zip(&poses).zip(&twists) {
+        if frame.mass == 0.0 {
+            continue;
+        }
+        let v = com_velocity(frame, pose, twist);
+        let omega_body = mat_t_vec(&pose.rotation, twist.angular);
+        twice_energy +=
+            dot(v, v) * frame.mass + dot(omega_body, const_mat_vec(&frame.inertia, omega_body));
+    }
+    twice_energy * 0.5
 }
 
 /// Potential energy V(q) = −Σ m gravity·p_com + Σ ½ k (q − rest)² (`q` of length `nq`).
 pub fn potential_energy<D: Scalar>(model: &Model, q: &[D]) -> D {
-    let _ = (model, q);
-    unimplemented!("potential_energy")
+    check_len(model, q.len(), "q");
+    let poses = frame_poses(model, q);
+    let g = model.gravity;
+    let mut energy = D::from(0.0);
+    for (frame, pose) in model.frames.iter().zip(&poses) {
+        if frame.mass == 0.0 {
+            continue;
+        }
+        let c = com_position(frame, pose);
+        energy -= (c[0] * g[0] + c[1] * g[1] + c[2] * g[2]) * frame.mass;
+    }
+    energy + spring_energy(model, q)
 }
 
-/// Generalised momentum M(q)·v (length `nq`), without assembling M.
+/// Σ ½ k (q − rest)².
+pub(crate) fn spring_energy<D: Scalar>(model: &Model, q: &[D]) -> D {
+    let mut energy = D::from(0.0);
+    for spring in &model.springs {
+        let stretch = q[spring.coordinate] - spring.rest;
+        energy += stretch * stretch * (0.5 * spring.stiffness);
+    }
+    energy
+}
+
+/// Projects per-frame wrenches onto the joint coordinates: `force[i]` and `moment[i]` (about
+/// the world origin) act on frame i; returns Jᵀ·wrench (length `nq`), accumulating subtree
+/// sums from the leaves to the root.
+pub(crate) fn project_wrenches<D: Scalar>(
+    model: &Model,
+    poses: &[Pose<D>],
+    mut force: Vec<Vec3<D>>,
+    mut moment: Vec<Vec3<D>>,
+) -> Vec<D> {
+    let mut out = vec![D::from(0.0); model.nq()];
+    for i in (0..model.frames.len()).rev() {
+        let frame = &model.frames[i];
+        let pose = &poses[i];
+        match frame.motion {
+            Motion::Fixed => {}
+            Motion::Revolute => {
+                // Moment about the joint axis line through the frame origin.
+                let about_joint = sub(moment[i], cross(pose.origin, force[i]));
+                out[frame.coordinate] += dot(pose.axis, about_joint);
+            }
+            Motion::Prismatic => out[frame.coordinate] += dot(pose.axis, force[i]),
+        }
+        if let Some(p) = frame.parent {
+            force[p] = add(force[p], force[i]);
+            moment[p] = add(moment[p], moment[i]);
+        }
+    }
+    out
+}
+
+/// Generalised momentum M(q)·v (length `nq`), without assembling M: the Jacobian transpose
+/// of each link's linear and angular momentum.
 pub fn generalized_momentum<D: Scalar>(model: &Model, q: &[D], v: &[D]) -> Vec<D> {
-    let _ = (model, q, v);
-    unimplemented!("generalized_momentum")
+    check_len(model, q.len(), "q");
+    check_len(model, v.len(), "v");
+    let (poses, twists) = frame_twists(model, q, v);
+    let n = model.frames.len();
+    let mut linear = vec![[D::from(0.0); 3]; n];
+    let mut angular = vec![[D::from(0.0); 3]; n];
+    for i in 0..n {
+        let frame = &model.frames[i];
+        if frame.mass == 0.0 {
+            continue;
+        }
+        let (pose, twist) = (&poses[i], &twists[i]);
+        let p = scale(D::from(frame.mass), com_velocity(frame, pose, twist));
+        let c = com_position(frame, pose);
+        linear[i] = p;
+        angular[i] = add(cross(c, p), world_inertia_times(frame, pose, twist.angular));
+    }
+    project_wrenches(model, &poses, linear, angular)
 }
 
-/// The mass matrix M(q) (`nq × nq`, symmetric), from the link Jacobians.
+/// The mass matrix M(q) (`nq × nq`, symmetric), column j = M(q)·e_j.
 pub fn mass_matrix(model: &Model, q: &[f64]) -> DMatrix<f64> {
-    let _ = (model, q);
-    unimplemented!("mass_matrix")
+    check_len(model, q.len(), "q");
+    let n = model.nq();
+    let mut m = DMatrix::zeros(n, n);
+    let mut e = vec![0.0; n];
+    for j in 0..n {
+        e[j] = 1.0;
+        let column = generalized_momentum(model, q, &e);
+        e[j] = 0.0;
+        for (i, value) in column.into_iter().enumerate() {
+            m[(i, j)] = value;
+        }
+    }
+    // Symmetrise the last-bit rounding differences between M_ij and M_ji.
+    (&m + m.transpose()) * 0.5
 }

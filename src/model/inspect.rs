@@ -4,7 +4,7 @@ use std::fmt;
 
 use serde::Serialize;
 
-use super::Model;
+use super::{BaseType, Model, loop_residual};
 
 /// One coordinate with its limits and damping (`None` = unbounded).
 #[derive(Debug, Clone, Serialize)]
@@ -84,12 +84,142 @@ pub struct Inspection {
 
 /// Collects the [`Inspection`] of a model.
 pub fn inspect(model: &Model) -> Inspection {
-    let _ = model;
-    unimplemented!("inspect")
+    let finite = |x: f64| x.is_finite().then_some(x);
+    let names = model.coordinate_names();
+    let coordinate_details = names
+        .iter()
+        .zip(model.coordinate_limits())
+        .zip(model.damping())
+        .map(|((name, &(lower, upper)), &damping)| CoordinateInfo {
+            name: name.clone(),
+            lower: finite(lower),
+            upper: finite(upper),
+            damping,
+        })
+        .collect();
+    let springs = model
+        .springs()
+        .iter()
+        .map(|s| SpringInfo {
+            name: s.name.clone(),
+            kind: s.kind,
+            coordinate: names[s.coordinate].clone(),
+            stiffness: s.stiffness,
+            rest: s.rest,
+        })
+        .collect();
+    let residual: Vec<f64> = loop_residual(model, &vec![0.0; model.nq()]);
+    let loop_closures: Vec<LoopInfo> = model
+        .loop_closures()
+        .iter()
+        .zip(residual.chunks(2))
+        .map(|(l, rows)| LoopInfo {
+            name: l.name.clone(),
+            link1: model.link_names()[l.link1.index()].clone(),
+            link2: model.link_names()[l.link2.index()].clone(),
+            residual_at_zero: rows.iter().fold(0.0, |m: f64, r: &f64| m.max(r.abs())),
+        })
+        .collect();
+    let base = match model.base() {
+        BaseType::Fixed => "fixed",
+        BaseType::Planar => "planar",
+        BaseType::Floating => "floating",
+    };
+    Inspection {
+        robot: model.name().to_string(),
+        base: base.to_string(),
+        coordinates: names.to_vec(),
+        coordinate_details,
+        inputs: model.input_names().to_vec(),
+        effort_limits: model.effort_limits().iter().map(|&e| finite(e)).collect(),
+        total_mass: model.total_mass(),
+        n_springs: model.springs().len(),
+        springs,
+        dampers: names
+            .iter()
+            .zip(model.damping())
+            .filter(|(_, d)| **d != 0.0)
+            .map(|(n, _)| n.clone())
+            .collect(),
+        contact_points: model
+            .contact_points()
+            .iter()
+            .map(|c| c.name.clone())
+            .collect(),
+        n_loop_constraints: model.num_loop_constraints(),
+        max_loop_residual: residual.iter().fold(0.0, |m: f64, r: &f64| m.max(r.abs())),
+        loop_closures,
+        warnings: model.warnings().to_vec(),
+    }
+}
+
+fn bound(x: Option<f64>, unbounded: &str) -> String {
+    x.map_or_else(|| unbounded.to_string(), |v| format!("{v}"))
 }
 
 impl fmt::Display for Inspection {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}", self.robot)
+        writeln!(f, "robot {} ({} base)", self.robot, self.base)?;
+        writeln!(f, "total mass: {}", self.total_mass)?;
+        writeln!(f, "coordinates ({}):", self.coordinates.len())?;
+        for (i, c) in self.coordinate_details.iter().enumerate() {
+            write!(
+                f,
+                "  {i:>3} {:<24} [{}, {}]",
+                c.name,
+                bound(c.lower, "-inf"),
+                bound(c.upper, "inf")
+            )?;
+            if c.damping != 0.0 {
+                write!(f, "  damping {}", c.damping)?;
+            }
+            writeln!(f)?;
+        }
+        writeln!(f, "inputs ({}):", self.inputs.len())?;
+        for (name, effort) in self.inputs.iter().zip(&self.effort_limits) {
+            writeln!(f, "  {name:<28} |u| <= {}", bound(*effort, "inf"))?;
+        }
+        writeln!(f, "springs ({}):", self.n_springs)?;
+        for s in &self.springs {
+            writeln!(
+                f,
+                "  {:<20} {:?} on {} k = {} rest = {}",
+                s.name, s.kind, s.coordinate, s.stiffness, s.rest
+            )?;
+        }
+        writeln!(
+            f,
+            "dampers ({}): {}",
+            self.dampers.len(),
+            self.dampers.join(", ")
+        )?;
+        writeln!(
+            f,
+            "contact points ({}): {}",
+            self.contact_points.len(),
+            self.contact_points.join(", ")
+        )?;
+        writeln!(
+            f,
+            "loop closures ({}, {} constraints):",
+            self.loop_closures.len(),
+            self.n_loop_constraints
+        )?;
+        for l in &self.loop_closures {
+            writeln!(
+                f,
+                "  {:<20} {} - {}  |residual(q=0)| = {:e}",
+                l.name, l.link1, l.link2, l.residual_at_zero
+            )?;
+        }
+        writeln!(
+            f,
+            "max loop residual at q = 0: {:e}",
+            self.max_loop_residual
+        )?;
+        for w in &self.warnings {
+            writeln!(f, "warning: {w}")?;
+        }
+        Ok(())
     }
 }

@@ -1,15 +1,163 @@
-//! Forward kinematics: world poses of frames and world positions of points.
+//! Forward kinematics over the tree: world poses, velocities and accelerations of frames,
+//! and world positions of points.
 
+use super::spatial::{
+    Mat3, Vec3, add, axis_angle, cross, identity, mat_mul, mat_mul_const, mat_vec_const, scale, sub,
+};
+use super::tree::{Frame, Motion};
 use super::{LinkId, Model, Scalar};
 
-/// World pose of a link: (rotation R, row-major, mapping link axes to world; origin p).
+/// World pose of one frame: `rotation` maps frame axes to world axes, `origin` is the frame
+/// origin in the world; `axis` is the joint axis in world axes (zero for fixed joints).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Pose<D> {
+    pub rotation: Mat3<D>,
+    pub origin: Vec3<D>,
+    pub axis: Vec3<D>,
+}
+
+impl<D: Scalar> Pose<D> {
+    /// The world frame.
+    pub(crate) fn world() -> Self {
+        let z = D::from(0.0);
+        Pose {
+            rotation: identity(),
+            origin: [z; 3],
+            axis: [z; 3],
+        }
+    }
+}
+
+/// Pose of `frame` given the pose of its parent (`parent` = world if the frame has none).
+pub(crate) fn child_pose<D: Scalar>(frame: &Frame, parent: &Pose<D>, q: &[D]) -> Pose<D> {
+    let joint_rotation = mat_mul_const(&parent.rotation, &frame.rotation);
+    let joint_origin = add(
+        parent.origin,
+        mat_vec_const(&parent.rotation, &frame.translation),
+    );
+    match frame.motion {
+        Motion::Fixed => Pose {
+            rotation: joint_rotation,
+            origin: joint_origin,
+            axis: [D::from(0.0); 3],
+        },
+        Motion::Revolute => {
+            let angle = q[frame.coordinate];
+            Pose {
+                rotation: mat_mul(&joint_rotation, &axis_angle(&frame.axis, angle)),
+                origin: joint_origin,
+                axis: mat_vec_const(&joint_rotation, &frame.axis),
+            }
+        }
+        Motion::Prismatic => {
+            let axis = mat_vec_const(&joint_rotation, &frame.axis);
+            Pose {
+                rotation: joint_rotation,
+                origin: add(joint_origin, scale(q[frame.coordinate], axis)),
+                axis,
+            }
+        }
+    }
+}
+
+/// World poses of all frames (topological order), `q` of length `nq`.
+pub(crate) fn frame_poses<D: Scalar>(model: &Model, q: &[D]) -> Vec<Pose<D>> {
+    let mut poses: Vec<Pose<D>> = Vec::with_capacity(model.frames.len());
+    for frame in &model.frames {
+        let parent = frame.parent.map_or_else(Pose::world, |p| poses[p]);
+        poses.push(child_pose(frame, &parent, q));
+    }
+    poses
+}
+
+/// World pose of one frame, composed along its ancestor path only.
+pub(crate) fn frame_pose<D: Scalar>(model: &Model, frame: usize, q: &[D]) -> Pose<D> {
+    let mut path = Vec::with_capacity(16);
+    let mut cursor = Some(frame);
+    while let Some(i) = cursor {
+        path.push(i);
+        cursor = model.frames[i].parent;
+    }
+    let mut pose = Pose::world();
+    for &i in path.iter().rev() {
+        pose = child_pose(&model.frames[i], &pose, q);
+    }
+    pose
+}
+
+/// World pose of a link: (rotation R mapping link axes to world axes, row-major; origin).
 pub fn link_pose<D: Scalar>(model: &Model, link: LinkId, q: &[D]) -> ([[D; 3]; 3], [D; 3]) {
-    let _ = (model, link, q);
-    unimplemented!("link_pose")
+    check_len(model, q.len(), "q");
+    let pose = frame_pose(model, model.link_frame[link.0], q);
+    (pose.rotation, pose.origin)
 }
 
 /// World position of `point` (given in the `link` frame) at configuration `q` (length `nq`).
 pub fn point_position<D: Scalar>(model: &Model, link: LinkId, point: &[f64; 3], q: &[D]) -> [D; 3] {
-    let _ = (model, link, point, q);
-    unimplemented!("point_position")
+    check_len(model, q.len(), "q");
+    let pose = frame_pose(model, model.link_frame[link.0], q);
+    add(pose.origin, mat_vec_const(&pose.rotation, point))
+}
+
+/// World angular velocity ω and origin velocity v of each frame.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Twist<D> {
+    pub angular: Vec3<D>,
+    pub linear: Vec3<D>,
+}
+
+/// Velocity of `frame` from its parent's (ω_p, v_p) and parent origin `parent_origin`.
+pub(crate) fn child_twist<D: Scalar>(
+    frame: &Frame,
+    pose: &Pose<D>,
+    parent_origin: Vec3<D>,
+    parent: &Twist<D>,
+    qdot: &[D],
+) -> Twist<D> {
+    let lever = sub(pose.origin, parent_origin);
+    let mut angular = parent.angular;
+    let mut linear = add(parent.linear, cross(parent.angular, lever));
+    match frame.motion {
+        Motion::Fixed => {}
+        Motion::Revolute => angular = add(angular, scale(qdot[frame.coordinate], pose.axis)),
+        Motion::Prismatic => linear = add(linear, scale(qdot[frame.coordinate], pose.axis)),
+    }
+    Twist { angular, linear }
+}
+
+/// Poses and twists of all frames.
+pub(crate) fn frame_twists<D: Scalar>(
+    model: &Model,
+    q: &[D],
+    qdot: &[D],
+) -> (Vec<Pose<D>>, Vec<Twist<D>>) {
+    let n = model.frames.len();
+    let mut poses: Vec<Pose<D>> = Vec::with_capacity(n);
+    let mut twists: Vec<Twist<D>> = Vec::with_capacity(n);
+    let rest = Twist {
+        angular: [D::from(0.0); 3],
+        linear: [D::from(0.0); 3],
+    };
+    for frame in &model.frames {
+        let (parent_pose, parent_twist) = match frame.parent {
+            Some(p) => (poses[p], twists[p]),
+            None => (Pose::world(), rest),
+        };
+        let pose = child_pose(frame, &parent_pose, q);
+        let twist = child_twist(frame, &pose, parent_pose.origin, &parent_twist, qdot);
+        poses.push(pose);
+        twists.push(twist);
+    }
+    (poses, twists)
+}
+
+/// Panics with a clear message when a caller passes a slice of the wrong length: a
+/// programming error of the caller, never user input.
+pub(crate) fn check_len(model: &Model, len: usize, what: &str) {
+    assert_eq!(
+        len,
+        model.nq(),
+        "{what} has length {len}, but the model has nq = {}",
+        model.nq()
+    );
 }

@@ -18,7 +18,9 @@ mod spatial;
 mod tree;
 mod urdf;
 
-pub use dynamics::{generalized_damping_force, generalized_input_force, inverse_dynamics};
+pub use dynamics::{
+    generalized_damping_force, generalized_input_force, generalized_point_force, inverse_dynamics,
+};
 pub use energy::{generalized_momentum, kinetic_energy, mass_matrix, potential_energy};
 pub use error::ModelError;
 pub use inspect::{CoordinateInfo, Inspection, LoopInfo, SpringInfo, inspect};

@@ -13,11 +13,6 @@ pub(crate) fn lift3<D: Scalar>(v: &[f64; 3]) -> Vec3<D> {
     [D::from(v[0]), D::from(v[1]), D::from(v[2])]
 }
 
-/// Lifts an f64 matrix.
-pub(crate) fn lift33<D: Scalar>(m: &[[f64; 3]; 3]) -> Mat3<D> {
-    [lift3(&m[0]), lift3(&m[1]), lift3(&m[2])]
-}
-
 /// a + b.
 pub(crate) fn add<D: Scalar>(a: Vec3<D>, b: Vec3<D>) -> Vec3<D> {
     [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
@@ -100,5 +95,34 @@ pub(crate) fn rpy_to_matrix<D: Scalar>(roll: D, pitch: D, yaw: D) -> Mat3<D> {
         [cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
         [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
         [-sp, cp * sr, cp * cr],
+    ]
+}
+
+/// A·B with a constant B.
+pub(crate) fn mat_mul_const<D: Scalar>(a: &Mat3<D>, b: &[[f64; 3]; 3]) -> Mat3<D> {
+    let mut out = [[D::from(0.0); 3]; 3];
+    for (i, row) in out.iter_mut().enumerate() {
+        for (j, entry) in row.iter_mut().enumerate() {
+            *entry = a[i][0] * b[0][j] + a[i][1] * b[1][j] + a[i][2] * b[2][j];
+        }
+    }
+    out
+}
+
+/// M·v with a constant v.
+pub(crate) fn mat_vec_const<D: Scalar>(m: &Mat3<D>, v: &[f64; 3]) -> Vec3<D> {
+    [
+        m[0][0] * v[0] + m[0][1] * v[1] + m[0][2] * v[2],
+        m[1][0] * v[0] + m[1][1] * v[1] + m[1][2] * v[2],
+        m[2][0] * v[0] + m[2][1] * v[1] + m[2][2] * v[2],
+    ]
+}
+
+/// C·v with a constant matrix C.
+pub(crate) fn const_mat_vec<D: Scalar>(c: &[[f64; 3]; 3], v: Vec3<D>) -> Vec3<D> {
+    [
+        v[0] * c[0][0] + v[1] * c[0][1] + v[2] * c[0][2],
+        v[0] * c[1][0] + v[1] * c[1][1] + v[2] * c[1][2],
+        v[0] * c[2][0] + v[2] * c[2][2] + v[1] * c[2][1],
     ]
 }

@@ -20,7 +20,8 @@ impl LinkId {
 /// A point contact: a zero-radius collision sphere of the URDF.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ContactPoint {
-    /// The collision element's `name`, or `<link>_contact<i>` when it has none.
+    /// The collision element's `name`; when it has none, the link's name if this is the
+    /// link's only point contact, else `<link>_contact<i>` (i = index among its collisions).
     pub name: String,
     /// The URDF link the point is fixed to.
     pub link: String,

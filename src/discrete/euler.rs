@@ -1,0 +1,67 @@
+//! First-order semi-implicit Euler time stepping (Stewart–Trinkle; Posa et al. 2014; eq. 1 of
+//! the paper): M(q_k)(v_{k+1} − v_k) = h_k(B(q_k)u_k − C(q_k, v_{k+1})v_{k+1} − ∂V/∂q(q_k)
+//! − diag(d)v_{k+1}) + J(q_{k+1})ᵀλ_k, with q_{k+1} = q_k + h_k v_{k+1}.
+
+use crate::autodiff::VectorFunction;
+use crate::model::{self, Model, Scalar};
+
+/// Euler residual at knot k (length `nq`, impulse units, same sign convention as the midpoint
+/// DEL: momentum before − momentum after + impulses):
+/// −h_k·inverse_dynamics(q_k, v_{k+1}, (v_{k+1} − v_k)/h_k) + h_k·B(q_k)u_k − h_k·diag(d)·v_{k+1},
+/// with v_{k+1} = (q_{k+1} − q_k)/h_k. `v_k` is the velocity at knot k (m/s or rad/s per
+/// coordinate): (q_k − q_{k−1})/h_{k−1}, or v_0 at the first step.
+pub fn euler_residual<D: Scalar>(
+    model: &Model,
+    v_k: &[D],
+    q_k: &[D],
+    q_next: &[D],
+    h: D,
+    u: &[D],
+) -> Vec<D> {
+    let v_next: Vec<D> = q_k.iter().zip(q_next).map(|(&a, &b)| (b - a) / h).collect();
+    let accel: Vec<D> = v_k
+        .iter()
+        .zip(&v_next)
+        .map(|(&a, &b)| (b - a) / h)
+        .collect();
+    let id = model::inverse_dynamics(model, q_k, &v_next, &accel);
+    let input = model::generalized_input_force(model, q_k, u);
+    id.iter()
+        .zip(&input)
+        .zip(model.damping().iter().zip(&v_next))
+        .map(|((&t, &b), (&d, &v))| (b - t - v * d) * h)
+        .collect()
+}
+
+/// Euler residual at knot k as a [`VectorFunction`] → R^n of
+/// z = [x; q_k; q_{k+1}; h_{k−1}; h_k; u_k] (dim 3n + 2 + m), where x = q_{k−1} and
+/// v_k = (q_k − q_{k−1})/h_{k−1}, or, when `first_step`, x = v_0 and the h_{k−1} entry is
+/// ignored (its derivative is zero), so that both cases share one layout.
+#[derive(Debug, Clone, Copy)]
+pub struct EulerKnotResidual<'a> {
+    /// The robot.
+    pub model: &'a Model,
+    /// Whether the first block of z is v_0 (first step) rather than q_{k−1}.
+    pub first_step: bool,
+}
+
+impl VectorFunction for EulerKnotResidual<'_> {
+    fn dim_in(&self) -> usize {
+        3 * self.model.nq() + 2 + self.model.input_coordinates().len()
+    }
+    fn dim_out(&self) -> usize {
+        self.model.nq()
+    }
+    fn eval<D: Scalar>(&self, z: &[D], out: &mut [D]) {
+        let n = self.model.nq();
+        let (x, q_k, q_next) = (&z[..n], &z[n..2 * n], &z[2 * n..3 * n]);
+        let (h_prev, h) = (z[3 * n], z[3 * n + 1]);
+        let u = &z[3 * n + 2..];
+        let v_k: Vec<D> = if self.first_step {
+            x.to_vec()
+        } else {
+            x.iter().zip(q_k).map(|(&a, &b)| (b - a) / h_prev).collect()
+        };
+        out.copy_from_slice(&euler_residual(self.model, &v_k, q_k, q_next, h, u));
+    }
+}
