@@ -8,7 +8,7 @@ use super::blocks::{Block, Context, ScalarBlockFn, ScalarKind, VectorBlockFn, Ve
 use super::layout::{Dims, Layout};
 use super::pattern::{Pattern, PatternBuilder};
 use super::{Mechanics, TranscriptionError};
-use crate::autodiff::{gradient_hessian, gradient_hessian_third, jacobian, weighted_hessian};
+use crate::autodiff::{gradient, gradient_hessian, gradient_hessian_third, jacobian, weighted_hessian};
 use num_dual::Dual64;
 
 use crate::contact::FrictionBasis;
@@ -670,8 +670,7 @@ impl<M: Mechanics> Transcription<M> {
             .cost_blocks
             .par_iter()
             .map(|b| {
-                let (_, g, _) = gradient_hessian(&self.scalar_fn(b), &gather(x, &b.vars));
-                (0..b.vars.len()).map(|i| g[i]).collect()
+                gradient(&self.scalar_fn(b), &gather(x, &b.vars)).1
             })
             .collect();
         for (b, g) in self.cost_blocks.iter().zip(locals) {
@@ -708,8 +707,7 @@ impl<M: Mechanics> Transcription<M> {
             .gradient_blocks
             .par_iter()
             .map(|b| {
-                let (_, grad, _) = gradient_hessian(&self.scalar_fn(b), &gather(x, &b.vars));
-                (0..b.vars.len()).map(|i| grad[i]).collect()
+                gradient(&self.scalar_fn(b), &gather(x, &b.vars)).1
             })
             .collect();
         for (b, out) in self.gradient_blocks.iter().zip(gradient) {

@@ -24,6 +24,14 @@ pub trait Mechanics: Sync {
     fn coordinate_limits(&self) -> Vec<Interval> {
         vec![Interval::FREE; self.nq()]
     }
+    /// Coordinate names (length n), used in solutions.
+    fn coordinate_names(&self) -> Vec<String> {
+        (0..self.nq()).map(|i| format!("q{i}")).collect()
+    }
+    /// Input names (length m), used in solutions.
+    fn input_names(&self) -> Vec<String> {
+        (0..self.nu()).map(|i| format!("u{i}")).collect()
+    }
     /// Whether the discrete force Fd can be nonzero (inputs or damping present).
     fn has_discrete_force(&self) -> bool;
 

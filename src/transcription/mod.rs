@@ -9,6 +9,8 @@ mod blocks;
 mod error;
 mod layout;
 mod mechanics;
+mod model_mechanics;
+mod nlp;
 mod pattern;
 mod solution;
 
@@ -17,6 +19,8 @@ pub use blocks::{Context, ScalarKind, VectorKind};
 pub use error::TranscriptionError;
 pub use layout::{Dims, Layout};
 pub use mechanics::Mechanics;
+pub use model_mechanics::ModelMechanics;
+pub use nlp::{Progress, ProgressFn, TranscriptionNlp};
 pub use pattern::{Pattern, PatternBuilder};
 pub use solution::{NlpSize, Solution};
 

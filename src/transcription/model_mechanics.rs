@@ -77,6 +77,12 @@ impl Mechanics for ModelMechanics {
             .map(|&(lower, upper)| Interval { lower, upper })
             .collect()
     }
+    fn coordinate_names(&self) -> Vec<String> {
+        self.model.coordinate_names().to_vec()
+    }
+    fn input_names(&self) -> Vec<String> {
+        self.model.input_names().to_vec()
+    }
     fn has_discrete_force(&self) -> bool {
         !self.model.input_names().is_empty() || self.model.damping().iter().any(|&d| d != 0.0)
     }
@@ -87,9 +93,15 @@ impl Mechanics for ModelMechanics {
         qb: &[D],
         h: D,
     ) -> D {
-        let q = Self::eval_point(integrator, qa, qb);
-        let v: Vec<D> = qa.iter().zip(qb).map(|(&a, &b)| (b - a) / h).collect();
-        (kinetic_energy(&self.model, &q, &v) - potential_energy(&self.model, &q)) * h
+        match integrator {
+            Integrator::Midpoint => crate::discrete::ld(&self.model, qa, qb, h),
+            Integrator::Euler => {
+                // Rectangle rule h·L(qa, (qb − qa)/h): the variational form of
+                // semi-implicit (symplectic) Euler, first order.
+                let v: Vec<D> = qa.iter().zip(qb).map(|(&a, &b)| (b - a) / h).collect();
+                (kinetic_energy(&self.model, qa, &v) - potential_energy(&self.model, qa)) * h
+            }
+        }
     }
     fn discrete_force<D: Scalar>(
         &self,
