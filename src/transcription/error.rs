@@ -39,4 +39,7 @@ pub enum TranscriptionError {
         /// What is wrong and how to fix it.
         message: String,
     },
+    /// The robot model could not be loaded.
+    #[error(transparent)]
+    Model(#[from] crate::model::ModelError),
 }
