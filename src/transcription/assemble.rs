@@ -660,7 +660,13 @@ impl<M: Mechanics> Transcription<M> {
 
     /// Objective f(x) = problem cost + α Σ s.
     pub fn objective(&self, x: &[f64]) -> f64 {
-        self.objective_terms(x).iter().map(|(_, v)| v).sum()
+        let cost: f64 = self
+            .cost_blocks
+            .iter()
+            .map(|b| crate::autodiff::ScalarFunction::eval(&self.scalar_fn(b), &gather(x, &b.vars)))
+            .sum();
+        let slack: f64 = x[self.layout.slacks()].iter().sum();
+        cost + self.slack_weight * slack
     }
 
     /// Gradient of the objective (length = variables).
