@@ -2,6 +2,7 @@
 //! objective, gradient, constraints, Jacobian and Lagrangian Hessian assembled from
 //! per-block dense derivatives (computed in parallel, scattered serially).
 
+use nalgebra::DMatrix;
 use rayon::prelude::*;
 
 use super::blocks::{Block, Context, ScalarBlockFn, ScalarKind, VectorBlockFn, VectorKind};
@@ -45,6 +46,7 @@ pub struct Transcription<M> {
     cost_blocks: Vec<Block<ScalarKind>>,
     jacobian: Pattern,
     hessian: Pattern,
+    parallel: bool,
 }
 
 fn range_vec(r: std::ops::Range<usize>) -> Vec<usize> {
@@ -127,6 +129,7 @@ impl<M: Mechanics> Transcription<M> {
             cost_blocks: Vec::new(),
             jacobian: Pattern::default(),
             hessian: Pattern::default(),
+            parallel: true,
             mech,
         };
         t.place_blocks();
@@ -188,22 +191,25 @@ impl<M: Mechanics> Transcription<M> {
                 t.extend((0..extra).map(|_| vec![]));
                 t
             };
-            if nc > 0 {
-                let cv = l.contact_vars(j);
+            for i in 0..nc {
                 let mut vars = range_vec(l.q(j + 1));
-                vars.extend(cv.start..cv.start + nc * (1 + l.nd));
+                vars.push(l.c(j, i));
+                vars.extend(l.beta(j, i));
                 let len = vars.len();
                 let targets = q_next_targets(len - n);
-                self.gradient_blocks
-                    .push(Block::new(ScalarKind::ContactWork, vars, len, targets));
+                let mut block =
+                    Block::new(ScalarKind::ContactWork { contact: i }, vars, len, targets);
+                block.linear_from = n;
+                self.gradient_blocks.push(block);
             }
             if nl > 0 {
                 let mut vars = range_vec(l.q(j + 1));
                 vars.extend(l.gamma(j));
                 let len = vars.len();
                 let targets = q_next_targets(nl);
-                self.gradient_blocks
-                    .push(Block::new(ScalarKind::LoopWork, vars, len, targets));
+                let mut block = Block::new(ScalarKind::LoopWork, vars, len, targets);
+                block.linear_from = n;
+                self.gradient_blocks.push(block);
                 let targets = l.loop_rows(j).map(|r| vec![r]).collect();
                 self.vector_blocks.push(Block::new(
                     VectorKind::LoopClosure,
@@ -216,14 +222,21 @@ impl<M: Mechanics> Transcription<M> {
                 let mut vars = range_vec(l.q(j));
                 vars.extend(l.q(j + 1));
                 vars.push(l.h(j));
-                vars.push(l.psi(j, i));
-                vars.extend(l.eta(j, i));
-                let targets = l.tangential_rows(j, i).map(|r| vec![r]).collect();
+                let tangential: Vec<Vec<usize>> =
+                    l.tangential_rows(j, i).map(|r| vec![r]).collect();
                 self.vector_blocks.push(Block::new(
-                    VectorKind::TangentialVelocity { contact: i },
+                    VectorKind::TangentialRate { contact: i },
                     vars,
                     2 * n + 1,
-                    targets,
+                    tangential.clone(),
+                ));
+                let mut vars = vec![l.psi(j, i)];
+                vars.extend(l.eta(j, i));
+                self.vector_blocks.push(Block::new(
+                    VectorKind::TangentialSlack,
+                    vars,
+                    0,
+                    tangential,
                 ));
                 self.vector_blocks.push(Block::new(
                     VectorKind::Distance { contact: i },
@@ -259,17 +272,27 @@ impl<M: Mechanics> Transcription<M> {
                 (0..nc).map(|i| vec![i]).collect()
             };
             for (g, contacts) in groups.into_iter().enumerate() {
-                let mut vars = range_vec(l.q(j + 1));
+                let mut vars = Vec::new();
                 for &i in &contacts {
                     vars.extend(contact_vars(i));
                 }
-                let nonlinear = if contacts.is_empty() { 0 } else { vars.len() };
+                let nonlinear = vars.len();
                 let (own, block_rows) = if shared {
                     let own = if g == 0 { vec![slacks[0]] } else { vec![] };
                     (own, &rows[..3])
                 } else {
                     (slacks[3 * g..3 * g + 3].to_vec(), &rows[3 * g..3 * g + 3])
                 };
+                for &i in &contacts {
+                    let mut vars = range_vec(l.q(j + 1));
+                    vars.push(l.c(j, i));
+                    self.vector_blocks.push(Block::new(
+                        VectorKind::ContactGap { contact: i },
+                        vars,
+                        n + 1,
+                        vec![vec![block_rows[1]]],
+                    ));
+                }
                 let num_slacks = own.len();
                 vars.extend(own);
                 let targets = block_rows.iter().map(|&r| vec![r]).collect();
@@ -386,7 +409,7 @@ impl<M: Mechanics> Transcription<M> {
             b.jacobian_slots = slots;
             let mut hslots = Vec::new();
             for a in 0..b.nonlinear {
-                for c in 0..=a {
+                for c in (0..=a).filter(|&c| b.has_hessian_pair(a, c)) {
                     let mult = if a != c && b.vars[a] == b.vars[c] {
                         2.0
                     } else {
@@ -554,6 +577,23 @@ impl<M: Mechanics> Transcription<M> {
         Ok(())
     }
 
+    /// Evaluate independent blocks on rayon's thread pool (the default) or on one thread.
+    pub fn set_parallel(&mut self, parallel: bool) {
+        self.parallel = parallel;
+    }
+
+    fn map_blocks<K: Sync, R: Send>(
+        &self,
+        blocks: &[Block<K>],
+        f: impl Fn(&Block<K>) -> R + Sync + Send,
+    ) -> Vec<R> {
+        if self.parallel {
+            blocks.par_iter().map(f).collect()
+        } else {
+            blocks.iter().map(f).collect()
+        }
+    }
+
     /// The variable and row layout.
     pub fn layout(&self) -> &Layout {
         &self.layout
@@ -672,13 +712,9 @@ impl<M: Mechanics> Transcription<M> {
     /// Gradient of the objective (length = variables).
     pub fn gradient(&self, x: &[f64], grad: &mut [f64]) {
         grad.fill(0.0);
-        let locals: Vec<Vec<f64>> = self
-            .cost_blocks
-            .par_iter()
-            .map(|b| {
-                gradient(&self.scalar_fn(b), &gather(x, &b.vars)).1
-            })
-            .collect();
+        let locals = self.map_blocks(&self.cost_blocks, |b| {
+            gradient(&self.scalar_fn(b), &gather(x, &b.vars)).1
+        });
         for (b, g) in self.cost_blocks.iter().zip(locals) {
             for (&v, gi) in b.vars.iter().zip(g) {
                 grad[v] += gi;
@@ -692,16 +728,12 @@ impl<M: Mechanics> Transcription<M> {
     /// Constraint values g(x) (length = rows).
     pub fn constraints(&self, x: &[f64], g: &mut [f64]) {
         g.fill(0.0);
-        let vector: Vec<Vec<f64>> = self
-            .vector_blocks
-            .par_iter()
-            .map(|b| {
-                let f = self.vector_fn(b);
-                let mut out = vec![0.0; b.targets.len()];
-                crate::autodiff::VectorFunction::eval(&f, &gather(x, &b.vars), &mut out);
-                out
-            })
-            .collect();
+        let vector = self.map_blocks(&self.vector_blocks, |b| {
+            let f = self.vector_fn(b);
+            let mut out = vec![0.0; b.targets.len()];
+            crate::autodiff::VectorFunction::eval(&f, &gather(x, &b.vars), &mut out);
+            out
+        });
         for (b, out) in self.vector_blocks.iter().zip(vector) {
             for (rows, o) in b.targets.iter().zip(out) {
                 for &r in rows {
@@ -709,13 +741,9 @@ impl<M: Mechanics> Transcription<M> {
                 }
             }
         }
-        let gradient: Vec<Vec<f64>> = self
-            .gradient_blocks
-            .par_iter()
-            .map(|b| {
-                gradient(&self.scalar_fn(b), &gather(x, &b.vars)).1
-            })
-            .collect();
+        let gradient = self.map_blocks(&self.gradient_blocks, |b| {
+            gradient(&self.scalar_fn(b), &gather(x, &b.vars)).1
+        });
         for (b, out) in self.gradient_blocks.iter().zip(gradient) {
             for (rows, o) in b.targets.iter().zip(out) {
                 for &r in rows {
@@ -728,19 +756,15 @@ impl<M: Mechanics> Transcription<M> {
     /// Jacobian values in the order of `jacobian_pattern`.
     pub fn jacobian_values(&self, x: &[f64], values: &mut [f64]) {
         values.fill(0.0);
-        let vector: Vec<nalgebra::DMatrix<f64>> = self
-            .vector_blocks
-            .par_iter()
-            .map(|b| jacobian(&self.vector_fn(b), &gather(x, &b.vars)).1)
-            .collect();
+        let vector = self.map_blocks(&self.vector_blocks, |b| {
+            jacobian(&self.vector_fn(b), &gather(x, &b.vars)).1
+        });
         for (b, local) in self.vector_blocks.iter().zip(vector) {
             scatter_rows(b, &local, values);
         }
-        let gradient: Vec<nalgebra::DMatrix<f64>> = self
-            .gradient_blocks
-            .par_iter()
-            .map(|b| gradient_hessian(&self.scalar_fn(b), &gather(x, &b.vars)).2)
-            .collect();
+        let gradient = self.map_blocks(&self.gradient_blocks, |b| {
+            gradient_hessian(&self.scalar_fn(b), &gather(x, &b.vars)).2
+        });
         for (b, local) in self.gradient_blocks.iter().zip(gradient) {
             scatter_rows(b, &local, values);
         }
@@ -755,34 +779,29 @@ impl<M: Mechanics> Transcription<M> {
                 .map(|rows| rows.iter().map(|&r| lambda[r]).sum())
                 .collect()
         };
-        let costs: Vec<nalgebra::DMatrix<f64>> = self
-            .cost_blocks
-            .par_iter()
-            .filter(|b| b.nonlinear > 0)
-            .map(|b| gradient_hessian(&self.scalar_fn(b), &gather(x, &b.vars)).2 * obj_factor)
-            .collect();
-        let nonlinear_costs = self.cost_blocks.iter().filter(|b| b.nonlinear > 0);
-        for (b, local) in nonlinear_costs.zip(costs) {
+        let costs = self.map_blocks(&self.cost_blocks, |b| {
+            if b.nonlinear == 0 {
+                return DMatrix::zeros(0, 0);
+            }
+            gradient_hessian(&self.scalar_fn(b), &gather(x, &b.vars)).2 * obj_factor
+        });
+        for (b, local) in self.cost_blocks.iter().zip(costs) {
             scatter_lower(b, &local, values);
         }
-        let vector: Vec<nalgebra::DMatrix<f64>> = self
-            .vector_blocks
-            .par_iter()
-            .filter(|b| b.nonlinear > 0)
-            .map(|b| weighted_hessian(&self.vector_fn(b), &gather(x, &b.vars), &weights(&b.targets)))
-            .collect();
-        let nonlinear_vector = self.vector_blocks.iter().filter(|b| b.nonlinear > 0);
-        for (b, local) in nonlinear_vector.zip(vector) {
+        let vector = self.map_blocks(&self.vector_blocks, |b| {
+            if b.nonlinear == 0 {
+                return DMatrix::zeros(0, 0);
+            }
+            let z = gather(x, &b.vars);
+            weighted_hessian(&self.vector_fn(b), &z, &weights(&b.targets))
+        });
+        for (b, local) in self.vector_blocks.iter().zip(vector) {
             scatter_lower(b, &local, values);
         }
-        let gradient: Vec<nalgebra::DMatrix<f64>> = self
-            .gradient_blocks
-            .par_iter()
-            .map(|b| {
-                let dir = weights(&b.targets);
-                gradient_hessian_third(&self.scalar_fn(b), &gather(x, &b.vars), &dir).contracted
-            })
-            .collect();
+        let gradient = self.map_blocks(&self.gradient_blocks, |b| {
+            let dir = weights(&b.targets);
+            gradient_hessian_third(&self.scalar_fn(b), &gather(x, &b.vars), &dir).contracted
+        });
         for (b, local) in self.gradient_blocks.iter().zip(gradient) {
             scatter_lower(b, &local, values);
         }
@@ -853,7 +872,7 @@ fn gather(x: &[f64], vars: &[usize]) -> Vec<f64> {
 }
 
 /// Add a block's local rows (outputs or gradient components × inputs) into the Jacobian.
-fn scatter_rows<K>(b: &Block<K>, local: &nalgebra::DMatrix<f64>, values: &mut [f64]) {
+fn scatter_rows<K>(b: &Block<K>, local: &DMatrix<f64>, values: &mut [f64]) {
     let mut slot = b.jacobian_slots.iter();
     for (o, rows) in b.targets.iter().enumerate() {
         for _ in rows {
@@ -867,10 +886,10 @@ fn scatter_rows<K>(b: &Block<K>, local: &nalgebra::DMatrix<f64>, values: &mut [f
 }
 
 /// Add a block's local Hessian (lower pairs of its nonlinear inputs) into the Hessian.
-fn scatter_lower<K>(b: &Block<K>, local: &nalgebra::DMatrix<f64>, values: &mut [f64]) {
+fn scatter_lower<K>(b: &Block<K>, local: &DMatrix<f64>, values: &mut [f64]) {
     let mut slot = b.hessian_slots.iter();
     for a in 0..b.nonlinear {
-        for c in 0..=a {
+        for c in (0..=a).filter(|&c| b.has_hessian_pair(a, c)) {
             if let Some(&(s, mult)) = slot.next() {
                 values[s] += mult * local[(a, c)];
             }

@@ -6,7 +6,7 @@ use crate::model::{
     LinkId, Model, Scalar, generalized_input_force, generalized_momentum, kinetic_energy,
     loop_residual, point_position, potential_energy,
 };
-use crate::problem::{ContactSpec, Integrator, Interval};
+use crate::problem::{ContactSpec, Integrator, Interval, ProblemSpec};
 
 /// A URDF model with the problem's contact points resolved to links.
 #[derive(Debug)]
@@ -37,6 +37,14 @@ impl ModelMechanics {
             model,
             contacts: resolved,
         })
+    }
+
+    /// Load the robot of `spec` from its URDF (base and gravity from the spec) with the
+    /// spec's contacts.
+    pub fn load(spec: &ProblemSpec) -> Result<Self, TranscriptionError> {
+        let mut model = Model::from_urdf_file(&spec.robot.urdf, spec.robot.base)?;
+        model.set_gravity(spec.robot.gravity);
+        ModelMechanics::new(model, &spec.contacts)
     }
 
     /// The model.

@@ -55,14 +55,18 @@ pub enum VectorKind {
     HalfForce,
     /// M(q_0)v_0; z = [q_0; v_0].
     InitialMomentum,
-    /// P_i(qb)(qb − qa)/h + ψ e − η; z = [qa; qb; h; ψ; η].
-    TangentialVelocity { contact: usize },
+    /// ±P_i(qb)(qb − qa)/h (tangential-velocity rows, nonlinear part); z = [qa; qb; h].
+    TangentialRate { contact: usize },
+    /// ψ e − η (tangential-velocity rows, linear part); z = [ψ; η].
+    TangentialSlack,
+    /// −c_i φ_i(q) (the c·φ complementarity row's product); z = [q; c_i].
+    ContactGap { contact: usize },
     /// φ_i(q); z = [q].
     Distance { contact: usize },
     /// μ c − eᵀβ; z = [c; β].
     FrictionCone { contact: usize },
-    /// The three relaxed products of the listed contacts; z = [q; (c, β, ψ, η) per contact;
-    /// slacks (0: added by another block, 1 shared, or 3)].
+    /// The relaxed products ηᵀβ and ψ(μc − eᵀβ) of the listed contacts with the slacks;
+    /// z = [(c, β, ψ, η) per contact; slacks (0: added by another block, 1 shared, or 3)].
     Complementarity { contacts: Vec<usize>, slacks: usize },
     /// a(q); z = [q].
     LoopClosure,
@@ -79,8 +83,9 @@ pub enum VectorKind {
 pub enum ScalarKind {
     /// Ld(qa, qb, h); z = [qa; qb; h].
     Segment,
-    /// Σ_i c_i φ_i(q) + β_iᵀ P_i t_i(q), whose q-gradient is J(q)ᵀλ; z = [q; c; β].
-    ContactWork,
+    /// c_i φ_i(q) + β_iᵀ P_i t_i(q), whose q-gradient is contact i's J(q)ᵀλ;
+    /// z = [q; c_i; β_i].
+    ContactWork { contact: usize },
     /// γᵀa(q), whose q-gradient is A(q)ᵀγ; z = [q; γ].
     LoopWork,
     /// Cost term `term` of the problem on one interval (or the last knot); z per term.
@@ -96,6 +101,9 @@ pub struct Block<K> {
     pub vars: Vec<usize>,
     /// Leading inputs that enter nonlinearly (the Hessian block is over these).
     pub nonlinear: usize,
+    /// Inputs from this index on never multiply each other (the function is linear in
+    /// them jointly), so their mutual Hessian pairs are left out of the pattern.
+    pub linear_from: usize,
     /// For each local output (vector) or gradient component (gradient block): rows it adds into.
     pub targets: Vec<Vec<usize>>,
     /// Jacobian slot for each (output, target row, input) in loop order.
@@ -105,12 +113,18 @@ pub struct Block<K> {
 }
 
 impl<K> Block<K> {
+    /// Whether the lower Hessian pair (a, b ≤ a) of local inputs is in the pattern.
+    pub fn has_hessian_pair(&self, a: usize, b: usize) -> bool {
+        a < self.nonlinear && b < self.linear_from
+    }
+
     /// A block with empty slot maps (filled by the pattern pass).
     pub fn new(kind: K, vars: Vec<usize>, nonlinear: usize, targets: Vec<Vec<usize>>) -> Self {
         Block {
             kind,
             vars,
             nonlinear,
+            linear_from: nonlinear,
             targets,
             jacobian_slots: Vec::new(),
             hessian_slots: Vec::new(),
@@ -144,15 +158,19 @@ impl<M: Mechanics> VectorFunction for VectorBlockFn<'_, M> {
         match self.kind {
             VectorKind::HalfForce => del::half_force(mech, ctx, z, out),
             VectorKind::InitialMomentum => del::initial_momentum(mech, ctx, z, out),
-            VectorKind::TangentialVelocity { contact } => {
-                contact::tangential_velocity(mech, ctx, *contact, z, out)
+            VectorKind::TangentialRate { contact } => {
+                contact::tangential_rate(mech, ctx, *contact, z, out)
+            }
+            VectorKind::TangentialSlack => contact::tangential_slack(z, out),
+            VectorKind::ContactGap { contact } => {
+                out[0] = contact::contact_gap(mech, ctx, *contact, z)
             }
             VectorKind::Distance { contact } => out[0] = contact::distance(mech, ctx, *contact, z),
             VectorKind::FrictionCone { contact } => {
                 out[0] = contact::friction_cone(ctx, *contact, z)
             }
             VectorKind::Complementarity { contacts, slacks } => {
-                contact::complementarity(mech, ctx, contacts, *slacks, z, out)
+                contact::complementarity(ctx, contacts, *slacks, z, out)
             }
             VectorKind::LoopClosure => mech.loop_residual(z, out),
             VectorKind::EqualStep => out[0] = z[0] - z[1],
@@ -182,7 +200,7 @@ impl<M: Mechanics> ScalarFunction for ScalarBlockFn<'_, M> {
         let (mech, ctx) = (self.mech, self.ctx);
         match self.kind {
             ScalarKind::Segment => del::segment(mech, ctx, z),
-            ScalarKind::ContactWork => contact::contact_work(mech, ctx, z),
+            ScalarKind::ContactWork { contact } => contact::contact_work(mech, ctx, *contact, z),
             ScalarKind::LoopWork => del::loop_work(mech, ctx, z),
             ScalarKind::Cost { term } => cost::cost(&ctx.costs[*term], ctx, z),
         }
