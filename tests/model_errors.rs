@@ -224,3 +224,31 @@ fn truncated_documents_never_panic() {
     assert_eq!(accepted, 0);
     assert!(Model::from_urdf_str(&xml, BaseType::Floating).is_ok());
 }
+
+#[test]
+fn mutated_documents_never_panic() {
+    // Replace one character of valid URDFs by a character that matters to XML or numbers.
+    let docs = [
+        sample::four_bar(),
+        sample::hopper_2d().to_string(),
+        sample::brick().to_string(),
+    ];
+    let alphabet: Vec<char> = "<>/=\"' -0.9eEx,pi".chars().collect();
+    let mut state: u64 = 1;
+    let mut next = |n: usize| {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((state >> 33) as usize) % n
+    };
+    for _ in 0..1000 {
+        let doc = &docs[next(docs.len())];
+        let chars: Vec<char> = doc.chars().collect();
+        let mut mutated = chars.clone();
+        mutated[next(chars.len())] = alphabet[next(alphabet.len())];
+        let text: String = mutated.into_iter().collect();
+        for base in [BaseType::Fixed, BaseType::Planar, BaseType::Floating] {
+            let _ = Model::from_urdf_str(&text, base);
+        }
+    }
+}

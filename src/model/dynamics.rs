@@ -6,7 +6,7 @@ use super::spatial::{Vec3, add, cross, mat_vec_const, scale, sub};
 use super::tree::Motion;
 use super::{LinkId, Model, Scalar};
 
-/// B(q)·u: input i adds u[i] to coordinate `model.input_coordinates()[i]` (length `nq`;
+/// B(q)·u: input i adds `u[i]` to coordinate `model.input_coordinates()[i]` (length `nq`;
 /// B is a constant selection matrix, `q` is accepted for the general signature).
 pub fn generalized_input_force<D: Scalar>(model: &Model, q: &[D], u: &[D]) -> Vec<D> {
     check_len(model, q.len(), "q");
@@ -35,10 +35,11 @@ pub fn generalized_point_force<D: Scalar>(
 ) -> Vec<D> {
     check_len(model, q.len(), "q");
     let poses = frame_poses(model, q);
-    let frame = model.link_frame[link.0];
+    let placement = &model.link_frame[link.0];
+    let frame = placement.frame;
     let at = add(
         poses[frame].origin,
-        mat_vec_const(&poses[frame].rotation, point),
+        mat_vec_const(&poses[frame].rotation, &placement.point_in_frame(point)),
     );
     let zero = [D::from(0.0); 3];
     let mut forces = vec![zero; model.frames.len()];

@@ -28,9 +28,30 @@ impl<D: Scalar> Pose<D> {
     }
 }
 
+const IDENTITY: [[f64; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+
+/// R·Rot(axis, angle); for a coordinate axis ±e_k only two columns of R change.
+fn rotate_about<D: Scalar>(r: &Mat3<D>, axis: &[f64; 3], angle: D) -> Mat3<D> {
+    let Some(k) = (0..3).find(|&k| axis[k].abs() == 1.0) else {
+        return mat_mul(r, &axis_angle(axis, angle));
+    };
+    let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+    let (s, c) = (angle.sin() * axis[k], angle.cos());
+    let mut out = *r;
+    for row in 0..3 {
+        out[row][i] = r[row][i] * c + r[row][j] * s;
+        out[row][j] = r[row][j] * c - r[row][i] * s;
+    }
+    out
+}
+
 /// Pose of `frame` given the pose of its parent (`parent` = world if the frame has none).
 pub(crate) fn child_pose<D: Scalar>(frame: &Frame, parent: &Pose<D>, q: &[D]) -> Pose<D> {
-    let joint_rotation = mat_mul_const(&parent.rotation, &frame.rotation);
+    let joint_rotation = if frame.rotation == IDENTITY {
+        parent.rotation
+    } else {
+        mat_mul_const(&parent.rotation, &frame.rotation)
+    };
     let joint_origin = add(
         parent.origin,
         mat_vec_const(&parent.rotation, &frame.translation),
@@ -44,7 +65,7 @@ pub(crate) fn child_pose<D: Scalar>(frame: &Frame, parent: &Pose<D>, q: &[D]) ->
         Motion::Revolute => {
             let angle = q[frame.coordinate];
             Pose {
-                rotation: mat_mul(&joint_rotation, &axis_angle(&frame.axis, angle)),
+                rotation: rotate_about(&joint_rotation, &frame.axis, angle),
                 origin: joint_origin,
                 axis: mat_vec_const(&joint_rotation, &frame.axis),
             }
@@ -88,15 +109,26 @@ pub(crate) fn frame_pose<D: Scalar>(model: &Model, frame: usize, q: &[D]) -> Pos
 /// World pose of a link: (rotation R mapping link axes to world axes, row-major; origin).
 pub fn link_pose<D: Scalar>(model: &Model, link: LinkId, q: &[D]) -> ([[D; 3]; 3], [D; 3]) {
     check_len(model, q.len(), "q");
-    let pose = frame_pose(model, model.link_frame[link.0], q);
-    (pose.rotation, pose.origin)
+    let placement = &model.link_frame[link.0];
+    let pose = frame_pose(model, placement.frame, q);
+    (
+        mat_mul_const(&pose.rotation, &placement.rotation),
+        add(
+            pose.origin,
+            mat_vec_const(&pose.rotation, &placement.translation),
+        ),
+    )
 }
 
 /// World position of `point` (given in the `link` frame) at configuration `q` (length `nq`).
 pub fn point_position<D: Scalar>(model: &Model, link: LinkId, point: &[f64; 3], q: &[D]) -> [D; 3] {
     check_len(model, q.len(), "q");
-    let pose = frame_pose(model, model.link_frame[link.0], q);
-    add(pose.origin, mat_vec_const(&pose.rotation, point))
+    let placement = &model.link_frame[link.0];
+    let pose = frame_pose(model, placement.frame, q);
+    add(
+        pose.origin,
+        mat_vec_const(&pose.rotation, &placement.point_in_frame(point)),
+    )
 }
 
 /// World angular velocity ω and origin velocity v of each frame.

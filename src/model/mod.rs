@@ -6,16 +6,16 @@
 //! The [`Model`] is immutable and all `f64`; the algorithms are free functions generic over
 //! [`Scalar`], so plain floats and (nested) dual numbers flow through the same formulas.
 
-mod dynamics;
-mod energy;
+pub(crate) mod dynamics;
+pub(crate) mod energy;
 mod error;
 mod inspect;
-mod kinematics;
+pub(crate) mod kinematics;
 mod loops;
 pub mod sample;
 mod scalar;
-mod spatial;
-mod tree;
+pub(crate) mod spatial;
+pub(crate) mod tree;
 mod urdf;
 
 pub use dynamics::{

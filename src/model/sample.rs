@@ -47,12 +47,19 @@ fn hinge(name: &str, parent: &str, child: &str, xyz: [f64; 3]) -> String {
     )
 }
 
-/// A planar chain of `n` uniform rods (each 1 kg, 1 m) hinged about y below a massless
-/// `base` link (fixed base); joints `joint1..joint<n>` with transmissions on every joint.
+/// A planar chain of `n` uniform rods (each 1 kg, 1 m) hinged about y below a `base` link
+/// (2 kg, inertia diag(0.1, 0.1, 0.1) about its origin, so that with a planar or floating
+/// base the mass matrix stays positive definite); joints `joint1..joint<n>` with
+/// transmissions on every joint.
 pub fn planar_chain(n: usize) -> String {
-    let mut xml = String::from(
-        "<?xml version=\"1.0\"?>\n<robot name=\"planar_chain\">\n  <link name=\"base\"/>\n",
-    );
+    let mut xml = String::from("<?xml version=\"1.0\"?>\n<robot name=\"planar_chain\">\n");
+    xml += r#"  <link name="base">
+    <inertial>
+      <mass value="2.0"/>
+      <inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/>
+    </inertial>
+  </link>
+"#;
     for k in 1..=n {
         xml += &rod_link(&format!("link{k}"), 1.0, 1.0);
         let parent = if k == 1 {
@@ -94,12 +101,13 @@ pub fn double_pendulum() -> String {
     xml + "</robot>\n"
 }
 
-/// A closed four-bar linkage (Grashof crank-rocker) in the x–z plane, fixed base:
-/// ground pivots O = (0, 0, 0) and D = (4, 0, 0); at q = 0 the crank runs O → A = (0, 0, 1)
-/// (1 m, 1 kg), the coupler A → P = (4, 0, 4) (5 m, 2 kg), the rocker P → D (4 m, 1.5 kg).
-/// Joints `crank`, `coupler`, `rocker` (continuous, axis y) form the tree; the
-/// `<loop_joint name="closure">` pins the rocker's end (0, 0, −4) to the ground point D
-/// (axis y, so 2 residual rows: x and z). Closed at q = 0. Inertias: Iyy = m L²/12 about the
+/// A closed four-bar linkage (Grashof crank-rocker, no change point) in the x–z plane,
+/// fixed base, closed at q = 0 and not in equilibrium there (gravity moves it from rest).
+/// Ground pivots O = (0, 0, 0) and D = (4.6, 0, −0.2). At q = 0 the crank runs
+/// O → A = (0.6, 0, 0.8) (1 m, 1 kg), the coupler A → P = (4.6, 0, 3.8) (5 m, 2 kg), the rocker
+/// P → D straight down (4 m, 1.5 kg). Joints `crank`, `coupler`, `rocker` (continuous, axis y)
+/// form the tree; the `<loop_joint name="closure">` pins the rocker's end (0, 0, −4) to the
+/// ground point D (axis y, so 2 residual rows: x and z). Inertias: Iyy = m L²/12 about the
 /// centre of each bar; Ixx = Izz = Iyy (only Iyy matters in planar motion).
 pub fn four_bar() -> String {
     let bar = |name: &str, m: f64, len: f64, com: [f64; 3]| {
@@ -119,16 +127,16 @@ pub fn four_bar() -> String {
     let mut xml = String::from(
         "<?xml version=\"1.0\"?>\n<robot name=\"four_bar\">\n  <link name=\"ground\"/>\n",
     );
-    xml += &bar("crank_link", 1.0, 1.0, [0.0, 0.0, 0.5]);
+    xml += &bar("crank_link", 1.0, 1.0, [0.3, 0.0, 0.4]);
     xml += &bar("coupler_link", 2.0, 5.0, [2.0, 0.0, 1.5]);
     xml += &bar("rocker_link", 1.5, 4.0, [0.0, 0.0, -2.0]);
     xml += &hinge("crank", "ground", "crank_link", [0.0; 3]);
-    xml += &hinge("coupler", "crank_link", "coupler_link", [0.0, 0.0, 1.0]);
+    xml += &hinge("coupler", "crank_link", "coupler_link", [0.6, 0.0, 0.8]);
     xml += &hinge("rocker", "coupler_link", "rocker_link", [4.0, 0.0, 3.0]);
     xml += r#"  <loop_joint name="closure" type="continuous">
     <axis xyz="0 1 0"/>
     <link1 link="rocker_link" xyz="0 0 -4" rpy="0 0 0"/>
-    <link2 link="ground" xyz="4 0 0" rpy="0 0 0"/>
+    <link2 link="ground" xyz="4.6 0 -0.2" rpy="0 0 0"/>
   </loop_joint>
 "#;
     xml + "</robot>\n"

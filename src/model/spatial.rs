@@ -126,3 +126,39 @@ pub(crate) fn const_mat_vec<D: Scalar>(c: &[[f64; 3]; 3], v: Vec3<D>) -> Vec3<D>
         v[0] * c[2][0] + v[2] * c[2][2] + v[1] * c[2][1],
     ]
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rpy_is_the_product_of_axis_rotations() {
+        let (r, p, y) = (0.3f64, -1.1f64, 2.0f64);
+        let composed = mat_mul(
+            &mat_mul(
+                &axis_angle(&[0.0, 0.0, 1.0], y),
+                &axis_angle(&[0.0, 1.0, 0.0], p),
+            ),
+            &axis_angle(&[1.0, 0.0, 0.0], r),
+        );
+        let direct = rpy_to_matrix(r, p, y);
+        for i in 0..3 {
+            for j in 0..3 {
+                assert!((composed[i][j] - direct[i][j]).abs() < 1e-15);
+            }
+        }
+    }
+
+    #[test]
+    fn axis_angle_turns_the_perpendicular_plane() {
+        // About (1, 1, 1)/√3 by 2π/3 the coordinate axes cycle x → y → z.
+        let a = 1.0 / 3f64.sqrt();
+        let r = axis_angle(&[a, a, a], 2.0 * std::f64::consts::PI / 3.0);
+        let x_image = mat_vec(&r, [1.0, 0.0, 0.0]);
+        assert!(
+            (x_image[0]).abs() < 1e-15
+                && (x_image[1] - 1.0).abs() < 1e-15
+                && x_image[2].abs() < 1e-15
+        );
+    }
+}

@@ -39,7 +39,7 @@ pub enum SpringKind {
     Prismatic,
 }
 
-/// A linear joint spring with energy ½·stiffness·(q[coordinate] − rest)².
+/// A linear joint spring with energy ½·stiffness·(`q[coordinate]` − rest)².
 #[derive(Debug, Clone, PartialEq)]
 pub struct Spring {
     /// The `<force_element>` name.
@@ -91,7 +91,8 @@ pub(crate) enum Motion {
     Prismatic,
 }
 
-/// One frame of the tree: a URDF link, or a massless virtual frame of the base chain.
+/// One frame of the tree: a rigid body (a URDF link with everything welded to it by fixed
+/// joints, masses lumped), or a massless virtual frame of the base chain.
 #[derive(Debug, Clone)]
 pub(crate) struct Frame {
     /// Parent frame (index < own index), `None` for the world.
@@ -114,11 +115,37 @@ pub(crate) struct Frame {
     pub inertia: [[f64; 3]; 3],
 }
 
+/// Where a URDF link sits: rigidly attached to tree frame `frame` at (rotation, translation).
+/// Links behind fixed joints share their moving ancestor's frame, so the recursions visit
+/// one frame per rigid body, not per URDF link.
+#[derive(Debug, Clone)]
+pub(crate) struct LinkPlacement {
+    /// The tree frame.
+    pub frame: usize,
+    /// Link axes in frame axes, row-major.
+    pub rotation: [[f64; 3]; 3],
+    /// Link origin in the frame.
+    pub translation: [f64; 3],
+}
+
+impl LinkPlacement {
+    /// A link-frame point expressed in the tree frame.
+    pub(crate) fn point_in_frame(&self, point: &[f64; 3]) -> [f64; 3] {
+        let r = &self.rotation;
+        let t = &self.translation;
+        [
+            t[0] + r[0][0] * point[0] + r[0][1] * point[1] + r[0][2] * point[2],
+            t[1] + r[1][0] * point[0] + r[1][1] * point[1] + r[1][2] * point[2],
+            t[2] + r[2][0] * point[0] + r[2][1] * point[1] + r[2][2] * point[2],
+        ]
+    }
+}
+
 /// A robot model loaded from URDF: immutable, `f64`, frames in topological order.
 #[derive(Debug, Clone)]
 pub struct Model {
     pub(crate) frames: Vec<Frame>,
-    pub(crate) link_frame: Vec<usize>,
+    pub(crate) link_frame: Vec<LinkPlacement>,
     pub(crate) link_names: Vec<String>,
     pub(crate) coordinate_names: Vec<String>,
     pub(crate) coordinate_limits: Vec<(f64, f64)>,
@@ -150,6 +177,15 @@ impl Model {
     }
 
     /// Loads a URDF from a string; see [`Model::from_urdf_file`].
+    ///
+    /// # Example
+    /// ```
+    /// use vito::model::{BaseType, Model, mass_matrix, sample};
+    /// let model = Model::from_urdf_str(&sample::pendulum(), BaseType::Fixed).unwrap();
+    /// assert_eq!(model.coordinate_names(), ["joint1"]);
+    /// // A uniform 1 kg, 1 m rod about its end: m l²/3.
+    /// assert!((mass_matrix(&model, &[0.4])[(0, 0)] - 1.0 / 3.0).abs() < 1e-14);
+    /// ```
     pub fn from_urdf_str(xml: &str, base: BaseType) -> Result<Model, ModelError> {
         super::urdf::load(xml, "<string>", base)
     }

@@ -21,7 +21,7 @@ use std::collections::{HashMap, HashSet};
 use roxmltree::{Document, Node};
 
 use super::spatial::{mat_mul, rpy_to_matrix};
-use super::tree::{Frame, Motion};
+use super::tree::{Frame, LinkPlacement, Motion};
 use super::{BaseType, ContactPoint, LinkId, LoopClosure, Model, ModelError, Spring, SpringKind};
 
 /// Top-level elements vito knows (read or deliberately ignored without a warning).
@@ -164,6 +164,9 @@ fn repair(xml: &str, origin: &str, warnings: &mut Vec<String>) -> Result<String,
     let mut out = String::with_capacity(xml.len() + 64 * edits.len());
     let mut cursor = 0;
     for edit in edits {
+        if edit.range.start < cursor {
+            continue; // overlapping edits cannot arise from distinct attributes; be safe
+        }
         out.push_str(&xml[cursor..edit.range.start]);
         out.push_str(&edit.text);
         cursor = edit.range.end;
@@ -498,6 +501,73 @@ fn transpose(m: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
     t
 }
 
+/// Mass, centre of mass, and inertia about the centre of mass (in the axes of the frame the
+/// centre is given in).
+type MassPiece = (f64, [f64; 3], [[f64; 3]; 3]);
+
+/// A link's checked mass, centre of mass and inertia (about the centre of mass, in link
+/// axes: the URDF inertia rotated by the inertial origin's rpy).
+fn link_inertia(link: &urdf_rs::Link) -> Result<MassPiece, ModelError> {
+    let inertial = &link.inertial;
+    let mass = inertial.mass.value;
+    if !(mass > 0.0 && mass.is_finite()) {
+        return Err(ModelError::NonPositiveMass {
+            link: link.name.clone(),
+            mass,
+        });
+    }
+    let i = &inertial.inertia;
+    let urdf_inertia = [
+        [i.ixx, i.ixy, i.ixz],
+        [i.ixy, i.iyy, i.iyz],
+        [i.ixz, i.iyz, i.izz],
+    ];
+    if !positive_definite(&urdf_inertia) {
+        return Err(ModelError::InertiaNotPositiveDefinite {
+            link: link.name.clone(),
+            ixx: i.ixx,
+            iyy: i.iyy,
+            izz: i.izz,
+            ixy: i.ixy,
+            ixz: i.ixz,
+            iyz: i.iyz,
+        });
+    }
+    let r = rpy(&inertial.origin.rpy);
+    let rotated = mat_mul(&mat_mul(&r, &urdf_inertia), &transpose(&r));
+    Ok((mass, *inertial.origin.xyz, rotated))
+}
+
+/// Combines rigidly attached masses into one body: total mass, centre of mass, and the
+/// inertia about it (parallel-axis theorem). Massless for no pieces.
+fn lump(parts: &[MassPiece]) -> MassPiece {
+    let mass: f64 = parts.iter().map(|p| p.0).sum();
+    if mass == 0.0 {
+        return (0.0, [0.0; 3], [[0.0; 3]; 3]);
+    }
+    if let [single] = parts {
+        return *single;
+    }
+    let mut com = [0.0; 3];
+    for (m, c, _) in parts {
+        for k in 0..3 {
+            com[k] += m * c[k] / mass;
+        }
+    }
+    let mut inertia = [[0.0; 3]; 3];
+    for (m, c, i) in parts {
+        let d = [c[0] - com[0], c[1] - com[1], c[2] - com[2]];
+        let d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+        for a in 0..3 {
+            for b in 0..3 {
+                let delta = if a == b { 1.0 } else { 0.0 };
+                inertia[a][b] += i[a][b] + m * (d2 * delta - d[a] * d[b]);
+            }
+        }
+    }
+    (mass, com, inertia)
+}
+
 /// The virtual base frames: (coordinate name, motion, axis, coordinate index).
 /// One virtual base frame: its motion, axis and coordinate index.
 type BaseFrame = (Motion, [f64; 3], usize);
@@ -693,58 +763,43 @@ fn build(
             inertia: [[0.0; 3]; 3],
         });
     }
-    let mut frame_of_link = vec![usize::MAX; robot.links.len()];
+    // Each link's placement; a link behind a fixed joint shares its parent's frame.
+    let mut placement_of: Vec<Option<LinkPlacement>> = vec![None; robot.links.len()];
+    // Mass pieces per frame: (mass, com in frame, inertia about com in frame axes).
+    let mut pieces: Vec<Vec<MassPiece>> = vec![Vec::new(); frames.len()];
     let mut total_mass = 0.0;
     for &l in &order {
         let link = &robot.links[l];
-        let (mass, com, inertia) = if ext.has_inertial.contains(&link.name) {
-            let inertial = &link.inertial;
-            let mass = inertial.mass.value;
-            if !(mass > 0.0 && mass.is_finite()) {
-                return Err(ModelError::NonPositiveMass {
-                    link: link.name.clone(),
-                    mass,
+        let placement = match parent_joint[l] {
+            None => {
+                frames.push(Frame {
+                    parent: frames.len().checked_sub(1),
+                    rotation: identity,
+                    translation: [0.0; 3],
+                    axis: [1.0, 0.0, 0.0],
+                    motion: Motion::Fixed,
+                    coordinate: 0,
+                    mass: 0.0,
+                    com: [0.0; 3],
+                    inertia: [[0.0; 3]; 3],
                 });
+                pieces.push(Vec::new());
+                LinkPlacement {
+                    frame: frames.len() - 1,
+                    rotation: identity,
+                    translation: [0.0; 3],
+                }
             }
-            let i = &inertial.inertia;
-            let urdf_inertia = [
-                [i.ixx, i.ixy, i.ixz],
-                [i.ixy, i.iyy, i.iyz],
-                [i.ixz, i.iyz, i.izz],
-            ];
-            if !positive_definite(&urdf_inertia) {
-                return Err(ModelError::InertiaNotPositiveDefinite {
-                    link: link.name.clone(),
-                    ixx: i.ixx,
-                    iyy: i.iyy,
-                    izz: i.izz,
-                    ixy: i.ixy,
-                    ixz: i.ixz,
-                    iyz: i.iyz,
-                });
-            }
-            let r = rpy(&inertial.origin.rpy);
-            let rotated = mat_mul(&mat_mul(&r, &urdf_inertia), &transpose(&r));
-            total_mass += mass;
-            (mass, *inertial.origin.xyz, rotated)
-        } else {
-            (0.0, [0.0; 3], [[0.0; 3]; 3])
-        };
-        let frame = match parent_joint[l] {
-            None => Frame {
-                parent: frames.len().checked_sub(1),
-                rotation: identity,
-                translation: [0.0; 3],
-                axis: [1.0, 0.0, 0.0],
-                motion: Motion::Fixed,
-                coordinate: 0,
-                mass,
-                com,
-                inertia,
-            },
             Some(j) => {
                 let joint = &robot.joints[j];
-                let parent_link = link_of[joint.parent.link.as_str()];
+                let parent = placement_of[link_of[joint.parent.link.as_str()]]
+                    .clone()
+                    .ok_or_else(|| ModelError::Cycle {
+                        link: link.name.clone(),
+                    })?;
+                // Joint frame in the parent's tree frame: parent placement ∘ Trans(xyz)·R(rpy).
+                let rotation = mat_mul(&parent.rotation, &rpy(&joint.origin.rpy));
+                let translation = parent.point_in_frame(&joint.origin.xyz);
                 let motion = match joint.joint_type {
                     urdf_rs::JointType::Prismatic => Motion::Prismatic,
                     urdf_rs::JointType::Revolute | urdf_rs::JointType::Continuous => {
@@ -752,33 +807,62 @@ fn build(
                     }
                     _ => Motion::Fixed,
                 };
-                let axis = if motion == Motion::Fixed {
-                    [1.0, 0.0, 0.0]
+                if motion == Motion::Fixed {
+                    LinkPlacement {
+                        frame: parent.frame,
+                        rotation,
+                        translation,
+                    }
                 } else {
-                    normalized(*joint.axis.xyz).ok_or(ModelError::BadAxis {
+                    let axis = normalized(*joint.axis.xyz).ok_or(ModelError::BadAxis {
                         joint: joint.name.clone(),
                         axis: *joint.axis.xyz,
-                    })?
-                };
-                Frame {
-                    parent: Some(frame_of_link[parent_link]),
-                    rotation: rpy(&joint.origin.rpy),
-                    translation: *joint.origin.xyz,
-                    axis,
-                    motion,
-                    coordinate: joint_coordinate[j].unwrap_or(0),
-                    mass,
-                    com,
-                    inertia,
+                    })?;
+                    frames.push(Frame {
+                        parent: Some(parent.frame),
+                        rotation,
+                        translation,
+                        axis,
+                        motion,
+                        coordinate: joint_coordinate[j].unwrap_or(0),
+                        mass: 0.0,
+                        com: [0.0; 3],
+                        inertia: [[0.0; 3]; 3],
+                    });
+                    pieces.push(Vec::new());
+                    LinkPlacement {
+                        frame: frames.len() - 1,
+                        rotation: identity,
+                        translation: [0.0; 3],
+                    }
                 }
             }
         };
-        frame_of_link[l] = frames.len();
-        frames.push(frame);
+        if ext.has_inertial.contains(&link.name) {
+            let (mass, com, inertia) = link_inertia(link)?;
+            total_mass += mass;
+            let r = &placement.rotation;
+            pieces[placement.frame].push((
+                mass,
+                placement.point_in_frame(&com),
+                mat_mul(&mat_mul(r, &inertia), &transpose(r)),
+            ));
+        }
+        placement_of[l] = Some(placement);
+    }
+    for (frame, parts) in frames.iter_mut().zip(&pieces) {
+        (frame.mass, frame.com, frame.inertia) = lump(parts);
     }
     // Link ids follow the topological order.
     let link_names: Vec<String> = order.iter().map(|&l| robot.links[l].name.clone()).collect();
-    let link_frame: Vec<usize> = order.iter().map(|&l| frame_of_link[l]).collect();
+    let link_frame: Vec<LinkPlacement> = order
+        .iter()
+        .map(|&l| {
+            placement_of[l].clone().ok_or(ModelError::Cycle {
+                link: robot.links[l].name.clone(),
+            })
+        })
+        .collect::<Result<_, _>>()?;
     let link_id = |name: &str| link_names.iter().position(|n| n == name).map(LinkId);
     // Contact points: zero-radius spheres, links in document order.
     let mut contact_points = Vec::new();
@@ -905,4 +989,53 @@ fn build(
         name: robot.name.clone(),
         warnings,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pi_expressions() {
+        let pi = std::f64::consts::PI;
+        assert_eq!(eval_pi_expression("-pi/4"), Some(-pi / 4.0));
+        assert_eq!(eval_pi_expression(" pi "), Some(pi));
+        assert_eq!(eval_pi_expression("2*pi"), Some(2.0 * pi));
+        assert_eq!(eval_pi_expression("-0.5*pi/2"), Some(-0.25 * pi));
+        assert_eq!(eval_pi_expression("pie"), None);
+        assert_eq!(eval_pi_expression("4/pi"), None);
+    }
+
+    #[test]
+    fn perpendicular_pairs_are_orthonormal() {
+        assert_eq!(
+            perpendicular_pair([0.0, 1.0, 0.0]),
+            [[1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]
+        );
+        assert_eq!(
+            perpendicular_pair([0.0, 0.0, -1.0]),
+            [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]
+        );
+        let axis = normalized([1.0, 2.0, -0.5]).expect("non-zero");
+        let [e1, e2] = perpendicular_pair(axis);
+        let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        for (a, b, want) in [
+            (e1, e1, 1.0),
+            (e2, e2, 1.0),
+            (e1, e2, 0.0),
+            (e1, axis, 0.0),
+            (e2, axis, 0.0),
+        ] {
+            assert!((dot(a, b) - want).abs() < 1e-15);
+        }
+    }
+
+    #[test]
+    fn lumping_two_point_masses() {
+        // Two 1 kg points at x = ±1: mass 2, centre 0, Iyy = Izz = 2, Ixx = 0.
+        let zero = [[0.0; 3]; 3];
+        let (m, c, i) = lump(&[(1.0, [1.0, 0.0, 0.0], zero), (1.0, [-1.0, 0.0, 0.0], zero)]);
+        assert_eq!((m, c), (2.0, [0.0; 3]));
+        assert_eq!(i, [[0.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 2.0]]);
+    }
 }
