@@ -58,6 +58,9 @@ fn report<M: Mechanics>(name: &str, mut t: Transcription<M>) {
 #[test]
 #[ignore]
 fn derivative_evaluation_times() {
-    report("hopper-2d", Transcription::new(Hopper, &hopper_2d()).unwrap());
+    report(
+        "hopper-2d",
+        Transcription::new(Hopper, &hopper_2d()).unwrap(),
+    );
     report("brick-3d", Transcription::new(Brick, &brick_3d()).unwrap());
 }

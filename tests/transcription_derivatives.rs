@@ -13,13 +13,13 @@
 mod common;
 
 use common::analytic::{Brick, Hopper};
-use common::reference::{brick_3d, hopper_2d};
+use common::reference::{brick_3d, hopper_2d, spring_flamingo_walk};
 use vito::contact::Step;
 use vito::model::Scalar;
 use vito::problem::{
     CostTerm, Integrator, Interval, Periodicity, ProblemSpec, SlackMode, TimeSteps,
 };
-use vito::transcription::{Mechanics, Transcription};
+use vito::transcription::{Mechanics, ModelMechanics, Transcription};
 
 /// A small deterministic generator (no dependency, same numbers every run).
 struct Lcg(u64);
@@ -136,10 +136,7 @@ fn hopper_everything(integrator: Integrator, slack_mode: SlackMode) -> ProblemSp
 
 /// A random point: configurations near the guess, positive steps, contact variables in
 /// [0, 1]; plus random multipliers and objective factor.
-fn random_point<M: Mechanics>(
-    t: &Transcription<M>,
-    rng: &mut Lcg,
-) -> (Vec<f64>, Vec<f64>, f64) {
+fn random_point<M: Mechanics>(t: &Transcription<M>, rng: &mut Lcg) -> (Vec<f64>, Vec<f64>, f64) {
     let l = t.layout();
     let mut x: Vec<f64> = t
         .initial_point()
@@ -253,7 +250,10 @@ fn check_derivatives<M: Mechanics>(name: &str, t: &Transcription<M>, seed: u64) 
     let mut hess = vec![vec![0.0; nv]; nv];
     let mut hdecl = vec![vec![false; nv]; nv];
     for k in 0..hp.nnz() {
-        assert!(hp.rows[k] >= hp.cols[k], "{name}: Hessian entry above the diagonal");
+        assert!(
+            hp.rows[k] >= hp.cols[k],
+            "{name}: Hessian entry above the diagonal"
+        );
         hess[hp.rows[k]][hp.cols[k]] += hv[k];
         hdecl[hp.rows[k]][hp.cols[k]] = true;
     }
@@ -319,4 +319,14 @@ fn brick_short_horizon_both_slack_modes() {
         let t = Transcription::new(Brick, &spec).unwrap();
         check_derivatives(&format!("brick {mode:?}"), &t, seed);
     }
+}
+
+/// Spring Flamingo from URDF (damping in Fd, springs in V, joint limits, free steps).
+#[test]
+fn spring_flamingo_from_urdf_short_horizon() {
+    let mut spec = spring_flamingo_walk();
+    spec.knots = 3;
+    spec.q_final = vec![Interval::FREE; 9];
+    let t = Transcription::new(ModelMechanics::load(&spec).unwrap(), &spec).unwrap();
+    check_derivatives("spring flamingo (URDF)", &t, 5);
 }

@@ -21,7 +21,10 @@ fn hopper_initial_guess_matches_spec() {
     assert!(close(r.max_constraint_violation, 1.65, 1e-9), "{r:?}");
     assert!(close(r.equality_residual_norm, 7.93069, 5e-6), "{r:?}");
     // Independent CasADi value to all digits it printed.
-    assert!(close(r.equality_residual_norm, 7.930688569805903, 1e-9), "{r:?}");
+    assert!(
+        close(r.equality_residual_norm, 7.930688569805903, 1e-9),
+        "{r:?}"
+    );
 }
 
 #[test]
@@ -32,7 +35,10 @@ fn brick_initial_guess_matches_spec() {
     assert!(close(r.objective, 400.0, 1e-9), "{r:?}");
     assert!(close(r.max_constraint_violation, 1.0, 1e-9), "{r:?}");
     assert!(close(r.equality_residual_norm, 1.43765, 5e-6), "{r:?}");
-    assert!(close(r.equality_residual_norm, 1.4376470914219122, 1e-9), "{r:?}");
+    assert!(
+        close(r.equality_residual_norm, 1.4376470914219122, 1e-9),
+        "{r:?}"
+    );
 }
 
 #[test]

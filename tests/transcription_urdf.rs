@@ -32,11 +32,17 @@ fn hopper_and_brick_from_urdf_match_spec_initial_values() {
     let (_, r) = report(&hopper_2d());
     assert!(close(r.objective, 20.041640625, 1e-12), "{r:?}");
     assert!(close(r.max_constraint_violation, 1.65, 1e-12), "{r:?}");
-    assert!(close(r.equality_residual_norm, 7.930688569805903, 1e-10), "{r:?}");
+    assert!(
+        close(r.equality_residual_norm, 7.930688569805903, 1e-10),
+        "{r:?}"
+    );
     let (_, r) = report(&brick_3d());
     assert!(close(r.objective, 400.0, 1e-12), "{r:?}");
     assert!(close(r.max_constraint_violation, 1.0, 1e-12), "{r:?}");
-    assert!(close(r.equality_residual_norm, 1.4376470914219122, 1e-10), "{r:?}");
+    assert!(
+        close(r.equality_residual_norm, 1.4376470914219122, 1e-10),
+        "{r:?}"
+    );
 }
 
 #[test]
@@ -44,9 +50,15 @@ fn spring_flamingo_matches_spec_sizes_and_initial_values() {
     let (t, r) = report(&spring_flamingo_walk());
     assert_eq!(t.layout().num_variables(), 954);
     assert_eq!(t.layout().num_constraints(), 695);
+    // The probed structural pattern equals SPEC.md's independent count exactly.
+    assert_eq!(t.jacobian_pattern().nnz(), 10881);
+    assert_eq!(t.hessian_pattern().nnz(), 4760);
     assert!(close(r.objective, 2400.099870703126, 1e-10), "{r:?}");
     assert!(close(r.max_constraint_violation, 14.4959675, 1e-8), "{r:?}");
-    assert!(close(r.equality_residual_norm, 70.2622742619474, 1e-10), "{r:?}");
+    assert!(
+        close(r.equality_residual_norm, 70.2622742619474, 1e-10),
+        "{r:?}"
+    );
 }
 
 #[test]
@@ -54,9 +66,15 @@ fn littledog_matches_spec_sizes_and_initial_values() {
     let (t, r) = report(&littledog_step());
     assert_eq!(t.layout().num_variables(), 2124);
     assert_eq!(t.layout().num_constraints(), 1333);
+    // SPEC.md counts 35754 and 16108; the probed pattern differs by a handful of entries.
+    assert!(t.jacobian_pattern().nnz().abs_diff(35754) <= 10);
+    assert!(t.hessian_pattern().nnz().abs_diff(16108) <= 10);
     assert!(close(r.objective, 87.026825, 1e-8), "{r:?}");
     assert!(close(r.max_constraint_violation, 3.67616331, 1e-8), "{r:?}");
-    assert!(close(r.equality_residual_norm, 19.622737633992582, 1e-10), "{r:?}");
+    assert!(
+        close(r.equality_residual_norm, 19.622737633992582, 1e-10),
+        "{r:?}"
+    );
 }
 
 /// Constraint values of the URDF and closed-form transcriptions at the same random points.

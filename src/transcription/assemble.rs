@@ -9,7 +9,9 @@ use super::blocks::{Block, Context, ScalarBlockFn, ScalarKind, VectorBlockFn, Ve
 use super::layout::{Dims, Layout};
 use super::pattern::{Pattern, PatternBuilder};
 use super::{Mechanics, TranscriptionError};
-use crate::autodiff::{gradient, gradient_hessian, gradient_hessian_third, jacobian, weighted_hessian};
+use crate::autodiff::{
+    gradient, gradient_hessian, gradient_hessian_third, jacobian, weighted_hessian,
+};
 use num_dual::Dual64;
 
 use crate::contact::FrictionBasis;
@@ -133,9 +135,9 @@ impl<M: Mechanics> Transcription<M> {
             mech,
         };
         t.place_blocks();
-        t.build_patterns();
         t.set_bounds(spec)?;
         t.set_initial_guess(spec)?;
+        t.build_patterns();
         Ok(t)
     }
 
@@ -394,15 +396,125 @@ impl<M: Mechanics> Transcription<M> {
         }
     }
 
+    /// Points to probe structural zeros at: the initial point moved by seeded noise
+    /// (steps scaled so they stay positive).
+    fn probe_points(&self) -> Vec<Vec<f64>> {
+        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut uniform = move || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        (0..2)
+            .map(|_| {
+                let mut x: Vec<f64> = self
+                    .x_initial
+                    .iter()
+                    .map(|&v| v + 0.6 * uniform())
+                    .collect();
+                for j in 0..self.layout.intervals() {
+                    let h = self.layout.h(j);
+                    x[h] = self.x_initial[h] * (1.0 + 0.6 * uniform());
+                }
+                x
+            })
+            .collect()
+    }
+
+    /// Which local Jacobian rows × inputs and lower Hessian pairs of a block are nonzero at
+    /// any probe point (with random multipliers): entries zero at every probe are
+    /// structural zeros (e.g. a leg's joint in another leg's DEL row) and stay out of the
+    /// patterns.
+    fn probe<K>(
+        &self,
+        b: &Block<K>,
+        points: &[Vec<f64>],
+        local: impl Fn(&[f64], &[f64]) -> (Option<DMatrix<f64>>, Option<DMatrix<f64>>),
+    ) -> (Vec<bool>, Vec<bool>) {
+        let nv = b.vars.len();
+        let mut jac = vec![false; b.targets.len() * nv];
+        let mut hess = vec![false; nv * nv];
+        for (p, x) in points.iter().enumerate() {
+            let z = gather(x, &b.vars);
+            let weights: Vec<f64> = (0..b.targets.len())
+                .map(|o| {
+                    if b.targets[o].is_empty() {
+                        0.0
+                    } else {
+                        1.0 + 0.37 * ((o * 7 + p * 3) % 5) as f64
+                    }
+                })
+                .collect();
+            let (j, h) = local(&z, &weights);
+            if let Some(j) = j {
+                for o in 0..b.targets.len() {
+                    for a in 0..nv {
+                        jac[o * nv + a] |= j[(o, a)] != 0.0;
+                    }
+                }
+            }
+            if let Some(h) = h {
+                for a in 0..b.nonlinear {
+                    for c in 0..=a {
+                        hess[a * nv + c] |= h[(a, c)] != 0.0;
+                    }
+                }
+            }
+        }
+        (jac, hess)
+    }
+
     fn build_patterns(&mut self) {
+        let points = self.probe_points();
+        let cost_masks: Vec<_> = self
+            .cost_blocks
+            .iter()
+            .map(|b| {
+                self.probe(b, &points, |z, _| {
+                    (None, Some(gradient_hessian(&self.scalar_fn(b), z).2))
+                })
+            })
+            .collect();
+        let gradient_masks: Vec<_> = self
+            .gradient_blocks
+            .iter()
+            .map(|b| {
+                self.probe(b, &points, |z, w| {
+                    let third = gradient_hessian_third(&self.scalar_fn(b), z, w);
+                    (Some(third.hessian), Some(third.contracted))
+                })
+            })
+            .collect();
+        let vector_masks: Vec<_> = self
+            .vector_blocks
+            .iter()
+            .map(|b| {
+                self.probe(b, &points, |z, w| {
+                    let f = self.vector_fn(b);
+                    let h = (b.nonlinear > 0).then(|| weighted_hessian(&f, z, w));
+                    (Some(jacobian(&f, z).1), h)
+                })
+            })
+            .collect();
         let mut jac = PatternBuilder::default();
         let mut hess = PatternBuilder::default();
-        fn place<K>(b: &mut Block<K>, jac: &mut PatternBuilder, hess: &mut PatternBuilder) {
+        fn place<K>(
+            b: &mut Block<K>,
+            (jmask, hmask): &(Vec<bool>, Vec<bool>),
+            jac: &mut PatternBuilder,
+            hess: &mut PatternBuilder,
+        ) {
+            let nv = b.vars.len();
             let mut slots = Vec::new();
-            for rows in &b.targets {
+            for (o, rows) in b.targets.iter().enumerate() {
                 for &r in rows {
-                    for &v in &b.vars {
-                        slots.push(jac.slot(r, v));
+                    for (a, &v) in b.vars.iter().enumerate() {
+                        slots.push(if jmask[o * nv + a] {
+                            jac.slot(r, v)
+                        } else {
+                            NO_SLOT
+                        });
                     }
                 }
             }
@@ -410,6 +522,10 @@ impl<M: Mechanics> Transcription<M> {
             let mut hslots = Vec::new();
             for a in 0..b.nonlinear {
                 for c in (0..=a).filter(|&c| b.has_hessian_pair(a, c)) {
+                    if !hmask[a * nv + c] {
+                        hslots.push((NO_SLOT, 0.0));
+                        continue;
+                    }
                     let mult = if a != c && b.vars[a] == b.vars[c] {
                         2.0
                     } else {
@@ -420,14 +536,14 @@ impl<M: Mechanics> Transcription<M> {
             }
             b.hessian_slots = hslots;
         }
-        for b in &mut self.cost_blocks {
-            place(b, &mut jac, &mut hess);
+        for (b, m) in self.cost_blocks.iter_mut().zip(&cost_masks) {
+            place(b, m, &mut jac, &mut hess);
         }
-        for b in &mut self.gradient_blocks {
-            place(b, &mut jac, &mut hess);
+        for (b, m) in self.gradient_blocks.iter_mut().zip(&gradient_masks) {
+            place(b, m, &mut jac, &mut hess);
         }
-        for b in &mut self.vector_blocks {
-            place(b, &mut jac, &mut hess);
+        for (b, m) in self.vector_blocks.iter_mut().zip(&vector_masks) {
+            place(b, m, &mut jac, &mut hess);
         }
         self.jacobian = jac.finish();
         self.hessian = hess.finish();
@@ -568,9 +684,9 @@ impl<M: Mechanics> Transcription<M> {
             x[i] = 0.01;
         }
         // A fixed variable starts at its fixed value (SPEC.md).
-        for i in 0..x.len() {
-            if self.x_lower[i] == self.x_upper[i] {
-                x[i] = self.x_lower[i];
+        for ((xi, &lo), &hi) in x.iter_mut().zip(&self.x_lower).zip(&self.x_upper) {
+            if lo == hi {
+                *xi = lo;
             }
         }
         self.x_initial = x;
@@ -866,6 +982,9 @@ fn detect_basis<M: Mechanics>(mech: &M, base: BaseType, q0: &[f64]) -> FrictionB
     FrictionBasis::Planar
 }
 
+/// Slot marker of a local entry that is structurally zero (not in the pattern).
+const NO_SLOT: usize = usize::MAX;
+
 /// x[vars] as a dense local vector.
 fn gather(x: &[f64], vars: &[usize]) -> Vec<f64> {
     vars.iter().map(|&v| x[v]).collect()
@@ -877,7 +996,9 @@ fn scatter_rows<K>(b: &Block<K>, local: &DMatrix<f64>, values: &mut [f64]) {
     for (o, rows) in b.targets.iter().enumerate() {
         for _ in rows {
             for a in 0..b.vars.len() {
-                if let Some(&s) = slot.next() {
+                if let Some(&s) = slot.next()
+                    && s != NO_SLOT
+                {
                     values[s] += local[(o, a)];
                 }
             }
@@ -890,7 +1011,9 @@ fn scatter_lower<K>(b: &Block<K>, local: &DMatrix<f64>, values: &mut [f64]) {
     let mut slot = b.hessian_slots.iter();
     for a in 0..b.nonlinear {
         for c in (0..=a).filter(|&c| b.has_hessian_pair(a, c)) {
-            if let Some(&(s, mult)) = slot.next() {
+            if let Some(&(s, mult)) = slot.next()
+                && s != NO_SLOT
+            {
                 values[s] += mult * local[(a, c)];
             }
         }

@@ -297,7 +297,13 @@ mod tests {
             offset: 0.5,
             velocity: true,
         }];
-        let l = Layout::new(dims(3, 2, 2, 4, 1), 5, SlackMode::PerContact, true, &periodic);
+        let l = Layout::new(
+            dims(3, 2, 2, 4, 1),
+            5,
+            SlackMode::PerContact,
+            true,
+            &periodic,
+        );
         let mut owner = vec![0usize; l.num_variables()];
         let mut mark = |r: Range<usize>| r.for_each(|i| owner[i] += 1);
         for k in 0..l.knots {

@@ -36,13 +36,8 @@ pub trait Mechanics: Sync {
     fn has_discrete_force(&self) -> bool;
 
     /// Discrete Lagrangian Ld(qa, qb, h) of one interval (qa, qb length n; h > 0).
-    fn discrete_lagrangian<D: Scalar>(
-        &self,
-        integrator: Integrator,
-        qa: &[D],
-        qb: &[D],
-        h: D,
-    ) -> D;
+    fn discrete_lagrangian<D: Scalar>(&self, integrator: Integrator, qa: &[D], qb: &[D], h: D)
+    -> D;
     /// Discrete generalized force Fd(qa, qb, u, h) of one interval into `out` (length n):
     /// h·B(q̄)u − diag(d)(qb − qa) for the midpoint rule (SPEC.md).
     fn discrete_force<D: Scalar>(

@@ -16,13 +16,13 @@ fn momentum_of<D: Scalar>(
     out: &mut [D],
 ) {
     let qd: Vec<Dual<D>> = q.iter().map(|&x| Dual::from_re(x)).collect();
-    for i in 0..q.len() {
+    for (i, o) in out.iter_mut().enumerate().take(q.len()) {
         let vd: Vec<Dual<D>> = v
             .iter()
             .enumerate()
             .map(|(k, &x)| Dual::new(x, if k == i { D::from(1.0) } else { D::from(0.0) }))
             .collect();
-        out[i] = kinetic(&qd, &vd).eps;
+        *o = kinetic(&qd, &vd).eps;
     }
 }
 

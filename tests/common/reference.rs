@@ -233,7 +233,9 @@ pub fn spring_flamingo_walk() -> ProblemSpec {
 pub fn littledog_step() -> ProblemSpec {
     let mut start = vec![0.0, 0.0, 0.136, 0.0, 0.0, 0.0];
     // FL, FR, BL, BR: hip_roll, hip_pitch, knee.
-    start.extend([0.1, 1.0, -1.55, -0.1, 1.0, -1.55, 0.1, -1.0, 1.55, -0.1, -1.0, 1.55]);
+    start.extend([
+        0.1, 1.0, -1.55, -0.1, 1.0, -1.55, 0.1, -1.0, 1.55, -0.1, -1.0, 1.55,
+    ]);
     let mut goal = start.clone();
     goal[0] = 0.45;
     goal[2] = 0.246;
@@ -272,7 +274,10 @@ pub fn littledog_step() -> ProblemSpec {
         slack_mode: SlackMode::PerInterval,
         q_initial: start.clone(),
         v_initial: Some(vec![0.0; 18]),
-        q_final: goal.iter().map(|&g| box_bound(g - 0.01, g + 0.01)).collect(),
+        q_final: goal
+            .iter()
+            .map(|&g| box_bound(g - 0.01, g + 0.01))
+            .collect(),
         bounds: vec![CoordinateBound {
             coordinate: 2,
             knots: KnotSet::All,

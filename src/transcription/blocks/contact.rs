@@ -62,18 +62,15 @@ pub fn tangential_slack<D: Scalar>(z: &[D], out: &mut [D]) {
 
 /// −c_i φ_i(q), the only product of the complementarity rows that depends on q;
 /// z = [q; c_i], out length 1 (added into the c·φ row).
-pub fn contact_gap<D: Scalar, M: Mechanics>(
-    mech: &M,
-    ctx: &Context,
-    contact: usize,
-    z: &[D],
-) -> D {
+pub fn contact_gap<D: Scalar, M: Mechanics>(mech: &M, ctx: &Context, contact: usize, z: &[D]) -> D {
     -z[ctx.n] * distance(mech, ctx, contact, z)
 }
 
 /// μ_i c − eᵀβ; z = [c; β (nd)].
 pub fn friction_cone<D: Scalar>(ctx: &Context, contact: usize, z: &[D]) -> D {
-    z[1..].iter().fold(z[0] * D::from(ctx.friction[contact]), |acc, &b| acc - b)
+    z[1..]
+        .iter()
+        .fold(z[0] * D::from(ctx.friction[contact]), |acc, &b| acc - b)
 }
 
 /// The relaxed products s − Σ ηᵀβ, s − (Σ c·φ: added by [`contact_gap`] blocks),

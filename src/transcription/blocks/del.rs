@@ -24,12 +24,7 @@ pub fn half_force<D: Scalar, M: Mechanics>(mech: &M, ctx: &Context, z: &[D], out
 }
 
 /// M(q_0)v_0; z = [q_0; v_0].
-pub fn initial_momentum<D: Scalar, M: Mechanics>(
-    mech: &M,
-    ctx: &Context,
-    z: &[D],
-    out: &mut [D],
-) {
+pub fn initial_momentum<D: Scalar, M: Mechanics>(mech: &M, ctx: &Context, z: &[D], out: &mut [D]) {
     mech.momentum(&z[..ctx.n], &z[ctx.n..2 * ctx.n], out);
 }
 

@@ -217,11 +217,7 @@ fn tangential_rates<D: Scalar, M: Mechanics>(
     qdot: &[D],
     out: &mut [D],
 ) {
-    let moving: Vec<Dual<D>> = q
-        .iter()
-        .zip(qdot)
-        .map(|(&a, &b)| Dual::new(a, b))
-        .collect();
+    let moving: Vec<Dual<D>> = q.iter().zip(qdot).map(|(&a, &b)| Dual::new(a, b)).collect();
     let p = mech.contact_position(contact, &moving);
     let mut t = [Dual::from_re(D::from(0.0)); 2];
     tangential_coordinates(ctx.basis, &p, &mut t);
