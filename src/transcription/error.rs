@@ -42,4 +42,7 @@ pub enum TranscriptionError {
     /// The robot model could not be loaded.
     #[error(transparent)]
     Model(#[from] crate::model::ModelError),
+    /// Ipopt refused an option or failed to run.
+    #[error(transparent)]
+    Solver(#[from] crate::ipopt::IpoptError),
 }

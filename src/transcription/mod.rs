@@ -13,6 +13,7 @@ mod model_mechanics;
 mod nlp;
 mod pattern;
 mod solution;
+mod solve;
 
 pub use assemble::{InitialGuessReport, Transcription};
 pub use blocks::{Context, ScalarKind, VectorKind};
@@ -23,6 +24,9 @@ pub use model_mechanics::ModelMechanics;
 pub use nlp::{Progress, ProgressFn, TranscriptionNlp};
 pub use pattern::{Pattern, PatternBuilder};
 pub use solution::{NlpSize, Solution};
+pub use solve::{
+    BenchRow, SolveOptions, bench, bench_with, evaluate_initial_guess, solve, solve_with,
+};
 
 #[allow(unused_imports)]
 use crate::problem::ProblemSpec;
