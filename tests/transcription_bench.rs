@@ -64,3 +64,33 @@ fn derivative_evaluation_times() {
     );
     report("brick-3d", Transcription::new(Brick, &brick_3d()).unwrap());
 }
+
+/// `vito bench` rows for the reference problems loaded from URDF.
+#[test]
+#[ignore]
+fn bench_rows_from_urdf() {
+    for spec in [
+        common::reference::hopper_2d(),
+        common::reference::brick_3d(),
+    ] {
+        let row = vito::transcription::bench(&spec).unwrap();
+        println!(
+            "{}: {} variables, {} constraints, J nnz {}, H nnz {}, {:?}, objective {:.9}, \
+             {} iterations, wall {:.3} s, callbacks {:.3} s ({:.0} %), ipopt {:.3} s, \
+             one J+H evaluation {:.3} ms",
+            row.name,
+            row.size.n_variables,
+            row.size.n_constraints,
+            row.size.nnz_jacobian,
+            row.size.nnz_hessian,
+            row.status,
+            row.objective,
+            row.iterations,
+            row.wall_time_s,
+            row.callback_time_s,
+            100.0 * row.callback_time_s / row.wall_time_s,
+            row.ipopt_time_s,
+            row.derivative_eval_s * 1e3
+        );
+    }
+}
