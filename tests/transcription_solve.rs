@@ -14,7 +14,7 @@ use common::analytic::{Brick, Hopper};
 use common::reference::{brick_3d, hopper_2d};
 use vito::ipopt::Status;
 use vito::problem::{HessianMode, Integrator, OptionValue, ProblemSpec, SlackMode};
-use vito::transcription::{Mechanics, Solution, SolveOptions, solve_with};
+use vito::transcription::{Mechanics, Solution, SolveOptions, solve, solve_with};
 
 fn quiet() -> SolveOptions {
     SolveOptions {
@@ -131,8 +131,10 @@ fn brick_comes_to_rest_on_a_face() {
     );
 }
 
-/// Figures for the report: per-contact vs per-interval slacks and midpoint vs Euler.
+/// Figures for the report: per-contact vs per-interval slacks and midpoint vs Euler
+/// (eight solves, about two minutes: run with `--ignored`).
 #[test]
+#[ignore]
 fn slack_modes_and_integrators_compared() {
     for (name, base) in [("hopper-2d", hopper_2d()), ("brick-3d", brick_3d())] {
         for mode in [SlackMode::PerInterval, SlackMode::PerContact] {
@@ -157,4 +159,21 @@ fn slack_modes_and_integrators_compared() {
             }
         }
     }
+}
+
+/// The full path: robot from problems/robots/hopper_2d.urdf, through the model code.
+#[test]
+fn hopper_from_urdf_matches_the_independent_optimum() {
+    let s = solve(&hopper_2d(), quiet()).unwrap();
+    println!(
+        "hopper-2d (URDF): {:?}, objective {:.9}, {} iterations, wall {:.3} s \
+         (callbacks {:.3} s, ipopt {:.3} s)",
+        s.status, s.objective, s.iterations, s.wall_time_s, s.callback_time_s, s.ipopt_time_s
+    );
+    assert_eq!(s.status, Status::SolveSucceeded);
+    assert!(s.max_slack < 1e-4 && s.max_complementarity < 1e-4);
+    let (objective, q) = independent("hopper_2d");
+    assert!((s.objective - objective).abs() < 1e-6 * objective);
+    assert!(max_q_difference(&s.q, &q) < 1e-5);
+    assert_eq!(s.coordinate_names, ["x", "z", "theta", "r"]);
 }

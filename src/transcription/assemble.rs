@@ -134,6 +134,10 @@ impl<M: Mechanics> Transcription<M> {
             parallel: true,
             mech,
         };
+        // Measured (2 shared cores): rayon costs more than it saves on hopper-2d's 288
+        // variables (J+H 1.6 ms serial, 6 ms parallel) and pays on brick-3d's 3532
+        // (134 → 58 ms); see tests/transcription_bench.rs.
+        t.parallel = t.layout.num_variables() >= 1000;
         t.place_blocks();
         t.set_bounds(spec)?;
         t.set_initial_guess(spec)?;
@@ -693,7 +697,8 @@ impl<M: Mechanics> Transcription<M> {
         Ok(())
     }
 
-    /// Evaluate independent blocks on rayon's thread pool (the default) or on one thread.
+    /// Evaluate independent blocks on rayon's thread pool or on one thread (the default
+    /// is parallel from 1000 variables on).
     pub fn set_parallel(&mut self, parallel: bool) {
         self.parallel = parallel;
     }
