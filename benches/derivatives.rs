@@ -4,14 +4,30 @@
 //! - `hess+third`: gradient, Hessian and third derivative contracted with a multiplier
 //!   direction of Ld(qa, qb, h) (dim 2n+1): what the NLP needs per segment;
 //! - `hess`: gradient and Hessian only (the DEL Jacobian blocks);
-//! - `grad`: gradient only (the DEL residual).
+//! - `grad`: gradient only (the DEL residual);
+//! and, for scale, one plain `f64` evaluation of Ld.
 //!
 //! Inputs are seeded (a fixed LCG), so runs are comparable.
+//!
+//! Measured 2026-11-22 on the 2-core shared development VM (other sessions running, so ±50 %),
+//! `VITO_BENCH_MS=700`, µs per call (hess+third / hess / grad; plain f64 Ld):
+//!
+//! | n  | Ld f64 | T = 4                  | T = 8                  | T = 12                 |
+//! |----|--------|------------------------|------------------------|------------------------|
+//! | 9  | 2.1    | 2,816 / 1,312 / 65     | 4,389 / 2,261 / 76     | 5,805 / 1,757 / 52     |
+//! | 19 | 3.3    | 15,819 / 7,396 / 150   | 16,741 / 7,642 / 175   | 30,165 / 10,993 / 190  |
+//! | 38 | 9.3    | 153,634 / 72,271 / 797 | 142,395 / 72,125 / 974 | 163,309 / 53,343 / 977 |
+//!
+//! (A first run gave T = 8: 13,742 µs at n = 19 and 95,333 µs at n = 38.) T = 16 was 2–3×
+//! slower throughout. DESIGN.md's forward duals through the recursion took 142 µs / 1.4 ms /
+//! 13 ms and its adjoint route 11 / 44 / 146 µs: the hyper-dual tiles are 10–30× slower than
+//! the former, so large robots need the adjoint gradient with
+//! `autodiff::jacobian_directional` on top.
 
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 use vito::autodiff::{
-    ThirdOrder, gradient_hessian_into, gradient_hessian_third_into, gradient_into,
+    ScalarFunction, ThirdOrder, gradient_hessian_into, gradient_hessian_third_into, gradient_into,
 };
 use vito::discrete::MidpointSegment;
 use vito::model::{BaseType, Model, sample};
@@ -84,6 +100,11 @@ fn main() {
         let z: Vec<f64> = qa.iter().chain(&qb).copied().chain([0.03]).collect();
         let dir = seeded(2 * n + 1, &mut seed);
         let name = format!("del_segment_n{n}");
+        let seg = MidpointSegment { model: &model };
+        let plain = time_us(budget, || {
+            black_box(seg.eval(black_box(&z[..])));
+        });
+        println!("{name:<16} plain f64 Ld {plain:.2} µs");
         bench_tile::<4>(&name, &model, &z, &dir, budget);
         bench_tile::<8>(&name, &model, &z, &dir, budget);
         bench_tile::<12>(&name, &model, &z, &dir, budget);
