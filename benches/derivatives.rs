@@ -5,6 +5,7 @@
 //!   direction of Ld(qa, qb, h) (dim 2n+1): what the NLP needs per segment;
 //! - `hess`: gradient and Hessian only (the DEL Jacobian blocks);
 //! - `grad`: gradient only (the DEL residual);
+//!
 //! and, for scale, one plain `f64` evaluation of Ld.
 //!
 //! Inputs are seeded (a fixed LCG), so runs are comparable.
