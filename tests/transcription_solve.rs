@@ -24,7 +24,7 @@ fn quiet() -> SolveOptions {
 }
 
 fn run<M: Mechanics>(label: &str, mech: M, spec: &ProblemSpec) -> Solution {
-    let s = solve_with(mech, spec, quiet()).unwrap();
+    let s = solve_with(mech, spec, &quiet()).unwrap();
     println!(
         "{label}: {:?}, objective {:.9}, {} iterations, wall {:.3} s (callbacks {:.3} s, ipopt {:.3} s), \
          max slack {:.2e}, max complementarity {:.2e}, max violation {:.2e}; \
@@ -164,7 +164,7 @@ fn slack_modes_and_integrators_compared() {
 /// The full path: robot from problems/robots/hopper_2d.urdf, through the model code.
 #[test]
 fn hopper_from_urdf_matches_the_independent_optimum() {
-    let s = solve(&hopper_2d(), quiet()).unwrap();
+    let s = solve(&hopper_2d(), &quiet()).unwrap();
     println!(
         "hopper-2d (URDF): {:?}, objective {:.9}, {} iterations, wall {:.3} s \
          (callbacks {:.3} s, ipopt {:.3} s)",
@@ -176,4 +176,34 @@ fn hopper_from_urdf_matches_the_independent_optimum() {
     assert!((s.objective - objective).abs() < 1e-6 * objective);
     assert!(max_q_difference(&s.q, &q) < 1e-5);
     assert_eq!(s.coordinate_names, ["x", "z", "theta", "r"]);
+}
+
+/// The progress callback sees every iteration (with the slack of the latest evaluated
+/// point), and the cancel flag stops the solve with the current iterate.
+#[test]
+fn progress_is_reported_and_cancel_stops() {
+    use std::sync::Arc;
+    use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+    let calls = Arc::new(AtomicUsize::new(0));
+    let cancel = Arc::new(AtomicBool::new(false));
+    let (c, k) = (calls.clone(), cancel.clone());
+    let options = SolveOptions {
+        progress: Some(Box::new(move |p: &vito::transcription::Progress| {
+            assert!(p.max_slack >= 0.0 && p.objective.is_finite());
+            if c.fetch_add(1, Ordering::SeqCst) + 1 == 5 {
+                k.store(true, Ordering::SeqCst);
+            }
+        })),
+        cancel: Some(cancel.clone()),
+        ipopt_options: vec![("print_level".into(), OptionValue::Int(0))],
+    };
+    let s = solve_with(Hopper, &hopper_2d(), &options).unwrap();
+    println!(
+        "cancelled after {} callbacks: {:?}",
+        calls.load(Ordering::SeqCst),
+        s.status
+    );
+    assert_eq!(s.status, Status::UserRequestedStop);
+    assert!(calls.load(Ordering::SeqCst) <= 6);
+    assert_eq!(s.q.len(), 21);
 }

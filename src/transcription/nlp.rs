@@ -21,22 +21,19 @@ pub struct Progress {
     pub max_slack: f64,
 }
 
-/// A progress callback.
-pub type ProgressFn<'a> = dyn FnMut(&Progress) + Send + 'a;
+/// A progress callback (shared, so it takes `&self`: e.g. a progress bar).
+pub type ProgressFn = dyn Fn(&Progress) + Send + Sync;
 
 /// Borrowing adapter that presents a [`Transcription`] to the solver.
 pub struct TranscriptionNlp<'a, M> {
     transcription: &'a Transcription<M>,
     last_x: Vec<f64>,
-    progress: Option<&'a mut ProgressFn<'a>>,
+    progress: Option<&'a ProgressFn>,
 }
 
 impl<'a, M: Mechanics> TranscriptionNlp<'a, M> {
     /// Wrap `transcription`; `progress` is called once per iteration.
-    pub fn new(
-        transcription: &'a Transcription<M>,
-        progress: Option<&'a mut ProgressFn<'a>>,
-    ) -> Self {
+    pub fn new(transcription: &'a Transcription<M>, progress: Option<&'a ProgressFn>) -> Self {
         TranscriptionNlp {
             last_x: transcription.initial_point().to_vec(),
             transcription,
@@ -121,7 +118,7 @@ impl<M: Mechanics> Nlp for TranscriptionNlp<'_, M> {
             .hessian_values(x, obj_factor, lambda, values);
     }
     fn intermediate(&mut self, info: &IterationInfo) -> bool {
-        if let Some(progress) = self.progress.as_mut() {
+        if let Some(progress) = self.progress {
             let slacks = self.transcription.layout().slacks();
             let max_slack = self.last_x[slacks].iter().fold(0.0_f64, |a, &b| a.max(b));
             progress(&Progress {

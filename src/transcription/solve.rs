@@ -19,7 +19,7 @@ use crate::problem::{HessianMode, OptionValue, ProblemSpec};
 #[derive(Default)]
 pub struct SolveOptions {
     /// Called once per Ipopt iteration.
-    pub progress: Option<Box<ProgressFn<'static>>>,
+    pub progress: Option<Box<ProgressFn>>,
     /// Set to true (e.g. from a Ctrl-C handler) to stop at the next iteration; the solve then
     /// returns status `UserRequestedStop` with the current iterate.
     pub cancel: Option<Arc<AtomicBool>>,
@@ -56,7 +56,7 @@ fn load_mechanics(spec: &ProblemSpec) -> Result<ModelMechanics, TranscriptionErr
 }
 
 /// Solve `spec` (robot from its URDF).
-pub fn solve(spec: &ProblemSpec, options: SolveOptions) -> Result<Solution, TranscriptionError> {
+pub fn solve(spec: &ProblemSpec, options: &SolveOptions) -> Result<Solution, TranscriptionError> {
     solve_with(load_mechanics(spec)?, spec, options)
 }
 
@@ -95,16 +95,12 @@ fn configure(spec: &ProblemSpec, options: &SolveOptions) -> Result<Solver, Trans
 pub fn solve_with<M: Mechanics>(
     mech: M,
     spec: &ProblemSpec,
-    mut options: SolveOptions,
+    options: &SolveOptions,
 ) -> Result<Solution, TranscriptionError> {
     let transcription = Transcription::new(mech, spec)?;
-    let mut solver = configure(spec, &options)?;
-    let mut progress = options.progress.take();
-    let report = {
-        let progress = progress.as_mut().map(|p| &mut **p as &mut ProgressFn);
-        let mut nlp = TranscriptionNlp::new(&transcription, progress);
-        solver.solve(&mut nlp)?
-    };
+    let mut solver = configure(spec, options)?;
+    let mut nlp = TranscriptionNlp::new(&transcription, options.progress.as_deref());
+    let report = solver.solve(&mut nlp)?;
     Ok(fill_solution(&transcription, spec, &report))
 }
 
