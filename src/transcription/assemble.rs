@@ -495,8 +495,9 @@ impl<M: Mechanics> Transcription<M> {
             .iter()
             .map(|b| {
                 self.probe(b, &points, |z, w| {
-                    let h = (b.nonlinear > 0).then(|| self.vector_hessian(b, z, w));
-                    (Some(self.vector_jacobian(b, z)), h)
+                    let f = self.vector_fn(b);
+                    let h = (b.nonlinear > 0).then(|| weighted_hessian(&f, z, w));
+                    (Some(jacobian(&f, z).1), h)
                 })
             })
             .collect();
@@ -760,26 +761,6 @@ impl<M: Mechanics> Transcription<M> {
             dim_out: b.targets.len(),
         }
     }
-    /// Local Jacobian (outputs × inputs) of a vector block at z.
-    fn vector_jacobian(&self, b: &Block<VectorKind>, z: &[f64]) -> DMatrix<f64> {
-        match b.kind {
-            VectorKind::TangentialRate { contact } => {
-                tangential_rate_jacobian(&self.mech, &self.ctx, contact, z)
-            }
-            _ => jacobian(&self.vector_fn(b), z).1,
-        }
-    }
-
-    /// Local Hessian of Σ_o w_o out_o of a vector block at z.
-    fn vector_hessian(&self, b: &Block<VectorKind>, z: &[f64], w: &[f64]) -> DMatrix<f64> {
-        match b.kind {
-            VectorKind::TangentialRate { contact } => {
-                tangential_rate_hessian(&self.mech, &self.ctx, contact, z, w)
-            }
-            _ => weighted_hessian(&self.vector_fn(b), z, w),
-        }
-    }
-
     fn scalar_fn<'a>(&'a self, b: &'a Block<ScalarKind>) -> ScalarBlockFn<'a, M> {
         ScalarBlockFn {
             mech: &self.mech,
@@ -897,7 +878,7 @@ impl<M: Mechanics> Transcription<M> {
     pub fn jacobian_values(&self, x: &[f64], values: &mut [f64]) {
         values.fill(0.0);
         let vector = self.map_blocks(&self.vector_blocks, |b| {
-            self.vector_jacobian(b, &gather(x, &b.vars))
+            jacobian(&self.vector_fn(b), &gather(x, &b.vars)).1
         });
         for (b, local) in self.vector_blocks.iter().zip(vector) {
             scatter_rows(b, &local, values);
@@ -932,7 +913,8 @@ impl<M: Mechanics> Transcription<M> {
             if b.nonlinear == 0 {
                 return DMatrix::zeros(0, 0);
             }
-            self.vector_hessian(b, &gather(x, &b.vars), &weights(&b.targets))
+            let z = gather(x, &b.vars);
+            weighted_hessian(&self.vector_fn(b), &z, &weights(&b.targets))
         });
         for (b, local) in self.vector_blocks.iter().zip(vector) {
             scatter_lower(b, &local, values);
@@ -1003,110 +985,6 @@ fn detect_basis<M: Mechanics>(mech: &M, base: BaseType, q0: &[f64]) -> FrictionB
         }
     }
     FrictionBasis::Planar
-}
-
-/// a·t(q): a combination of the tangential coordinates of one contact, as a function of q.
-struct Tangential<'a, M> {
-    mech: &'a M,
-    ctx: &'a Context,
-    contact: usize,
-    weights: [f64; 2],
-}
-
-impl<M: Mechanics> crate::autodiff::ScalarFunction for Tangential<'_, M> {
-    fn dim(&self) -> usize {
-        self.ctx.n
-    }
-    fn eval<D: crate::model::Scalar>(&self, q: &[D]) -> D {
-        let p = self.mech.contact_position(self.contact, q);
-        let mut t = [D::from(0.0); 2];
-        crate::contact::tangential_coordinates(self.ctx.basis, &p, &mut t);
-        t[0] * D::from(self.weights[0]) + t[1] * D::from(self.weights[1])
-    }
-}
-
-/// Jacobian of the tangential-rate block r_d = g_d(qb)·(qb − qa)/h, outputs [+r; −r],
-/// z = [qa; qb; h], by the chain rule over the gradient and Hessian of each tangential
-/// coordinate at qb (one second-order pass over n inputs per tangent, instead of nested
-/// duals over 2n + 1).
-fn tangential_rate_jacobian<M: Mechanics>(
-    mech: &M,
-    ctx: &Context,
-    contact: usize,
-    z: &[f64],
-) -> DMatrix<f64> {
-    let n = ctx.n;
-    let nt = ctx.nd() / 2;
-    let (qa, qb, h) = (&z[..n], &z[n..2 * n], z[2 * n]);
-    let v: Vec<f64> = qa.iter().zip(qb).map(|(a, b)| (b - a) / h).collect();
-    let mut jac = DMatrix::zeros(2 * nt, 2 * n + 1);
-    for d in 0..nt {
-        let mut weights = [0.0; 2];
-        weights[d] = 1.0;
-        let f = Tangential {
-            mech,
-            ctx,
-            contact,
-            weights,
-        };
-        let (_, g, hess) = gradient_hessian(&f, qb);
-        let rate: f64 = g.iter().zip(&v).map(|(a, b)| a * b).sum();
-        for i in 0..n {
-            let hv: f64 = (0..n).map(|k| hess[(i, k)] * v[k]).sum();
-            jac[(d, i)] = -g[i] / h;
-            jac[(d, n + i)] = hv + g[i] / h;
-        }
-        jac[(d, 2 * n)] = -rate / h;
-        for c in 0..=2 * n {
-            jac[(d + nt, c)] = -jac[(d, c)];
-        }
-    }
-    jac
-}
-
-/// Hessian of Σ_o w_o out_o of the tangential-rate block by the chain rule over one
-/// third-order pass of a·t at qb with direction v = (qb − qa)/h, a_d = w_d − w_{d+nt}.
-fn tangential_rate_hessian<M: Mechanics>(
-    mech: &M,
-    ctx: &Context,
-    contact: usize,
-    z: &[f64],
-    w: &[f64],
-) -> DMatrix<f64> {
-    let n = ctx.n;
-    let nt = ctx.nd() / 2;
-    let (qa, qb, h) = (&z[..n], &z[n..2 * n], z[2 * n]);
-    let v: Vec<f64> = qa.iter().zip(qb).map(|(a, b)| (b - a) / h).collect();
-    let mut weights = [0.0; 2];
-    for d in 0..nt {
-        weights[d] = w[d] - w[d + nt];
-    }
-    let f = Tangential {
-        mech,
-        ctx,
-        contact,
-        weights,
-    };
-    let third = gradient_hessian_third(&f, qb, &v);
-    let (g, hess, contracted) = (&third.gradient, &third.hessian, &third.contracted);
-    let rate: f64 = g.iter().zip(&v).map(|(a, b)| a * b).sum();
-    let mut out = DMatrix::zeros(2 * n + 1, 2 * n + 1);
-    let hh = 2 * n;
-    for i in 0..n {
-        let hv: f64 = (0..n).map(|k| hess[(i, k)] * v[k]).sum();
-        for j in 0..n {
-            // ∂²r/∂qb_i∂qa_j = −H_ij/h; ∂²r/∂qb_i∂qb_j = C_ij + 2H_ij/h.
-            out[(n + i, j)] = -hess[(i, j)] / h;
-            out[(j, n + i)] = -hess[(i, j)] / h;
-            out[(n + i, n + j)] = contracted[(i, j)] + 2.0 * hess[(i, j)] / h;
-        }
-        out[(hh, i)] = g[i] / (h * h);
-        out[(i, hh)] = g[i] / (h * h);
-        out[(hh, n + i)] = -hv / h - g[i] / (h * h);
-        out[(n + i, hh)] = out[(hh, n + i)];
-    }
-    out[(hh, hh)] = 2.0 * rate / (h * h);
-    out
 }
 
 /// Slot marker of a local entry that is structurally zero (not in the pattern).
