@@ -7,13 +7,13 @@ use std::path::Path;
 use nalgebra::DMatrix;
 use num_dual::Dual64;
 use vito::autodiff::{
-    ScalarFunction, gradient, gradient_hessian_third, jacobian, weighted_hessian,
+    ScalarFunction, gradient, gradient_hessian, gradient_hessian_third, jacobian, weighted_hessian,
 };
 use vito::discrete::{MidpointSegment, d1_ld, d2_ld, ld};
 use vito::model::{
     BaseType, MidpointGradient, Model, kinetic_energy, kinetic_energy_gradient,
-    lagrangian_gradient, midpoint_ld_gradient, midpoint_third_order, midpoint_third_order_into,
-    potential_energy, potential_energy_gradient, sample,
+    lagrangian_gradient, midpoint_gradient_hessian, midpoint_ld_gradient, midpoint_third_order,
+    midpoint_third_order_into, potential_energy, potential_energy_gradient, sample,
 };
 
 fn robot(rel: &str, base: BaseType) -> Model {
@@ -212,7 +212,12 @@ fn kinetic_energy_gradient_matches_forward_duals() {
             // Relative to the whole gradient: ∂T/∂q vanishes for a single pendulum.
             let both = [dq.as_slice(), &dqdot].concat();
             let both_ref = [dq_ref.as_slice(), &dqdot_ref].concat();
-            assert_close(&format!("{name}: [dT/dq; dT/dqdot]"), &both, &both_ref, 1e-12);
+            assert_close(
+                &format!("{name}: [dT/dq; dT/dqdot]"),
+                &both,
+                &both_ref,
+                1e-12,
+            );
             // T is quadratic in q̇: q̇·∂T/∂q̇ = 2T (Euler's theorem).
             let twice: f64 = qdot.iter().zip(&dqdot).map(|(a, b)| a * b).sum();
             assert!((twice - 2.0 * t).abs() <= 1e-12 * t.abs(), "{name}: Euler");
@@ -393,27 +398,30 @@ fn hessian_and_third_derivative_through_the_adjoint_match_forward_duals() {
     }
 }
 
-/// The tile size changes only the rounding, and a nonzero h component of the direction is
-/// handled (the third derivative along h).
+/// The Hessian-only driver equals the forward-dual Hessian of Ld, `_into` overwrites a used
+/// buffer, and a nonzero h component of the direction is handled (third derivative along h).
 #[test]
-fn fast_third_order_is_independent_of_the_tile_and_takes_any_direction() {
+fn hessian_driver_buffer_reuse_and_any_direction() {
     let model = Model::from_urdf_str(TWISTED, BaseType::Floating).expect("loads");
     let mut seed = 3;
     let z = segment(&model, &mut seed);
+    let segment_fn = MidpointSegment { model: &model };
+    let (value, grad, hess) = midpoint_gradient_hessian(&model, &z);
+    let (value_ref, grad_ref, hess_ref) = gradient_hessian(&segment_fn, &z);
+    assert!((value - value_ref).abs() <= 1e-13 * value_ref.abs());
+    assert_close("gradient", &grad, &grad_ref, 1e-12);
+    assert_matrix_close("Hessian", &hess, &hess_ref, 1e-9);
+
     let dir = random(z.len(), 1.0, &mut seed);
-    let reference = gradient_hessian_third(&MidpointSegment { model: &model }, &z, &dir);
+    let reference = gradient_hessian_third(&segment_fn, &z, &dir);
     let mut out = vito::autodiff::ThirdOrder::zeros(z.len());
-    midpoint_third_order_into::<3>(&model, &z, &dir, &mut out);
-    assert_matrix_close("tile 3 Hessian", &out.hessian, &reference.hessian, 1e-9);
-    assert_matrix_close(
-        "tile 3 contracted",
-        &out.contracted,
-        &reference.contracted,
-        1e-9,
-    );
-    let mut wide = vito::autodiff::ThirdOrder::zeros(z.len());
-    midpoint_third_order_into::<32>(&model, &z, &dir, &mut wide);
-    assert_matrix_close("tile 32 vs 3", &wide.contracted, &out.contracted, 1e-12);
+    out.hessian.fill(7.0);
+    out.contracted.fill(-3.0);
+    out.gradient.fill(f64::NAN);
+    midpoint_third_order_into(&model, &z, &dir, &mut out);
+    assert_close("gradient", &out.gradient, &reference.gradient, 1e-12);
+    assert_matrix_close("Hessian", &out.hessian, &reference.hessian, 1e-9);
+    assert_matrix_close("contracted", &out.contracted, &reference.contracted, 1e-9);
 }
 
 /// Central differences of the adjoint gradient give its Jacobian (an independent check that
