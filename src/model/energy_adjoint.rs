@@ -13,6 +13,7 @@
 use nalgebra::DMatrix;
 use num_dual::{Dual, Dual64};
 
+use super::energy::{com_position, spring_energy};
 use super::kinematics::{Pose, Twist, check_len, child_pose, child_twist};
 use super::spatial::{
     Mat3, Vec3, add, axis_angle, const_mat_vec, cross, dot, mat_t_vec, mat_vec, mat_vec_const,
@@ -255,8 +256,8 @@ fn symmetrise(a: &mut DMatrix<f64>) {
     }
 }
 
-/// Adjoints of one frame's forward quantities: ∂E/∂(world rotation, origin, joint axis,
-/// angular and linear velocity) for the energy E being differentiated.
+/// Adjoints of one frame's forward quantities: ∂E/∂(world rotation, world origin, angular
+/// and linear velocity) for the energy E being differentiated.
 #[derive(Clone, Copy)]
 struct FrameAdjoint<D> {
     rotation: Mat3<D>,
@@ -356,9 +357,7 @@ fn energy_sweep<D: Scalar>(
             }
             if potential_weight != 0.0 {
                 // V_i = −m g·(o + R c): ō = −w m g, R̄ = −w m g cᵀ.
-                let lever = mat_vec_const(&pose.rotation, &frame.com);
-                let c = add(pose.origin, lever);
-                potential -= (c[0] * g[0] + c[1] * g[1] + c[2] * g[2]) * frame.mass;
+                potential -= dot(com_position(frame, pose), g.map(D::from)) * frame.mass;
                 let force = g.map(|gk| D::from(-potential_weight * frame.mass * gk));
                 bar.origin = add(bar.origin, force);
                 add_outer_const(&mut bar.rotation, force, &frame.com);
@@ -402,9 +401,9 @@ fn energy_sweep<D: Scalar>(
         }
     }
     if potential_weight != 0.0 {
+        potential += spring_energy(model, q);
         for spring in &model.springs {
             let stretch = q[spring.coordinate] - spring.rest;
-            potential += stretch * stretch * (0.5 * spring.stiffness);
             dq[spring.coordinate] += stretch * (potential_weight * spring.stiffness);
         }
     }
