@@ -1,8 +1,39 @@
 //! Safe wrapper over Debian's system Ipopt (C interface `IpStdCInterface.h`, bindings by
 //! bindgen in `build.rs`). The only module with `unsafe`.
+//!
+//! A problem implements [`Nlp`]; a [`Solver`] holds the options (vito's defaults from
+//! `vendor-config/ipopt-defaults.opt`, then the caller's) and returns a [`SolveReport`].
+//!
+//! Safety rules the wrapper keeps, because Debian's Ipopt 3.11.9 breaks otherwise:
+//! - one solve per process at a time (a global lock; parallel work uses processes);
+//! - a panic in a callback is caught and returned as [`IpoptError::CallbackPanicked`], never
+//!   unwound into C++; a NaN or Inf output is reported to Ipopt as a failed evaluation;
+//! - `linear_solver` other than `mumps` is refused (`ma97` would end the process);
+//! - no stray `ipopt.opt` in the working directory is read.
+//!
+//! ```no_run
+//! use vito::ipopt::{Solver, Status};
+//! # fn demo<P: vito::ipopt::Nlp>(problem: &mut P) -> Result<(), vito::ipopt::IpoptError> {
+//! let mut solver = Solver::new();
+//! solver.set_option("max_iter", 500)?;
+//! let report = solver.solve(problem)?;
+//! if report.status == Status::SolveSucceeded {
+//!     println!("f* = {} after {} iterations", report.objective, report.iterations);
+//! }
+//! # Ok(()) }
+//! ```
 
+mod callbacks;
+mod error;
+mod handle;
 mod nlp;
+mod options;
+mod solver;
 mod status;
+mod sys;
 
+pub use error::IpoptError;
 pub use nlp::{IterationInfo, Nlp};
+pub use options::{DEFAULTS_FILE, OptionValue, check_allowed, default_options, parse_option_file};
+pub use solver::{SolveReport, Solver};
 pub use status::Status;

@@ -1,0 +1,35 @@
+# vito's set-up, build and test commands (see README.md).
+#   make demo       install missing Debian packages, build, solve the default problem
+#   make test       install missing Debian packages, run the test suite (optimised build)
+#   make test-slow  the slow tests (#[ignore]d by default)
+#   make lint       rustfmt and clippy, as CI checks them
+
+CARGO ?= cargo
+PROBLEM ?= problems/hopper_2d.toml
+OUT ?= out/hopper_2d
+
+# MUMPS calls OpenBLAS on small dense blocks, where its threads only add overhead (and the
+# solve lock already gives one solve per process); parallel work uses processes.
+export OPENBLAS_NUM_THREADS ?= 1
+
+.PHONY: deps build demo test test-slow lint
+
+deps:
+	bash vendor-config/install-deps.sh
+
+build: deps
+	$(CARGO) build --release
+
+demo: build
+	$(CARGO) run --release -- solve $(PROBLEM) --out $(OUT)
+
+# Solving tests need the optimised profile; `--release` is the default test run.
+test: deps
+	$(CARGO) test --release
+
+test-slow: deps
+	$(CARGO) test --release -- --ignored
+
+lint:
+	$(CARGO) fmt --check
+	$(CARGO) clippy --all-targets -- -D warnings

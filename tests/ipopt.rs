@@ -1,0 +1,662 @@
+//! The Ipopt wrapper end to end: HS071 (exact Hessian and L-BFGS), and one test per edge
+//! case, each saying why it arises. All solves in this binary share the wrapper's global
+//! lock, so the test harness's threads also exercise it.
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use vito::ipopt::{IpoptError, IterationInfo, Nlp, OptionValue, SolveReport, Solver, Status};
+
+/// Hock–Schittkowski problem 71, Ipopt's own example:
+/// min x1·x4·(x1 + x2 + x3) + x3 s.t. x1·x2·x3·x4 ≥ 25, Σ xi² = 40, 1 ≤ xi ≤ 5,
+/// from x0 = (1, 5, 5, 1). Optimum f* = 17.0140171451792 at
+/// x* ≈ (1, 4.74299963, 3.82114998, 1.37940829).
+#[derive(Default)]
+struct Hs071 {
+    /// Added to the objective (shifts f*, to tell two solves apart).
+    offset: f64,
+    /// Leave the Hessian out (the solver then uses L-BFGS).
+    no_hessian: bool,
+    /// Stop from `intermediate` at this iteration.
+    stop_at: Option<usize>,
+    /// Set this flag from `intermediate` at this iteration.
+    cancel_at: Option<(usize, Arc<AtomicBool>)>,
+    /// Iterations seen by `intermediate`.
+    seen: Vec<IterationInfo>,
+    /// Calls of `hessian_values`.
+    hessian_calls: usize,
+}
+
+const HS071_F: f64 = 17.014017145179164;
+const HS071_X: [f64; 4] = [1.0, 4.742_999_63, 3.821_149_98, 1.379_408_29];
+
+impl Nlp for Hs071 {
+    fn num_variables(&self) -> usize {
+        4
+    }
+    fn num_constraints(&self) -> usize {
+        2
+    }
+    fn variable_bounds(&self, lower: &mut [f64], upper: &mut [f64]) {
+        lower.fill(1.0);
+        upper.fill(5.0);
+    }
+    fn constraint_bounds(&self, lower: &mut [f64], upper: &mut [f64]) {
+        lower.copy_from_slice(&[25.0, 40.0]);
+        upper.copy_from_slice(&[f64::INFINITY, 40.0]);
+    }
+    fn initial_point(&self, x: &mut [f64]) {
+        x.copy_from_slice(&[1.0, 5.0, 5.0, 1.0]);
+    }
+    fn objective(&mut self, x: &[f64], _new_x: bool) -> f64 {
+        x[0] * x[3] * (x[0] + x[1] + x[2]) + x[2] + self.offset
+    }
+    fn gradient(&mut self, x: &[f64], _new_x: bool, grad: &mut [f64]) {
+        grad[0] = x[3] * (2.0 * x[0] + x[1] + x[2]);
+        grad[1] = x[0] * x[3];
+        grad[2] = x[0] * x[3] + 1.0;
+        grad[3] = x[0] * (x[0] + x[1] + x[2]);
+    }
+    fn constraints(&mut self, x: &[f64], _new_x: bool, g: &mut [f64]) {
+        g[0] = x[0] * x[1] * x[2] * x[3];
+        g[1] = x.iter().map(|v| v * v).sum();
+    }
+    fn jacobian_nnz(&self) -> usize {
+        8
+    }
+    fn jacobian_structure(&self, rows: &mut [usize], cols: &mut [usize]) {
+        for k in 0..8 {
+            rows[k] = k / 4;
+            cols[k] = k % 4;
+        }
+    }
+    fn jacobian_values(&mut self, x: &[f64], _new_x: bool, v: &mut [f64]) {
+        v[0] = x[1] * x[2] * x[3];
+        v[1] = x[0] * x[2] * x[3];
+        v[2] = x[0] * x[1] * x[3];
+        v[3] = x[0] * x[1] * x[2];
+        for j in 0..4 {
+            v[4 + j] = 2.0 * x[j];
+        }
+    }
+    fn hessian_nnz(&self) -> Option<usize> {
+        (!self.no_hessian).then_some(10)
+    }
+    fn hessian_structure(&self, rows: &mut [usize], cols: &mut [usize]) {
+        let mut k = 0;
+        for r in 0..4 {
+            for c in 0..=r {
+                rows[k] = r;
+                cols[k] = c;
+                k += 1;
+            }
+        }
+    }
+    fn hessian_values(
+        &mut self,
+        x: &[f64],
+        _new_x: bool,
+        sigma: f64,
+        lambda: &[f64],
+        _new_lambda: bool,
+        v: &mut [f64],
+    ) {
+        self.hessian_calls += 1;
+        let (l1, l2) = (lambda[0], lambda[1]);
+        // Lower triangle, row by row: (0,0) (1,0) (1,1) (2,0) (2,1) (2,2) (3,0) (3,1) (3,2) (3,3).
+        v[0] = sigma * 2.0 * x[3] + l2 * 2.0;
+        v[1] = sigma * x[3] + l1 * x[2] * x[3];
+        v[2] = l2 * 2.0;
+        v[3] = sigma * x[3] + l1 * x[1] * x[3];
+        v[4] = l1 * x[0] * x[3];
+        v[5] = l2 * 2.0;
+        v[6] = sigma * (2.0 * x[0] + x[1] + x[2]) + l1 * x[1] * x[2];
+        v[7] = sigma * x[0] + l1 * x[0] * x[2];
+        v[8] = sigma * x[0] + l1 * x[0] * x[1];
+        v[9] = l2 * 2.0;
+    }
+    fn intermediate(&mut self, info: &IterationInfo) -> bool {
+        self.seen.push(*info);
+        if let Some((at, flag)) = &self.cancel_at
+            && info.iteration >= *at
+        {
+            flag.store(true, Ordering::Relaxed);
+        }
+        self.stop_at.is_none_or(|at| info.iteration < at)
+    }
+}
+
+fn solve(problem: &mut impl Nlp) -> SolveReport {
+    Solver::new().solve(problem).expect("solve runs")
+}
+
+/// Checks that `report` is HS071's optimum (f* shifted by `offset`).
+fn assert_hs071_optimum(report: &SolveReport, offset: f64, tol_f: f64) {
+    assert_eq!(report.status, Status::SolveSucceeded);
+    assert!(
+        (report.objective - offset - HS071_F).abs() < tol_f,
+        "f = {}",
+        report.objective - offset
+    );
+    for (xi, xs) in report.x.iter().zip(HS071_X) {
+        assert!((xi - xs).abs() < 1e-5, "x = {:?}", report.x);
+    }
+}
+
+/// The headline check of issue 2: exact Jacobian and Hessian give f* to |Δ| < 1e-6, and the
+/// multipliers satisfy stationarity with Ipopt's sign convention as documented.
+#[test]
+fn hs071_exact_hessian_reaches_known_optimum() {
+    let mut problem = Hs071::default();
+    let report = solve(&mut problem);
+    assert_hs071_optimum(&report, 0.0, 1e-6);
+    // Constraints hold to Ipopt's tolerance at the returned x, and g is g(x).
+    assert!(report.g[0] >= 25.0 - 1e-6, "g = {:?}", report.g);
+    assert!((report.g[1] - 40.0).abs() < 1e-6, "g = {:?}", report.g);
+    let mut g = [0.0; 2];
+    problem.constraints(&report.x, true, &mut g);
+    assert_eq!(g.to_vec(), report.g);
+    // Stationarity: ∇f + Jᵀ mult_g − mult_x_lower + mult_x_upper = 0.
+    let x = report.x.clone();
+    let mut grad = [0.0; 4];
+    problem.gradient(&x, true, &mut grad);
+    let mut jac = [0.0; 8];
+    problem.jacobian_values(&x, true, &mut jac);
+    for j in 0..4 {
+        let r = grad[j] + jac[j] * report.mult_g[0] + jac[4 + j] * report.mult_g[1]
+            - report.mult_x_lower[j]
+            + report.mult_x_upper[j];
+        assert!(r.abs() < 1e-6, "stationarity residual {r} in x{j}");
+    }
+    // x1 sits at its lower bound with a positive multiplier; the inequality is active.
+    assert!(report.mult_x_lower[0] > 0.1);
+    assert!(report.mult_g[0] < 0.0, "mult_g = {:?}", report.mult_g);
+    // Iteration count, Hessian use and time split are consistent.
+    assert!(problem.hessian_calls >= report.iterations);
+    assert!(report.iterations >= 5 && report.iterations < 30);
+    assert_eq!(problem.seen.len(), report.iterations + 1);
+    assert_eq!(report.evaluation_errors, 0);
+    assert!(report.callback_time_s >= 0.0 && report.callback_time_s <= report.wall_time_s);
+    assert!((report.ipopt_time_s - (report.wall_time_s - report.callback_time_s)).abs() < 1e-12);
+}
+
+/// Without `hessian_nnz` the wrapper must switch Ipopt to L-BFGS (an exact-Hessian solve
+/// would call the missing Hessian and fail); the optimum is the same to the solver's tol.
+#[test]
+fn hs071_without_hessian_uses_lbfgs() {
+    let mut problem = Hs071 {
+        no_hessian: true,
+        ..Hs071::default()
+    };
+    let report = solve(&mut problem);
+    assert_hs071_optimum(&report, 0.0, 1e-6);
+    assert_eq!(problem.hessian_calls, 0);
+}
+
+/// x² + y² ≤ 1 and x + y ≥ 3 cannot both hold: Ipopt's restoration phase finds a local
+/// minimiser of the violation and reports infeasibility, with no panic.
+#[test]
+fn infeasible_problem_reports_infeasibility() {
+    struct Infeasible;
+    impl Nlp for Infeasible {
+        fn num_variables(&self) -> usize {
+            2
+        }
+        fn num_constraints(&self) -> usize {
+            2
+        }
+        fn variable_bounds(&self, lower: &mut [f64], upper: &mut [f64]) {
+            lower.fill(f64::NEG_INFINITY);
+            upper.fill(f64::INFINITY);
+        }
+        fn constraint_bounds(&self, lower: &mut [f64], upper: &mut [f64]) {
+            lower.copy_from_slice(&[f64::NEG_INFINITY, 3.0]);
+            upper.copy_from_slice(&[1.0, f64::INFINITY]);
+        }
+        fn initial_point(&self, x: &mut [f64]) {
+            x.copy_from_slice(&[0.5, 0.2]);
+        }
+        fn objective(&mut self, x: &[f64], _: bool) -> f64 {
+            x[0] * x[0] + x[1]
+        }
+        fn gradient(&mut self, x: &[f64], _: bool, g: &mut [f64]) {
+            g.copy_from_slice(&[2.0 * x[0], 1.0]);
+        }
+        fn constraints(&mut self, x: &[f64], _: bool, g: &mut [f64]) {
+            g.copy_from_slice(&[x[0] * x[0] + x[1] * x[1], x[0] + x[1]]);
+        }
+        fn jacobian_nnz(&self) -> usize {
+            4
+        }
+        fn jacobian_structure(&self, rows: &mut [usize], cols: &mut [usize]) {
+            rows.copy_from_slice(&[0, 0, 1, 1]);
+            cols.copy_from_slice(&[0, 1, 0, 1]);
+        }
+        fn jacobian_values(&mut self, x: &[f64], _: bool, v: &mut [f64]) {
+            v.copy_from_slice(&[2.0 * x[0], 2.0 * x[1], 1.0, 1.0]);
+        }
+        fn hessian_nnz(&self) -> Option<usize> {
+            Some(2)
+        }
+        fn hessian_structure(&self, rows: &mut [usize], cols: &mut [usize]) {
+            rows.copy_from_slice(&[0, 1]);
+            cols.copy_from_slice(&[0, 1]);
+        }
+        fn hessian_values(
+            &mut self,
+            _: &[f64],
+            _: bool,
+            s: f64,
+            l: &[f64],
+            _: bool,
+            v: &mut [f64],
+        ) {
+            v.copy_from_slice(&[2.0 * s + 2.0 * l[0], 2.0 * l[0]]);
+        }
+    }
+    let report = solve(&mut Infeasible);
+    assert_eq!(report.status, Status::InfeasibleProblemDetected);
+    assert!(!report.status.is_success());
+    // The returned point is the least-violation point: on the line x = y, between the disc
+    // and the half-plane.
+    assert!(
+        (report.x[0] - report.x[1]).abs() < 1e-3,
+        "x = {:?}",
+        report.x
+    );
+}
+
+/// A one-variable problem, min (x − 1)², whose callbacks can misbehave on purpose.
+struct Quadratic {
+    /// Panic in `gradient` on this call (1-based).
+    panic_on_gradient_call: Option<usize>,
+    gradient_calls: usize,
+    /// The objective is NaN for x above this.
+    nan_above: f64,
+    /// Hessian value used (2 is exact; smaller overshoots).
+    curvature: f64,
+}
+
+impl Quadratic {
+    fn new() -> Self {
+        Quadratic {
+            panic_on_gradient_call: None,
+            gradient_calls: 0,
+            nan_above: f64::INFINITY,
+            curvature: 2.0,
+        }
+    }
+}
+
+impl Nlp for Quadratic {
+    fn num_variables(&self) -> usize {
+        1
+    }
+    fn num_constraints(&self) -> usize {
+        0
+    }
+    fn variable_bounds(&self, lower: &mut [f64], upper: &mut [f64]) {
+        lower[0] = -10.0;
+        upper[0] = 10.0;
+    }
+    fn constraint_bounds(&self, _: &mut [f64], _: &mut [f64]) {}
+    fn initial_point(&self, x: &mut [f64]) {
+        x[0] = -1.0;
+    }
+    fn objective(&mut self, x: &[f64], _: bool) -> f64 {
+        if x[0] > self.nan_above {
+            f64::NAN
+        } else {
+            (x[0] - 1.0).powi(2)
+        }
+    }
+    fn gradient(&mut self, x: &[f64], _: bool, g: &mut [f64]) {
+        self.gradient_calls += 1;
+        if self.panic_on_gradient_call == Some(self.gradient_calls) {
+            panic!("gradient blew up on purpose");
+        }
+        g[0] = 2.0 * (x[0] - 1.0);
+    }
+    fn constraints(&mut self, _: &[f64], _: bool, _: &mut [f64]) {}
+    fn jacobian_nnz(&self) -> usize {
+        0
+    }
+    fn jacobian_structure(&self, _: &mut [usize], _: &mut [usize]) {}
+    fn jacobian_values(&mut self, _: &[f64], _: bool, _: &mut [f64]) {}
+    fn hessian_nnz(&self) -> Option<usize> {
+        Some(1)
+    }
+    fn hessian_structure(&self, rows: &mut [usize], cols: &mut [usize]) {
+        rows[0] = 0;
+        cols[0] = 0;
+    }
+    fn hessian_values(&mut self, _: &[f64], _: bool, s: f64, _: &[f64], _: bool, v: &mut [f64]) {
+        v[0] = s * self.curvature;
+    }
+}
+
+/// A panic must not unwind into Ipopt's C++ (that aborts the process): it is caught, the
+/// solve stops, the panic comes back as an error naming the method, and later solves work.
+#[test]
+fn panicking_callback_is_an_error_and_the_process_lives() {
+    let mut problem = Quadratic::new();
+    problem.panic_on_gradient_call = Some(2);
+    let err = Solver::new().solve(&mut problem).unwrap_err();
+    match &err {
+        IpoptError::CallbackPanicked { callback, message } => {
+            assert_eq!(*callback, "gradient");
+            assert!(message.contains("on purpose"), "{message}");
+        }
+        other => panic!("expected CallbackPanicked, got {other:?}"),
+    }
+    assert!(err.to_string().contains("gradient"));
+    // After the panic no more calls reach the problem.
+    assert_eq!(problem.gradient_calls, 2);
+    // The lock and Ipopt are fine afterwards.
+    assert_hs071_optimum(&solve(&mut Hs071::default()), 0.0, 1e-6);
+}
+
+/// A NaN everywhere, starting at x0: Ipopt cannot backtrack from the starting point and ends
+/// with "Invalid number in NLP function or derivative detected".
+#[test]
+fn nan_at_the_starting_point_is_an_invalid_number() {
+    let mut problem = Quadratic::new();
+    problem.nan_above = f64::NEG_INFINITY;
+    let report = solve(&mut problem);
+    assert_eq!(report.status, Status::InvalidNumberDetected);
+    assert!(report.evaluation_errors >= 1);
+    assert_eq!(report.x, vec![-1.0]);
+}
+
+/// A NaN only in part of the domain is an evaluation error Ipopt recovers from: with a
+/// Hessian four times too small the first Newton step from −1 lands at 7, where f is NaN;
+/// Ipopt cuts the step back and still converges to x = 1.
+#[test]
+fn nan_away_from_the_start_makes_ipopt_backtrack() {
+    let mut problem = Quadratic::new();
+    problem.nan_above = 2.0;
+    problem.curvature = 0.5;
+    let report = solve(&mut problem);
+    assert_eq!(report.status, Status::SolveSucceeded);
+    assert!(report.evaluation_errors >= 1);
+    assert!((report.x[0] - 1.0).abs() < 1e-6, "x = {:?}", report.x);
+}
+
+/// Ipopt ignores an unknown option name unless asked; the wrapper makes it an error that
+/// names the option. Wrong values and types are errors too; an integer for a number option
+/// is converted.
+#[test]
+fn unknown_or_bad_options_are_errors_naming_them() {
+    let mut solver = Solver::new();
+    let err = solver.set_option("no_such_option", 1.0).unwrap_err();
+    assert!(matches!(err, IpoptError::InvalidOption { ref name, .. } if name == "no_such_option"));
+    assert!(err.to_string().contains("no_such_option"), "{err}");
+
+    let err = solver.set_option("mu_strategy", "bogus").unwrap_err();
+    assert!(err.to_string().contains("mu_strategy") && err.to_string().contains("bogus"));
+    assert!(solver.set_option("tol", -1.0).is_err());
+    assert!(solver.set_option("tol", "small").is_err());
+    assert!(
+        solver.set_option("Max_Iter", 10).is_err(),
+        "names are case-sensitive"
+    );
+
+    // Converted: an integer for a number option, an integral number for an integer option.
+    solver.set_option("max_cpu_time", 600).unwrap();
+    solver.set_option("max_iter", 2000.0).unwrap();
+    let get = |s: &Solver, name: &str| {
+        s.options()
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, v)| v.clone())
+    };
+    assert_eq!(get(&solver, "max_cpu_time"), Some(OptionValue::Num(600.0)));
+    assert_eq!(get(&solver, "max_iter"), Some(OptionValue::Int(2000)));
+    // A rejected value leaves the earlier one in place.
+    assert_eq!(
+        get(&solver, "mu_strategy"),
+        Some(OptionValue::from("adaptive"))
+    );
+}
+
+/// Options set by the caller reach Ipopt: max_iter 3 stops HS071 early.
+#[test]
+fn options_reach_ipopt() {
+    let mut solver = Solver::new();
+    solver.set_option("max_iter", 3).unwrap();
+    let report = solver.solve(&mut Hs071::default()).unwrap();
+    assert_eq!(report.status, Status::MaximumIterationsExceeded);
+    assert_eq!(report.iterations, 3);
+}
+
+/// Every line of vendor-config/ipopt-defaults.opt is accepted by this Ipopt.
+#[test]
+fn vendor_defaults_are_accepted_by_ipopt() {
+    let mut solver = Solver::new();
+    for (name, value) in vito::ipopt::default_options() {
+        solver.set_option(&name, value).unwrap();
+    }
+}
+
+/// Stopping from the problem's `intermediate` ends with UserRequestedStop and returns the
+/// current iterate, not the starting point.
+#[test]
+fn stop_from_intermediate_returns_current_iterate() {
+    let mut problem = Hs071 {
+        stop_at: Some(3),
+        ..Hs071::default()
+    };
+    let report = solve(&mut problem);
+    assert_eq!(report.status, Status::UserRequestedStop);
+    assert_eq!(report.iterations, 3);
+    assert_ne!(report.x, vec![1.0, 5.0, 5.0, 1.0]);
+    assert!(report.x.iter().all(|v| (1.0..=5.0).contains(v)));
+    // The objective reported is the one of the returned x.
+    let f = Hs071::default().objective(&report.x, true);
+    assert!((report.objective - f).abs() < 1e-12);
+}
+
+/// The cancel flag (what Ctrl-C sets in the CLI) stops the solve at the next iteration.
+#[test]
+fn cancel_flag_stops_the_solve() {
+    let flag = Arc::new(AtomicBool::new(false));
+    let mut solver = Solver::new();
+    solver.set_cancel_flag(flag.clone());
+    let mut problem = Hs071 {
+        cancel_at: Some((2, flag.clone())),
+        ..Hs071::default()
+    };
+    let report = solver.solve(&mut problem).unwrap();
+    assert_eq!(report.status, Status::UserRequestedStop);
+    assert_eq!(report.iterations, 3, "flag set at 2, seen at 3");
+    assert!(report.x.iter().all(|v| v.is_finite()));
+
+    // Already set: the solve stops at the starting point's callback.
+    let report = solver.solve(&mut Hs071::default()).unwrap();
+    assert_eq!(report.status, Status::UserRequestedStop);
+    assert_eq!(report.iterations, 0);
+}
+
+/// Debian's Ipopt calls exit(1) for linear_solver ma97, which would end the test process;
+/// the wrapper refuses it (and the other HSL names) before Ipopt sees it.
+#[test]
+fn hsl_linear_solver_is_refused_and_the_process_lives() {
+    let mut solver = Solver::new();
+    let err = solver.set_option("linear_solver", "ma97").unwrap_err();
+    assert!(matches!(err, IpoptError::Refused { .. }));
+    let text = err.to_string();
+    assert!(text.contains("ma97") && text.contains("mumps"), "{text}");
+    assert!(solver.set_option("linear_solver", "MA27").is_err());
+    solver.set_option("linear_solver", "mumps").unwrap();
+    assert_hs071_optimum(&solver.solve(&mut Hs071::default()).unwrap(), 0.0, 1e-6);
+}
+
+/// Two solves at once crash Debian's Ipopt; the global lock serialises them, so two threads
+/// solving different problems both get their own right answer. (Without the lock this test
+/// segfaulted in 2 of 4 runs.)
+#[test]
+fn two_threads_solving_at_once_both_succeed() {
+    let handles: Vec<_> = [0.0, 100.0]
+        .into_iter()
+        .map(|offset| {
+            std::thread::spawn(move || {
+                (0..10)
+                    .map(|_| {
+                        let mut problem = Hs071 {
+                            offset,
+                            ..Hs071::default()
+                        };
+                        (offset, solve(&mut problem))
+                    })
+                    .collect::<Vec<_>>()
+            })
+        })
+        .collect();
+    for handle in handles {
+        for (offset, report) in handle.join().expect("thread finished") {
+            assert_hs071_optimum(&report, offset, 1e-6);
+        }
+    }
+}
+
+/// Ipopt reads ./ipopt.opt by default; a stray file there must not change vito's solves.
+/// The control half shows the file would have been read (max_iter 1 stops the solve).
+#[test]
+fn stray_ipopt_opt_in_working_directory_is_ignored() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("ipopt.opt"), "max_iter 1\n").unwrap();
+    let previous = std::env::current_dir().unwrap();
+    std::env::set_current_dir(dir.path()).unwrap();
+    let ignored = solve(&mut Hs071::default());
+    let mut solver = Solver::new();
+    solver.set_option("option_file_name", "ipopt.opt").unwrap();
+    let read = solver.solve(&mut Hs071::default()).unwrap();
+    std::env::set_current_dir(previous).unwrap();
+    assert_hs071_optimum(&ignored, 0.0, 1e-6);
+    assert_eq!(read.status, Status::MaximumIterationsExceeded);
+}
+
+/// Bad bounds or sparsity would make Ipopt throw or read out of bounds; the wrapper refuses
+/// them with the index involved.
+#[test]
+fn invalid_problem_data_is_refused_before_ipopt() {
+    struct Broken {
+        inverted_bounds: bool,
+    }
+    impl Nlp for Broken {
+        fn num_variables(&self) -> usize {
+            2
+        }
+        fn num_constraints(&self) -> usize {
+            0
+        }
+        fn variable_bounds(&self, lower: &mut [f64], upper: &mut [f64]) {
+            lower.copy_from_slice(&[0.0, if self.inverted_bounds { 2.0 } else { 0.0 }]);
+            upper.copy_from_slice(&[1.0, 1.0]);
+        }
+        fn constraint_bounds(&self, _: &mut [f64], _: &mut [f64]) {}
+        fn initial_point(&self, x: &mut [f64]) {
+            x.fill(0.5);
+        }
+        fn objective(&mut self, _: &[f64], _: bool) -> f64 {
+            0.0
+        }
+        fn gradient(&mut self, _: &[f64], _: bool, g: &mut [f64]) {
+            g.fill(0.0);
+        }
+        fn constraints(&mut self, _: &[f64], _: bool, _: &mut [f64]) {}
+        fn jacobian_nnz(&self) -> usize {
+            0
+        }
+        fn jacobian_structure(&self, _: &mut [usize], _: &mut [usize]) {}
+        fn jacobian_values(&mut self, _: &[f64], _: bool, _: &mut [f64]) {}
+        fn hessian_nnz(&self) -> Option<usize> {
+            Some(1)
+        }
+        fn hessian_structure(&self, rows: &mut [usize], cols: &mut [usize]) {
+            rows[0] = 0;
+            cols[0] = 1; // upper triangle
+        }
+    }
+    let err = Solver::new()
+        .solve(&mut Broken {
+            inverted_bounds: true,
+        })
+        .unwrap_err();
+    assert!(err.to_string().contains("variable 1"), "{err}");
+    let err = Solver::new()
+        .solve(&mut Broken {
+            inverted_bounds: false,
+        })
+        .unwrap_err();
+    assert!(err.to_string().contains("lower triangle"), "{err}");
+}
+
+/// A callback that starts another solve on the same thread would deadlock on the lock;
+/// the inner call gets an error instead, and the outer solve goes on.
+#[test]
+fn solve_from_inside_a_callback_is_an_error() {
+    struct Nested {
+        inner: Hs071,
+        inner_result: Option<Result<SolveReport, IpoptError>>,
+    }
+    impl Nlp for Nested {
+        fn num_variables(&self) -> usize {
+            self.inner.num_variables()
+        }
+        fn num_constraints(&self) -> usize {
+            self.inner.num_constraints()
+        }
+        fn variable_bounds(&self, l: &mut [f64], u: &mut [f64]) {
+            self.inner.variable_bounds(l, u)
+        }
+        fn constraint_bounds(&self, l: &mut [f64], u: &mut [f64]) {
+            self.inner.constraint_bounds(l, u)
+        }
+        fn initial_point(&self, x: &mut [f64]) {
+            self.inner.initial_point(x)
+        }
+        fn objective(&mut self, x: &[f64], n: bool) -> f64 {
+            self.inner.objective(x, n)
+        }
+        fn gradient(&mut self, x: &[f64], n: bool, g: &mut [f64]) {
+            self.inner.gradient(x, n, g)
+        }
+        fn constraints(&mut self, x: &[f64], n: bool, g: &mut [f64]) {
+            self.inner.constraints(x, n, g)
+        }
+        fn jacobian_nnz(&self) -> usize {
+            self.inner.jacobian_nnz()
+        }
+        fn jacobian_structure(&self, r: &mut [usize], c: &mut [usize]) {
+            self.inner.jacobian_structure(r, c)
+        }
+        fn jacobian_values(&mut self, x: &[f64], n: bool, v: &mut [f64]) {
+            self.inner.jacobian_values(x, n, v)
+        }
+        fn intermediate(&mut self, _: &IterationInfo) -> bool {
+            if self.inner_result.is_none() {
+                self.inner_result = Some(Solver::new().solve(&mut Hs071::default()));
+            }
+            true
+        }
+    }
+    let mut problem = Nested {
+        inner: Hs071::default(),
+        inner_result: None,
+    };
+    let report = solve(&mut problem);
+    assert!(matches!(
+        problem.inner_result,
+        Some(Err(IpoptError::NestedSolve))
+    ));
+    assert_hs071_optimum(&report, 0.0, 1e-5);
+}
+
+/// A problem chosen at run time can be solved through `dyn Nlp`.
+#[test]
+fn hs071_through_a_trait_object() {
+    let mut boxed: Box<dyn Nlp> = Box::new(Hs071::default());
+    let report = Solver::new().solve(boxed.as_mut()).unwrap();
+    assert_hs071_optimum(&report, 0.0, 1e-6);
+}
