@@ -10,7 +10,7 @@ use super::layout::{Dims, Layout};
 use super::pattern::{Pattern, PatternBuilder};
 use super::{Mechanics, TranscriptionError};
 use crate::autodiff::{
-    gradient, gradient_hessian, gradient_hessian_third, jacobian, weighted_hessian,
+    ThirdOrder, gradient, gradient_hessian, gradient_hessian_third, jacobian, weighted_hessian,
 };
 use num_dual::Dual64;
 
@@ -485,7 +485,7 @@ impl<M: Mechanics> Transcription<M> {
             .iter()
             .map(|b| {
                 self.probe(b, &points, |z, w| {
-                    let third = gradient_hessian_third(&self.scalar_fn(b), z, w);
+                    let third = self.gradient_block_third(b, z, w);
                     (Some(third.hessian), Some(third.contracted))
                 })
             })
@@ -761,6 +761,26 @@ impl<M: Mechanics> Transcription<M> {
             dim_out: b.targets.len(),
         }
     }
+    /// Hessian of a gradient block at z (the model's adjoint path for Ld when it has one).
+    fn gradient_block_hessian(&self, b: &Block<ScalarKind>, z: &[f64]) -> DMatrix<f64> {
+        if b.kind == ScalarKind::Segment
+            && let Some((_, h)) = self.mech.segment_gradient_hessian(self.ctx.integrator, z)
+        {
+            return h;
+        }
+        gradient_hessian(&self.scalar_fn(b), z).2
+    }
+
+    /// Hessian and contracted third derivative of a gradient block at z.
+    fn gradient_block_third(&self, b: &Block<ScalarKind>, z: &[f64], dir: &[f64]) -> ThirdOrder {
+        if b.kind == ScalarKind::Segment
+            && let Some(t) = self.mech.segment_third_order(self.ctx.integrator, z, dir)
+        {
+            return t;
+        }
+        gradient_hessian_third(&self.scalar_fn(b), z, dir)
+    }
+
     fn scalar_fn<'a>(&'a self, b: &'a Block<ScalarKind>) -> ScalarBlockFn<'a, M> {
         ScalarBlockFn {
             mech: &self.mech,
@@ -884,7 +904,7 @@ impl<M: Mechanics> Transcription<M> {
             scatter_rows(b, &local, values);
         }
         let gradient = self.map_blocks(&self.gradient_blocks, |b| {
-            gradient_hessian(&self.scalar_fn(b), &gather(x, &b.vars)).2
+            self.gradient_block_hessian(b, &gather(x, &b.vars))
         });
         for (b, local) in self.gradient_blocks.iter().zip(gradient) {
             scatter_rows(b, &local, values);
@@ -921,7 +941,8 @@ impl<M: Mechanics> Transcription<M> {
         }
         let gradient = self.map_blocks(&self.gradient_blocks, |b| {
             let dir = weights(&b.targets);
-            gradient_hessian_third(&self.scalar_fn(b), &gather(x, &b.vars), &dir).contracted
+            self.gradient_block_third(b, &gather(x, &b.vars), &dir)
+                .contracted
         });
         for (b, local) in self.gradient_blocks.iter().zip(gradient) {
             scatter_lower(b, &local, values);

@@ -5,6 +5,9 @@
 //! closed form for SPEC.md's hopper and brick. Every method is generic over
 //! [`Scalar`] so that the blocks built on it are differentiated by forward AD.
 
+use nalgebra::DMatrix;
+
+use crate::autodiff::ThirdOrder;
 use crate::model::Scalar;
 use crate::problem::{Integrator, Interval};
 
@@ -53,6 +56,25 @@ pub trait Mechanics: Sync {
     fn momentum<D: Scalar>(&self, q: &[D], v: &[D], out: &mut [D]);
     /// World position of contact point `contact` at configuration q (length units).
     fn contact_position<D: Scalar>(&self, contact: usize, q: &[D]) -> [D; 3];
+    /// Gradient and Hessian of Ld at z = [qa; qb; h] by a faster path than generic AD
+    /// (e.g. the model's adjoint), or `None` to use forward AD on `discrete_lagrangian`.
+    fn segment_gradient_hessian(
+        &self,
+        _integrator: Integrator,
+        _z: &[f64],
+    ) -> Option<(Vec<f64>, DMatrix<f64>)> {
+        None
+    }
+    /// Value, gradient, Hessian and third derivative of Ld contracted with `dir` at
+    /// z = [qa; qb; h] by a faster path than generic AD, or `None`.
+    fn segment_third_order(
+        &self,
+        _integrator: Integrator,
+        _z: &[f64],
+        _dir: &[f64],
+    ) -> Option<ThirdOrder> {
+        None
+    }
     /// Loop-closure residual a(q) into `out` (length `num_loop_constraints`).
     fn loop_residual<D: Scalar>(&self, _q: &[D], _out: &mut [D]) {}
 }

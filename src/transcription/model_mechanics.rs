@@ -2,9 +2,13 @@
 //! from the model's energies, inputs and damping in Fd, contacts resolved by link name.
 
 use super::{Mechanics, TranscriptionError};
+use nalgebra::DMatrix;
+
+use crate::autodiff::ThirdOrder;
 use crate::model::{
     LinkId, Model, Scalar, generalized_input_force, generalized_momentum, kinetic_energy,
-    loop_residual, point_position, potential_energy,
+    loop_residual, midpoint_gradient_hessian, midpoint_third_order, point_position,
+    potential_energy,
 };
 use crate::problem::{ContactSpec, Integrator, Interval, ProblemSpec};
 
@@ -137,6 +141,24 @@ impl Mechanics for ModelMechanics {
     fn contact_position<D: Scalar>(&self, contact: usize, q: &[D]) -> [D; 3] {
         let (link, point) = &self.contacts[contact];
         point_position(&self.model, *link, point, q)
+    }
+    fn segment_gradient_hessian(
+        &self,
+        integrator: Integrator,
+        z: &[f64],
+    ) -> Option<(Vec<f64>, DMatrix<f64>)> {
+        (integrator == Integrator::Midpoint).then(|| {
+            let (_, gradient, hessian) = midpoint_gradient_hessian(&self.model, z);
+            (gradient, hessian)
+        })
+    }
+    fn segment_third_order(
+        &self,
+        integrator: Integrator,
+        z: &[f64],
+        dir: &[f64],
+    ) -> Option<ThirdOrder> {
+        (integrator == Integrator::Midpoint).then(|| midpoint_third_order(&self.model, z, dir))
     }
     fn loop_residual<D: Scalar>(&self, q: &[D], out: &mut [D]) {
         out.copy_from_slice(&loop_residual(&self.model, q));
