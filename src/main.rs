@@ -1,3 +1,11 @@
-fn main() {
-    println!("vito {}", env!("CARGO_PKG_VERSION"));
+//! The `vito` command: parse arguments, run, exit with the command's code (see `cli`).
+
+use std::process::ExitCode;
+
+use clap::Parser;
+
+mod cli;
+
+fn main() -> ExitCode {
+    cli::run(cli::Args::parse())
 }

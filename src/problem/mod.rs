@@ -1,5 +1,19 @@
 //! Problem files: the TOML schema, its validation, and the checked [`ProblemSpec`].
+//!
+//! `load(path, overrides)` reads a problem file, applies `--set` overrides, resolves every
+//! name against the robot and returns a [`LoadedProblem`] holding the [`ProblemSpec`].
 
+mod error;
+mod robot;
+pub mod schema;
+mod source;
 mod spec;
+mod starter;
+mod validate;
 
+pub use error::{Location, ProblemError};
+pub use robot::{CoordinateKind, RobotError, RobotInfo, UrdfContact};
+pub use source::{edit_distance, nearest};
 pub use spec::*;
+pub use starter::starter_problem;
+pub use validate::{LoadedProblem, Override, Units, load};

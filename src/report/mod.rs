@@ -1,1 +1,279 @@
-//! (in progress)
+//! What a researcher reads: trajectory CSV, summary JSON, SVG plots (written atomically),
+//! and the regression record of solved costs.
+
+#![warn(missing_docs)]
+
+mod csv;
+mod golden;
+mod modes;
+mod outdir;
+mod plot;
+mod summary;
+
+pub use csv::*;
+pub use golden::*;
+pub use modes::*;
+pub use outdir::*;
+pub use plot::{contact_modes_svg, coordinates_svg, inputs_svg};
+pub use summary::*;
+
+use std::path::{Path, PathBuf};
+
+use crate::problem::CoordinateKind;
+use crate::problem::{LoadedProblem, RobotInfo, Units};
+use crate::transcription::Solution;
+
+/// Why outputs could not be written.
+#[derive(Debug, thiserror::Error)]
+pub enum ReportError {
+    /// A file or directory could not be written.
+    #[error("cannot write output directory {path}: {source}")]
+    Io {
+        /// The file or directory.
+        path: PathBuf,
+        /// The operating-system error.
+        source: std::io::Error,
+    },
+    /// plotters failed to draw.
+    #[error("cannot draw {path}: {message}")]
+    Plot {
+        /// The plot file.
+        path: PathBuf,
+        /// plotters' message.
+        message: String,
+    },
+}
+
+/// Column units for a robot in the given unit system.
+pub fn column_units(robot: &RobotInfo, units: &Units) -> ColumnUnits {
+    let angle_or_length = |k: &CoordinateKind| match k {
+        CoordinateKind::Linear => units.length.clone(),
+        CoordinateKind::Angular => "rad".to_owned(),
+    };
+    let force = units.force();
+    ColumnUnits {
+        time: units.time.clone(),
+        length: units.length.clone(),
+        coordinates: robot.coordinate_kinds.iter().map(angle_or_length).collect(),
+        inputs: robot
+            .input_kinds
+            .iter()
+            .map(|k| match k {
+                CoordinateKind::Linear => force.clone(),
+                CoordinateKind::Angular => format!("{force}·{}", units.length),
+            })
+            .collect(),
+        impulse: format!("{force}·{}", units.time),
+    }
+}
+
+/// Writes `trajectory.csv`, `summary.json` and the three plots into `target`, atomically:
+/// an existing `target` is replaced only once everything is written.
+pub fn write_outputs(
+    target: &Path,
+    problem: &LoadedProblem,
+    solution: &Solution,
+) -> Result<PathBuf, ReportError> {
+    let io = |path: &Path| {
+        let path = path.to_owned();
+        move |source| ReportError::Io { path, source }
+    };
+    let staged = StagedDir::new(target).map_err(io(target))?;
+    let dir = staged.path().to_owned();
+    let units = column_units(&problem.robot, &problem.units);
+    let csv_path = dir.join("trajectory.csv");
+    std::fs::write(&csv_path, trajectory_csv(solution, &units)).map_err(io(&csv_path))?;
+    let summary = summary_json(problem, solution);
+    let json_path = dir.join("summary.json");
+    let text = serde_json::to_string_pretty(&summary).unwrap_or_default();
+    std::fs::write(&json_path, text + "\n").map_err(io(&json_path))?;
+    let plot_err = |name: &str| {
+        let path = target.join(name);
+        move |message| ReportError::Plot { path, message }
+    };
+    coordinates_svg(&dir.join("coordinates.svg"), solution, &units.time)
+        .map_err(plot_err("coordinates.svg"))?;
+    inputs_svg(&dir.join("inputs.svg"), solution, &units.time).map_err(plot_err("inputs.svg"))?;
+    let friction: Vec<f64> = problem.spec.contacts.iter().map(|c| c.friction).collect();
+    let modes = contact_modes(solution, &friction);
+    contact_modes_svg(
+        &dir.join("contact_modes.svg"),
+        solution,
+        &modes,
+        &units.time,
+    )
+    .map_err(plot_err("contact_modes.svg"))?;
+    staged.commit().map_err(io(target))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ipopt::Status;
+    use crate::transcription::NlpSize;
+
+    /// A hand-made two-contact planar solution with 4 knots.
+    pub(crate) fn sample_solution() -> Solution {
+        Solution {
+            status: Status::SolveSucceeded,
+            objective: 1.25,
+            objective_terms: vec![
+                ("state_tracking".into(), 1.0),
+                ("slack_penalty".into(), 0.25),
+            ],
+            iterations: 17,
+            wall_time_s: 0.5,
+            callback_time_s: 0.2,
+            ipopt_time_s: 0.3,
+            size: NlpSize {
+                n_variables: 40,
+                n_constraints: 30,
+                nnz_jacobian: 200,
+                nnz_hessian: 90,
+            },
+            coordinate_names: vec!["x".into(), "theta".into()],
+            input_names: vec!["theta".into()],
+            contact_names: vec!["toe".into(), "heel".into()],
+            friction_directions: 2,
+            times: vec![0.0, 0.1, 0.2, 0.3],
+            time_steps: vec![0.1; 3],
+            q: vec![
+                vec![0.0, 0.0],
+                vec![0.1, 0.2],
+                vec![0.2, 0.3],
+                vec![0.3, 0.25],
+            ],
+            v: vec![
+                vec![0.0, 0.0],
+                vec![1.0, 2.0],
+                vec![1.0, 1.0],
+                vec![1.0, -0.5],
+            ],
+            u: vec![vec![1.0], vec![-2.0], vec![0.5]],
+            // toe: flight, stick, slide; heel: stick, flight, flight.
+            normal_impulse: vec![vec![0.0, 2.0], vec![1.0, 1e-7], vec![1.0, 0.0]],
+            friction_impulse: vec![
+                vec![vec![0.0, 0.0], vec![0.5, 0.0]],
+                vec![vec![0.2, 0.1], vec![0.0, 0.0]],
+                vec![vec![0.0, 1.0], vec![0.0, 0.0]],
+            ],
+            signed_distance: vec![vec![0.1, 0.0], vec![0.0, 0.05], vec![0.0, 0.2]],
+            slack: vec![vec![1e-9], vec![2e-9], vec![3e-9]],
+            max_slack: 3e-9,
+            max_complementarity: 1e-9,
+            max_constraint_violation: 1e-10,
+        }
+    }
+
+    #[test]
+    fn modes_follow_the_stated_thresholds() {
+        let modes = contact_modes(&sample_solution(), &[1.0, 1.0]);
+        use ContactMode::*;
+        assert_eq!(
+            modes,
+            vec![
+                vec![Flight, Stick],
+                vec![Stick, Flight],
+                vec![Slide, Flight]
+            ]
+        );
+    }
+
+    #[test]
+    fn csv_has_a_row_per_knot_and_reads_back() {
+        let s = sample_solution();
+        let units = ColumnUnits {
+            time: "s".into(),
+            length: "m".into(),
+            coordinates: vec!["m".into(), "rad".into()],
+            inputs: vec!["N·m".into()],
+            impulse: "N·s".into(),
+        };
+        let text = trajectory_csv(&s, &units);
+        let header = text.lines().next().unwrap();
+        assert!(header.starts_with("time [s],x [m],theta [rad],x_dot [m/s],theta_dot [rad/s],u_theta [N·m],toe_normal [N·s],toe_friction_+x [N·s],toe_friction_-x [N·s],toe_distance [m],"));
+        assert!(header.ends_with(",slack"));
+        let table = read_csv(&text).unwrap();
+        assert_eq!(table.rows(), 4);
+        assert_eq!(table.column("theta").unwrap(), vec![0.0, 0.2, 0.3, 0.25]);
+        let u = table.column("u_theta").unwrap();
+        assert_eq!(&u[..3], &[1.0, -2.0, 0.5]);
+        assert!(u[3].is_nan());
+        assert_eq!(table.column("heel_normal").unwrap()[0], 2.0);
+    }
+}
+
+#[cfg(test)]
+mod output_tests {
+    use super::*;
+
+    /// The sample solution widened to the hopper's names (4 coordinates, 2 inputs, 1 contact).
+    fn hopper_like() -> Solution {
+        let mut s = tests::sample_solution();
+        s.coordinate_names = ["x", "z", "theta", "r"].map(String::from).to_vec();
+        s.input_names = vec!["theta".into(), "r".into()];
+        s.contact_names = vec!["foot_contact".into()];
+        s.q = (0..4)
+            .map(|k| vec![0.1 * k as f64, 0.5, 0.01 * k as f64, 0.5])
+            .collect();
+        s.v = vec![vec![0.0; 4]; 4];
+        s.u = vec![vec![1.0, 2.0]; 3];
+        s.normal_impulse = vec![vec![1.0]; 3];
+        s.friction_impulse = vec![vec![vec![0.1, 0.0]]; 3];
+        s.signed_distance = vec![vec![0.0]; 3];
+        s
+    }
+
+    #[test]
+    fn outputs_are_complete_and_agree() {
+        let problem_file = Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/hopper_2d.toml");
+        let problem = crate::problem::load(&problem_file, &[]).unwrap();
+        let s = hopper_like();
+        let dir = tempfile::tempdir().unwrap();
+        let target = dir.path().join("out");
+        std::fs::create_dir(&target).unwrap();
+        std::fs::write(target.join("stale.txt"), "old").unwrap();
+        let written = write_outputs(&target, &problem, &s).unwrap();
+        assert_eq!(written, target);
+        assert!(!target.join("stale.txt").exists());
+        for svg in ["coordinates.svg", "inputs.svg", "contact_modes.svg"] {
+            let text = std::fs::read_to_string(target.join(svg)).unwrap();
+            assert!(text.contains("<svg"), "{svg} is not an SVG");
+        }
+        let summary: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(target.join("summary.json")).unwrap())
+                .unwrap();
+        for key in [
+            "status",
+            "objective",
+            "iterations",
+            "wall_time_s",
+            "callback_time_s",
+            "ipopt_time_s",
+            "max_slack",
+            "max_complementarity",
+            "n_variables",
+            "n_constraints",
+            "nnz_jacobian",
+            "nnz_hessian",
+            "problem",
+            "parameters",
+            "vito_version",
+        ] {
+            assert!(summary.get(key).is_some(), "summary.json lacks `{key}`");
+        }
+        assert_eq!(summary["status"], "solve_succeeded");
+        assert_eq!(summary["objective"], 1.25);
+        let table =
+            read_csv(&std::fs::read_to_string(target.join("trajectory.csv")).unwrap()).unwrap();
+        assert_eq!(table.rows(), s.times.len());
+        for name in ["x", "z", "theta", "r"] {
+            let last = *table.column(name).unwrap().last().unwrap();
+            assert_eq!(summary["final_q"][name].as_f64().unwrap(), last);
+        }
+        assert_eq!(
+            table.column("time").unwrap().last().copied(),
+            summary["total_time"].as_f64()
+        );
+    }
+}

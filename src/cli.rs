@@ -1,0 +1,671 @@
+//! The `vito` command: arguments (clap derive), the subcommands, and exit codes.
+//!
+//! Exit codes: 0 solved (or check/inspect/regress passed), 1 solved but not optimal (or a
+//! regression differs), 2 input or usage error, 3 internal error.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use clap::{Parser, Subcommand, ValueEnum};
+
+use vito::model::BaseType;
+use vito::problem::{LoadedProblem, Override, ProblemError, RobotInfo, TimeSteps, load};
+use vito::report::{self, GoldenEntry, GoldenRecord, is_solved, objective_matches, status_name};
+use vito::transcription::Solution;
+
+/// A closed stdout (`vito check x | head -1`) ends the command quietly with success,
+/// like ripgrep; any other write error is left to the caller.
+fn exit_quietly_on_broken_pipe(e: &std::io::Error) {
+    if e.kind() == std::io::ErrorKind::BrokenPipe {
+        std::process::exit(0);
+    }
+}
+
+/// `println!` that treats a broken pipe as the end of the output.
+macro_rules! out {
+    ($($arg:tt)*) => {
+        if let Err(e) = writeln!(std::io::stdout(), $($arg)*) {
+            exit_quietly_on_broken_pipe(&e);
+        }
+    };
+}
+
+const EXIT_CODES: &str = "Exit codes:\n  0  solved (check, inspect, regress: passed)\n  1  finished but not optimal (or stopped with Ctrl-C; regress: a result differs)\n  2  input or usage error (the message names the file, line and field)\n  3  internal error";
+
+/// vito: variational contact-implicit trajectory optimisation for legged robots.
+#[derive(Debug, Parser)]
+#[command(name = "vito", version, about, after_help = EXIT_CODES)]
+pub struct Args {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// Base joint choice on the command line.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum BaseArg {
+    Fixed,
+    Planar,
+    Floating,
+}
+
+impl From<BaseArg> for BaseType {
+    fn from(b: BaseArg) -> BaseType {
+        match b {
+            BaseArg::Fixed => BaseType::Fixed,
+            BaseArg::Planar => BaseType::Planar,
+            BaseArg::Floating => BaseType::Floating,
+        }
+    }
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Solve a problem file and write trajectory.csv, summary.json and plots.
+    #[command(after_help = EXIT_CODES)]
+    Solve {
+        /// Problem file (TOML).
+        file: PathBuf,
+        /// Override a value of the file before checking it, e.g. `--set slack.weight=1e3`
+        /// or `--set contacts.friction=0.5` (repeatable; value parsed as TOML).
+        #[arg(long = "set", value_name = "KEY.PATH=VALUE")]
+        set: Vec<String>,
+        /// Output directory (default: `output.dir` of the file, else `out/<problem name>`).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// No live progress lines.
+        #[arg(long, short)]
+        quiet: bool,
+    },
+    /// Check a problem file without solving and print its size.
+    #[command(after_help = EXIT_CODES)]
+    Check {
+        /// Problem file (TOML).
+        file: PathBuf,
+        /// Overrides as for `solve`.
+        #[arg(long = "set", value_name = "KEY.PATH=VALUE")]
+        set: Vec<String>,
+    },
+    /// Write a commented starter problem for a URDF (to stdout, or to `--out`).
+    Init {
+        /// Robot model (URDF).
+        urdf: PathBuf,
+        /// Base joint.
+        #[arg(long, value_enum, default_value = "floating")]
+        base: BaseArg,
+        /// File to write (refuses to overwrite an existing one).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Print what vito reads from a URDF: coordinates, inputs, limits, springs, contacts.
+    Inspect {
+        /// Robot model (URDF).
+        urdf: PathBuf,
+        /// Base joint.
+        #[arg(long, value_enum, default_value = "fixed")]
+        base: BaseArg,
+        /// Print JSON instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Time the NLP callbacks of problems and print a table (default: the reference problems).
+    Bench {
+        /// Problem files (default: problems/{hopper_2d,brick_3d,spring_flamingo_walk,littledog_step}.toml).
+        files: Vec<PathBuf>,
+    },
+    /// Solve every problem of the regression record and compare objectives; `--bless` rewrites it.
+    #[command(after_help = EXIT_CODES)]
+    Regress {
+        /// Rewrite the record with the new results (atomically).
+        #[arg(long)]
+        bless: bool,
+        /// The regression record.
+        #[arg(long, default_value = "problems/golden.toml")]
+        record: PathBuf,
+        /// Problems to check or add (relative to the working directory); default: the record's.
+        files: Vec<PathBuf>,
+    },
+}
+
+/// Everything that ends a command early; the variant decides the exit code.
+#[derive(Debug, thiserror::Error)]
+pub enum CliError {
+    #[error(transparent)]
+    Problem(#[from] ProblemError),
+    #[error("{0}")]
+    Input(String),
+    #[error(transparent)]
+    Report(#[from] report::ReportError),
+    #[error(transparent)]
+    Golden(#[from] report::GoldenError),
+    #[error("internal error: {0}")]
+    Internal(String),
+}
+
+impl CliError {
+    /// Exit code: 2 for input errors, 3 for internal ones.
+    pub fn exit_code(&self) -> u8 {
+        match self {
+            CliError::Problem(_) | CliError::Input(_) | CliError::Golden(_) => 2,
+            CliError::Report(_) | CliError::Internal(_) => 3,
+        }
+    }
+}
+
+/// Runs a parsed command; prints the error (once, with its chain) and returns the exit code.
+pub fn run(args: Args) -> ExitCode {
+    // A panic is a bug, never an input error: report it as internal (exit 3), once.
+    let outcome = std::panic::catch_unwind(move || dispatch(args));
+    let result = outcome.unwrap_or_else(|_| {
+        Err(CliError::Internal(
+            "vito panicked (a bug; the message above says where)".into(),
+        ))
+    });
+    match result {
+        Ok(code) => ExitCode::from(code),
+        Err(e) => {
+            print_error(&e);
+            ExitCode::from(e.exit_code())
+        }
+    }
+}
+
+fn dispatch(args: Args) -> Result<u8, CliError> {
+    match args.command {
+        Command::Solve {
+            file,
+            set,
+            out,
+            quiet,
+        } => solve(&file, &set, out.as_deref(), quiet),
+        Command::Check { file, set } => check(&file, &set),
+        Command::Init { urdf, base, out } => init(&urdf, base.into(), out.as_deref()),
+        Command::Inspect { urdf, base, json } => inspect(&urdf, base.into(), json),
+        Command::Bench { files } => bench(&files),
+        Command::Regress {
+            bless,
+            record,
+            files,
+        } => regress(&record, &files, bless),
+    }
+}
+
+fn print_error(e: &CliError) {
+    let mut message = format!("error: {e}");
+    let mut source = std::error::Error::source(e);
+    while let Some(s) = source {
+        let text = s.to_string();
+        if !message.contains(&text) {
+            message.push_str(&format!("\n  caused by: {text}"));
+        }
+        source = s.source();
+    }
+    let _ = writeln!(std::io::stderr(), "{message}");
+}
+
+fn parse_overrides(set: &[String]) -> Result<Vec<Override>, CliError> {
+    Ok(set
+        .iter()
+        .map(|s| Override::parse(s))
+        .collect::<Result<_, _>>()?)
+}
+
+/// Friction directions per contact the transcription uses: 4 with a floating base, else 2.
+fn friction_directions(base: BaseType) -> usize {
+    match base {
+        BaseType::Floating => 4,
+        BaseType::Fixed | BaseType::Planar => 2,
+    }
+}
+
+/// The NLP size by SPEC.md's layout (variables, constraints).
+fn expected_size(p: &LoadedProblem) -> (usize, usize) {
+    let s = &p.spec;
+    let n = p.robot.coordinates.len();
+    let m = p.robot.inputs.len();
+    let nc = s.contacts.len();
+    let nd = friction_directions(s.robot.base);
+    let intervals = s.knots - 1;
+    let slacks = match s.slack_mode {
+        vito::problem::SlackMode::PerInterval => 1,
+        vito::problem::SlackMode::PerContact => 3 * nc,
+    };
+    let slack_variables = match s.slack_mode {
+        vito::problem::SlackMode::PerInterval => 1,
+        vito::problem::SlackMode::PerContact => 3 * nc,
+    };
+    let variables = s.knots * n + n + intervals * (1 + m + nc * (2 + 2 * nd) + slack_variables);
+    // DEL (n), tangential velocity (nc·nd), φ ≥ 0 and friction cone (nc each), and the
+    // three complementarity rows per slack.
+    let per_interval = n + nc * nd + 2 * nc + 3 * slacks;
+    let equal_steps = match s.time_steps {
+        TimeSteps::FreeEqual { .. } => intervals.saturating_sub(1),
+        TimeSteps::Fixed(_) => 0,
+    };
+    let periodic: usize = s
+        .periodic
+        .iter()
+        .map(|q| usize::from(q.position) + usize::from(q.velocity))
+        .sum();
+    (variables, intervals * per_interval + equal_steps + periodic)
+}
+
+/// Asks Ipopt whether it takes every option of the problem (name, type, range), so that a
+/// typo in `[solver.ipopt]` is an input error naming its line, before any solve.
+fn check_solver_options(p: &LoadedProblem) -> Result<(), CliError> {
+    use vito::problem::OptionValue;
+    for (name, value) in &p.spec.solver_options {
+        let value = match value {
+            OptionValue::Str(s) => vito::ipopt::OptionValue::Str(s.clone()),
+            OptionValue::Num(x) => vito::ipopt::OptionValue::Num(*x),
+            OptionValue::Int(i) => vito::ipopt::OptionValue::Int(*i),
+        };
+        vito::ipopt::Solver::new()
+            .set_option(name, value)
+            .map_err(|e| p.field_error(&format!("solver.ipopt.{name}"), e.to_string()))?;
+    }
+    Ok(())
+}
+
+fn check(file: &Path, set: &[String]) -> Result<u8, CliError> {
+    let overrides = parse_overrides(set)?;
+    let p = load(file, &overrides)?;
+    check_solver_options(&p)?;
+    let s = &p.spec;
+    let (variables, constraints) = expected_size(&p);
+    let horizon = match s.time_steps {
+        TimeSteps::Fixed(h) => format!(
+            "{} knots, fixed h = {h} {t} (T = {} {t})",
+            s.knots,
+            h * (s.knots - 1) as f64,
+            t = p.units.time
+        ),
+        TimeSteps::FreeEqual { t_min, t_max } => format!(
+            "{} knots, free equal steps, T in [{t_min}, {t_max}] {}",
+            s.knots, p.units.time
+        ),
+    };
+    out!("{}: ok ({})", file.display(), s.name);
+    if let Some(d) = &p.description {
+        out!("  {}", d.trim());
+    }
+    out!(
+        "  robot:       {} ({:?} base)",
+        s.robot.urdf.display(),
+        s.robot.base
+    );
+    out!(
+        "  coordinates: {} ({})",
+        p.robot.coordinates.len(),
+        p.robot.coordinates.join(", ")
+    );
+    out!(
+        "  inputs:      {} ({})",
+        p.robot.inputs.len(),
+        p.robot.inputs.join(", ")
+    );
+    let contacts: Vec<String> = s
+        .contacts
+        .iter()
+        .map(|c| format!("{} (mu {})", c.name, c.friction))
+        .collect();
+    out!(
+        "  contacts:    {} ({})",
+        s.contacts.len(),
+        contacts.join(", ")
+    );
+    out!("  horizon:     {horizon}");
+    out!(
+        "  costs:       {} terms, slack weight {}",
+        s.costs.len(),
+        s.slack_weight
+    );
+    out!(
+        "  NLP size:    {variables} variables, {constraints} constraints (SPEC.md layout, {} friction directions per contact)",
+        friction_directions(s.robot.base)
+    );
+    Ok(0)
+}
+
+/// Progress line printed on stderr at each Ipopt iteration.
+pub fn progress_line(
+    iteration: usize,
+    objective: f64,
+    inf_pr: f64,
+    inf_du: f64,
+    max_slack: f64,
+) -> String {
+    format!("{iteration:>5}  {objective:>14.7e}  {inf_pr:>9.2e}  {inf_du:>9.2e}  {max_slack:>9.2e}")
+}
+
+fn solve(file: &Path, set: &[String], out: Option<&Path>, quiet: bool) -> Result<u8, CliError> {
+    let overrides = parse_overrides(set)?;
+    let problem = load(file, &overrides)?;
+    check_solver_options(&problem)?;
+    let target = match (out, &problem.output_dir) {
+        (Some(o), _) => o.to_owned(),
+        (None, Some(d)) => d.clone(),
+        (None, None) => PathBuf::from("out").join(&problem.spec.name),
+    };
+    let cancel = Arc::new(AtomicBool::new(false));
+    {
+        let cancel = cancel.clone();
+        // First Ctrl-C: stop at the next iteration and write the best iterate. A second one
+        // exits at once (exit 1) without writing, leaving any previous output untouched.
+        // A second handler cannot be installed in one process; ignoring that error keeps the
+        // first (which sets the same kind of flag) in place.
+        let _ = ctrlc::set_handler(move || {
+            if cancel.swap(true, Ordering::SeqCst) {
+                eprintln!("interrupted again: exiting without writing results");
+                std::process::exit(1);
+            }
+            eprintln!("interrupted: stopping after this iteration (Ctrl-C again to quit now)");
+        });
+    }
+    if !quiet {
+        eprintln!(
+            "solving {} ({} knots)",
+            problem.spec.name, problem.spec.knots
+        );
+        eprintln!(" iter       objective     inf_pr     inf_du  max_slack");
+    }
+    let solution = run_solver(&problem, cancel.clone(), quiet)?;
+    let written = report::write_outputs(&target, &problem, &solution)?;
+    print_summary(&problem, &solution, &written);
+    Ok(if is_solved(solution.status) { 0 } else { 1 })
+}
+
+/// Calls the transcription's solver with progress and cancel.
+///
+/// PENDING: `transcription::solve(spec, &SolveOptions)` has not landed on `main`; until it
+/// does, this reports an internal error instead of solving.
+fn run_solver(
+    problem: &LoadedProblem,
+    cancel: Arc<AtomicBool>,
+    quiet: bool,
+) -> Result<Solution, CliError> {
+    // The progress callback SolveOptions will carry: one line per Ipopt iteration on stderr.
+    let progress = move |it: &vito::ipopt::IterationInfo, max_slack: f64| {
+        if !quiet {
+            eprintln!(
+                "{}",
+                progress_line(it.iteration, it.objective, it.inf_pr, it.inf_du, max_slack)
+            );
+        }
+    };
+    let _ = (problem, cancel, progress);
+    Err(CliError::Internal(
+        "this build has no solver yet (transcription::solve is not merged); `vito check` works"
+            .into(),
+    ))
+}
+
+fn print_summary(problem: &LoadedProblem, s: &Solution, dir: &Path) {
+    out!("problem      {}", problem.spec.name);
+    out!("status       {}", status_name(s.status));
+    out!("objective    {:.10e}", s.objective);
+    for (name, value) in &s.objective_terms {
+        out!("  {name:<22} {value:.6e}");
+    }
+    out!("iterations   {}", s.iterations);
+    out!(
+        "time         {:.3} s wall ({:.3} s in vito callbacks, {:.3} s in Ipopt)",
+        s.wall_time_s,
+        s.callback_time_s,
+        s.ipopt_time_s
+    );
+    out!("max slack    {:.3e}", s.max_slack);
+    out!("max compl.   {:.3e}", s.max_complementarity);
+    out!("max viol.    {:.3e}", s.max_constraint_violation);
+    out!(
+        "size         {} variables, {} constraints, nnz J {}, nnz H {}",
+        s.size.n_variables,
+        s.size.n_constraints,
+        s.size.nnz_jacobian,
+        s.size.nnz_hessian
+    );
+    if let Some(t) = s.times.last() {
+        out!("horizon      T = {t:.6} {}", problem.units.time);
+    }
+    out!("written to   {}", dir.display());
+}
+
+fn init(urdf: &Path, base: BaseType, out: Option<&Path>) -> Result<u8, CliError> {
+    let robot = RobotInfo::read(urdf, base).map_err(|e| CliError::Input(e.to_string()))?;
+    let urdf_text = match out.and_then(Path::parent) {
+        Some(dir) if !dir.as_os_str().is_empty() => relative_path(urdf, dir),
+        _ => urdf.display().to_string(),
+    };
+    let text = vito::problem::starter_problem(&robot, base, &urdf_text);
+    match out {
+        None => {
+            if let Err(e) = std::io::stdout().write_all(text.as_bytes()) {
+                exit_quietly_on_broken_pipe(&e);
+            }
+        }
+        Some(path) => {
+            if path.exists() {
+                return Err(CliError::Input(format!(
+                    "{} exists; vito init never overwrites a file (choose another --out)",
+                    path.display()
+                )));
+            }
+            std::fs::write(path, text)
+                .map_err(|e| CliError::Input(format!("cannot write {}: {e}", path.display())))?;
+            eprintln!("wrote {}", path.display());
+        }
+    }
+    Ok(0)
+}
+
+/// `target` relative to `dir` when both are relative or share a prefix; else absolute.
+fn relative_path(target: &Path, dir: &Path) -> String {
+    let abs = |p: &Path| std::path::absolute(p).unwrap_or_else(|_| p.to_owned());
+    let (t, d) = (abs(target), abs(dir));
+    let common = t
+        .components()
+        .zip(d.components())
+        .take_while(|(a, b)| a == b)
+        .count();
+    let ups = d.components().count() - common;
+    let mut rel = PathBuf::new();
+    for _ in 0..ups {
+        rel.push("..");
+    }
+    for c in t.components().skip(common) {
+        rel.push(c);
+    }
+    rel.display().to_string()
+}
+
+fn inspect(urdf: &Path, base: BaseType, json: bool) -> Result<u8, CliError> {
+    let model = vito::model::Model::from_urdf_file(urdf, base)
+        .map_err(|e| CliError::Input(e.to_string()))?;
+    let inspection = vito::model::inspect(&model);
+    if json {
+        let text = serde_json::to_string_pretty(&inspection)
+            .map_err(|e| CliError::Internal(e.to_string()))?;
+        out!("{text}");
+    } else {
+        out!("{inspection}");
+    }
+    Ok(0)
+}
+
+/// The reference problems of SPEC.md, as `vito bench` runs them by default.
+pub const REFERENCE_PROBLEMS: [&str; 4] = [
+    "problems/hopper_2d.toml",
+    "problems/brick_3d.toml",
+    "problems/spring_flamingo_walk.toml",
+    "problems/littledog_step.toml",
+];
+
+/// PENDING: prints `transcription::bench` rows once the transcription lands on `main`.
+fn bench(files: &[PathBuf]) -> Result<u8, CliError> {
+    let files: Vec<PathBuf> = if files.is_empty() {
+        REFERENCE_PROBLEMS.iter().map(PathBuf::from).collect()
+    } else {
+        files.to_vec()
+    };
+    for f in &files {
+        load(f, &[])?;
+    }
+    Err(CliError::Internal(
+        "this build has no transcription yet (transcription::bench is not merged)".into(),
+    ))
+}
+
+/// One row of the regression table.
+struct RegressRow {
+    file: String,
+    status: String,
+    objective: Option<f64>,
+    recorded: Option<f64>,
+    verdict: &'static str,
+}
+
+fn regress(record_path: &Path, files: &[PathBuf], bless: bool) -> Result<u8, CliError> {
+    let mut record = GoldenRecord::read(record_path)?;
+    let base = record_path.parent().unwrap_or(Path::new("")).to_owned();
+    let mut names: Vec<String> = record.problem.iter().map(|e| e.file.clone()).collect();
+    for f in files {
+        let name = relative_path(
+            f,
+            if base.as_os_str().is_empty() {
+                Path::new(".")
+            } else {
+                &base
+            },
+        );
+        if !names.contains(&name) {
+            names.push(name);
+        }
+    }
+    if names.is_empty() {
+        return Err(CliError::Input(format!(
+            "{} lists no problems; name problem files to add them with --bless",
+            record_path.display()
+        )));
+    }
+    let exe = std::env::current_exe().map_err(|e| CliError::Internal(e.to_string()))?;
+    let scratch = tempdir_near(record_path)?;
+    let mut rows = Vec::new();
+    let mut failed = false;
+    for name in &names {
+        let problem = base.join(name);
+        let out = scratch.join(name.replace(['/', '\\'], "_"));
+        // Each solve runs in its own process (one Ipopt solve per process; see DESIGN.md).
+        let status = std::process::Command::new(&exe)
+            .arg("solve")
+            .arg(&problem)
+            .arg("--out")
+            .arg(&out)
+            .arg("--quiet")
+            .stdout(std::process::Stdio::null())
+            .status()
+            .map_err(|e| CliError::Internal(format!("cannot run {}: {e}", exe.display())))?;
+        let summary = std::fs::read_to_string(out.join("summary.json"))
+            .ok()
+            .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok());
+        let recorded = record.entry(name).cloned();
+        let row = match summary {
+            None => {
+                failed = true;
+                RegressRow {
+                    file: name.clone(),
+                    status: format!("no result (exit {})", status.code().unwrap_or(-1)),
+                    objective: None,
+                    recorded: recorded.as_ref().map(|e| e.objective),
+                    verdict: "FAIL",
+                }
+            }
+            Some(summary) => {
+                let objective = summary["objective"].as_f64().unwrap_or(f64::NAN);
+                let status_text = summary["status"].as_str().unwrap_or("?").to_owned();
+                let solved = matches!(
+                    status_text.as_str(),
+                    "solve_succeeded" | "solved_to_acceptable_level"
+                );
+                let verdict = match (&recorded, solved) {
+                    (_, false) => "FAIL",
+                    (None, true) => "NEW",
+                    (Some(e), true) if objective_matches(e, objective) => "ok",
+                    (Some(_), true) => "DIFF",
+                };
+                if bless && solved {
+                    record.upsert(GoldenEntry {
+                        file: name.clone(),
+                        objective,
+                        tolerance: recorded
+                            .as_ref()
+                            .map_or(report::DEFAULT_TOLERANCE, |e| e.tolerance),
+                        status: status_text.clone(),
+                        iterations: summary["iterations"].as_u64().unwrap_or(0) as usize,
+                        max_slack: summary["max_slack"].as_f64().unwrap_or(f64::NAN),
+                        source: Some(format!("vito {}", env!("CARGO_PKG_VERSION"))),
+                    });
+                }
+                failed |= verdict != "ok";
+                RegressRow {
+                    file: name.clone(),
+                    status: status_text,
+                    objective: Some(objective),
+                    recorded: recorded.as_ref().map(|e| e.objective),
+                    verdict,
+                }
+            }
+        };
+        rows.push(row);
+    }
+    let _ = std::fs::remove_dir_all(&scratch);
+    out!(
+        "{:<32} {:<28} {:>18} {:>18} {:>10}  result",
+        "problem",
+        "status",
+        "objective",
+        "recorded",
+        "rel. diff"
+    );
+    for r in &rows {
+        let fmt = |x: Option<f64>| x.map_or("-".to_owned(), |v| format!("{v:.10e}"));
+        let diff = match (r.objective, r.recorded) {
+            (Some(a), Some(b)) => format!("{:.2e}", (a - b).abs() / b.abs().max(1.0)),
+            _ => "-".into(),
+        };
+        out!(
+            "{:<32} {:<28} {:>18} {:>18} {:>10}  {}",
+            r.file,
+            r.status,
+            fmt(r.objective),
+            fmt(r.recorded),
+            diff,
+            r.verdict
+        );
+    }
+    if bless {
+        record.write(record_path)?;
+        out!("blessed {}", record_path.display());
+        return Ok(if rows.iter().any(|r| r.verdict == "FAIL") {
+            1
+        } else {
+            0
+        });
+    }
+    Ok(if failed { 1 } else { 0 })
+}
+
+fn tempdir_near(path: &Path) -> Result<PathBuf, CliError> {
+    let dir = std::env::temp_dir().join(format!(
+        "vito-regress-{}-{}",
+        std::process::id(),
+        path.file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default()
+    ));
+    std::fs::create_dir_all(&dir)
+        .map_err(|e| CliError::Internal(format!("cannot create {}: {e}", dir.display())))?;
+    Ok(dir)
+}

@@ -1,0 +1,496 @@
+//! The problem file as written (TOML, serde): only types, no checks beyond the TOML grammar.
+//!
+//! Every table denies unknown keys, so a typo is an error, never a silently ignored line.
+//! Units are the robot's units: SI (m, kg, s, rad, N, N·m) unless `robot.units` says
+//! otherwise (HAMR: mm, g, ms, with gravity given explicitly). `validate` turns a
+//! [`ProblemFile`] into a checked [`crate::problem::ProblemSpec`].
+
+#![warn(missing_docs)]
+
+use std::collections::BTreeMap;
+use std::fmt;
+
+use serde::de::{self, MapAccess, SeqAccess, Visitor};
+use serde::{Deserialize, Deserializer};
+
+/// A whole problem file.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ProblemFile {
+    /// Short name used in outputs and regression records (default: the file stem).
+    pub name: Option<String>,
+    /// Free text shown by `vito check`.
+    pub description: Option<String>,
+    /// `[robot]`.
+    pub robot: RobotSection,
+    /// `[contacts]`.
+    #[serde(default)]
+    pub contacts: ContactsSection,
+    /// `[terrain]`.
+    #[serde(default)]
+    pub terrain: TerrainSection,
+    /// `[horizon]`.
+    pub horizon: HorizonSection,
+    /// `[initial]`.
+    pub initial: InitialSection,
+    /// `[final]`.
+    #[serde(rename = "final", default)]
+    pub final_: FinalSection,
+    /// Extra coordinate bounds, intersected with each other and with the joint limits.
+    #[serde(default)]
+    pub bounds: Vec<BoundEntry>,
+    /// `[inputs]`.
+    #[serde(default)]
+    pub inputs: InputsSection,
+    /// Cost terms; the slack penalty is added on top (see `slack`).
+    #[serde(default)]
+    pub cost: Vec<CostEntry>,
+    /// `[slack]`.
+    pub slack: SlackSection,
+    /// `[[periodic]]` conditions.
+    #[serde(default)]
+    pub periodic: Vec<PeriodicEntry>,
+    /// `[initial_guess]`.
+    #[serde(default)]
+    pub initial_guess: InitialGuessSection,
+    /// `[solver]`.
+    #[serde(default)]
+    pub solver: SolverSection,
+    /// `[output]`.
+    #[serde(default)]
+    pub output: OutputSection,
+}
+
+/// `[robot]`: the model and its environment constants.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RobotSection {
+    /// URDF path, relative to the problem file.
+    pub urdf: String,
+    /// `fixed`, `planar` (base_x, base_z, base_pitch) or `floating` (base_x, base_y, base_z,
+    /// base_roll, base_pitch, base_yaw).
+    #[serde(default)]
+    pub base: BaseName,
+    /// Gravity in world coordinates, robot units (default [0, 0, −9.81] m/s²).
+    pub gravity: Option<[f64; 3]>,
+    /// Unit system, for the reader: `"SI"` (default) or e.g. `"mm g ms"`. Informational only:
+    /// vito never converts; every number in the file is in these units.
+    pub units: Option<String>,
+    /// Apply the URDF joint limits on every knot (default true).
+    pub joint_limits: Option<bool>,
+}
+
+/// The base joint, by name.
+#[derive(Debug, Clone, Copy, Deserialize, Default, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum BaseName {
+    /// Root link welded to the world (default).
+    #[default]
+    Fixed,
+    /// base_x, base_z, base_pitch.
+    Planar,
+    /// base_x, base_y, base_z, base_roll, base_pitch, base_yaw.
+    Floating,
+}
+
+/// `[contacts]`: which points touch the terrain.
+#[derive(Debug, Clone, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct ContactsSection {
+    /// Contacts from the URDF's zero-radius collision spheres: `"all"` (default when no
+    /// explicit `point` is given), `"none"`, or a list of contact names.
+    pub from_urdf: Option<ContactSelection>,
+    /// Coulomb friction coefficient for every contact without its own (default 1).
+    pub friction: Option<f64>,
+    /// Per-contact friction by contact name, overriding `friction`.
+    #[serde(default)]
+    pub friction_by_name: BTreeMap<String, f64>,
+    /// Explicit contact points, after the URDF ones.
+    #[serde(default)]
+    pub point: Vec<ContactPointEntry>,
+}
+
+/// `"all"`, `"none"` or a list of names.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ContactSelection {
+    /// Every zero-radius collision sphere of the URDF.
+    All,
+    /// None of them.
+    None,
+    /// These, by contact name, in this order.
+    Names(Vec<String>),
+}
+
+impl<'de> Deserialize<'de> for ContactSelection {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct SelectionVisitor;
+        impl<'de> Visitor<'de> for SelectionVisitor {
+            type Value = ContactSelection;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("\"all\", \"none\" or a list of contact names")
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<Self::Value, E> {
+                match v {
+                    "all" => Ok(ContactSelection::All),
+                    "none" => Ok(ContactSelection::None),
+                    other => Err(E::invalid_value(de::Unexpected::Str(other), &self)),
+                }
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Self::Value, A::Error> {
+                let mut names = Vec::new();
+                while let Some(name) = seq.next_element::<String>()? {
+                    names.push(name);
+                }
+                Ok(ContactSelection::Names(names))
+            }
+        }
+        deserializer.deserialize_any(SelectionVisitor)
+    }
+}
+
+/// `[[contacts.point]]`: a point fixed on a link.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactPointEntry {
+    /// Name used in outputs.
+    pub name: String,
+    /// URDF link name.
+    pub link: String,
+    /// Point in the link frame [length].
+    pub point: [f64; 3],
+    /// Friction coefficient (default: `contacts.friction`).
+    pub friction: Option<f64>,
+}
+
+/// `[terrain]`: flat ground plus smoothed steps.
+#[derive(Debug, Clone, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct TerrainSection {
+    /// Height of the flat ground [length] (default 0).
+    pub ground_height: Option<f64>,
+    /// Smoothed steps H(x) = rise·½(1 + tanh((x − edge_x)/width)), heights add up.
+    #[serde(default)]
+    pub step: Vec<StepEntry>,
+}
+
+/// `[[terrain.step]]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StepEntry {
+    /// World x of the step's edge [length].
+    pub edge_x: f64,
+    /// Height gained across the edge [length].
+    pub rise: f64,
+    /// Smoothing width w of the tanh [length], > 0.
+    pub width: f64,
+}
+
+/// `[horizon]`: knots and time steps.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HorizonSection {
+    /// Number of knots N ≥ 2.
+    pub knots: i64,
+    /// Fixed time step h [time] (exclusive with `total_time`).
+    pub time_step: Option<f64>,
+    /// Free, equal time steps with total time T in [min, max] [time].
+    pub total_time: Option<[f64; 2]>,
+}
+
+/// `[initial]`: the first knot.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InitialSection {
+    /// q_1, fixed: a table by coordinate name (optional `default` for unnamed ones) or an
+    /// array of full length n in the model's coordinate order.
+    pub q: NamedVector,
+    /// v_0 [length/time or rad/time]: `"zero"`, `"free"`, or a vector like `q` (default zero).
+    pub v: Option<VelocitySpec>,
+}
+
+/// `"zero"`, `"free"` or a vector.
+#[derive(Debug, Clone, PartialEq)]
+pub enum VelocitySpec {
+    /// v_0 = 0, fixed.
+    Zero,
+    /// v_0 is a variable.
+    Free,
+    /// v_0 fixed to these values.
+    Vector(NamedVector),
+}
+
+impl<'de> Deserialize<'de> for VelocitySpec {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct VelocityVisitor;
+        impl<'de> Visitor<'de> for VelocityVisitor {
+            type Value = VelocitySpec;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("\"zero\", \"free\", a table by coordinate name or an array")
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<Self::Value, E> {
+                match v {
+                    "zero" => Ok(VelocitySpec::Zero),
+                    "free" => Ok(VelocitySpec::Free),
+                    other => Err(E::invalid_value(de::Unexpected::Str(other), &self)),
+                }
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, seq: A) -> Result<Self::Value, A::Error> {
+                NamedVectorVisitor.visit_seq(seq).map(VelocitySpec::Vector)
+            }
+            fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<Self::Value, A::Error> {
+                NamedVectorVisitor.visit_map(map).map(VelocitySpec::Vector)
+            }
+        }
+        deserializer.deserialize_any(VelocityVisitor)
+    }
+}
+
+/// `[final]`: the last knot.
+#[derive(Debug, Clone, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct FinalSection {
+    /// Goal configuration by name; coordinates not named keep their `initial.q` value.
+    /// Without `q` and without `free = true`, q_N is free.
+    pub q: Option<NamedVector>,
+    /// q_N within goal ± tolerance on every coordinate (default 0: fixed).
+    pub tolerance: Option<f64>,
+    /// Leave q_N free (the goal, if given, is still the cost and guess target).
+    pub free: Option<bool>,
+}
+
+/// A vector over coordinates, inputs or contacts: a table by name or a full-length array.
+#[derive(Debug, Clone, PartialEq)]
+pub enum NamedVector {
+    /// `[a, b, c]` in the model's order; its length must match.
+    Array(Vec<f64>),
+    /// `{ name = value, ..., default = value }` in file order.
+    Table(Vec<(String, f64)>),
+}
+
+struct NamedVectorVisitor;
+
+impl<'de> Visitor<'de> for NamedVectorVisitor {
+    type Value = NamedVector;
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("a table of numbers by name or an array of numbers")
+    }
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Self::Value, A::Error> {
+        let mut values = Vec::new();
+        while let Some(v) = seq.next_element::<f64>()? {
+            values.push(v);
+        }
+        Ok(NamedVector::Array(values))
+    }
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Self::Value, A::Error> {
+        let mut entries = Vec::new();
+        while let Some((k, v)) = map.next_entry::<String, f64>()? {
+            entries.push((k, v));
+        }
+        Ok(NamedVector::Table(entries))
+    }
+}
+
+impl<'de> Deserialize<'de> for NamedVector {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        deserializer.deserialize_any(NamedVectorVisitor)
+    }
+}
+
+/// `[[bounds]]`: bounds on one coordinate at a set of knots.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BoundEntry {
+    /// Coordinate name.
+    pub coordinate: String,
+    /// `"all"` (default), `"interior"`, `"first"`, `"last"` or a list of 0-based knots.
+    pub knots: Option<KnotsName>,
+    /// Lower bound (default −∞).
+    pub lower: Option<f64>,
+    /// Upper bound (default +∞).
+    pub upper: Option<f64>,
+}
+
+/// A named set of knots or an explicit list.
+#[derive(Debug, Clone, PartialEq)]
+pub enum KnotsName {
+    /// `all`, `interior`, `first` or `last` (checked by validation).
+    Named(String),
+    /// 0-based knot indices.
+    List(Vec<i64>),
+}
+
+impl<'de> Deserialize<'de> for KnotsName {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct KnotsVisitor;
+        impl<'de> Visitor<'de> for KnotsVisitor {
+            type Value = KnotsName;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("\"all\", \"interior\", \"first\", \"last\" or a list of knot indices")
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<Self::Value, E> {
+                Ok(KnotsName::Named(v.to_owned()))
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Self::Value, A::Error> {
+                let mut knots = Vec::new();
+                while let Some(k) = seq.next_element::<i64>()? {
+                    knots.push(k);
+                }
+                Ok(KnotsName::List(knots))
+            }
+        }
+        deserializer.deserialize_any(KnotsVisitor)
+    }
+}
+
+/// `[inputs]`: bounds on the inputs.
+#[derive(Debug, Clone, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct InputsSection {
+    /// Bound |u_j| ≤ URDF effort (default true; an infinite effort means no bound).
+    pub effort_limits: Option<bool>,
+    /// Explicit bounds by input name, `name = [lower, upper]`, replacing the effort limit.
+    #[serde(default)]
+    pub bounds: BTreeMap<String, [f64; 2]>,
+}
+
+/// `[[cost]]`: one term. Every quadratic term carries ½: ½ (a − b)ᵀ diag(w) (a − b).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum CostEntry {
+    /// Σ_k [h_k] ½ (x̄_k − x_g)ᵀ diag(w_q, w_v) (x̄_k − x_g), midpoint state x̄_k.
+    StateTracking {
+        /// Target configuration: default the final goal (`final.q`); coordinates not
+        /// named keep the goal's value.
+        q_target: Option<NamedVector>,
+        /// Target velocity (default zero).
+        v_target: Option<NamedVector>,
+        /// Weights on the configuration error, per coordinate.
+        q_weights: NamedVector,
+        /// Weights on the velocity error, per coordinate (default 0).
+        v_weights: Option<NamedVector>,
+        /// Multiply each interval's term by h_k (default true).
+        time_weighted: Option<bool>,
+    },
+    /// Σ_k [h_k] ½ u_kᵀ diag(w) u_k.
+    Input {
+        /// Weights per input.
+        weights: NamedVector,
+        /// Multiply by h_k (default true).
+        time_weighted: Option<bool>,
+    },
+    /// Σ_k ½ (u_k − u_{k−1})ᵀ diag(w) (u_k − u_{k−1}).
+    InputRate {
+        /// Weights per input.
+        weights: NamedVector,
+    },
+    /// Σ_k ½ (q_{k+1} − q_k)ᵀ diag(w) (q_{k+1} − q_k).
+    ConfigurationDifference {
+        /// Weights per coordinate.
+        weights: NamedVector,
+    },
+    /// ½ (q_N − q_target)ᵀ diag(w) (q_N − q_target).
+    FinalState {
+        /// Target (default: the final goal).
+        q_target: Option<NamedVector>,
+        /// Weights per coordinate.
+        weights: NamedVector,
+    },
+    /// w · total time.
+    Time {
+        /// Weight per unit of time.
+        weight: f64,
+    },
+}
+
+/// `[slack]`: the complementarity relaxation.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SlackSection {
+    /// Penalty α > 0 on Σ s.
+    pub weight: f64,
+    /// `"per_interval"` (default, the paper's) or `"per_contact"`.
+    pub mode: Option<String>,
+}
+
+/// `[[periodic]]`: q_N[c] − q_1[c] = offset and/or equal first and last velocities.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PeriodicEntry {
+    /// Coordinate name.
+    pub coordinate: String,
+    /// Constrain q_N − q_1 = offset (default true).
+    pub position: Option<bool>,
+    /// The offset (default 0), e.g. a stride length.
+    pub offset: Option<f64>,
+    /// Constrain the last interval's velocity to equal the first's (default false).
+    pub velocity: Option<bool>,
+}
+
+/// `[initial_guess]`: where Ipopt starts.
+#[derive(Debug, Clone, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct InitialGuessSection {
+    /// Linear interpolation from q_1 to this pose (default: the final goal); coordinates
+    /// not named keep q_1's value. `"initial"` holds q_1 at every knot.
+    pub to: Option<GuessTarget>,
+    /// A previous `trajectory.csv` (relative to the problem file), resampled to the knots.
+    pub warm_start: Option<String>,
+}
+
+/// `"initial"`, `"final"` or a pose.
+#[derive(Debug, Clone, PartialEq)]
+pub enum GuessTarget {
+    /// Hold q_1 at every knot.
+    Initial,
+    /// Towards the final goal (default).
+    Final,
+    /// Towards this pose (unnamed coordinates keep q_1's value).
+    Pose(NamedVector),
+}
+
+impl<'de> Deserialize<'de> for GuessTarget {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct TargetVisitor;
+        impl<'de> Visitor<'de> for TargetVisitor {
+            type Value = GuessTarget;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("\"initial\", \"final\" or a pose by coordinate name")
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<Self::Value, E> {
+                match v {
+                    "initial" => Ok(GuessTarget::Initial),
+                    "final" => Ok(GuessTarget::Final),
+                    other => Err(E::invalid_value(de::Unexpected::Str(other), &self)),
+                }
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, seq: A) -> Result<Self::Value, A::Error> {
+                NamedVectorVisitor.visit_seq(seq).map(GuessTarget::Pose)
+            }
+            fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<Self::Value, A::Error> {
+                NamedVectorVisitor.visit_map(map).map(GuessTarget::Pose)
+            }
+        }
+        deserializer.deserialize_any(TargetVisitor)
+    }
+}
+
+/// `[solver]`: integrator, Hessian and Ipopt options.
+#[derive(Debug, Clone, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct SolverSection {
+    /// `"midpoint"` (default) or `"euler"`.
+    pub integrator: Option<String>,
+    /// `"exact"` (default) or `"lbfgs"`.
+    pub hessian: Option<String>,
+    /// Ipopt options passed through in file order (checked by the wrapper).
+    #[serde(default)]
+    pub ipopt: toml::Table,
+}
+
+/// `[output]`.
+#[derive(Debug, Clone, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct OutputSection {
+    /// Output directory, relative to the working directory (default `out/<name>`).
+    pub dir: Option<String>,
+}

@@ -1,0 +1,145 @@
+//! The regression record of solved costs (`problems/golden.toml`) and its comparison.
+
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+/// One problem's recorded result.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GoldenEntry {
+    /// Problem file, relative to the record's directory.
+    pub file: String,
+    /// Solved objective (problem cost + slack penalty).
+    pub objective: f64,
+    /// Allowed difference: |objective − recorded| ≤ tolerance · max(1, |recorded|).
+    pub tolerance: f64,
+    /// Ipopt status when recorded (snake case).
+    pub status: String,
+    /// Iterations when recorded (for information: they change with the mere order of rows).
+    pub iterations: usize,
+    /// Largest slack when recorded.
+    pub max_slack: f64,
+    /// What produced the numbers, e.g. `vito 0.1.0` or the independent CasADi implementation.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub source: Option<String>,
+}
+
+/// The whole record.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GoldenRecord {
+    /// One entry per problem file.
+    #[serde(default)]
+    pub problem: Vec<GoldenEntry>,
+}
+
+/// Default relative tolerance of a blessed entry (SPEC.md compares objectives to 1e-6).
+pub const DEFAULT_TOLERANCE: f64 = 1e-6;
+
+const HEADER: &str = "# Regression record of solved costs, checked by `vito regress` and `cargo test --release`.\n\
+# Rewritten by `vito regress --bless` (do not edit by hand unless you mean it).\n\
+# A check passes when |objective - recorded| <= tolerance * max(1, |recorded|) and the status\n\
+# is a success; iterations are for information only.\n\n";
+
+/// Why the record could not be read or written.
+#[derive(Debug, thiserror::Error)]
+pub enum GoldenError {
+    /// The record could not be read or written.
+    #[error("cannot read regression record {path}: {source}")]
+    Io {
+        /// The record file.
+        path: PathBuf,
+        /// The operating-system error.
+        source: std::io::Error,
+    },
+    /// The record is not valid.
+    #[error("regression record {path}: {message}")]
+    Parse {
+        /// The record file.
+        path: PathBuf,
+        /// The TOML parser's message.
+        message: String,
+    },
+}
+
+impl GoldenRecord {
+    /// Reads a record; a missing file is an empty record.
+    pub fn read(path: &Path) -> Result<GoldenRecord, GoldenError> {
+        match std::fs::read_to_string(path) {
+            Ok(text) => toml::from_str(&text).map_err(|e| GoldenError::Parse {
+                path: path.to_owned(),
+                message: e.to_string(),
+            }),
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(GoldenRecord::default()),
+            Err(source) => Err(GoldenError::Io {
+                path: path.to_owned(),
+                source,
+            }),
+        }
+    }
+
+    /// Writes the record atomically.
+    pub fn write(&self, path: &Path) -> Result<(), GoldenError> {
+        let body = toml::to_string(self).map_err(|e| GoldenError::Parse {
+            path: path.to_owned(),
+            message: e.to_string(),
+        })?;
+        crate::report::write_file_atomic(path, format!("{HEADER}{body}").as_bytes()).map_err(
+            |source| GoldenError::Io {
+                path: path.to_owned(),
+                source,
+            },
+        )
+    }
+
+    /// The entry for a problem file name.
+    pub fn entry(&self, file: &str) -> Option<&GoldenEntry> {
+        self.problem.iter().find(|e| e.file == file)
+    }
+
+    /// Inserts or replaces the entry for `entry.file`, keeping file order sorted.
+    pub fn upsert(&mut self, entry: GoldenEntry) {
+        self.problem.retain(|e| e.file != entry.file);
+        self.problem.push(entry);
+        self.problem.sort_by(|a, b| a.file.cmp(&b.file));
+    }
+}
+
+/// Whether `objective` matches the recorded one within its tolerance.
+pub fn objective_matches(entry: &GoldenEntry, objective: f64) -> bool {
+    (objective - entry.objective).abs() <= entry.tolerance * entry.objective.abs().max(1.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn round_trips_and_compares() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("golden.toml");
+        assert_eq!(GoldenRecord::read(&path).unwrap(), GoldenRecord::default());
+        let mut record = GoldenRecord::default();
+        let entry = GoldenEntry {
+            file: "b.toml".into(),
+            objective: 2.5,
+            tolerance: 1e-6,
+            status: "solve_succeeded".into(),
+            iterations: 12,
+            max_slack: 1e-9,
+            source: None,
+        };
+        record.upsert(entry.clone());
+        record.upsert(GoldenEntry {
+            file: "a.toml".into(),
+            ..entry.clone()
+        });
+        record.write(&path).unwrap();
+        let back = GoldenRecord::read(&path).unwrap();
+        assert_eq!(back, record);
+        assert_eq!(back.problem[0].file, "a.toml");
+        assert!(objective_matches(&entry, 2.5 + 2.4e-6));
+        assert!(!objective_matches(&entry, 2.5 + 2.6e-6));
+    }
+}

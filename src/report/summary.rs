@@ -1,0 +1,83 @@
+//! `summary.json`: the numbers scripts and CI read after a solve.
+
+use serde_json::{Map, Value, json};
+
+use crate::ipopt::Status;
+use crate::problem::LoadedProblem;
+use crate::report::modes::{FLIGHT_RELATIVE, SLIDE_CONE_FRACTION};
+use crate::transcription::Solution;
+
+/// Ipopt's return status in snake case, e.g. `solve_succeeded`.
+pub fn status_name(status: Status) -> &'static str {
+    status.as_snake_case()
+}
+
+/// Whether a status counts as solved (exit code 0).
+pub fn is_solved(status: Status) -> bool {
+    matches!(
+        status,
+        Status::SolveSucceeded | Status::SolvedToAcceptableLevel
+    )
+}
+
+/// JSON-safe number: NaN and ±∞ become null.
+fn num(x: f64) -> Value {
+    if x.is_finite() { json!(x) } else { Value::Null }
+}
+
+/// Builds the summary object.
+pub fn summary_json(problem: &LoadedProblem, solution: &Solution) -> Value {
+    let s = solution;
+    let mut terms = Map::new();
+    for (name, value) in &s.objective_terms {
+        terms.insert(name.clone(), num(*value));
+    }
+    let mut parameters = Map::new();
+    for (path, value) in &problem.parameters {
+        let parsed: Value = toml::from_str::<toml::Table>(&format!("v = {value}"))
+            .ok()
+            .and_then(|t| t.get("v").cloned())
+            .and_then(|v| serde_json::to_value(v).ok())
+            .unwrap_or_else(|| json!(value));
+        parameters.insert(path.clone(), parsed);
+    }
+    let mut final_q = Map::new();
+    if let Some(q) = s.q.last() {
+        for (name, v) in s.coordinate_names.iter().zip(q) {
+            final_q.insert(name.clone(), num(*v));
+        }
+    }
+    json!({
+        "status": status_name(s.status),
+        "objective": num(s.objective),
+        "objective_terms": terms,
+        "iterations": s.iterations,
+        "wall_time_s": num(s.wall_time_s),
+        "callback_time_s": num(s.callback_time_s),
+        "ipopt_time_s": num(s.ipopt_time_s),
+        "max_slack": num(s.max_slack),
+        "max_complementarity": num(s.max_complementarity),
+        "max_constraint_violation": num(s.max_constraint_violation),
+        "n_variables": s.size.n_variables,
+        "n_constraints": s.size.n_constraints,
+        "nnz_jacobian": s.size.nnz_jacobian,
+        "nnz_hessian": s.size.nnz_hessian,
+        "knots": s.times.len(),
+        "total_time": num(s.times.last().copied().unwrap_or(0.0)),
+        "final_q": final_q,
+        "problem": problem.spec.name,
+        "problem_file": problem.file.display().to_string(),
+        "problem_sha256": problem.sha256,
+        "parameters": parameters,
+        "vito_version": env!("CARGO_PKG_VERSION"),
+        "units": {
+            "length": problem.units.length,
+            "mass": problem.units.mass,
+            "time": problem.units.time,
+        },
+        "contact_mode_thresholds": {
+            "flight_below_fraction_of_max_normal_impulse": FLIGHT_RELATIVE,
+            "slide_at_fraction_of_friction_cone": SLIDE_CONE_FRACTION,
+        },
+    })
+}

@@ -1,0 +1,196 @@
+//! Bad input: each gives one clear error naming file, line and field, exit code 2, and an
+//! existing output directory is left untouched.
+
+use crate::util::{TestDir, hopper_text};
+
+/// Writes `text` as `bad.toml`, runs `vito solve bad.toml --out out` over an existing `out/`
+/// and returns stderr after checking exit 2, a single error line and the untouched directory.
+fn solve_fails(name: &str, text: &str) -> String {
+    let t = TestDir::with_hopper(name);
+    t.write("bad.toml", text);
+    std::fs::create_dir(t.path().join("out")).unwrap();
+    t.write("out/keep.txt", "previous results");
+    let run = t
+        .vito()
+        .args(["solve", "bad.toml", "--out", "out"])
+        .assert_exit(2);
+    let errors: Vec<&str> = run
+        .stderr
+        .lines()
+        .filter(|l| l.starts_with("error:"))
+        .collect();
+    assert_eq!(errors.len(), 1, "one error expected:\n{}", run.stderr);
+    assert_eq!(
+        std::fs::read_to_string(t.path().join("out/keep.txt")).unwrap(),
+        "previous results"
+    );
+    assert_eq!(std::fs::read_dir(t.path().join("out")).unwrap().count(), 1);
+    // Nothing else appeared next to it (no staging directory left behind).
+    let entries: Vec<_> = std::fs::read_dir(t.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .collect();
+    assert!(entries.iter().all(|e| !e.starts_with('.')), "{entries:?}");
+    run.stderr
+}
+
+#[test]
+fn toml_syntax_error() {
+    let text = hopper_text().replace("knots = 21", "knots = 21 x");
+    let err = solve_fails("toml_syntax_error", &text);
+    assert!(err.contains("bad.toml:18"), "{err}");
+    assert!(err.contains("TOML syntax error"), "{err}");
+}
+
+#[test]
+fn unknown_key_suggests_the_nearest() {
+    let text = hopper_text().replace("friction = 0.8", "frition = 0.8");
+    let err = solve_fails("unknown_key_suggests_the_nearest", &text);
+    assert!(
+        err.contains("bad.toml:15: field `contacts.frition`"),
+        "{err}"
+    );
+    assert!(err.contains("did you mean `friction`?"), "{err}");
+}
+
+#[test]
+fn unknown_joint_name() {
+    let text = hopper_text().replace(
+        "weights = { theta = 0.1, r = 0.01 }",
+        "weights = { theta = 0.1, rr = 0.01 }",
+    );
+    let err = solve_fails("unknown_joint_name", &text);
+    assert!(
+        err.contains("field `cost[1].weights.rr`: unknown input `rr`, did you mean `r`?"),
+        "{err}"
+    );
+    let text = hopper_text().replace(
+        "q = { x = 0.0, z = 0.5, theta = 0.0, r = 0.5 }",
+        "q = { x = 0.0, z = 0.5, tehta = 0.0, r = 0.5 }",
+    );
+    let err = solve_fails("unknown_joint_name_2", &text);
+    assert!(err.contains("bad.toml:22: field `initial.q.tehta`: unknown coordinate `tehta`, did you mean `theta`?"), "{err}");
+}
+
+#[test]
+fn missing_urdf() {
+    let text = hopper_text().replace("robots/hopper_2d.urdf", "robots/hoper.urdf");
+    let err = solve_fails("missing_urdf", &text);
+    assert!(err.contains("bad.toml:8: field `robot.urdf`"), "{err}");
+    assert!(err.contains("hoper.urdf does not exist"), "{err}");
+}
+
+#[test]
+fn negative_time_step() {
+    let text = hopper_text().replace("time_step = 0.05 ", "time_step = -0.05 ");
+    let err = solve_fails("negative_time_step", &text);
+    assert!(
+        err.contains(
+            "bad.toml:19: field `horizon.time_step`: must be a finite number > 0, got -0.05"
+        ),
+        "{err}"
+    );
+}
+
+#[test]
+fn inconsistent_vector_length() {
+    let text = hopper_text().replace(
+        "q = { x = 0.0, z = 0.5, theta = 0.0, r = 0.5 }",
+        "q = [0.0, 0.5, 0.0]",
+    );
+    let err = solve_fails("inconsistent_vector_length", &text);
+    assert!(
+        err.contains(
+            "bad.toml:22: field `initial.q`: has 3 values but the robot has 4 coordinates"
+        ),
+        "{err}"
+    );
+}
+
+#[test]
+fn bad_override_names_the_setting() {
+    let t = TestDir::with_hopper("bad_override_names_the_setting");
+    t.write("p.toml", &hopper_text());
+    let run = t
+        .vito()
+        .args(["check", "p.toml", "--set", "slack.wieght=3"])
+        .assert_exit(2);
+    assert!(
+        run.stderr.contains(
+            "field `slack.wieght` (set with --set): unknown key `wieght`, did you mean `weight`?"
+        ),
+        "{}",
+        run.stderr
+    );
+    let run = t
+        .vito()
+        .args(["check", "p.toml", "--set", "slack.weight"])
+        .assert_exit(2);
+    assert!(
+        run.stderr
+            .contains("--set slack.weight: expected key.path=value"),
+        "{}",
+        run.stderr
+    );
+}
+
+#[test]
+fn missing_problem_file_and_usage_errors_exit_2() {
+    let t = TestDir::new("missing_problem_file_and_usage_errors_exit_2");
+    let run = t.vito().args(["check", "nope.toml"]).assert_exit(2);
+    assert!(
+        run.stderr.contains("cannot read problem file nope.toml"),
+        "{}",
+        run.stderr
+    );
+    t.vito().args(["solve"]).assert_exit(2);
+    t.vito().args(["frobnicate"]).assert_exit(2);
+}
+
+#[test]
+fn infeasible_bounds_name_the_coordinate() {
+    let text = hopper_text().replace("theta = 0.0, r = 0.5 }", "theta = 0.0, r = 0.8 }");
+    let err = solve_fails("infeasible_bounds_name_the_coordinate", &text);
+    assert!(
+        err.contains(
+            "bad.toml:22: field `initial.q.r`: q_1 r = 0.8 is outside URDF limits [0.3, 0.7]"
+        ),
+        "{err}"
+    );
+    let text = hopper_text().replace("lower = 0.3\nupper = 0.7", "lower = 0.6\nupper = 0.7");
+    let err = solve_fails("infeasible_bounds_name_the_coordinate_2", &text);
+    assert!(err.contains("field `initial.q.r`"), "{err}");
+}
+
+/// Ipopt itself checks `[solver.ipopt]` before any solve; a typo names its line.
+#[test]
+fn ipopt_option_typo() {
+    let text = hopper_text().replace("mu_strategy = \"adaptive\"", "mu_strategy = \"adaptiv\"");
+    let err = solve_fails("ipopt_option_typo", &text);
+    assert!(err.contains("bad.toml:70: field `solver.ipopt.mu_strategy`: Ipopt option `mu_strategy` = \"adaptiv\" is invalid"), "{err}");
+    let text = hopper_text().replace("linear_solver = \"mumps\"", "linear_solver = \"ma97\"");
+    let err = solve_fails("ipopt_option_typo_2", &text);
+    assert!(err.contains("field `solver.ipopt.linear_solver`"), "{err}");
+}
+
+/// `vito check x | head -1` ends quietly with success when stdout closes.
+#[test]
+fn broken_pipe_is_not_an_error() {
+    let t = TestDir::with_hopper("broken_pipe_is_not_an_error");
+    t.write("p.toml", &hopper_text());
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_vito"))
+        .args(["check", "p.toml"])
+        .current_dir(t.path())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}

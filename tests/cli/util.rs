@@ -1,0 +1,113 @@
+//! Test helpers: a temp dir per test (named after it) and a `VitoCmd` around the binary.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// The repository's `problems/` directory.
+pub fn problems_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("problems")
+}
+
+/// A temp directory for one test, removed at the end.
+pub struct TestDir {
+    dir: tempfile::TempDir,
+}
+
+impl TestDir {
+    /// A fresh directory whose name starts with the test's name.
+    pub fn new(name: &str) -> TestDir {
+        let dir = tempfile::Builder::new()
+            .prefix(&format!("vito-{name}-"))
+            .tempdir()
+            .expect("create a temp dir");
+        TestDir { dir }
+    }
+
+    /// A fresh directory holding a copy of `problems/robots/hopper_2d.urdf` in `robots/`.
+    pub fn with_hopper(name: &str) -> TestDir {
+        let t = TestDir::new(name);
+        std::fs::create_dir(t.path().join("robots")).unwrap();
+        std::fs::copy(
+            problems_dir().join("robots/hopper_2d.urdf"),
+            t.path().join("robots/hopper_2d.urdf"),
+        )
+        .unwrap();
+        t
+    }
+
+    pub fn path(&self) -> &Path {
+        self.dir.path()
+    }
+
+    /// Writes a file relative to the directory.
+    pub fn write(&self, name: &str, text: &str) -> PathBuf {
+        let path = self.path().join(name);
+        std::fs::write(&path, text).unwrap();
+        path
+    }
+
+    /// A `vito` command running in this directory.
+    pub fn vito(&self) -> VitoCmd {
+        let mut cmd = Command::new(env!("CARGO_BIN_EXE_vito"));
+        cmd.current_dir(self.path());
+        VitoCmd { cmd }
+    }
+}
+
+/// The hopper problem file's text (to be edited into bad inputs).
+pub fn hopper_text() -> String {
+    std::fs::read_to_string(problems_dir().join("hopper_2d.toml")).unwrap()
+}
+
+/// A `vito` invocation.
+pub struct VitoCmd {
+    cmd: Command,
+}
+
+/// What a finished run printed.
+pub struct Run {
+    pub code: i32,
+    pub stdout: String,
+    pub stderr: String,
+}
+
+impl VitoCmd {
+    pub fn args<I, S>(mut self, args: I) -> VitoCmd
+    where
+        I: IntoIterator<Item = S>,
+        S: AsRef<std::ffi::OsStr>,
+    {
+        self.cmd.args(args);
+        self
+    }
+
+    pub fn run(mut self) -> Run {
+        let Output {
+            status,
+            stdout,
+            stderr,
+        } = self.cmd.output().expect("run vito");
+        Run {
+            code: status.code().unwrap_or(-1),
+            stdout: String::from_utf8_lossy(&stdout).into_owned(),
+            stderr: String::from_utf8_lossy(&stderr).into_owned(),
+        }
+    }
+
+    /// Runs and checks the exit code, printing both streams when it differs.
+    pub fn assert_exit(self, code: i32) -> Run {
+        let run = self.run();
+        assert_eq!(
+            run.code, code,
+            "exit code\n--- stdout\n{}\n--- stderr\n{}",
+            run.stdout, run.stderr
+        );
+        run
+    }
+}
+
+/// Reads `summary.json` of an output directory.
+pub fn summary(dir: &Path) -> serde_json::Value {
+    let text = std::fs::read_to_string(dir.join("summary.json")).expect("summary.json");
+    serde_json::from_str(&text).expect("summary.json is JSON")
+}
