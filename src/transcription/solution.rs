@@ -52,8 +52,10 @@ pub struct Solution {
     pub slack: Vec<Vec<f64>>,
     /// Largest slack value.
     pub max_slack: f64,
-    /// Largest complementarity residual max(c·max(φ,0), ...) over intervals and contacts.
+    /// Largest of the three relaxed products per interval, Σηᵀβ, Σc·max(φ, 0) and
+    /// Σψ(μc − eᵀβ), over intervals. ψ and η are first shifted down by their common part
+    /// (the NLP leaves it undetermined in flight and stick; see `solve.rs`).
     pub max_complementarity: f64,
-    /// Largest constraint violation at the returned point.
+    /// Largest constraint-row violation at the returned point (after the same shift).
     pub max_constraint_violation: f64,
 }

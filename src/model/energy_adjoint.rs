@@ -1,0 +1,523 @@
+//! Reverse-mode (adjoint) gradients of the energies of [`super::energy`], and on top of them
+//! the slot derivatives of the midpoint discrete Lagrangian with its fast second and third
+//! derivatives.
+//!
+//! One forward sweep over the tree (parents first) computes the poses and twists exactly as
+//! [`kinetic_energy`](super::kinetic_energy) does; one reverse sweep (children first) carries
+//! the adjoints R̄, ō (of each frame's world rotation and origin), ω̄, v̄ (of its twist) back to
+//! the coordinates. The sweep is generic over [`Scalar`], so forward duals run through it: the
+//! Jacobian of the gradient of Ld is its Hessian, and a [`Dual64`] nested inside carries a
+//! direction to give the contracted third derivative in the same pass ([`midpoint_third_order`]),
+//! 2n+1 passes in all, where forward duals through Ld need O(n²).
+
+use nalgebra::DMatrix;
+use num_dual::{Dual, Dual64};
+
+use super::energy::{com_position, spring_energy};
+use super::kinematics::{Pose, Twist, check_len, child_pose, child_twist};
+use super::spatial::{
+    Mat3, Vec3, add, axis_angle, const_mat_vec, cross, dot, mat_t_vec, mat_vec, mat_vec_const,
+    scale, sub,
+};
+use super::tree::{Frame, Motion};
+use super::{Model, Scalar};
+use crate::autodiff::{ThirdOrder, VectorFunction};
+
+const IDENTITY: [[f64; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+
+/// Kinetic energy T(q, q̇) and its gradient by one forward and one reverse sweep.
+///
+/// `q`, `qdot`, `dq` (∂T/∂q) and `dqdot` (∂T/∂q̇) have length `nq`; `dq` and `dqdot` are
+/// overwritten. Returns T (the same number as [`kinetic_energy`](super::kinetic_energy)).
+pub fn kinetic_energy_gradient<D: Scalar>(
+    model: &Model,
+    q: &[D],
+    qdot: &[D],
+    dq: &mut [D],
+    dqdot: &mut [D],
+) -> D {
+    check_len(model, qdot.len(), "qdot");
+    check_len(model, dqdot.len(), "dqdot");
+    energy_sweep(model, q, Some(qdot), 0.0, dq, dqdot).0
+}
+
+/// Potential energy V(q) (gravity and springs) and its gradient ∂V/∂q.
+///
+/// `q` and `dq` have length `nq`; `dq` is overwritten. Returns V (the same number as
+/// [`potential_energy`](super::potential_energy)).
+pub fn potential_energy_gradient<D: Scalar>(model: &Model, q: &[D], dq: &mut [D]) -> D {
+    energy_sweep(model, q, None, 1.0, dq, &mut []).1
+}
+
+/// Lagrangian L(q, v) = T − V and its gradient, in one forward and one reverse sweep.
+///
+/// `q`, `v`, `dq` (∂L/∂q) and `dv` (∂L/∂v) have length `nq`; `dq` and `dv` are overwritten.
+/// Returns L in J (model units).
+pub fn lagrangian_gradient<D: Scalar>(
+    model: &Model,
+    q: &[D],
+    v: &[D],
+    dq: &mut [D],
+    dv: &mut [D],
+) -> D {
+    check_len(model, v.len(), "v");
+    check_len(model, dv.len(), "dv");
+    let (kinetic, potential) = energy_sweep(model, q, Some(v), -1.0, dq, dv);
+    kinetic - potential
+}
+
+/// The midpoint discrete Lagrangian Ld(qa, qb, h) = h·L(q̄, v̄), q̄ = (qa+qb)/2, v̄ = (qb−qa)/h,
+/// and its gradient from one adjoint sweep of L at (q̄, v̄):
+/// D1Ld = (h/2)·∂L/∂q − ∂L/∂v, D2Ld = (h/2)·∂L/∂q + ∂L/∂v, ∂Ld/∂h = L − v̄·∂L/∂v.
+///
+/// `qa`, `qb`, `d1_ld` and `d2_ld` have length `nq` (`d1_ld`, `d2_ld` overwritten, N·m·s per
+/// coordinate); `h` in s. Returns (Ld in J·s, ∂Ld/∂h in J), the numbers of
+/// [`crate::discrete::ld`], [`crate::discrete::d1_ld`] and [`crate::discrete::d2_ld`].
+pub fn midpoint_ld_gradient<D: Scalar>(
+    model: &Model,
+    qa: &[D],
+    qb: &[D],
+    h: D,
+    d1_ld: &mut [D],
+    d2_ld: &mut [D],
+) -> (D, D) {
+    check_len(model, qa.len(), "qa");
+    check_len(model, qb.len(), "qb");
+    check_len(model, d1_ld.len(), "d1_ld");
+    check_len(model, d2_ld.len(), "d2_ld");
+    let q_mid: Vec<D> = qa.iter().zip(qb).map(|(&a, &b)| (a + b) * 0.5).collect();
+    let v_mid: Vec<D> = qa.iter().zip(qb).map(|(&a, &b)| (b - a) / h).collect();
+    // ∂L/∂q and ∂L/∂v are written into the output buffers, then combined in place.
+    let lagrangian = lagrangian_gradient(model, &q_mid, &v_mid, d1_ld, d2_ld);
+    let half_h = h * 0.5;
+    let mut ld_partial_h = lagrangian;
+    for ((d1, d2), &v) in d1_ld.iter_mut().zip(d2_ld.iter_mut()).zip(&v_mid) {
+        let (l_q, l_v) = (*d1, *d2);
+        *d1 = half_h * l_q - l_v;
+        *d2 = half_h * l_q + l_v;
+        ld_partial_h -= v * l_v;
+    }
+    (h * lagrangian, ld_partial_h)
+}
+
+/// The gradient of the midpoint Ld as a [`VectorFunction`]: z = [qa; qb; h] (dim 2n+1) →
+/// [D1Ld (n); D2Ld (n); ∂Ld/∂h (1)] (dim 2n+1).
+///
+/// Its Jacobian is the Hessian of Ld, and its `weighted_hessian` with w = [λ_a; λ_b; 0] the
+/// third derivative of Ld contracted with w: the numbers `gradient_hessian_third` gives for
+/// [`crate::discrete::MidpointSegment`]. Those O(n²) tiled drivers cost as much as the
+/// forward-dual path; [`midpoint_gradient_hessian`] and [`midpoint_third_order`] take the
+/// Jacobian column by column instead (2n+1 passes).
+#[derive(Debug, Clone, Copy)]
+pub struct MidpointGradient<'a> {
+    /// The robot.
+    pub model: &'a Model,
+}
+
+impl VectorFunction for MidpointGradient<'_> {
+    fn dim_in(&self) -> usize {
+        2 * self.model.nq() + 1
+    }
+    fn dim_out(&self) -> usize {
+        2 * self.model.nq() + 1
+    }
+    fn eval<D: Scalar>(&self, z: &[D], out: &mut [D]) {
+        let n = self.model.nq();
+        let (d1, rest) = out.split_at_mut(n);
+        let (d2, dh) = rest.split_at_mut(n);
+        dh[0] = midpoint_ld_gradient(self.model, &z[..n], &z[n..2 * n], z[2 * n], d1, d2).1;
+    }
+}
+
+/// Value, gradient and Hessian of the midpoint Ld at z = [qa; qb; h] (length 2n+1): the
+/// numbers of `gradient_hessian(&MidpointSegment, z)` (Hessian `(2n+1) × (2n+1)`, symmetric),
+/// computed as the Jacobian of the adjoint gradient, one [`Dual64`] pass per column.
+pub fn midpoint_gradient_hessian(model: &Model, z: &[f64]) -> (f64, Vec<f64>, DMatrix<f64>) {
+    let dim = check_segment(model, z, "midpoint_gradient_hessian");
+    let mut gradient = vec![0.0; dim];
+    let mut hessian = DMatrix::zeros(dim, dim);
+    let value = for_each_column(
+        model,
+        |i, seeded| Dual64::new(z[i], if seeded { 1.0 } else { 0.0 }),
+        |row, col, y| {
+            gradient[row] = y.re;
+            hessian[(row, col)] = y.eps;
+        },
+    )
+    .re;
+    symmetrise(&mut hessian);
+    (value, gradient, hessian)
+}
+
+/// Value, gradient, Hessian and contracted third derivative of the midpoint Ld at
+/// z = [qa; qb; h] (length 2n+1), contracted with `dir` (length 2n+1; the NLP passes
+/// [λ_a; λ_b; 0]): the same [`ThirdOrder`] as `gradient_hessian_third(&MidpointSegment, z,
+/// dir)`, computed as the Jacobian of the adjoint gradient, one pass per column of a
+/// [`Dual64`] whose inner ε carries `dir` nested in a [`Dual64`] that seeds the column.
+pub fn midpoint_third_order(model: &Model, z: &[f64], dir: &[f64]) -> ThirdOrder {
+    let mut out = ThirdOrder::zeros(2 * model.nq() + 1);
+    midpoint_third_order_into(model, z, dir, &mut out);
+    out
+}
+
+/// [`midpoint_third_order`] writing into `out` (sized by [`ThirdOrder::zeros`]`(2n+1)`,
+/// overwritten). The Hessian and the contracted third derivative are symmetrised (the
+/// Jacobian of a gradient is symmetric up to rounding).
+pub fn midpoint_third_order_into(model: &Model, z: &[f64], dir: &[f64], out: &mut ThirdOrder) {
+    let dim = check_segment(model, z, "midpoint_third_order");
+    assert_eq!(
+        dir.len(),
+        dim,
+        "midpoint_third_order: dir must have length 2 nq + 1"
+    );
+    assert!(
+        out.gradient.len() == dim
+            && out.hessian.shape() == (dim, dim)
+            && out.contracted.shape() == (dim, dim),
+        "midpoint_third_order: buffer from ThirdOrder::zeros(2 nq + 1)"
+    );
+    let ThirdOrder {
+        gradient,
+        hessian,
+        contracted,
+        ..
+    } = out;
+    let value = for_each_column(
+        model,
+        |i, seeded| {
+            Dual::new(
+                Dual64::new(z[i], if seeded { 1.0 } else { 0.0 }),
+                Dual64::from(dir[i]),
+            )
+        },
+        |row, col, y| {
+            gradient[row] = y.re.re;
+            hessian[(row, col)] = y.re.eps;
+            contracted[(row, col)] = y.eps.eps;
+        },
+    );
+    out.value = value.re.re;
+    symmetrise(&mut out.hessian);
+    symmetrise(&mut out.contracted);
+}
+
+/// Checks the segment length 2n+1 (a caller's programming error otherwise) and returns it.
+fn check_segment(model: &Model, z: &[f64], what: &str) -> usize {
+    let dim = 2 * model.nq() + 1;
+    assert_eq!(
+        z.len(),
+        dim,
+        "{what}: z has length {} but the segment [qa; qb; h] has 2 nq + 1 = {dim}",
+        z.len()
+    );
+    dim
+}
+
+/// Evaluates the adjoint gradient of Ld once per input column of z = [qa; qb; h]
+/// (dim 2n+1), the inputs lifted by `lift(i, seeded)` with `seeded` true for the column,
+/// and hands every output (row, column, value) to `store`. Returns Ld from the last pass.
+///
+/// One column per pass with an unboxed nested dual beat tiles of `num-dual`'s vector duals
+/// (whose `Option`-wrapped derivative vectors cost more than their width saves) by 1.4–3×
+/// on this machine (tests/derivative_speed.rs).
+fn for_each_column<S: Scalar>(
+    model: &Model,
+    lift: impl Fn(usize, bool) -> S,
+    mut store: impl FnMut(usize, usize, &S),
+) -> S {
+    let n = model.nq();
+    let dim = 2 * n + 1;
+    let mut zd: Vec<S> = (0..dim).map(|i| lift(i, false)).collect();
+    let mut d1 = vec![S::from(0.0); n];
+    let mut d2 = d1.clone();
+    let mut value = S::from(0.0);
+    for col in 0..dim {
+        zd[col] = lift(col, true);
+        let (ld, dh) =
+            midpoint_ld_gradient(model, &zd[..n], &zd[n..2 * n], zd[2 * n], &mut d1, &mut d2);
+        zd[col] = lift(col, false);
+        for (row, y) in d1.iter().chain(&d2).chain(std::iter::once(&dh)).enumerate() {
+            store(row, col, y);
+        }
+        value = ld;
+    }
+    value
+}
+
+/// Replaces a square matrix by (A + Aᵀ)/2.
+fn symmetrise(a: &mut DMatrix<f64>) {
+    let n = a.nrows();
+    for i in 0..n {
+        for j in 0..i {
+            let mean = 0.5 * (a[(i, j)] + a[(j, i)]);
+            a[(i, j)] = mean;
+            a[(j, i)] = mean;
+        }
+    }
+}
+
+/// Adjoints of one frame's forward quantities: ∂E/∂(world rotation, world origin, angular
+/// and linear velocity) for the energy E being differentiated.
+#[derive(Clone, Copy)]
+struct FrameAdjoint<D> {
+    rotation: Mat3<D>,
+    origin: Vec3<D>,
+    angular: Vec3<D>,
+    linear: Vec3<D>,
+}
+
+impl<D: Scalar> FrameAdjoint<D> {
+    fn zero() -> Self {
+        let z = D::from(0.0);
+        FrameAdjoint {
+            rotation: [[z; 3]; 3],
+            origin: [z; 3],
+            angular: [z; 3],
+            linear: [z; 3],
+        }
+    }
+}
+
+/// R̄ += a·bᵀ with a constant b.
+fn add_outer_const<D: Scalar>(m: &mut Mat3<D>, a: Vec3<D>, b: &[f64; 3]) {
+    for (row, &ai) in m.iter_mut().zip(&a) {
+        for (entry, &bj) in row.iter_mut().zip(b) {
+            *entry += ai * bj;
+        }
+    }
+}
+
+/// R̄ += a·bᵀ.
+fn add_outer<D: Scalar>(m: &mut Mat3<D>, a: Vec3<D>, b: Vec3<D>) {
+    for (row, &ai) in m.iter_mut().zip(&a) {
+        for (entry, &bj) in row.iter_mut().zip(&b) {
+            *entry += ai * bj;
+        }
+    }
+}
+
+/// Column k of M.
+fn column<D: Scalar>(m: &Mat3<D>, k: usize) -> Vec3<D> {
+    [m[0][k], m[1][k], m[2][k]]
+}
+
+/// The forward sweep (poses, and twists when `qdot` is given) and the reverse sweep of
+/// E = T + `potential_weight`·V, where T counts only when `qdot` is given and V only when
+/// `potential_weight` ≠ 0. Writes ∂E/∂q into `dq` and ∂E/∂q̇ into `dqdot` (ignored, may be
+/// empty, without `qdot`). Returns (T, V), each 0 when not counted.
+fn energy_sweep<D: Scalar>(
+    model: &Model,
+    q: &[D],
+    qdot: Option<&[D]>,
+    potential_weight: f64,
+    dq: &mut [D],
+    dqdot: &mut [D],
+) -> (D, D) {
+    check_len(model, q.len(), "q");
+    check_len(model, dq.len(), "dq");
+    let zero = D::from(0.0);
+    let n = model.frames.len();
+    let mut poses: Vec<Pose<D>> = Vec::with_capacity(n);
+    let mut twists: Vec<Twist<D>> = Vec::with_capacity(if qdot.is_some() { n } else { 0 });
+    let rest = Twist {
+        angular: [zero; 3],
+        linear: [zero; 3],
+    };
+    for frame in &model.frames {
+        let parent_pose = frame.parent.map_or_else(Pose::world, |p| poses[p]);
+        let pose = child_pose(frame, &parent_pose, q);
+        if let Some(qdot) = qdot {
+            let parent_twist = frame.parent.map_or(rest, |p| twists[p]);
+            twists.push(child_twist(
+                frame,
+                &pose,
+                parent_pose.origin,
+                &parent_twist,
+                qdot,
+            ));
+        }
+        poses.push(pose);
+    }
+
+    dq.fill(zero);
+    if qdot.is_some() {
+        dqdot.fill(zero);
+    }
+    let mut adjoints = vec![FrameAdjoint::<D>::zero(); n];
+    let mut twice_kinetic = zero;
+    let mut potential = zero;
+    let g = model.gravity;
+    for i in (0..n).rev() {
+        let frame = &model.frames[i];
+        let pose = &poses[i];
+        let mut bar = adjoints[i];
+        if frame.mass > 0.0 {
+            if qdot.is_some() {
+                twice_kinetic += kinetic_adjoint(frame, pose, &twists[i], &mut bar);
+            }
+            if potential_weight != 0.0 {
+                // V_i = −m g·(o + R c): ō = −w m g, R̄ = −w m g cᵀ.
+                potential -= dot(com_position(frame, pose), g.map(D::from)) * frame.mass;
+                let force = g.map(|gk| D::from(-potential_weight * frame.mass * gk));
+                bar.origin = add(bar.origin, force);
+                add_outer_const(&mut bar.rotation, force, &frame.com);
+            }
+        }
+        let mut axis_bar = [zero; 3];
+        if let Some(qdot) = qdot {
+            twist_adjoint(model, i, &poses, qdot, &mut bar, &mut axis_bar, dqdot);
+            if let Some(p) = frame.parent {
+                adjoints[p].angular = add(adjoints[p].angular, bar.angular);
+                adjoints[p].linear = add(adjoints[p].linear, bar.linear);
+                // v_i = v_p + ω_p × (o_i − o_p): the lever's adjoint v̄ × ω_p.
+                let lever = sub(pose.origin, poses[p].origin);
+                adjoints[p].angular = add(adjoints[p].angular, cross(lever, bar.linear));
+                let lever_bar = cross(bar.linear, twists[p].angular);
+                bar.origin = add(bar.origin, lever_bar);
+                adjoints[p].origin = sub(adjoints[p].origin, lever_bar);
+            }
+        }
+        let joint_rotation_bar = pose_adjoint(frame, pose, q, &bar, axis_bar, dq);
+        if let Some(p) = frame.parent {
+            let parent = &mut adjoints[p];
+            // J = R_p·C and o_joint = o_p + R_p·t.
+            if frame.rotation == IDENTITY {
+                for (row, bar_row) in parent.rotation.iter_mut().zip(&joint_rotation_bar) {
+                    for (entry, &b) in row.iter_mut().zip(bar_row) {
+                        *entry += b;
+                    }
+                }
+            } else {
+                for (row, bar_row) in parent.rotation.iter_mut().zip(&joint_rotation_bar) {
+                    // (J̄·Cᵀ)_row = C·J̄_row.
+                    let contribution = const_mat_vec(&frame.rotation, *bar_row);
+                    for (entry, c) in row.iter_mut().zip(contribution) {
+                        *entry += c;
+                    }
+                }
+            }
+            add_outer_const(&mut parent.rotation, bar.origin, &frame.translation);
+            parent.origin = add(parent.origin, bar.origin);
+        }
+    }
+    if potential_weight != 0.0 {
+        potential += spring_energy(model, q);
+        for spring in &model.springs {
+            let stretch = q[spring.coordinate] - spring.rest;
+            dq[spring.coordinate] += stretch * (potential_weight * spring.stiffness);
+        }
+    }
+    (twice_kinetic * 0.5, potential)
+}
+
+/// Adds the adjoint of T_i = ½ m |v + ω × R c|² + ½ (Rᵀω)ᵀ I (Rᵀω) into `bar`; returns 2 T_i.
+fn kinetic_adjoint<D: Scalar>(
+    frame: &Frame,
+    pose: &Pose<D>,
+    twist: &Twist<D>,
+    bar: &mut FrameAdjoint<D>,
+) -> D {
+    let lever = mat_vec_const(&pose.rotation, &frame.com);
+    let v = add(twist.linear, cross(twist.angular, lever));
+    let momentum = scale(D::from(frame.mass), v);
+    bar.linear = add(bar.linear, momentum);
+    bar.angular = add(bar.angular, cross(lever, momentum));
+    add_outer_const(
+        &mut bar.rotation,
+        cross(momentum, twist.angular),
+        &frame.com,
+    );
+    let omega_body = mat_t_vec(&pose.rotation, twist.angular);
+    let spin_body = const_mat_vec(&frame.inertia, omega_body);
+    bar.angular = add(bar.angular, mat_vec(&pose.rotation, spin_body));
+    add_outer(&mut bar.rotation, twist.angular, spin_body);
+    dot(v, momentum) + dot(omega_body, spin_body)
+}
+
+/// Reverse of `child_twist` for frame `i`: the joint rate's adjoint into `dqdot`, the world
+/// axis's adjoint into `axis_bar`. The parent's share is added by the caller.
+fn twist_adjoint<D: Scalar>(
+    model: &Model,
+    i: usize,
+    poses: &[Pose<D>],
+    qdot: &[D],
+    bar: &mut FrameAdjoint<D>,
+    axis_bar: &mut Vec3<D>,
+    dqdot: &mut [D],
+) {
+    let frame = &model.frames[i];
+    let axis = poses[i].axis;
+    match frame.motion {
+        Motion::Fixed => {}
+        Motion::Revolute => {
+            dqdot[frame.coordinate] += dot(axis, bar.angular);
+            *axis_bar = add(*axis_bar, scale(qdot[frame.coordinate], bar.angular));
+        }
+        Motion::Prismatic => {
+            dqdot[frame.coordinate] += dot(axis, bar.linear);
+            *axis_bar = add(*axis_bar, scale(qdot[frame.coordinate], bar.linear));
+        }
+    }
+}
+
+/// Reverse of `child_pose`: adds the joint coordinate's adjoint into `dq` and returns the
+/// adjoint J̄ of the joint rotation J = R_parent·C (the origin's adjoint passes unchanged).
+fn pose_adjoint<D: Scalar>(
+    frame: &Frame,
+    pose: &Pose<D>,
+    q: &[D],
+    bar: &FrameAdjoint<D>,
+    mut axis_bar: Vec3<D>,
+    dq: &mut [D],
+) -> Mat3<D> {
+    let r_bar = &bar.rotation;
+    let mut joint_bar = *r_bar;
+    match frame.motion {
+        Motion::Fixed => {}
+        Motion::Revolute => {
+            // R = J·Rot(axis, q), dR/dq = [a]×·R with a = J·axis the world axis, so
+            // q̄ = Σ_k R̄_k·(a × R_k) = a·Σ_k R_k × R̄_k over the columns k.
+            let r = &pose.rotation;
+            let mut torque = [D::from(0.0); 3];
+            for k in 0..3 {
+                torque = add(torque, cross(column(r, k), column(r_bar, k)));
+            }
+            dq[frame.coordinate] += dot(pose.axis, torque);
+            joint_bar = rotation_adjoint(r_bar, &frame.axis, q[frame.coordinate]);
+        }
+        Motion::Prismatic => {
+            let c = frame.coordinate;
+            dq[c] += dot(pose.axis, bar.origin);
+            axis_bar = add(axis_bar, scale(q[c], bar.origin));
+        }
+    }
+    if frame.motion != Motion::Fixed {
+        // a = J·axis.
+        add_outer_const(&mut joint_bar, axis_bar, &frame.axis);
+    }
+    joint_bar
+}
+
+/// R̄·Rot(axis, angle)ᵀ, the adjoint of J in R = J·Rot(axis, angle); for a coordinate axis
+/// ±e_k only two columns mix (as in `kinematics::rotate_about`).
+fn rotation_adjoint<D: Scalar>(r_bar: &Mat3<D>, axis: &[f64; 3], angle: D) -> Mat3<D> {
+    let Some(k) = (0..3).find(|&k| axis[k].abs() == 1.0) else {
+        let rot = axis_angle(axis, angle);
+        let mut out = [[D::from(0.0); 3]; 3];
+        for (out_row, bar_row) in out.iter_mut().zip(r_bar) {
+            // (R̄·Rotᵀ)_row,j = Σ_l R̄_row,l Rot_j,l.
+            for (entry, rot_row) in out_row.iter_mut().zip(&rot) {
+                *entry = dot(*bar_row, *rot_row);
+            }
+        }
+        return out;
+    };
+    let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+    let (s, c) = (angle.sin() * axis[k], angle.cos());
+    let mut out = *r_bar;
+    for row in 0..3 {
+        out[row][i] = r_bar[row][i] * c - r_bar[row][j] * s;
+        out[row][j] = r_bar[row][i] * s + r_bar[row][j] * c;
+    }
+    out
+}
