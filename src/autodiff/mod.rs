@@ -10,13 +10,19 @@
 //!   inside, whose inner ε of every input carries the direction: one pass yields the Hessian
 //!   (real parts) and the Hessian of the directional derivative (ε parts).
 //!
+//! - [`jacobian_directional`]: a Jacobian and its directional derivative by first-order passes
+//!   of `DualVec<Dual64, T>`; applied to a gradient function (an adjoint sweep) it gives the
+//!   Hessian and the contracted third derivative without hyper-duals.
+//!
 //! Unseeded derivative parts of `num-dual` are `None` and cost nothing, so a pass only pays for
 //! the inputs of its chunks.
 
+mod directional;
 mod hessian;
 mod jacobian;
 mod third;
 
+pub use directional::*;
 pub use hessian::*;
 pub use jacobian::*;
 pub use third::*;

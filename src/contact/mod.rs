@@ -1,17 +1,14 @@
 //! Terrain, signed distance and friction directions for point contacts.
+//!
+//! A contact is a point fixed on a link; the transcription asks the model for its world
+//! position p(q) and this module turns p into the signed distance φ (positive above the
+//! terrain) and the tangential coordinates whose gradients are the friction directions D.
+//! Everything is generic over [`crate::model::Scalar`], so φ and D are differentiated by AD.
 
-/// A smoothed step in the ground: the height rises by `rise` across x = `edge_x`,
-/// H(x) = rise · ½ (1 + tanh((x − edge_x)/width)). C∞, so Newton steps can cross it.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Step {
-    pub edge_x: f64,
-    pub rise: f64,
-    pub width: f64,
-}
+mod distance;
+mod friction;
+mod terrain;
 
-/// The terrain: flat ground at `ground_height` plus smoothed steps (heights add up).
-#[derive(Debug, Clone, PartialEq, Default)]
-pub struct Terrain {
-    pub ground_height: f64,
-    pub steps: Vec<Step>,
-}
+pub use distance::signed_distance;
+pub use friction::{FrictionBasis, tangential_coordinates};
+pub use terrain::{Step, Terrain};

@@ -65,3 +65,40 @@ impl VectorFunction for EulerKnotResidual<'_> {
         out.copy_from_slice(&euler_residual(self.model, &v_k, q_k, q_next, h, u));
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::{BaseType, sample};
+
+    /// Pendulum (I = 1/3 kg·m² about the pivot, gravity torque (m g l/2) sin q) with damping d:
+    /// r = −(I(v₁ − v₀) + h (m g l/2) sin q_k) + h u − h d v₁.
+    #[test]
+    fn residual_matches_closed_form_for_pendulum() {
+        let xml = sample::pendulum().replace(
+            "<axis xyz=\"0 1 0\"/>",
+            "<axis xyz=\"0 1 0\"/>\n    <dynamics damping=\"0.4\"/>",
+        );
+        let model = Model::from_urdf_str(&xml, BaseType::Fixed).expect("loads");
+        let g = -model.gravity()[2];
+        let (v0, q, q_next, h, u) = (0.7, 0.3, 0.32, 0.02, 1.5);
+        let v1 = (q_next - q) / h;
+        let expected = -((v1 - v0) / 3.0 + h * 0.5 * g * f64::sin(q)) + h * u - h * 0.4 * v1;
+        let r = euler_residual(&model, &[v0], &[q], &[q_next], h, &[u])[0];
+        assert!((r - expected).abs() < 1e-12, "{r} vs {expected}");
+        // The first-step flag reads v_0 from the first slot; otherwise it is q_{k−1}.
+        let f = EulerKnotResidual {
+            model: &model,
+            first_step: true,
+        };
+        let mut out = [0.0];
+        f.eval(&[v0, q, q_next, 99.0, h, u], &mut out);
+        assert_eq!(out[0], r);
+        let f = EulerKnotResidual {
+            model: &model,
+            first_step: false,
+        };
+        f.eval(&[q - v0 * 0.01, q, q_next, 0.01, h, u], &mut out);
+        assert!((out[0] - r).abs() < 1e-12);
+    }
+}

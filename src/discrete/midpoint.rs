@@ -234,3 +234,50 @@ impl VectorFunction for MidpointKnotResidual<'_> {
         out.copy_from_slice(&del_residual(self.model, &w));
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::{BaseType, sample};
+
+    /// Simple pendulum (uniform rod, 1 kg, 1 m): I about the pivot = 1/3 kg·m², V = −m g (l/2) cos q.
+    fn pendulum() -> (Model, f64) {
+        let model = Model::from_urdf_str(&sample::pendulum(), BaseType::Fixed).expect("loads");
+        let g = -model.gravity()[2];
+        (model, g)
+    }
+
+    #[test]
+    fn ld_matches_closed_form_for_pendulum() {
+        let (model, g) = pendulum();
+        let (qa, qb, h) = (0.3, 0.37, 0.02);
+        let v = (qb - qa) / h;
+        let q = 0.5 * (qa + qb);
+        let expected = h * (0.5 / 3.0 * v * v + 0.5 * g * f64::cos(q));
+        assert!((ld(&model, &[qa], &[qb], h) - expected).abs() < 1e-12);
+        // D1Ld = −(I v) − (h/2)(m g l/2) sin q, D2Ld = (I v) − (h/2)(m g l/2) sin q.
+        let d1 = d1_ld(&model, &[qa], &[qb], h)[0];
+        let d2 = d2_ld(&model, &[qa], &[qb], h)[0];
+        let gravity = 0.5 * h * 0.5 * g * f64::sin(q);
+        assert!((d1 - (-v / 3.0 - gravity)).abs() < 1e-12);
+        assert!((d2 - (v / 3.0 - gravity)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn discrete_force_is_input_impulse_minus_damping() {
+        let xml = sample::pendulum().replace(
+            "<axis xyz=\"0 1 0\"/>",
+            "<axis xyz=\"0 1 0\"/>\n    <dynamics damping=\"0.4\"/>",
+        );
+        let model = Model::from_urdf_str(&xml, BaseType::Fixed).expect("loads");
+        assert_eq!(model.input_coordinates(), &[0]);
+        let (qa, qb, u, h) = (0.1, 0.15, 2.0, 0.05_f64);
+        let fd = discrete_force(&model, &[qa], &[qb], &[u], h)[0];
+        assert!((fd - (h * u - 0.4 * (qb - qa))).abs() < 1e-15);
+        // The Legendre transforms split it in halves: p⁻ − p⁺ = D2Ld + D1Ld + Fd.
+        let p_plus = momentum_before(&model, &[qa], &[qb], &[u], h)[0];
+        let p_minus = momentum_after(&model, &[qa], &[qb], &[u], h)[0];
+        let sum = d1_ld(&model, &[qa], &[qb], h)[0] + d2_ld(&model, &[qa], &[qb], h)[0];
+        assert!((p_minus - p_plus - (sum + fd)).abs() < 1e-14);
+    }
+}

@@ -1,0 +1,38 @@
+//! Dynamics blocks: discrete Lagrangian segments, discrete forces, the initial momentum and
+//! loop-closure impulses. The DEL rows are the sums D2Ld + D1Ld + ½Fd + ½Fd + J(q)ᵀλ + A(q)ᵀγ.
+
+use super::Context;
+use crate::model::Scalar;
+use crate::transcription::Mechanics;
+
+/// Ld(qa, qb, h); z = [qa; qb; h].
+pub fn segment<D: Scalar, M: Mechanics>(mech: &M, ctx: &Context, z: &[D]) -> D {
+    let n = ctx.n;
+    mech.discrete_lagrangian(ctx.integrator, &z[..n], &z[n..2 * n], z[2 * n])
+}
+
+/// ½Fd(qa, qb, u, h); z = [qa; qb; u; h].
+pub fn half_force<D: Scalar, M: Mechanics>(mech: &M, ctx: &Context, z: &[D], out: &mut [D]) {
+    let (n, m) = (ctx.n, ctx.m);
+    let (qa, rest) = z.split_at(n);
+    let (qb, rest) = rest.split_at(n);
+    let (u, h) = rest.split_at(m);
+    mech.discrete_force(ctx.integrator, qa, qb, u, h[0], out);
+    for o in out.iter_mut() {
+        *o *= D::from(0.5);
+    }
+}
+
+/// M(q_0)v_0; z = [q_0; v_0].
+pub fn initial_momentum<D: Scalar, M: Mechanics>(mech: &M, ctx: &Context, z: &[D], out: &mut [D]) {
+    mech.momentum(&z[..ctx.n], &z[ctx.n..2 * ctx.n], out);
+}
+
+/// γᵀa(q); z = [q; γ]. Its gradient in q is the loop impulse A(q)ᵀγ.
+pub fn loop_work<D: Scalar, M: Mechanics>(mech: &M, ctx: &Context, z: &[D]) -> D {
+    let mut a = vec![D::from(0.0); ctx.nl];
+    mech.loop_residual(&z[..ctx.n], &mut a);
+    a.iter()
+        .zip(&z[ctx.n..])
+        .fold(D::from(0.0), |acc, (&ai, &gi)| acc + ai * gi)
+}

@@ -1,0 +1,227 @@
+//! Constraint and cost blocks: small dense functions of a few NLP variables.
+//!
+//! Each block reads its local vector z = x[vars] and is either a *vector* block (outputs
+//! that add into constraint rows; derivatives by `jacobian` and `weighted_hessian`), a
+//! *gradient* block (a scalar whose gradient components add into rows, like the DEL
+//! equations, which are sums of gradients of Ld; derivatives by the third-order driver),
+//! or a *cost* block (a scalar added to the objective).
+
+mod contact;
+mod cost;
+
+pub use cost::term_name;
+mod del;
+
+use num_dual::Dual;
+
+use super::Mechanics;
+use crate::autodiff::{ScalarFunction, VectorFunction};
+use crate::contact::{FrictionBasis, Terrain, tangential_coordinates};
+use crate::model::Scalar;
+use crate::problem::{CostTerm, Integrator};
+
+/// Problem constants the block functions need besides the mechanics.
+#[derive(Debug, Clone)]
+pub struct Context {
+    /// Coordinates n.
+    pub n: usize,
+    /// Inputs m.
+    pub m: usize,
+    /// Loop constraints nl.
+    pub nl: usize,
+    /// Friction basis (nd = 2 planar, 4 spatial).
+    pub basis: FrictionBasis,
+    /// Friction coefficient per contact.
+    pub friction: Vec<f64>,
+    /// Terrain of every contact.
+    pub terrain: Terrain,
+    /// Discrete mechanics used by the dynamics rows.
+    pub integrator: Integrator,
+    /// The problem's cost terms (blocks refer to them by index).
+    pub costs: Vec<CostTerm>,
+}
+
+impl Context {
+    /// Friction directions per contact.
+    pub fn nd(&self) -> usize {
+        self.basis.num_directions()
+    }
+}
+
+/// What a vector block computes; z layouts in the comments.
+#[derive(Debug, Clone, PartialEq)]
+pub enum VectorKind {
+    /// ½Fd(qa, qb, u, h); z = [qa; qb; u; h].
+    HalfForce,
+    /// M(q_0)v_0; z = [q_0; v_0].
+    InitialMomentum,
+    /// ±P_i(qb)(qb − qa)/h (tangential-velocity rows, nonlinear part); z = [qa; qb; h].
+    TangentialRate { contact: usize },
+    /// ψ e − η (tangential-velocity rows, linear part); z = [ψ; η].
+    TangentialSlack,
+    /// −c_i φ_i(q) (the c·φ complementarity row's product); z = [q; c_i].
+    ContactGap { contact: usize },
+    /// φ_i(q); z = [q].
+    Distance { contact: usize },
+    /// μ c − eᵀβ; z = [c; β].
+    FrictionCone { contact: usize },
+    /// The relaxed products ηᵀβ and ψ(μc − eᵀβ) of the listed contacts with the slacks;
+    /// z = [(c, β, ψ, η) per contact; slacks (0: added by another block, 1 shared, or 3)].
+    Complementarity { contacts: Vec<usize>, slacks: usize },
+    /// a(q); z = [q].
+    LoopClosure,
+    /// h_a − h_b; z = [h_a; h_b].
+    EqualStep,
+    /// q_last − q_first − offset; z = [q_first; q_last].
+    PeriodicPosition { offset: f64 },
+    /// (qb' − qa')/h' − (qb − qa)/h; z = [qa; qb; h; qa'; qb'; h'].
+    PeriodicVelocity,
+}
+
+/// What a gradient (or cost) block computes.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ScalarKind {
+    /// Ld(qa, qb, h); z = [qa; qb; h].
+    Segment,
+    /// c_i φ_i(q) + β_iᵀ P_i t_i(q), whose q-gradient is contact i's J(q)ᵀλ;
+    /// z = [q; c_i; β_i].
+    ContactWork { contact: usize },
+    /// γᵀa(q), whose q-gradient is A(q)ᵀγ; z = [q; γ].
+    LoopWork,
+    /// Cost term `term` of the problem on one interval (or the last knot); z per term.
+    Cost { term: usize },
+}
+
+/// Placement of one block: its variables and where its local outputs go.
+#[derive(Debug, Clone)]
+pub struct Block<K> {
+    /// What it computes.
+    pub kind: K,
+    /// Global variable index of each local input.
+    pub vars: Vec<usize>,
+    /// Leading inputs that enter nonlinearly (the Hessian block is over these).
+    pub nonlinear: usize,
+    /// Inputs from this index on never multiply each other (the function is linear in
+    /// them jointly), so their mutual Hessian pairs are left out of the pattern.
+    pub linear_from: usize,
+    /// For each local output (vector) or gradient component (gradient block): rows it adds into.
+    pub targets: Vec<Vec<usize>>,
+    /// Jacobian slot for each (output, target row, input) in loop order.
+    pub jacobian_slots: Vec<usize>,
+    /// Hessian slot and multiplicity for each lower pair (a, b ≤ a) of nonlinear inputs.
+    pub hessian_slots: Vec<(usize, f64)>,
+}
+
+impl<K> Block<K> {
+    /// Whether the lower Hessian pair (a, b ≤ a) of local inputs is in the pattern.
+    pub fn has_hessian_pair(&self, a: usize, b: usize) -> bool {
+        a < self.nonlinear && b < self.linear_from
+    }
+
+    /// A block with empty slot maps (filled by the pattern pass).
+    pub fn new(kind: K, vars: Vec<usize>, nonlinear: usize, targets: Vec<Vec<usize>>) -> Self {
+        Block {
+            kind,
+            vars,
+            nonlinear,
+            linear_from: nonlinear,
+            targets,
+            jacobian_slots: Vec::new(),
+            hessian_slots: Vec::new(),
+        }
+    }
+}
+
+/// A vector block bound to the mechanics, as an AD-able function.
+pub struct VectorBlockFn<'a, M> {
+    /// Robot mechanics.
+    pub mech: &'a M,
+    /// Problem constants.
+    pub ctx: &'a Context,
+    /// The block.
+    pub kind: &'a VectorKind,
+    /// Local inputs.
+    pub dim_in: usize,
+    /// Local outputs.
+    pub dim_out: usize,
+}
+
+impl<M: Mechanics> VectorFunction for VectorBlockFn<'_, M> {
+    fn dim_in(&self) -> usize {
+        self.dim_in
+    }
+    fn dim_out(&self) -> usize {
+        self.dim_out
+    }
+    fn eval<D: Scalar>(&self, z: &[D], out: &mut [D]) {
+        let (mech, ctx) = (self.mech, self.ctx);
+        match self.kind {
+            VectorKind::HalfForce => del::half_force(mech, ctx, z, out),
+            VectorKind::InitialMomentum => del::initial_momentum(mech, ctx, z, out),
+            VectorKind::TangentialRate { contact } => {
+                contact::tangential_rate(mech, ctx, *contact, z, out)
+            }
+            VectorKind::TangentialSlack => contact::tangential_slack(z, out),
+            VectorKind::ContactGap { contact } => {
+                out[0] = contact::contact_gap(mech, ctx, *contact, z)
+            }
+            VectorKind::Distance { contact } => out[0] = contact::distance(mech, ctx, *contact, z),
+            VectorKind::FrictionCone { contact } => {
+                out[0] = contact::friction_cone(ctx, *contact, z)
+            }
+            VectorKind::Complementarity { contacts, slacks } => {
+                contact::complementarity(ctx, contacts, *slacks, z, out)
+            }
+            VectorKind::LoopClosure => mech.loop_residual(z, out),
+            VectorKind::EqualStep => out[0] = z[0] - z[1],
+            VectorKind::PeriodicPosition { offset } => out[0] = z[1] - z[0] - D::from(*offset),
+            VectorKind::PeriodicVelocity => out[0] = (z[4] - z[3]) / z[5] - (z[1] - z[0]) / z[2],
+        }
+    }
+}
+
+/// A gradient or cost block bound to the mechanics, as an AD-able scalar function.
+pub struct ScalarBlockFn<'a, M> {
+    /// Robot mechanics.
+    pub mech: &'a M,
+    /// Problem constants.
+    pub ctx: &'a Context,
+    /// The block.
+    pub kind: &'a ScalarKind,
+    /// Local inputs.
+    pub dim: usize,
+}
+
+impl<M: Mechanics> ScalarFunction for ScalarBlockFn<'_, M> {
+    fn dim(&self) -> usize {
+        self.dim
+    }
+    fn eval<D: Scalar>(&self, z: &[D]) -> D {
+        let (mech, ctx) = (self.mech, self.ctx);
+        match self.kind {
+            ScalarKind::Segment => del::segment(mech, ctx, z),
+            ScalarKind::ContactWork { contact } => contact::contact_work(mech, ctx, *contact, z),
+            ScalarKind::LoopWork => del::loop_work(mech, ctx, z),
+            ScalarKind::Cost { term } => cost::cost(&ctx.costs[*term], ctx, z),
+        }
+    }
+}
+
+/// Rates of the tangential coordinates of contact `i` at q moving with q̇, i.e. D_i(q)·q̇,
+/// into `out` (length tangents): a forward directional derivative of the point position.
+fn tangential_rates<D: Scalar, M: Mechanics>(
+    mech: &M,
+    ctx: &Context,
+    contact: usize,
+    q: &[D],
+    qdot: &[D],
+    out: &mut [D],
+) {
+    let moving: Vec<Dual<D>> = q.iter().zip(qdot).map(|(&a, &b)| Dual::new(a, b)).collect();
+    let p = mech.contact_position(contact, &moving);
+    let mut t = [Dual::from_re(D::from(0.0)); 2];
+    tangential_coordinates(ctx.basis, &p, &mut t);
+    for (o, ti) in out.iter_mut().zip(t) {
+        *o = ti.eps;
+    }
+}

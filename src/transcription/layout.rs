@@ -1,0 +1,348 @@
+//! Where each variable and constraint row lives in the NLP vectors.
+//!
+//! Variables, in this order (knots k = 0..N−1, intervals j = 0..N−2, 0-based):
+//! all q_k (n each), v_0 (n), all h_j, all u_j (m each), then per interval j the contact
+//! block [c (nc), β (nc·nd, contact-major), ψ (nc), η (nc·nd)], then the loop impulses γ_j
+//! (nl each), then the slacks (1 per interval, or 3·nc per interval in per-contact mode,
+//! ordered contact-major as [ηᵀβ, c·φ, ψ·(μc − eᵀβ)]).
+//!
+//! Constraint rows: per interval j, in this order: dynamics (n rows: the first step for
+//! j = 0, the DEL equation at knot j after, both holding J(q_{j+1})ᵀλ_j), loop closure a(q_{j+1}) (nl), tangential
+//! velocity (nc·nd), non-penetration φ(q_{j+1}) (nc), friction cone (nc), complementarity
+//! (3, or 3·nc per contact); then after all intervals: N−2 equal-step rows (free steps
+//! only), the loop closure at q_0 (nl), and the periodicity rows.
+
+use std::ops::Range;
+
+use crate::problem::{Periodicity, SlackMode};
+
+/// The per-knot sizes a layout is built from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Dims {
+    /// Coordinates n.
+    pub n: usize,
+    /// Inputs m.
+    pub m: usize,
+    /// Contacts nc.
+    pub nc: usize,
+    /// Friction directions per contact nd.
+    pub nd: usize,
+    /// Loop-closure constraints nl.
+    pub nl: usize,
+}
+
+/// Sizes and offsets of the variable vector and the constraint rows.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Layout {
+    /// Coordinates n.
+    pub n: usize,
+    /// Inputs m.
+    pub m: usize,
+    /// Contacts nc.
+    pub nc: usize,
+    /// Friction directions per contact nd.
+    pub nd: usize,
+    /// Loop-closure constraints nl.
+    pub nl: usize,
+    /// Knots N.
+    pub knots: usize,
+    /// Slack mode.
+    pub slack_mode: SlackMode,
+    /// Whether the N−2 equal-step rows are present.
+    pub equal_steps: bool,
+    /// Periodicity rows: (coordinate, is_velocity, offset).
+    pub periodic_rows: Vec<(usize, bool, f64)>,
+}
+
+impl Layout {
+    /// A layout for these sizes; `periodic` lists the periodicity constraints.
+    pub fn new(
+        dims: Dims,
+        knots: usize,
+        slack_mode: SlackMode,
+        equal_steps: bool,
+        periodic: &[Periodicity],
+    ) -> Layout {
+        let mut periodic_rows = Vec::new();
+        for p in periodic {
+            if p.position {
+                periodic_rows.push((p.coordinate, false, p.offset));
+            }
+            if p.velocity {
+                periodic_rows.push((p.coordinate, true, 0.0));
+            }
+        }
+        let Dims { n, m, nc, nd, nl } = dims;
+        Layout {
+            n,
+            m,
+            nc,
+            nd,
+            nl,
+            knots,
+            slack_mode,
+            equal_steps,
+            periodic_rows,
+        }
+    }
+
+    /// Number of intervals N−1.
+    pub fn intervals(&self) -> usize {
+        self.knots - 1
+    }
+
+    /// Contact variables per interval: nc·(2 + 2·nd).
+    fn contact_block(&self) -> usize {
+        self.nc * (2 + 2 * self.nd)
+    }
+
+    /// Slack variables per interval: 1, or 3·nc per contact.
+    pub fn slacks_per_interval(&self) -> usize {
+        match self.slack_mode {
+            SlackMode::PerInterval => 1,
+            SlackMode::PerContact => 3 * self.nc,
+        }
+    }
+
+    fn v0_offset(&self) -> usize {
+        self.knots * self.n
+    }
+    fn h_offset(&self) -> usize {
+        self.v0_offset() + self.n
+    }
+    fn u_offset(&self) -> usize {
+        self.h_offset() + self.intervals()
+    }
+    fn contact_offset(&self) -> usize {
+        self.u_offset() + self.intervals() * self.m
+    }
+    fn gamma_offset(&self) -> usize {
+        self.contact_offset() + self.intervals() * self.contact_block()
+    }
+    fn slack_offset(&self) -> usize {
+        self.gamma_offset() + self.intervals() * self.nl
+    }
+
+    /// Total number of variables.
+    pub fn num_variables(&self) -> usize {
+        self.slack_offset() + self.intervals() * self.slacks_per_interval()
+    }
+
+    /// Configuration q_k (length n).
+    pub fn q(&self, k: usize) -> Range<usize> {
+        k * self.n..(k + 1) * self.n
+    }
+    /// Initial velocity v_0 (length n).
+    pub fn v0(&self) -> Range<usize> {
+        self.v0_offset()..self.v0_offset() + self.n
+    }
+    /// Time step h_j.
+    pub fn h(&self, j: usize) -> usize {
+        self.h_offset() + j
+    }
+    /// Input u_j (length m).
+    pub fn u(&self, j: usize) -> Range<usize> {
+        let a = self.u_offset() + j * self.m;
+        a..a + self.m
+    }
+    /// Normal impulse c_{j,i}.
+    pub fn c(&self, j: usize, i: usize) -> usize {
+        self.contact_offset() + j * self.contact_block() + i
+    }
+    /// Friction impulses β_{j,i} (length nd).
+    pub fn beta(&self, j: usize, i: usize) -> Range<usize> {
+        let a = self.contact_offset() + j * self.contact_block() + self.nc + i * self.nd;
+        a..a + self.nd
+    }
+    /// ψ_{j,i}.
+    pub fn psi(&self, j: usize, i: usize) -> usize {
+        self.contact_offset() + j * self.contact_block() + self.nc * (1 + self.nd) + i
+    }
+    /// η_{j,i} (length nd).
+    pub fn eta(&self, j: usize, i: usize) -> Range<usize> {
+        let a = self.contact_offset()
+            + j * self.contact_block()
+            + self.nc * (2 + self.nd)
+            + i * self.nd;
+        a..a + self.nd
+    }
+    /// All contact variables of interval j.
+    pub fn contact_vars(&self, j: usize) -> Range<usize> {
+        let a = self.contact_offset() + j * self.contact_block();
+        a..a + self.contact_block()
+    }
+    /// Loop-closure impulses γ_j (length nl).
+    pub fn gamma(&self, j: usize) -> Range<usize> {
+        let a = self.gamma_offset() + j * self.nl;
+        a..a + self.nl
+    }
+    /// Slacks of interval j (length `slacks_per_interval`).
+    pub fn slack(&self, j: usize) -> Range<usize> {
+        let a = self.slack_offset() + j * self.slacks_per_interval();
+        a..a + self.slacks_per_interval()
+    }
+    /// All slack variables.
+    pub fn slacks(&self) -> Range<usize> {
+        self.slack_offset()..self.num_variables()
+    }
+
+    /// Complementarity rows per interval.
+    fn complementarity_rows(&self) -> usize {
+        match self.slack_mode {
+            SlackMode::PerInterval => 3,
+            SlackMode::PerContact => 3 * self.nc,
+        }
+    }
+    /// Rows per interval.
+    pub fn rows_per_interval(&self) -> usize {
+        self.n + self.nl + self.nc * self.nd + 2 * self.nc + self.complementarity_rows()
+    }
+    fn interval_row(&self, j: usize) -> usize {
+        j * self.rows_per_interval()
+    }
+    /// Dynamics rows of interval j (first step for j = 0, DEL at knot j after).
+    pub fn dynamics_rows(&self, j: usize) -> Range<usize> {
+        let a = self.interval_row(j);
+        a..a + self.n
+    }
+    /// Loop-closure rows a(q_{j+1}) of interval j.
+    pub fn loop_rows(&self, j: usize) -> Range<usize> {
+        let a = self.interval_row(j) + self.n;
+        a..a + self.nl
+    }
+    /// Tangential-velocity rows of contact i in interval j (length nd).
+    pub fn tangential_rows(&self, j: usize, i: usize) -> Range<usize> {
+        let a = self.interval_row(j) + self.n + self.nl + i * self.nd;
+        a..a + self.nd
+    }
+    /// Non-penetration row φ_i(q_{j+1}) ≥ 0.
+    pub fn distance_row(&self, j: usize, i: usize) -> usize {
+        self.interval_row(j) + self.n + self.nl + self.nc * self.nd + i
+    }
+    /// Friction-cone row μc − eᵀβ ≥ 0.
+    pub fn cone_row(&self, j: usize, i: usize) -> usize {
+        self.distance_row(j, i) + self.nc
+    }
+    /// Complementarity rows of interval j (3, or 3·nc contact-major).
+    pub fn complementarity_rows_of(&self, j: usize) -> Range<usize> {
+        let a = self.interval_row(j) + self.n + self.nl + self.nc * self.nd + 2 * self.nc;
+        a..a + self.complementarity_rows()
+    }
+    /// Equal-step row h_j − h_{j+1} = 0, j = 0..N−3 (only when steps are free).
+    pub fn equal_step_row(&self, j: usize) -> usize {
+        self.intervals() * self.rows_per_interval() + j
+    }
+    fn num_equal_step_rows(&self) -> usize {
+        if self.equal_steps {
+            self.knots.saturating_sub(2)
+        } else {
+            0
+        }
+    }
+    /// Loop-closure rows a(q_0) at the first knot.
+    pub fn first_loop_rows(&self) -> Range<usize> {
+        let a = self.intervals() * self.rows_per_interval() + self.num_equal_step_rows();
+        a..a + self.nl
+    }
+    /// Periodicity row number r (in `periodic_rows` order).
+    pub fn periodic_row(&self, r: usize) -> usize {
+        self.first_loop_rows().end + r
+    }
+    /// Total number of constraint rows.
+    pub fn num_constraints(&self) -> usize {
+        self.periodic_row(self.periodic_rows.len())
+    }
+
+    /// Whether row `r` is an equality (g = 0) or an inequality (g ≥ 0).
+    pub fn is_equality(&self, r: usize) -> bool {
+        let per = self.intervals() * self.rows_per_interval();
+        if r >= per {
+            return true;
+        }
+        let local = r % self.rows_per_interval();
+        local < self.n + self.nl + self.nc * self.nd
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn dims(n: usize, m: usize, nc: usize, nd: usize, nl: usize) -> Dims {
+        Dims { n, m, nc, nd, nl }
+    }
+
+    /// SPEC.md's spring-flamingo-walk: 954 variables, 695 constraints (672 + 23).
+    #[test]
+    fn spring_flamingo_sizes_match_spec() {
+        let l = Layout::new(dims(9, 4, 4, 2, 0), 25, SlackMode::PerInterval, true, &[]);
+        assert_eq!(l.num_variables(), 954);
+        assert_eq!(l.num_constraints(), 695);
+        assert_eq!(l.rows_per_interval() * 24, 672);
+    }
+
+    /// SPEC.md's littledog-step: 2124 variables, 1333 constraints (1305 + 28).
+    #[test]
+    fn littledog_sizes_match_spec() {
+        let l = Layout::new(dims(18, 12, 4, 4, 0), 30, SlackMode::PerInterval, true, &[]);
+        assert_eq!(l.num_variables(), 2124);
+        assert_eq!(l.num_constraints(), 1333);
+    }
+
+    #[test]
+    fn every_variable_and_row_has_exactly_one_owner() {
+        let periodic = [Periodicity {
+            coordinate: 1,
+            position: true,
+            offset: 0.5,
+            velocity: true,
+        }];
+        let l = Layout::new(
+            dims(3, 2, 2, 4, 1),
+            5,
+            SlackMode::PerContact,
+            true,
+            &periodic,
+        );
+        let mut owner = vec![0usize; l.num_variables()];
+        let mut mark = |r: Range<usize>| r.for_each(|i| owner[i] += 1);
+        for k in 0..l.knots {
+            mark(l.q(k));
+        }
+        mark(l.v0());
+        for j in 0..l.intervals() {
+            mark(l.h(j)..l.h(j) + 1);
+            mark(l.u(j));
+            for i in 0..l.nc {
+                mark(l.c(j, i)..l.c(j, i) + 1);
+                mark(l.beta(j, i));
+                mark(l.psi(j, i)..l.psi(j, i) + 1);
+                mark(l.eta(j, i));
+            }
+            mark(l.gamma(j));
+            mark(l.slack(j));
+        }
+        assert!(owner.iter().all(|&c| c == 1));
+
+        let mut rows = vec![0usize; l.num_constraints()];
+        let mut mark = |r: Range<usize>| r.for_each(|i| rows[i] += 1);
+        for j in 0..l.intervals() {
+            mark(l.dynamics_rows(j));
+            mark(l.loop_rows(j));
+            for i in 0..l.nc {
+                mark(l.tangential_rows(j, i));
+                mark(l.distance_row(j, i)..l.distance_row(j, i) + 1);
+                mark(l.cone_row(j, i)..l.cone_row(j, i) + 1);
+            }
+            mark(l.complementarity_rows_of(j));
+        }
+        for j in 0..l.knots - 2 {
+            mark(l.equal_step_row(j)..l.equal_step_row(j) + 1);
+        }
+        mark(l.first_loop_rows());
+        mark(l.periodic_row(0)..l.periodic_row(2));
+        assert!(rows.iter().all(|&c| c == 1));
+        assert!(l.is_equality(l.tangential_rows(1, 1).start));
+        assert!(!l.is_equality(l.cone_row(1, 1)));
+    }
+}

@@ -1,0 +1,278 @@
+//! Solving a problem: load the robot, build the transcription, run Ipopt, fill a
+//! [`Solution`]; plus the initial-guess report and the benchmark row.
+
+use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
+use std::time::Instant;
+
+use super::blocks::VectorKind;
+use super::nlp::{ProgressFn, TranscriptionNlp};
+use super::{
+    InitialGuessReport, Mechanics, ModelMechanics, NlpSize, Solution, Transcription,
+    TranscriptionError,
+};
+use crate::autodiff::VectorFunction;
+use crate::ipopt::{self, Solver};
+use crate::problem::{HessianMode, OptionValue, ProblemSpec};
+
+/// How to run a solve besides the problem itself.
+#[derive(Default)]
+pub struct SolveOptions {
+    /// Called once per Ipopt iteration.
+    pub progress: Option<Box<ProgressFn>>,
+    /// Set to true (e.g. from a Ctrl-C handler) to stop at the next iteration; the solve then
+    /// returns status `UserRequestedStop` with the current iterate.
+    pub cancel: Option<Arc<AtomicBool>>,
+    /// Ipopt options applied after the problem's own (so they win).
+    pub ipopt_options: Vec<(String, OptionValue)>,
+}
+
+/// One row of `vito bench`: sizes, iterations and where the time went.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BenchRow {
+    /// Problem name.
+    pub name: String,
+    /// NLP sizes (variables, constraints, Jacobian and lower-Hessian nonzeros).
+    pub size: NlpSize,
+    /// Ipopt's final status.
+    pub status: ipopt::Status,
+    /// Final objective.
+    pub objective: f64,
+    /// Ipopt iterations.
+    pub iterations: usize,
+    /// Wall time of the solve, s.
+    pub wall_time_s: f64,
+    /// Time in vito's callbacks, s.
+    pub callback_time_s: f64,
+    /// Time inside Ipopt (wall − callbacks), s.
+    pub ipopt_time_s: f64,
+    /// One evaluation of the Jacobian plus the Lagrangian Hessian at the initial point, s
+    /// (median of repeated evaluations).
+    pub derivative_eval_s: f64,
+}
+
+fn load_mechanics(spec: &ProblemSpec) -> Result<ModelMechanics, TranscriptionError> {
+    ModelMechanics::load(spec)
+}
+
+/// Solve `spec` (robot from its URDF).
+pub fn solve(spec: &ProblemSpec, options: &SolveOptions) -> Result<Solution, TranscriptionError> {
+    solve_with(load_mechanics(spec)?, spec, options)
+}
+
+/// SPEC.md's values at the initial guess for `spec` (robot from its URDF).
+pub fn evaluate_initial_guess(
+    spec: &ProblemSpec,
+) -> Result<InitialGuessReport, TranscriptionError> {
+    Ok(Transcription::new(load_mechanics(spec)?, spec)?.initial_guess_report())
+}
+
+/// Benchmark `spec`: sizes, one derivative evaluation, and a full solve.
+pub fn bench(spec: &ProblemSpec) -> Result<BenchRow, TranscriptionError> {
+    bench_with(load_mechanics(spec)?, spec)
+}
+
+fn configure(spec: &ProblemSpec, options: &SolveOptions) -> Result<Solver, TranscriptionError> {
+    let mut solver = Solver::new();
+    for (name, value) in spec.solver_options.iter().chain(&options.ipopt_options) {
+        let value = match value {
+            OptionValue::Str(s) => ipopt::OptionValue::Str(s.clone()),
+            OptionValue::Num(x) => ipopt::OptionValue::Num(*x),
+            OptionValue::Int(i) => ipopt::OptionValue::Int(*i),
+        };
+        solver.set_option(name, value)?;
+    }
+    if spec.hessian == HessianMode::Lbfgs {
+        solver.set_option("hessian_approximation", "limited-memory")?;
+    }
+    if let Some(flag) = &options.cancel {
+        solver.set_cancel_flag(flag.clone());
+    }
+    Ok(solver)
+}
+
+/// Solve `spec` for the given mechanics (e.g. closed-form test robots).
+pub fn solve_with<M: Mechanics>(
+    mech: M,
+    spec: &ProblemSpec,
+    options: &SolveOptions,
+) -> Result<Solution, TranscriptionError> {
+    let transcription = Transcription::new(mech, spec)?;
+    let mut solver = configure(spec, options)?;
+    let mut nlp = TranscriptionNlp::new(&transcription, options.progress.as_deref());
+    let report = solver.solve(&mut nlp)?;
+    Ok(fill_solution(&transcription, spec, &report))
+}
+
+/// Benchmark with the given mechanics.
+pub fn bench_with<M: Mechanics>(
+    mech: M,
+    spec: &ProblemSpec,
+) -> Result<BenchRow, TranscriptionError> {
+    let t = Transcription::new(mech, spec)?;
+    let x = t.initial_point().to_vec();
+    let mut jac = vec![0.0; t.jacobian_pattern().nnz()];
+    let mut hess = vec![0.0; t.hessian_pattern().nnz()];
+    let lambda = vec![1.0; t.layout().num_constraints()];
+    let mut times = Vec::new();
+    for _ in 0..7 {
+        let start = Instant::now();
+        t.jacobian_values(&x, &mut jac);
+        t.hessian_values(&x, 1.0, &lambda, &mut hess);
+        times.push(start.elapsed().as_secs_f64());
+    }
+    times.sort_by(f64::total_cmp);
+    let derivative_eval_s = times[times.len() / 2];
+    let options = SolveOptions {
+        ipopt_options: vec![("print_level".into(), OptionValue::Int(0))],
+        ..SolveOptions::default()
+    };
+    let mut solver = configure(spec, &options)?;
+    let report = solver.solve(&mut TranscriptionNlp::new(&t, None))?;
+    Ok(BenchRow {
+        name: spec.name.clone(),
+        size: size_of(&t),
+        status: report.status,
+        objective: report.objective,
+        iterations: report.iterations,
+        wall_time_s: report.wall_time_s,
+        callback_time_s: report.callback_time_s,
+        ipopt_time_s: report.ipopt_time_s,
+        derivative_eval_s,
+    })
+}
+
+fn size_of<M: Mechanics>(t: &Transcription<M>) -> NlpSize {
+    NlpSize {
+        n_variables: t.layout().num_variables(),
+        n_constraints: t.layout().num_constraints(),
+        nnz_jacobian: t.jacobian_pattern().nnz(),
+        nnz_hessian: match t.hessian_mode() {
+            HessianMode::Exact => t.hessian_pattern().nnz(),
+            HessianMode::Lbfgs => 0,
+        },
+    }
+}
+
+/// Signed distance φ_i(q) of every contact at q.
+fn distances<M: Mechanics>(t: &Transcription<M>, q: &[f64]) -> Vec<f64> {
+    (0..t.layout().nc)
+        .map(|i| {
+            let kind = VectorKind::Distance { contact: i };
+            let f = super::blocks::VectorBlockFn {
+                mech: t.mechanics(),
+                ctx: t.context(),
+                kind: &kind,
+                dim_in: q.len(),
+                dim_out: 1,
+            };
+            let mut out = [0.0];
+            f.eval(q, &mut out);
+            out[0]
+        })
+        .collect()
+}
+
+/// The same point with ψ and η shifted down by their common part.
+///
+/// The tangential rows hold ψ·e − η, so (ψ − t, η − t·e) satisfies them equally for any
+/// t; in flight and in stick nothing else fixes t, and interior-point iterates drift to
+/// t ~ 1e5–1e8 (SPEC.md, addition 4), where products like ηᵀβ with β ~ 1e-8 show spurious
+/// O(1e-3) values. Shifting by t = min(ψ, η) keeps every bound and equality, leaves the
+/// objective unchanged and can only lower ηᵀβ and ψ(μc − eᵀβ) on a feasible friction cone,
+/// so the complementarity and violation a solution reports are those of this point.
+fn canonical_friction_multipliers<M: Mechanics>(t: &Transcription<M>, x: &[f64]) -> Vec<f64> {
+    let l = t.layout();
+    let mut x = x.to_vec();
+    for j in 0..l.intervals() {
+        for i in 0..l.nc {
+            let psi = l.psi(j, i);
+            let eta = l.eta(j, i);
+            let shift = x[eta.clone()].iter().fold(x[psi], |a, &b| a.min(b));
+            if shift > 0.0 {
+                x[psi] -= shift;
+                for e in eta {
+                    x[e] -= shift;
+                }
+            }
+        }
+    }
+    x
+}
+
+fn fill_solution<M: Mechanics>(
+    t: &Transcription<M>,
+    spec: &ProblemSpec,
+    report: &ipopt::SolveReport,
+) -> Solution {
+    let l = t.layout();
+    let x = &canonical_friction_multipliers(t, &report.x);
+    let q: Vec<Vec<f64>> = (0..l.knots).map(|k| x[l.q(k)].to_vec()).collect();
+    let time_steps: Vec<f64> = (0..l.intervals()).map(|j| x[l.h(j)]).collect();
+    let mut times = vec![0.0];
+    for h in &time_steps {
+        times.push(times.last().copied().unwrap_or(0.0) + h);
+    }
+    let mut v = vec![x[l.v0()].to_vec()];
+    for j in 0..l.intervals() {
+        v.push(
+            q[j + 1]
+                .iter()
+                .zip(&q[j])
+                .map(|(b, a)| (b - a) / time_steps[j])
+                .collect(),
+        );
+    }
+    let mut normal_impulse = Vec::new();
+    let mut friction_impulse = Vec::new();
+    let mut signed_distance = Vec::new();
+    let mut slack = Vec::new();
+    let mut max_complementarity = 0.0_f64;
+    for j in 0..l.intervals() {
+        let phi = distances(t, &q[j + 1]);
+        let c: Vec<f64> = (0..l.nc).map(|i| x[l.c(j, i)]).collect();
+        let beta: Vec<Vec<f64>> = (0..l.nc).map(|i| x[l.beta(j, i)].to_vec()).collect();
+        let mut products = [0.0; 3];
+        for i in 0..l.nc {
+            let eta = &x[l.eta(j, i)];
+            let cone = spec.contacts[i].friction * c[i] - beta[i].iter().sum::<f64>();
+            products[0] += eta.iter().zip(&beta[i]).map(|(e, b)| e * b).sum::<f64>();
+            products[1] += c[i] * phi[i].max(0.0);
+            products[2] += x[l.psi(j, i)] * cone;
+        }
+        for p in products {
+            max_complementarity = max_complementarity.max(p);
+        }
+        normal_impulse.push(c);
+        friction_impulse.push(beta);
+        signed_distance.push(phi);
+        slack.push(x[l.slack(j)].to_vec());
+    }
+    let max_slack = x[l.slacks()].iter().fold(0.0_f64, |a, &b| a.max(b));
+    Solution {
+        status: report.status,
+        objective: report.objective,
+        objective_terms: t.objective_terms(x),
+        iterations: report.iterations,
+        wall_time_s: report.wall_time_s,
+        callback_time_s: report.callback_time_s,
+        ipopt_time_s: report.ipopt_time_s,
+        size: size_of(t),
+        coordinate_names: t.mechanics().coordinate_names(),
+        input_names: t.mechanics().input_names(),
+        contact_names: spec.contacts.iter().map(|c| c.name.clone()).collect(),
+        friction_directions: l.nd,
+        times,
+        time_steps,
+        u: (0..l.intervals()).map(|j| x[l.u(j)].to_vec()).collect(),
+        q,
+        v,
+        normal_impulse,
+        friction_impulse,
+        signed_distance,
+        slack,
+        max_slack,
+        max_complementarity,
+        max_constraint_violation: t.violation(x).0,
+    }
+}

@@ -1,0 +1,58 @@
+//! SPEC.md's "values at the initial guess" (no solver involved): objective, largest
+//! constraint violation and ‖equality residuals‖₂, for hopper-2d and brick-3d, on the
+//! closed-form mechanics of SPEC.md. Also the problem sizes.
+
+mod common;
+
+use common::analytic::{Brick, Hopper};
+use common::reference::{brick_3d, hopper_2d};
+use vito::transcription::Transcription;
+
+fn close(found: f64, expected: f64, tol: f64) -> bool {
+    (found - expected).abs() <= tol
+}
+
+#[test]
+fn hopper_initial_guess_matches_spec() {
+    let t = Transcription::new(Hopper, &hopper_2d()).unwrap();
+    let r = t.initial_guess_report();
+    println!("hopper-2d initial guess: {r:?}");
+    assert!(close(r.objective, 20.041640625, 1e-9), "{r:?}");
+    assert!(close(r.max_constraint_violation, 1.65, 1e-9), "{r:?}");
+    assert!(close(r.equality_residual_norm, 7.93069, 5e-6), "{r:?}");
+    // Independent CasADi value to all digits it printed.
+    assert!(
+        close(r.equality_residual_norm, 7.930688569805903, 1e-9),
+        "{r:?}"
+    );
+}
+
+#[test]
+fn brick_initial_guess_matches_spec() {
+    let t = Transcription::new(Brick, &brick_3d()).unwrap();
+    let r = t.initial_guess_report();
+    println!("brick-3d initial guess: {r:?}");
+    assert!(close(r.objective, 400.0, 1e-9), "{r:?}");
+    assert!(close(r.max_constraint_violation, 1.0, 1e-9), "{r:?}");
+    assert!(close(r.equality_residual_norm, 1.43765, 5e-6), "{r:?}");
+    assert!(
+        close(r.equality_residual_norm, 1.4376470914219122, 1e-9),
+        "{r:?}"
+    );
+}
+
+#[test]
+fn reference_problem_sizes() {
+    let hopper = Transcription::new(Hopper, &hopper_2d()).unwrap();
+    let l = hopper.layout();
+    // 21·4 q + 4 v0 + 20 h + 20·2 u + 20·(1 + 2 + 1 + 2) contact + 20 s.
+    assert_eq!(l.num_variables(), 84 + 4 + 20 + 40 + 120 + 20);
+    // per interval: 4 DEL + 2 tangential + 1 φ + 1 cone + 3 complementarity.
+    assert_eq!(l.num_constraints(), 20 * 11);
+    assert_eq!(l.nd, 2, "the hopper is planar: one friction direction pair");
+    let brick = Transcription::new(Brick, &brick_3d()).unwrap();
+    let l = brick.layout();
+    assert_eq!(l.nd, 4);
+    assert_eq!(l.num_variables(), 41 * 6 + 6 + 40 + 40 * 8 * 10 + 40);
+    assert_eq!(l.num_constraints(), 40 * (6 + 32 + 8 + 8 + 3));
+}
