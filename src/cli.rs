@@ -143,6 +143,8 @@ pub enum CliError {
     Golden(#[from] report::GoldenError),
     #[error("internal error: {0}")]
     Internal(String),
+    #[error(transparent)]
+    Transcription(#[from] vito::transcription::TranscriptionError),
 }
 
 impl CliError {
@@ -150,6 +152,10 @@ impl CliError {
     pub fn exit_code(&self) -> u8 {
         match self {
             CliError::Problem(_) | CliError::Input(_) | CliError::Golden(_) => 2,
+            CliError::Transcription(e) => match e {
+                vito::transcription::TranscriptionError::Solver(_) => 3,
+                _ => 2,
+            },
             CliError::Report(_) | CliError::Internal(_) => 3,
         }
     }
@@ -378,29 +384,26 @@ fn solve(file: &Path, set: &[String], out: Option<&Path>, quiet: bool) -> Result
     Ok(if is_solved(solution.status) { 0 } else { 1 })
 }
 
-/// Calls the transcription's solver with progress and cancel.
-///
-/// PENDING: `transcription::solve(spec, &SolveOptions)` has not landed on `main`; until it
-/// does, this reports an internal error instead of solving.
+/// Calls the transcription's solver with live progress (stderr) and the cancel flag.
 fn run_solver(
     problem: &LoadedProblem,
     cancel: Arc<AtomicBool>,
     quiet: bool,
 ) -> Result<Solution, CliError> {
-    // The progress callback SolveOptions will carry: one line per Ipopt iteration on stderr.
-    let progress = move |it: &vito::ipopt::IterationInfo, max_slack: f64| {
+    let progress = move |p: &vito::transcription::Progress| {
         if !quiet {
             eprintln!(
                 "{}",
-                progress_line(it.iteration, it.objective, it.inf_pr, it.inf_du, max_slack)
+                progress_line(p.iteration, p.objective, p.inf_pr, p.inf_du, p.max_slack)
             );
         }
     };
-    let _ = (problem, cancel, progress);
-    Err(CliError::Internal(
-        "this build has no solver yet (transcription::solve is not merged); `vito check` works"
-            .into(),
-    ))
+    let options = vito::transcription::SolveOptions {
+        progress: Some(Box::new(progress)),
+        cancel: Some(cancel),
+        ipopt_options: Vec::new(),
+    };
+    vito::transcription::solve(&problem.spec, &options).map_err(CliError::Transcription)
 }
 
 fn print_summary(problem: &LoadedProblem, s: &Solution, dir: &Path) {
@@ -503,19 +506,51 @@ pub const REFERENCE_PROBLEMS: [&str; 4] = [
     "problems/littledog_step.toml",
 ];
 
-/// PENDING: prints `transcription::bench` rows once the transcription lands on `main`.
+/// Prints one `transcription::bench` row per problem (sizes, solve and derivative times).
 fn bench(files: &[PathBuf]) -> Result<u8, CliError> {
     let files: Vec<PathBuf> = if files.is_empty() {
         REFERENCE_PROBLEMS.iter().map(PathBuf::from).collect()
     } else {
         files.to_vec()
     };
-    for f in &files {
-        load(f, &[])?;
+    let problems = files
+        .iter()
+        .map(|f| load(f, &[]))
+        .collect::<Result<Vec<_>, _>>()?;
+    out!(
+        "{:<24} {:>6} {:>6} {:>7} {:>7} {:>28} {:>15} {:>6} {:>9} {:>9} {:>9} {:>10}",
+        "problem",
+        "vars",
+        "cons",
+        "nnz J",
+        "nnz H",
+        "status",
+        "objective",
+        "iter",
+        "wall s",
+        "callb. s",
+        "ipopt s",
+        "J+H eval s"
+    );
+    for p in &problems {
+        let r = vito::transcription::bench(&p.spec).map_err(CliError::Transcription)?;
+        out!(
+            "{:<24} {:>6} {:>6} {:>7} {:>7} {:>28} {:>15.8e} {:>6} {:>9.3} {:>9.3} {:>9.3} {:>10.2e}",
+            r.name,
+            r.size.n_variables,
+            r.size.n_constraints,
+            r.size.nnz_jacobian,
+            r.size.nnz_hessian,
+            status_name(r.status),
+            r.objective,
+            r.iterations,
+            r.wall_time_s,
+            r.callback_time_s,
+            r.ipopt_time_s,
+            r.derivative_eval_s
+        );
     }
-    Err(CliError::Internal(
-        "this build has no transcription yet (transcription::bench is not merged)".into(),
-    ))
+    Ok(0)
 }
 
 /// One row of the regression table.

@@ -86,13 +86,11 @@ fn check_csv_agrees(out: &Path, s: &serde_json::Value) {
 }
 
 #[test]
-#[ignore = "pending transcription::solve on main; then run with --release"]
 fn hopper_2d_solves() {
     solve_and_check("hopper_2d_solves", "hopper_2d.toml", 1e-4);
 }
 
 #[test]
-#[ignore = "pending transcription::solve on main; then run with --release"]
 fn brick_3d_solves() {
     solve_and_check("brick_3d_solves", "brick_3d.toml", 1e-4);
 }
@@ -113,4 +111,50 @@ fn spring_flamingo_walk_solves() {
 #[ignore = "slow: cargo test --release -- --ignored littledog"]
 fn littledog_step_solves() {
     solve_and_check("littledog_step_solves", "littledog_step.toml", 1e-5);
+}
+
+/// Ctrl-C stops the solve cleanly: the iterate is written with `user_requested_stop`, exit 1.
+#[test]
+#[cfg(unix)]
+fn ctrl_c_writes_the_iterate_and_exits_1() {
+    use std::io::{BufRead, BufReader};
+    let t = TestDir::new("ctrl_c_writes_the_iterate_and_exits_1");
+    let out = t.path().join("out");
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_vito"))
+        .arg("solve")
+        .arg(problems_dir().join("brick_3d.toml"))
+        .arg("--out")
+        .arg(&out)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Wait for the second progress line, then interrupt as a terminal would.
+    let stderr = BufReader::new(child.stderr.take().unwrap());
+    let mut lines = stderr.lines();
+    let mut iterations = 0;
+    for line in lines.by_ref() {
+        let line = line.unwrap();
+        if line.trim_start().starts_with(|c: char| c.is_ascii_digit()) {
+            iterations += 1;
+            if iterations == 2 {
+                break;
+            }
+        }
+    }
+    let pid = child.id().to_string();
+    assert!(
+        std::process::Command::new("kill")
+            .args(["-INT", &pid])
+            .status()
+            .unwrap()
+            .success()
+    );
+    for _ in lines {}
+    let status = child.wait().unwrap();
+    assert_eq!(status.code(), Some(1));
+    let s = summary(&out);
+    assert_eq!(s["status"], "user_requested_stop");
+    assert!(s["iterations"].as_u64().unwrap() < 50);
+    check_csv_agrees(&out, &s);
 }
