@@ -5,7 +5,10 @@
 use nalgebra::DMatrix;
 use rayon::prelude::*;
 
-use super::blocks::{Block, Context, ScalarBlockFn, ScalarKind, VectorBlockFn, VectorKind};
+use super::blocks::{
+    Block, Context, ScalarBlockFn, ScalarKind, VectorBlockFn, VectorKind, contact_work_hessian,
+    contact_work_third, tangential_rate_hessian, tangential_rate_jacobian,
+};
 use super::layout::{Dims, Layout};
 use super::pattern::{Pattern, PatternBuilder};
 use super::{Mechanics, TranscriptionError};
@@ -768,6 +771,9 @@ impl<M: Mechanics> Transcription<M> {
         {
             return h;
         }
+        if let ScalarKind::ContactWork { contact } = b.kind {
+            return contact_work_hessian(&self.mech, &self.ctx, contact, z);
+        }
         gradient_hessian(&self.scalar_fn(b), z).2
     }
 
@@ -778,7 +784,34 @@ impl<M: Mechanics> Transcription<M> {
         {
             return t;
         }
+        if let ScalarKind::ContactWork { contact } = b.kind
+            && let Some((hessian, contracted)) =
+                contact_work_third(&self.mech, &self.ctx, contact, z, dir)
+        {
+            return ThirdOrder {
+                value: 0.0,
+                gradient: Vec::new(),
+                hessian,
+                contracted,
+            };
+        }
         gradient_hessian_third(&self.scalar_fn(b), z, dir)
+    }
+
+    /// Jacobian of a vector block at z (chain-rule assembly for the tangential rates).
+    fn vector_block_jacobian(&self, b: &Block<VectorKind>, z: &[f64]) -> DMatrix<f64> {
+        if let VectorKind::TangentialRate { contact } = b.kind {
+            return tangential_rate_jacobian(&self.mech, &self.ctx, contact, z);
+        }
+        jacobian(&self.vector_fn(b), z).1
+    }
+
+    /// Σ_r w_r ∇²f_r of a vector block at z (chain-rule assembly for the tangential rates).
+    fn vector_block_hessian(&self, b: &Block<VectorKind>, z: &[f64], w: &[f64]) -> DMatrix<f64> {
+        if let VectorKind::TangentialRate { contact } = b.kind {
+            return tangential_rate_hessian(&self.mech, &self.ctx, contact, z, w);
+        }
+        weighted_hessian(&self.vector_fn(b), z, w)
     }
 
     fn scalar_fn<'a>(&'a self, b: &'a Block<ScalarKind>) -> ScalarBlockFn<'a, M> {
@@ -898,7 +931,7 @@ impl<M: Mechanics> Transcription<M> {
     pub fn jacobian_values(&self, x: &[f64], values: &mut [f64]) {
         values.fill(0.0);
         let vector = self.map_blocks(&self.vector_blocks, |b| {
-            jacobian(&self.vector_fn(b), &gather(x, &b.vars)).1
+            self.vector_block_jacobian(b, &gather(x, &b.vars))
         });
         for (b, local) in self.vector_blocks.iter().zip(vector) {
             scatter_rows(b, &local, values);
@@ -934,7 +967,7 @@ impl<M: Mechanics> Transcription<M> {
                 return DMatrix::zeros(0, 0);
             }
             let z = gather(x, &b.vars);
-            weighted_hessian(&self.vector_fn(b), &z, &weights(&b.targets))
+            self.vector_block_hessian(b, &z, &weights(&b.targets))
         });
         for (b, local) in self.vector_blocks.iter().zip(vector) {
             scatter_lower(b, &local, values);
