@@ -5,8 +5,7 @@ use nalgebra::DMatrix;
 
 use super::{Context, tangential_rates};
 use crate::autodiff::{
-    ScalarFunction, VectorFunction, gradient_hessian, gradient_hessian_third,
-    jacobian_directional,
+    ScalarFunction, VectorFunction, gradient_hessian, gradient_hessian_third, jacobian_directional,
 };
 use crate::contact::{signed_distance, tangential_coordinates};
 use crate::model::Scalar;
