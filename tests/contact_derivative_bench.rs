@@ -86,3 +86,38 @@ fn contact_derivative_times_and_agreement() {
         }
     }
 }
+
+/// Ipopt's own timing split (`print_timing_statistics yes`) for the URDF reference solves;
+/// read the "LinearSystemFactorization" line against the factorisation count. Run:
+/// `cargo test --release --test contact_derivative_bench ipopt_timing -- --ignored --nocapture`.
+#[test]
+#[ignore]
+fn ipopt_timing_statistics() {
+    use vito::problem::OptionValue;
+    use vito::transcription::{SolveOptions, solve};
+    for spec in [hopper_2d(), brick_3d()] {
+        let options = SolveOptions {
+            ipopt_options: vec![
+                ("print_level".into(), OptionValue::Int(3)),
+                (
+                    "print_timing_statistics".into(),
+                    OptionValue::Str("yes".into()),
+                ),
+            ],
+            ..SolveOptions::default()
+        };
+        let s = solve(&spec, &options).unwrap();
+        println!(
+            "{}: {:?}, objective {:.9}, {} iterations, wall {:.3} s, callbacks {:.3} s, \
+             ipopt {:.3} s, max slack {:.2e}",
+            spec.name,
+            s.status,
+            s.objective,
+            s.iterations,
+            s.wall_time_s,
+            s.callback_time_s,
+            s.ipopt_time_s,
+            s.max_slack
+        );
+    }
+}
