@@ -5,7 +5,10 @@
 use nalgebra::DMatrix;
 use rayon::prelude::*;
 
-use super::blocks::{Block, Context, ScalarBlockFn, ScalarKind, VectorBlockFn, VectorKind};
+use super::blocks::{
+    Block, Context, ScalarBlockFn, ScalarKind, VectorBlockFn, VectorKind, contact_work_hessian,
+    contact_work_third, tangential_rate_hessian, tangential_rate_jacobian,
+};
 use super::layout::{Dims, Layout};
 use super::pattern::{Pattern, PatternBuilder};
 use super::{Mechanics, TranscriptionError};
@@ -49,6 +52,8 @@ pub struct Transcription<M> {
     jacobian: Pattern,
     hessian: Pattern,
     parallel: bool,
+    /// Contact blocks by the chain rule over q (true) or by generic AD over the block.
+    contact_chain_rule: bool,
 }
 
 fn range_vec(r: std::ops::Range<usize>) -> Vec<usize> {
@@ -132,6 +137,7 @@ impl<M: Mechanics> Transcription<M> {
             jacobian: Pattern::default(),
             hessian: Pattern::default(),
             parallel: true,
+            contact_chain_rule: true,
             mech,
         };
         // Measured (2 shared cores): rayon costs more than it saves on hopper-2d's 288
@@ -703,6 +709,54 @@ impl<M: Mechanics> Transcription<M> {
         self.parallel = parallel;
     }
 
+    /// Differentiate the tangential-rate and contact-work blocks by the chain rule over the n
+    /// coordinates (the default) or by generic forward AD over the whole block (for
+    /// comparison; the sparsity pattern is the same).
+    pub fn set_contact_chain_rule(&mut self, enabled: bool) {
+        self.contact_chain_rule = enabled;
+    }
+
+    /// Seconds spent on one Jacobian plus Lagrangian-Hessian evaluation per block kind
+    /// (serial, at x with constraint multipliers `lambda`), named like the block kinds
+    /// ("Segment", "ContactWork", "TangentialRate", …); for benchmarks.
+    pub fn derivative_time_by_kind(&self, x: &[f64], lambda: &[f64]) -> Vec<(String, f64)> {
+        let mut times: Vec<(String, f64)> = Vec::new();
+        let mut add = |name: String, secs: f64| match times.iter_mut().find(|(n, _)| *n == name) {
+            Some(entry) => entry.1 += secs,
+            None => times.push((name, secs)),
+        };
+        let kind_name = |debug: String| debug.split([' ', '{']).next().unwrap_or("").to_string();
+        let weights = |targets: &[Vec<usize>]| -> Vec<f64> {
+            targets
+                .iter()
+                .map(|rows| rows.iter().map(|&r| lambda[r]).sum())
+                .collect()
+        };
+        for b in &self.vector_blocks {
+            let z = gather(x, &b.vars);
+            let start = std::time::Instant::now();
+            std::hint::black_box(self.vector_block_jacobian(b, &z));
+            if b.nonlinear > 0 {
+                std::hint::black_box(self.vector_block_hessian(b, &z, &weights(&b.targets)));
+            }
+            add(
+                kind_name(format!("{:?}", b.kind)),
+                start.elapsed().as_secs_f64(),
+            );
+        }
+        for b in &self.gradient_blocks {
+            let z = gather(x, &b.vars);
+            let start = std::time::Instant::now();
+            std::hint::black_box(self.gradient_block_hessian(b, &z));
+            std::hint::black_box(self.gradient_block_third(b, &z, &weights(&b.targets)));
+            add(
+                kind_name(format!("{:?}", b.kind)),
+                start.elapsed().as_secs_f64(),
+            );
+        }
+        times
+    }
+
     fn map_blocks<K: Sync, R: Send>(
         &self,
         blocks: &[Block<K>],
@@ -768,6 +822,11 @@ impl<M: Mechanics> Transcription<M> {
         {
             return h;
         }
+        if let ScalarKind::ContactWork { contact } = b.kind
+            && self.contact_chain_rule
+        {
+            return contact_work_hessian(&self.mech, &self.ctx, contact, z);
+        }
         gradient_hessian(&self.scalar_fn(b), z).2
     }
 
@@ -778,7 +837,39 @@ impl<M: Mechanics> Transcription<M> {
         {
             return t;
         }
+        if let ScalarKind::ContactWork { contact } = b.kind
+            && self.contact_chain_rule
+            && let Some((hessian, contracted)) =
+                contact_work_third(&self.mech, &self.ctx, contact, z, dir)
+        {
+            return ThirdOrder {
+                value: 0.0,
+                gradient: Vec::new(),
+                hessian,
+                contracted,
+            };
+        }
         gradient_hessian_third(&self.scalar_fn(b), z, dir)
+    }
+
+    /// Jacobian of a vector block at z (chain-rule assembly for the tangential rates).
+    fn vector_block_jacobian(&self, b: &Block<VectorKind>, z: &[f64]) -> DMatrix<f64> {
+        if let VectorKind::TangentialRate { contact } = b.kind
+            && self.contact_chain_rule
+        {
+            return tangential_rate_jacobian(&self.mech, &self.ctx, contact, z);
+        }
+        jacobian(&self.vector_fn(b), z).1
+    }
+
+    /// Σ_r w_r ∇²f_r of a vector block at z (chain-rule assembly for the tangential rates).
+    fn vector_block_hessian(&self, b: &Block<VectorKind>, z: &[f64], w: &[f64]) -> DMatrix<f64> {
+        if let VectorKind::TangentialRate { contact } = b.kind
+            && self.contact_chain_rule
+        {
+            return tangential_rate_hessian(&self.mech, &self.ctx, contact, z, w);
+        }
+        weighted_hessian(&self.vector_fn(b), z, w)
     }
 
     fn scalar_fn<'a>(&'a self, b: &'a Block<ScalarKind>) -> ScalarBlockFn<'a, M> {
@@ -898,7 +989,7 @@ impl<M: Mechanics> Transcription<M> {
     pub fn jacobian_values(&self, x: &[f64], values: &mut [f64]) {
         values.fill(0.0);
         let vector = self.map_blocks(&self.vector_blocks, |b| {
-            jacobian(&self.vector_fn(b), &gather(x, &b.vars)).1
+            self.vector_block_jacobian(b, &gather(x, &b.vars))
         });
         for (b, local) in self.vector_blocks.iter().zip(vector) {
             scatter_rows(b, &local, values);
@@ -934,7 +1025,7 @@ impl<M: Mechanics> Transcription<M> {
                 return DMatrix::zeros(0, 0);
             }
             let z = gather(x, &b.vars);
-            weighted_hessian(&self.vector_fn(b), &z, &weights(&b.targets))
+            self.vector_block_hessian(b, &z, &weights(&b.targets))
         });
         for (b, local) in self.vector_blocks.iter().zip(vector) {
             scatter_lower(b, &local, values);

@@ -9,6 +9,10 @@
 mod contact;
 mod cost;
 
+pub(crate) use contact::{
+    contact_work_hessian, contact_work_third, tangential_rate_hessian, tangential_rate_jacobian,
+};
+
 pub use cost::term_name;
 mod del;
 
