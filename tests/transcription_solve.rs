@@ -147,7 +147,7 @@ fn hopper_solves_with_the_euler_baseline() {
 }
 
 /// Figures for the report: per-contact vs per-interval slacks and midpoint vs Euler
-/// (eight solves, about two minutes: run with `--ignored`).
+/// (eight solves, about eight minutes on 2 shared cores: run with `--ignored`).
 #[test]
 #[ignore]
 fn slack_modes_and_integrators_compared() {
