@@ -54,19 +54,22 @@ impl<M: Mechanics> Mechanics for WithLoop<M> {
     fn has_discrete_force(&self) -> bool {
         self.0.has_discrete_force()
     }
-    fn discrete_lagrangian<D: Scalar>(&self, i: Integrator, qa: &[D], qb: &[D], h: D) -> D {
-        self.0.discrete_lagrangian(i, qa, qb, h)
+    fn discrete_lagrangian<D: Scalar>(&self, qa: &[D], qb: &[D], h: D) -> D {
+        self.0.discrete_lagrangian(qa, qb, h)
     }
-    fn discrete_force<D: Scalar>(
+    fn discrete_force<D: Scalar>(&self, qa: &[D], qb: &[D], u: &[D], h: D, out: &mut [D]) {
+        self.0.discrete_force(qa, qb, u, h, out)
+    }
+    fn euler_residual<D: Scalar>(
         &self,
-        i: Integrator,
-        qa: &[D],
-        qb: &[D],
-        u: &[D],
+        v_k: &[D],
+        q_k: &[D],
+        q_next: &[D],
         h: D,
+        u: &[D],
         out: &mut [D],
     ) {
-        self.0.discrete_force(i, qa, qb, u, h, out)
+        self.0.euler_residual(v_k, q_k, q_next, h, u, out)
     }
     fn momentum<D: Scalar>(&self, q: &[D], v: &[D], out: &mut [D]) {
         self.0.momentum(q, v, out)
@@ -299,6 +302,13 @@ fn hopper_midpoint_every_feature() {
 }
 
 #[test]
+fn hopper_euler_per_interval_slack() {
+    let spec = hopper_everything(Integrator::Euler, SlackMode::PerInterval);
+    let t = Transcription::new(Hopper, &spec).unwrap();
+    check_derivatives("hopper euler per-interval", &t, 8);
+}
+
+#[test]
 fn hopper_euler_per_contact_slack_with_loop() {
     let spec = hopper_everything(Integrator::Euler, SlackMode::PerContact);
     let t = Transcription::new(WithLoop(Hopper), &spec).unwrap();
@@ -306,27 +316,36 @@ fn hopper_euler_per_contact_slack_with_loop() {
 }
 
 #[test]
-fn brick_short_horizon_both_slack_modes() {
-    for (seed, mode) in [(3, SlackMode::PerInterval), (4, SlackMode::PerContact)] {
+fn brick_short_horizon_both_slack_modes_and_integrators() {
+    for (seed, mode, integrator) in [
+        (3, SlackMode::PerInterval, Integrator::Midpoint),
+        (4, SlackMode::PerContact, Integrator::Midpoint),
+        (6, SlackMode::PerInterval, Integrator::Euler),
+    ] {
         let mut spec = brick_3d();
         spec.knots = 3;
         spec.slack_mode = mode;
+        spec.integrator = integrator;
         spec.terrain.steps.push(Step {
             edge_x: 0.05,
             rise: 0.02,
             width: 0.1,
         });
         let t = Transcription::new(Brick, &spec).unwrap();
-        check_derivatives(&format!("brick {mode:?}"), &t, seed);
+        check_derivatives(&format!("brick {mode:?} {integrator:?}"), &t, seed);
     }
 }
 
-/// Spring Flamingo from URDF (damping in Fd, springs in V, joint limits, free steps).
+/// Spring Flamingo from URDF (damping in Fd, springs in V, joint limits, free steps), with
+/// both integrators (Euler through the model's inverse dynamics).
 #[test]
 fn spring_flamingo_from_urdf_short_horizon() {
-    let mut spec = spring_flamingo_walk();
-    spec.knots = 3;
-    spec.q_final = vec![Interval::FREE; 9];
-    let t = Transcription::new(ModelMechanics::load(&spec).unwrap(), &spec).unwrap();
-    check_derivatives("spring flamingo (URDF)", &t, 5);
+    for (seed, integrator) in [(5, Integrator::Midpoint), (7, Integrator::Euler)] {
+        let mut spec = spring_flamingo_walk();
+        spec.knots = 3;
+        spec.q_final = vec![Interval::FREE; 9];
+        spec.integrator = integrator;
+        let t = Transcription::new(ModelMechanics::load(&spec).unwrap(), &spec).unwrap();
+        check_derivatives(&format!("spring flamingo (URDF) {integrator:?}"), &t, seed);
+    }
 }

@@ -20,7 +20,7 @@ use num_dual::Dual64;
 use crate::contact::FrictionBasis;
 use crate::model::BaseType;
 use crate::problem::{
-    CostTerm, HessianMode, InitialGuess, Interval, KnotSet, ProblemSpec, TimeSteps,
+    CostTerm, HessianMode, InitialGuess, Integrator, Interval, KnotSet, ProblemSpec, TimeSteps,
 };
 
 /// SPEC.md's values at the initial guess (no solver involved).
@@ -158,45 +158,73 @@ impl<M: Mechanics> Transcription<M> {
         for j in 0..last {
             let dyn_rows = range_vec(l.dynamics_rows(j));
             let next_rows = (j + 1 < last).then(|| range_vec(l.dynamics_rows(j + 1)));
-            // Ld(q_j, q_{j+1}, h_j): D1Ld into row j, D2Ld into row j+1.
-            let mut vars = range_vec(l.q(j));
-            vars.extend(l.q(j + 1));
-            vars.push(l.h(j));
-            let mut targets: Vec<Vec<usize>> = dyn_rows.iter().map(|&r| vec![r]).collect();
-            for c in 0..n {
-                targets.push(next_rows.as_ref().map_or(vec![], |rows| vec![rows[c]]));
-            }
-            targets.push(vec![]);
-            let len = vars.len();
-            self.gradient_blocks
-                .push(Block::new(ScalarKind::Segment, vars, len, targets));
-
-            if self.mech.has_discrete_force() {
+            if self.ctx.integrator == Integrator::Euler {
+                // Eq. (1) at knot j into row j: v_0 at the first step, else q_{j−1}, h_{j−1}.
+                let mut vars = if j == 0 {
+                    range_vec(l.v0())
+                } else {
+                    range_vec(l.q(j - 1))
+                };
+                vars.extend(l.q(j));
+                vars.extend(l.q(j + 1));
+                if j > 0 {
+                    vars.push(l.h(j - 1));
+                }
+                vars.push(l.h(j));
+                let linear_from = vars.len();
+                vars.extend(l.u(j));
+                let targets = dyn_rows.iter().map(|&r| vec![r]).collect();
+                let len = vars.len();
+                let mut block = Block::new(
+                    VectorKind::EulerKnot { first_step: j == 0 },
+                    vars,
+                    len,
+                    targets,
+                );
+                // The residual is affine in u (h·B(q_k)u): no u·u Hessian pairs.
+                block.linear_from = linear_from;
+                self.vector_blocks.push(block);
+            } else {
+                // Ld(q_j, q_{j+1}, h_j): D1Ld into row j, D2Ld into row j+1.
                 let mut vars = range_vec(l.q(j));
                 vars.extend(l.q(j + 1));
-                vars.extend(l.u(j));
                 vars.push(l.h(j));
-                let targets = (0..n)
-                    .map(|c| {
-                        let mut rows = vec![dyn_rows[c]];
-                        rows.extend(next_rows.as_ref().map(|r| r[c]));
-                        rows
-                    })
-                    .collect();
+                let mut targets: Vec<Vec<usize>> = dyn_rows.iter().map(|&r| vec![r]).collect();
+                for c in 0..n {
+                    targets.push(next_rows.as_ref().map_or(vec![], |rows| vec![rows[c]]));
+                }
+                targets.push(vec![]);
                 let len = vars.len();
-                self.vector_blocks
-                    .push(Block::new(VectorKind::HalfForce, vars, len, targets));
-            }
-            if j == 0 {
-                let mut vars = range_vec(l.q(0));
-                vars.extend(l.v0());
-                let targets = dyn_rows.iter().map(|&r| vec![r]).collect();
-                self.vector_blocks.push(Block::new(
-                    VectorKind::InitialMomentum,
-                    vars,
-                    2 * n,
-                    targets,
-                ));
+                self.gradient_blocks
+                    .push(Block::new(ScalarKind::Segment, vars, len, targets));
+
+                if self.mech.has_discrete_force() {
+                    let mut vars = range_vec(l.q(j));
+                    vars.extend(l.q(j + 1));
+                    vars.extend(l.u(j));
+                    vars.push(l.h(j));
+                    let targets = (0..n)
+                        .map(|c| {
+                            let mut rows = vec![dyn_rows[c]];
+                            rows.extend(next_rows.as_ref().map(|r| r[c]));
+                            rows
+                        })
+                        .collect();
+                    let len = vars.len();
+                    self.vector_blocks
+                        .push(Block::new(VectorKind::HalfForce, vars, len, targets));
+                }
+                if j == 0 {
+                    let mut vars = range_vec(l.q(0));
+                    vars.extend(l.v0());
+                    let targets = dyn_rows.iter().map(|&r| vec![r]).collect();
+                    self.vector_blocks.push(Block::new(
+                        VectorKind::InitialMomentum,
+                        vars,
+                        2 * n,
+                        targets,
+                    ));
+                }
             }
             let q_next_targets = |extra: usize| -> Vec<Vec<usize>> {
                 let mut t: Vec<Vec<usize>> = dyn_rows.iter().map(|&r| vec![r]).collect();
@@ -818,7 +846,7 @@ impl<M: Mechanics> Transcription<M> {
     /// Hessian of a gradient block at z (the model's adjoint path for Ld when it has one).
     fn gradient_block_hessian(&self, b: &Block<ScalarKind>, z: &[f64]) -> DMatrix<f64> {
         if b.kind == ScalarKind::Segment
-            && let Some((_, h)) = self.mech.segment_gradient_hessian(self.ctx.integrator, z)
+            && let Some((_, h)) = self.mech.segment_gradient_hessian(z)
         {
             return h;
         }
@@ -833,7 +861,7 @@ impl<M: Mechanics> Transcription<M> {
     /// Hessian and contracted third derivative of a gradient block at z.
     fn gradient_block_third(&self, b: &Block<ScalarKind>, z: &[f64], dir: &[f64]) -> ThirdOrder {
         if b.kind == ScalarKind::Segment
-            && let Some(t) = self.mech.segment_third_order(self.ctx.integrator, z, dir)
+            && let Some(t) = self.mech.segment_third_order(z, dir)
         {
             return t;
         }

@@ -7,7 +7,8 @@
 //! ordered contact-major as [ηᵀβ, c·φ, ψ·(μc − eᵀβ)]).
 //!
 //! Constraint rows: per interval j, in this order: dynamics (n rows: the first step for
-//! j = 0, the DEL equation at knot j after, both holding J(q_{j+1})ᵀλ_j), loop closure a(q_{j+1}) (nl), tangential
+//! j = 0, the DEL equation at knot j after, or eq. (1) at knot j with `Integrator::Euler`;
+//! all holding J(q_{j+1})ᵀλ_j), loop closure a(q_{j+1}) (nl), tangential
 //! velocity (nc·nd), non-penetration φ(q_{j+1}) (nc), friction cone (nc), complementarity
 //! (3, or 3·nc per contact); then after all intervals: N−2 equal-step rows (free steps
 //! only), the loop closure at q_0 (nl), and the periodicity rows.

@@ -6,10 +6,11 @@
 //! [`Scalar`] so that the blocks built on it are differentiated by forward AD.
 
 use nalgebra::DMatrix;
+use num_dual::Dual;
 
 use crate::autodiff::ThirdOrder;
 use crate::model::Scalar;
-use crate::problem::{Integrator, Interval};
+use crate::problem::Interval;
 
 /// Discrete mechanics and contact kinematics of one robot, in its coordinate order.
 pub trait Mechanics: Sync {
@@ -38,42 +39,78 @@ pub trait Mechanics: Sync {
     /// Whether the discrete force Fd can be nonzero (inputs or damping present).
     fn has_discrete_force(&self) -> bool;
 
-    /// Discrete Lagrangian Ld(qa, qb, h) of one interval (qa, qb length n; h > 0).
-    fn discrete_lagrangian<D: Scalar>(&self, integrator: Integrator, qa: &[D], qb: &[D], h: D)
-    -> D;
-    /// Discrete generalized force Fd(qa, qb, u, h) of one interval into `out` (length n):
-    /// h·B(q̄)u − diag(d)(qb − qa) for the midpoint rule (SPEC.md).
-    fn discrete_force<D: Scalar>(
-        &self,
-        integrator: Integrator,
-        qa: &[D],
-        qb: &[D],
-        u: &[D],
-        h: D,
-        out: &mut [D],
-    );
+    /// Midpoint discrete Lagrangian Ld(qa, qb, h) = h·L((qa + qb)/2, (qb − qa)/h) of one
+    /// interval (qa, qb length n; h > 0).
+    fn discrete_lagrangian<D: Scalar>(&self, qa: &[D], qb: &[D], h: D) -> D;
+    /// Midpoint discrete generalized force Fd(qa, qb, u, h) of one interval into `out`
+    /// (length n): h·B(q̄)u − diag(d)(qb − qa), q̄ = (qa + qb)/2 (SPEC.md).
+    fn discrete_force<D: Scalar>(&self, qa: &[D], qb: &[D], u: &[D], h: D, out: &mut [D]);
     /// Generalized momentum M(q)v into `out` (length n).
     fn momentum<D: Scalar>(&self, q: &[D], v: &[D], out: &mut [D]);
     /// World position of contact point `contact` at configuration q (length units).
     fn contact_position<D: Scalar>(&self, contact: usize, q: &[D]) -> [D; 3];
     /// Gradient and Hessian of Ld at z = [qa; qb; h] by a faster path than generic AD
     /// (e.g. the model's adjoint), or `None` to use forward AD on `discrete_lagrangian`.
-    fn segment_gradient_hessian(
-        &self,
-        _integrator: Integrator,
-        _z: &[f64],
-    ) -> Option<(Vec<f64>, DMatrix<f64>)> {
+    fn segment_gradient_hessian(&self, _z: &[f64]) -> Option<(Vec<f64>, DMatrix<f64>)> {
         None
     }
     /// Value, gradient, Hessian and third derivative of Ld contracted with `dir` at
     /// z = [qa; qb; h] by a faster path than generic AD, or `None`.
-    fn segment_third_order(
-        &self,
-        _integrator: Integrator,
-        _z: &[f64],
-        _dir: &[f64],
-    ) -> Option<ThirdOrder> {
+    fn segment_third_order(&self, _z: &[f64], _dir: &[f64]) -> Option<ThirdOrder> {
         None
+    }
+    /// Semi-implicit Euler residual at knot k (eq. 1 of the paper; Posa et al. 2014) into
+    /// `out` (length n, impulse units, sign as the DEL rows: momentum before − momentum
+    /// after + impulses): M(q_k)(v_k − v⁺) + h·(B(q_k)u − C(q_k, v⁺)v⁺ − ∂V/∂q(q_k)
+    /// − diag(d)v⁺), with v⁺ = (q_next − q_k)/h. `v_k` is the velocity at knot k (v_0, or
+    /// (q_k − q_{k−1})/h_{k−1}); `u` has length m.
+    ///
+    /// The default builds it from the other methods: with v = v⁺, the continuous
+    /// Lagrangian is L(q, v) = Ld(q − hv/2, q + hv/2, h)/h exactly for the midpoint rule,
+    /// h·(B(q_k)u − diag(d)v) = Fd(q_k − hv/2, q_k + hv/2, u, h), and
+    /// C(q, v)v + ∂V/∂q = (∂(M(q)v)/∂q)·v − ∂L/∂q (T quadratic in v, so M(q)v = ∂L/∂v).
+    fn euler_residual<D: Scalar>(
+        &self,
+        v_k: &[D],
+        q_k: &[D],
+        q_next: &[D],
+        h: D,
+        u: &[D],
+        out: &mut [D],
+    ) {
+        let n = q_k.len();
+        let v: Vec<D> = q_k.iter().zip(q_next).map(|(&a, &b)| (b - a) / h).collect();
+        let half: Vec<D> = v.iter().map(|&vi| vi * h * D::from(0.5)).collect();
+        let qa: Vec<D> = q_k.iter().zip(&half).map(|(&q, &d)| q - d).collect();
+        let qb: Vec<D> = q_k.iter().zip(&half).map(|(&q, &d)| q + d).collect();
+        self.discrete_force(&qa, &qb, u, h, out);
+        // M(q_k)(v_k − v⁺).
+        let jump: Vec<D> = v_k.iter().zip(&v).map(|(&a, &b)| a - b).collect();
+        let mut momentum = vec![D::from(0.0); n];
+        self.momentum(q_k, &jump, &mut momentum);
+        // (∂(M(q)v)/∂q)·v: the momentum at q_k moving with v, one directional derivative.
+        let q_moving: Vec<Dual<D>> = q_k
+            .iter()
+            .zip(&v)
+            .map(|(&q, &vi)| Dual::new(q, vi))
+            .collect();
+        let v_dual: Vec<Dual<D>> = v.iter().map(|&vi| Dual::from_re(vi)).collect();
+        let mut momentum_rate = vec![Dual::from_re(D::from(0.0)); n];
+        self.momentum(&q_moving, &v_dual, &mut momentum_rate);
+        let h_dual = Dual::from_re(h);
+        for i in 0..n {
+            // h·∂L/∂q_i = ∂Ld/∂q_i with both segment ends shifted together.
+            let shift = |q: &[D]| -> Vec<Dual<D>> {
+                q.iter()
+                    .enumerate()
+                    .map(|(k, &x)| Dual::new(x, D::from(if k == i { 1.0 } else { 0.0 })))
+                    .collect()
+            };
+            let dl_dq = self
+                .discrete_lagrangian(&shift(&qa), &shift(&qb), h_dual)
+                .eps;
+            out[i] += momentum[i] - momentum_rate[i].eps * h + dl_dq;
+        }
     }
     /// Loop-closure residual a(q) into `out` (length `num_loop_constraints`).
     fn loop_residual<D: Scalar>(&self, _q: &[D], _out: &mut [D]) {}

@@ -1,16 +1,16 @@
-//! [`Mechanics`] for a URDF [`Model`]: the midpoint (or rectangle-rule) discrete Lagrangian
-//! from the model's energies, inputs and damping in Fd, contacts resolved by link name.
+//! [`Mechanics`] for a URDF [`Model`]: the midpoint discrete Lagrangian from the model's
+//! energies, inputs and damping in Fd, the Euler residual from its inverse dynamics,
+//! contacts resolved by link name.
 
 use super::{Mechanics, TranscriptionError};
 use nalgebra::DMatrix;
 
 use crate::autodiff::ThirdOrder;
 use crate::model::{
-    LinkId, Model, Scalar, generalized_input_force, generalized_momentum, kinetic_energy,
-    loop_residual, midpoint_gradient_hessian, midpoint_third_order, point_position,
-    potential_energy,
+    LinkId, Model, Scalar, generalized_momentum, loop_residual, midpoint_gradient_hessian,
+    midpoint_third_order, point_position,
 };
-use crate::problem::{ContactSpec, Integrator, Interval, ProblemSpec};
+use crate::problem::{ContactSpec, Interval, ProblemSpec};
 
 /// A URDF model with the problem's contact points resolved to links.
 #[derive(Debug)]
@@ -55,18 +55,6 @@ impl ModelMechanics {
     pub fn model(&self) -> &Model {
         &self.model
     }
-
-    /// The point the integrator evaluates position-dependent terms at.
-    fn eval_point<D: Scalar>(integrator: Integrator, qa: &[D], qb: &[D]) -> Vec<D> {
-        match integrator {
-            Integrator::Midpoint => qa
-                .iter()
-                .zip(qb)
-                .map(|(&a, &b)| (a + b) * D::from(0.5))
-                .collect(),
-            Integrator::Euler => qa.to_vec(),
-        }
-    }
 }
 
 impl Mechanics for ModelMechanics {
@@ -98,42 +86,29 @@ impl Mechanics for ModelMechanics {
     fn has_discrete_force(&self) -> bool {
         !self.model.input_names().is_empty() || self.model.damping().iter().any(|&d| d != 0.0)
     }
-    fn discrete_lagrangian<D: Scalar>(
-        &self,
-        integrator: Integrator,
-        qa: &[D],
-        qb: &[D],
-        h: D,
-    ) -> D {
-        match integrator {
-            Integrator::Midpoint => crate::discrete::ld(&self.model, qa, qb, h),
-            Integrator::Euler => {
-                // Rectangle rule h·L(qa, (qb − qa)/h): the variational form of
-                // semi-implicit (symplectic) Euler, first order.
-                let v: Vec<D> = qa.iter().zip(qb).map(|(&a, &b)| (b - a) / h).collect();
-                (kinetic_energy(&self.model, qa, &v) - potential_energy(&self.model, qa)) * h
-            }
-        }
+    fn discrete_lagrangian<D: Scalar>(&self, qa: &[D], qb: &[D], h: D) -> D {
+        crate::discrete::ld(&self.model, qa, qb, h)
     }
-    fn discrete_force<D: Scalar>(
+    fn discrete_force<D: Scalar>(&self, qa: &[D], qb: &[D], u: &[D], h: D, out: &mut [D]) {
+        out.copy_from_slice(&crate::discrete::discrete_force(&self.model, qa, qb, u, h));
+    }
+    fn euler_residual<D: Scalar>(
         &self,
-        integrator: Integrator,
-        qa: &[D],
-        qb: &[D],
-        u: &[D],
+        v_k: &[D],
+        q_k: &[D],
+        q_next: &[D],
         h: D,
+        u: &[D],
         out: &mut [D],
     ) {
-        let q = Self::eval_point(integrator, qa, qb);
-        let force = if u.is_empty() {
-            vec![D::from(0.0); qa.len()]
-        } else {
-            generalized_input_force(&self.model, &q, u)
-        };
-        let damping = self.model.damping();
-        for i in 0..out.len() {
-            out[i] = force[i] * h - (qb[i] - qa[i]) * D::from(damping[i]);
-        }
+        out.copy_from_slice(&crate::discrete::euler_residual(
+            &self.model,
+            v_k,
+            q_k,
+            q_next,
+            h,
+            u,
+        ));
     }
     fn momentum<D: Scalar>(&self, q: &[D], v: &[D], out: &mut [D]) {
         out.copy_from_slice(&generalized_momentum(&self.model, q, v));
@@ -142,25 +117,86 @@ impl Mechanics for ModelMechanics {
         let (link, point) = &self.contacts[contact];
         point_position(&self.model, *link, point, q)
     }
-    fn segment_gradient_hessian(
-        &self,
-        integrator: Integrator,
-        z: &[f64],
-    ) -> Option<(Vec<f64>, DMatrix<f64>)> {
-        (integrator == Integrator::Midpoint).then(|| {
-            let (_, gradient, hessian) = midpoint_gradient_hessian(&self.model, z);
-            (gradient, hessian)
-        })
+    fn segment_gradient_hessian(&self, z: &[f64]) -> Option<(Vec<f64>, DMatrix<f64>)> {
+        let (_, gradient, hessian) = midpoint_gradient_hessian(&self.model, z);
+        Some((gradient, hessian))
     }
-    fn segment_third_order(
-        &self,
-        integrator: Integrator,
-        z: &[f64],
-        dir: &[f64],
-    ) -> Option<ThirdOrder> {
-        (integrator == Integrator::Midpoint).then(|| midpoint_third_order(&self.model, z, dir))
+    fn segment_third_order(&self, z: &[f64], dir: &[f64]) -> Option<ThirdOrder> {
+        Some(midpoint_third_order(&self.model, z, dir))
     }
     fn loop_residual<D: Scalar>(&self, q: &[D], out: &mut [D]) {
         out.copy_from_slice(&loop_residual(&self.model, q));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::{BaseType, sample};
+
+    /// The model's mechanics with the Euler residual left to the trait's default (built
+    /// from Ld, the momentum and Fd), to check the override against it.
+    struct Defaulted<'a>(&'a ModelMechanics);
+    impl Mechanics for Defaulted<'_> {
+        fn nq(&self) -> usize {
+            self.0.nq()
+        }
+        fn nu(&self) -> usize {
+            self.0.nu()
+        }
+        fn num_contacts(&self) -> usize {
+            0
+        }
+        fn has_discrete_force(&self) -> bool {
+            self.0.has_discrete_force()
+        }
+        fn discrete_lagrangian<D: Scalar>(&self, qa: &[D], qb: &[D], h: D) -> D {
+            self.0.discrete_lagrangian(qa, qb, h)
+        }
+        fn discrete_force<D: Scalar>(&self, qa: &[D], qb: &[D], u: &[D], h: D, out: &mut [D]) {
+            self.0.discrete_force(qa, qb, u, h, out)
+        }
+        fn momentum<D: Scalar>(&self, q: &[D], v: &[D], out: &mut [D]) {
+            self.0.momentum(q, v, out)
+        }
+        fn contact_position<D: Scalar>(&self, contact: usize, q: &[D]) -> [D; 3] {
+            self.0.contact_position(contact, q)
+        }
+    }
+
+    /// Inverse dynamics (override, through `discrete::euler_residual`) and the default from
+    /// the midpoint Ld agree on a damped, actuated planar chain with a planar base and on a
+    /// floating brick (3-D rotations, Coriolis terms).
+    #[test]
+    fn euler_residual_override_matches_the_default_from_ld() {
+        let chain = sample::planar_chain(3).replace(
+            "<axis xyz=\"0 1 0\"/>",
+            "<axis xyz=\"0 1 0\"/>\n    <dynamics damping=\"0.3\"/>",
+        );
+        for (xml, base) in [
+            (chain.as_str(), BaseType::Planar),
+            (sample::brick(), BaseType::Floating),
+        ] {
+            let model = Model::from_urdf_str(xml, base).expect("sample loads");
+            let mech = ModelMechanics::new(model, &[]).expect("no contacts");
+            let (n, m) = (mech.nq(), mech.nu());
+            let wave = |k: usize, s: f64| (0.7 * k as f64 + s).sin();
+            let q_k: Vec<f64> = (0..n).map(|k| wave(k, 0.3)).collect();
+            let q_next: Vec<f64> = (0..n).map(|k| q_k[k] + 0.04 * wave(k, 1.1)).collect();
+            let v_k: Vec<f64> = (0..n).map(|k| 1.5 * wave(k, 2.0)).collect();
+            let u: Vec<f64> = (0..m).map(|k| 2.0 * wave(k, 0.5)).collect();
+            let h = 0.03;
+            let (mut over, mut default) = (vec![0.0; n], vec![0.0; n]);
+            mech.euler_residual(&v_k, &q_k, &q_next, h, &u, &mut over);
+            Defaulted(&mech).euler_residual(&v_k, &q_k, &q_next, h, &u, &mut default);
+            let scale = over.iter().fold(0.0_f64, |a, b| a.max(b.abs()));
+            assert!(scale > 1e-2, "a trivial residual proves nothing: {over:?}");
+            for (a, b) in over.iter().zip(&default) {
+                assert!(
+                    (a - b).abs() < 1e-12 * scale.max(1.0),
+                    "{over:?} vs {default:?}"
+                );
+            }
+        }
     }
 }

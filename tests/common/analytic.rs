@@ -3,7 +3,7 @@
 
 use num_dual::Dual;
 use vito::model::Scalar;
-use vito::problem::{Integrator, Interval};
+use vito::problem::Interval;
 use vito::transcription::Mechanics;
 
 const G: f64 = 9.81;
@@ -26,23 +26,20 @@ fn momentum_of<D: Scalar>(
     }
 }
 
-/// Ld for the midpoint rule (h·L(q̄, (qb−qa)/h)) or the rectangle rule (h·L(qa, ·)).
+/// Ld for the midpoint rule: h·L(q̄, (qb−qa)/h). (The Euler residual is the trait's
+/// default, built from this Ld, the momentum and Fd.)
 fn discrete_lagrangian<D: Scalar>(
     lagrangian: impl Fn(&[D], &[D]) -> D,
-    integrator: Integrator,
     qa: &[D],
     qb: &[D],
     h: D,
 ) -> D {
     let v: Vec<D> = qa.iter().zip(qb).map(|(&a, &b)| (b - a) / h).collect();
-    let q: Vec<D> = match integrator {
-        Integrator::Midpoint => qa
-            .iter()
-            .zip(qb)
-            .map(|(&a, &b)| (a + b) * D::from(0.5))
-            .collect(),
-        Integrator::Euler => qa.to_vec(),
-    };
+    let q: Vec<D> = qa
+        .iter()
+        .zip(qb)
+        .map(|(&a, &b)| (a + b) * D::from(0.5))
+        .collect();
     lagrangian(&q, &v) * h
 }
 
@@ -87,18 +84,10 @@ impl Mechanics for Hopper {
     fn has_discrete_force(&self) -> bool {
         true
     }
-    fn discrete_lagrangian<D: Scalar>(&self, i: Integrator, qa: &[D], qb: &[D], h: D) -> D {
-        discrete_lagrangian(Self::lagrangian, i, qa, qb, h)
+    fn discrete_lagrangian<D: Scalar>(&self, qa: &[D], qb: &[D], h: D) -> D {
+        discrete_lagrangian(Self::lagrangian, qa, qb, h)
     }
-    fn discrete_force<D: Scalar>(
-        &self,
-        _: Integrator,
-        _qa: &[D],
-        _qb: &[D],
-        u: &[D],
-        h: D,
-        out: &mut [D],
-    ) {
+    fn discrete_force<D: Scalar>(&self, _qa: &[D], _qb: &[D], u: &[D], h: D, out: &mut [D]) {
         out[0] = D::from(0.0);
         out[1] = D::from(0.0);
         out[2] = h * u[0];
@@ -176,18 +165,10 @@ impl Mechanics for Brick {
     fn has_discrete_force(&self) -> bool {
         false
     }
-    fn discrete_lagrangian<D: Scalar>(&self, i: Integrator, qa: &[D], qb: &[D], h: D) -> D {
-        discrete_lagrangian(Self::lagrangian, i, qa, qb, h)
+    fn discrete_lagrangian<D: Scalar>(&self, qa: &[D], qb: &[D], h: D) -> D {
+        discrete_lagrangian(Self::lagrangian, qa, qb, h)
     }
-    fn discrete_force<D: Scalar>(
-        &self,
-        _: Integrator,
-        _: &[D],
-        _: &[D],
-        _: &[D],
-        _: D,
-        out: &mut [D],
-    ) {
+    fn discrete_force<D: Scalar>(&self, _: &[D], _: &[D], _: &[D], _: D, out: &mut [D]) {
         out.fill(D::from(0.0));
     }
     fn momentum<D: Scalar>(&self, q: &[D], v: &[D], out: &mut [D]) {

@@ -55,10 +55,13 @@ impl Context {
 /// What a vector block computes; z layouts in the comments.
 #[derive(Debug, Clone, PartialEq)]
 pub enum VectorKind {
-    /// ½Fd(qa, qb, u, h); z = [qa; qb; u; h].
+    /// ½Fd(qa, qb, u, h) (midpoint rows); z = [qa; qb; u; h].
     HalfForce,
-    /// M(q_0)v_0; z = [q_0; v_0].
+    /// M(q_0)v_0 (midpoint first step); z = [q_0; v_0].
     InitialMomentum,
+    /// Semi-implicit Euler residual at a knot (eq. 1); z = [v_0; q_0; q_1; h_0; u_0] when
+    /// `first_step`, else [q_{k−1}; q_k; q_{k+1}; h_{k−1}; h_k; u_k].
+    EulerKnot { first_step: bool },
     /// ±P_i(qb)(qb − qa)/h (tangential-velocity rows, nonlinear part); z = [qa; qb; h].
     TangentialRate { contact: usize },
     /// ψ e − η (tangential-velocity rows, linear part); z = [ψ; η].
@@ -85,7 +88,7 @@ pub enum VectorKind {
 /// What a gradient (or cost) block computes.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ScalarKind {
-    /// Ld(qa, qb, h); z = [qa; qb; h].
+    /// Midpoint Ld(qa, qb, h); z = [qa; qb; h].
     Segment,
     /// c_i φ_i(q) + β_iᵀ P_i t_i(q), whose q-gradient is contact i's J(q)ᵀλ;
     /// z = [q; c_i; β_i].
@@ -162,6 +165,7 @@ impl<M: Mechanics> VectorFunction for VectorBlockFn<'_, M> {
         match self.kind {
             VectorKind::HalfForce => del::half_force(mech, ctx, z, out),
             VectorKind::InitialMomentum => del::initial_momentum(mech, ctx, z, out),
+            VectorKind::EulerKnot { first_step } => del::euler_knot(mech, ctx, *first_step, z, out),
             VectorKind::TangentialRate { contact } => {
                 contact::tangential_rate(mech, ctx, *contact, z, out)
             }
