@@ -56,6 +56,6 @@ pub struct Solution {
     /// Σψ(μc − eᵀβ), over intervals. ψ and η are first shifted down by their common part
     /// (the NLP leaves it undetermined in flight and stick; see `solve.rs`).
     pub max_complementarity: f64,
-    /// Largest constraint-row violation at the returned point (after the same shift).
+    /// Largest constraint-row violation at the point Ipopt returned.
     pub max_constraint_violation: f64,
 }
