@@ -153,9 +153,11 @@ mod tests {
         assert_eq!(get("mu_strategy"), Some(OptionValue::from("adaptive")));
         assert_eq!(get("linear_solver"), Some(OptionValue::from("mumps")));
         assert_eq!(get("print_level"), Some(OptionValue::Int(0)));
+        // The returned point is the one Ipopt checked (see the defaults file for why).
+        assert_eq!(get("honor_original_bounds"), Some(OptionValue::from("no")));
         // Exact Hessian is Ipopt's own default; the file must not change it.
         assert_eq!(get("hessian_approximation"), None);
-        assert_eq!(defaults.len(), 5);
+        assert_eq!(defaults.len(), 6);
     }
 
     #[test]

@@ -52,9 +52,9 @@ pub struct Solution {
     pub slack: Vec<Vec<f64>>,
     /// Largest slack value.
     pub max_slack: f64,
-    /// Largest of the three relaxed products per interval, Σηᵀβ, Σc·max(φ, 0) and
-    /// Σψ(μc − eᵀβ), over intervals. ψ and η are first shifted down by their common part
-    /// (the NLP leaves it undetermined in flight and stick; see `solve.rs`).
+    /// Largest contact complementarity residual Σ_i max(c, 0)·max(φ, 0) over intervals (the
+    /// clipped c·φ of SPEC.md). ηᵀβ and ψ(μc − eᵀβ) are not reported: ψ and η are
+    /// undetermined in flight and stick, and their rows are covered by the slack.
     pub max_complementarity: f64,
     /// Largest constraint-row violation at the point Ipopt returned.
     pub max_constraint_violation: f64,
