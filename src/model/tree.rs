@@ -115,6 +115,30 @@ pub(crate) struct Frame {
     pub inertia: [[f64; 3]; 3],
 }
 
+impl Frame {
+    /// A frame without mass yet (masses are lumped in after all frames exist).
+    pub fn massless(
+        parent: Option<usize>,
+        rotation: [[f64; 3]; 3],
+        translation: [f64; 3],
+        axis: [f64; 3],
+        motion: Motion,
+        coordinate: usize,
+    ) -> Frame {
+        Frame {
+            parent,
+            rotation,
+            translation,
+            axis,
+            motion,
+            coordinate,
+            mass: 0.0,
+            com: [0.0; 3],
+            inertia: [[0.0; 3]; 3],
+        }
+    }
+}
+
 /// Where a URDF link sits: rigidly attached to tree frame `frame` at (rotation, translation).
 /// Links behind fixed joints share their moving ancestor's frame, so the recursions visit
 /// one frame per rigid body, not per URDF link.

@@ -751,17 +751,14 @@ fn build(
     let mut frames: Vec<Frame> = Vec::with_capacity(base_frames.len() + robot.links.len());
     let identity = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
     for (k, &(motion, axis, coordinate)) in base_frames.iter().enumerate() {
-        frames.push(Frame {
-            parent: k.checked_sub(1),
-            rotation: identity,
-            translation: [0.0; 3],
+        frames.push(Frame::massless(
+            k.checked_sub(1),
+            identity,
+            [0.0; 3],
             axis,
             motion,
             coordinate,
-            mass: 0.0,
-            com: [0.0; 3],
-            inertia: [[0.0; 3]; 3],
-        });
+        ));
     }
     // Each link's placement; a link behind a fixed joint shares its parent's frame.
     let mut placement_of: Vec<Option<LinkPlacement>> = vec![None; robot.links.len()];
@@ -772,17 +769,14 @@ fn build(
         let link = &robot.links[l];
         let placement = match parent_joint[l] {
             None => {
-                frames.push(Frame {
-                    parent: frames.len().checked_sub(1),
-                    rotation: identity,
-                    translation: [0.0; 3],
-                    axis: [1.0, 0.0, 0.0],
-                    motion: Motion::Fixed,
-                    coordinate: 0,
-                    mass: 0.0,
-                    com: [0.0; 3],
-                    inertia: [[0.0; 3]; 3],
-                });
+                frames.push(Frame::massless(
+                    frames.len().checked_sub(1),
+                    identity,
+                    [0.0; 3],
+                    [1.0, 0.0, 0.0],
+                    Motion::Fixed,
+                    0,
+                ));
                 pieces.push(Vec::new());
                 LinkPlacement {
                     frame: frames.len() - 1,
@@ -818,17 +812,14 @@ fn build(
                         joint: joint.name.clone(),
                         axis: *joint.axis.xyz,
                     })?;
-                    frames.push(Frame {
-                        parent: Some(parent.frame),
+                    frames.push(Frame::massless(
+                        Some(parent.frame),
                         rotation,
                         translation,
                         axis,
                         motion,
-                        coordinate: joint_coordinate[j].unwrap_or(0),
-                        mass: 0.0,
-                        com: [0.0; 3],
-                        inertia: [[0.0; 3]; 3],
-                    });
+                        joint_coordinate[j].unwrap_or(0),
+                    ));
                     pieces.push(Vec::new());
                     LinkPlacement {
                         frame: frames.len() - 1,
