@@ -13,6 +13,7 @@ mod error;
 mod inspect;
 pub(crate) mod kinematics;
 mod loops;
+mod point_jet;
 pub mod sample;
 mod scalar;
 pub(crate) mod spatial;
@@ -32,6 +33,7 @@ pub use error::ModelError;
 pub use inspect::{CoordinateInfo, Inspection, LoopInfo, SpringInfo, inspect};
 pub use kinematics::{link_pose, point_position};
 pub use loops::loop_residual;
+pub use point_jet::{PointJet, point_jet};
 pub use scalar::Scalar;
 pub use tree::{ContactPoint, LinkId, LoopClosure, Model, Spring, SpringKind};
 

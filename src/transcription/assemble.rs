@@ -6,8 +6,9 @@ use nalgebra::DMatrix;
 use rayon::prelude::*;
 
 use super::blocks::{
-    Block, Context, ScalarBlockFn, ScalarKind, VectorBlockFn, VectorKind, contact_work_hessian,
-    contact_work_third, tangential_rate_hessian, tangential_rate_jacobian,
+    Block, Context, ScalarBlockFn, ScalarKind, VectorBlockFn, VectorKind, contact_work_gradient,
+    contact_work_hessian, contact_work_third, distance_hessian, distance_jacobian,
+    tangential_rate_hessian, tangential_rate_jacobian,
 };
 use super::layout::{Dims, Layout};
 use super::pattern::{Pattern, PatternBuilder};
@@ -843,6 +844,16 @@ impl<M: Mechanics> Transcription<M> {
             dim_out: b.targets.len(),
         }
     }
+    /// Gradient of a gradient block at z (the DEL-row values).
+    fn gradient_block_gradient(&self, b: &Block<ScalarKind>, z: &[f64]) -> Vec<f64> {
+        if let ScalarKind::ContactWork { contact } = b.kind
+            && self.contact_chain_rule
+        {
+            return contact_work_gradient(&self.mech, &self.ctx, contact, z);
+        }
+        gradient(&self.scalar_fn(b), z).1
+    }
+
     /// Hessian of a gradient block at z (the model's adjoint path for Ld when it has one).
     fn gradient_block_hessian(&self, b: &Block<ScalarKind>, z: &[f64]) -> DMatrix<f64> {
         if b.kind == ScalarKind::Segment
@@ -882,20 +893,38 @@ impl<M: Mechanics> Transcription<M> {
 
     /// Jacobian of a vector block at z (chain-rule assembly for the tangential rates).
     fn vector_block_jacobian(&self, b: &Block<VectorKind>, z: &[f64]) -> DMatrix<f64> {
-        if let VectorKind::TangentialRate { contact } = b.kind
-            && self.contact_chain_rule
-        {
-            return tangential_rate_jacobian(&self.mech, &self.ctx, contact, z);
+        if self.contact_chain_rule {
+            match b.kind {
+                VectorKind::TangentialRate { contact } => {
+                    return tangential_rate_jacobian(&self.mech, &self.ctx, contact, z);
+                }
+                VectorKind::Distance { contact } => {
+                    return distance_jacobian(&self.mech, &self.ctx, contact, z, false);
+                }
+                VectorKind::ContactGap { contact } => {
+                    return distance_jacobian(&self.mech, &self.ctx, contact, z, true);
+                }
+                _ => {}
+            }
         }
         jacobian(&self.vector_fn(b), z).1
     }
 
     /// Σ_r w_r ∇²f_r of a vector block at z (chain-rule assembly for the tangential rates).
     fn vector_block_hessian(&self, b: &Block<VectorKind>, z: &[f64], w: &[f64]) -> DMatrix<f64> {
-        if let VectorKind::TangentialRate { contact } = b.kind
-            && self.contact_chain_rule
-        {
-            return tangential_rate_hessian(&self.mech, &self.ctx, contact, z, w);
+        if self.contact_chain_rule {
+            match b.kind {
+                VectorKind::TangentialRate { contact } => {
+                    return tangential_rate_hessian(&self.mech, &self.ctx, contact, z, w);
+                }
+                VectorKind::Distance { contact } => {
+                    return distance_hessian(&self.mech, &self.ctx, contact, z, w[0], false);
+                }
+                VectorKind::ContactGap { contact } => {
+                    return distance_hessian(&self.mech, &self.ctx, contact, z, w[0], true);
+                }
+                _ => {}
+            }
         }
         weighted_hessian(&self.vector_fn(b), z, w)
     }
@@ -1002,7 +1031,7 @@ impl<M: Mechanics> Transcription<M> {
             }
         }
         let gradient = self.map_blocks(&self.gradient_blocks, |b| {
-            gradient(&self.scalar_fn(b), &gather(x, &b.vars)).1
+            self.gradient_block_gradient(b, &gather(x, &b.vars))
         });
         for (b, out) in self.gradient_blocks.iter().zip(gradient) {
             for (rows, o) in b.targets.iter().zip(out) {

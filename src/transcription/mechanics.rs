@@ -8,8 +8,10 @@
 use nalgebra::DMatrix;
 use num_dual::Dual;
 
-use crate::autodiff::ThirdOrder;
-use crate::model::Scalar;
+use crate::autodiff::{
+    ScalarFunction, ThirdOrder, VectorFunction, gradient_hessian_third, jacobian, weighted_hessian,
+};
+use crate::model::{PointJet, Scalar};
 use crate::problem::Interval;
 
 /// Discrete mechanics and contact kinematics of one robot, in its coordinate order.
@@ -49,6 +51,16 @@ pub trait Mechanics: Sync {
     fn momentum<D: Scalar>(&self, q: &[D], v: &[D], out: &mut [D]);
     /// World position of contact point `contact` at configuration q (length units).
     fn contact_position<D: Scalar>(&self, contact: usize, q: &[D]) -> [D; 3];
+    /// World position of contact point `contact` at q and its derivatives in q up to `order`
+    /// (1 to 3). The default differentiates [`Mechanics::contact_position`] by forward AD over
+    /// all n coordinates ([`contact_jet_by_autodiff`]); the URDF model overrides it with the
+    /// chain formulas of [`crate::model::point_jet`].
+    fn contact_jet(&self, contact: usize, q: &[f64], order: usize) -> PointJet
+    where
+        Self: Sized,
+    {
+        contact_jet_by_autodiff(self, contact, q, order)
+    }
     /// Gradient and Hessian of Ld at z = [qa; qb; h] by a faster path than generic AD
     /// (e.g. the model's adjoint), or `None` to use forward AD on `discrete_lagrangian`.
     fn segment_gradient_hessian(&self, _z: &[f64]) -> Option<(Vec<f64>, DMatrix<f64>)> {
@@ -114,4 +126,87 @@ pub trait Mechanics: Sync {
     }
     /// Loop-closure residual a(q) into `out` (length `num_loop_constraints`).
     fn loop_residual<D: Scalar>(&self, _q: &[D], _out: &mut [D]) {}
+}
+
+/// The contact point's position as an AD-able function of q (all three components, or the
+/// one `component`).
+struct ContactPositionFn<'a, M> {
+    mech: &'a M,
+    contact: usize,
+    component: usize,
+}
+
+impl<M: Mechanics> VectorFunction for ContactPositionFn<'_, M> {
+    fn dim_in(&self) -> usize {
+        self.mech.nq()
+    }
+    fn dim_out(&self) -> usize {
+        3
+    }
+    fn eval<D: Scalar>(&self, z: &[D], out: &mut [D]) {
+        out.copy_from_slice(&self.mech.contact_position(self.contact, z));
+    }
+}
+
+impl<M: Mechanics> ScalarFunction for ContactPositionFn<'_, M> {
+    fn dim(&self) -> usize {
+        self.mech.nq()
+    }
+    fn eval<D: Scalar>(&self, z: &[D]) -> D {
+        self.mech.contact_position(self.contact, z)[self.component]
+    }
+}
+
+/// [`Mechanics::contact_jet`] by forward AD through [`Mechanics::contact_position`], over all
+/// n coordinates (the third order costs 3n passes: meant for small closed-form mechanics and
+/// as the reference the analytic jets are tested against).
+pub fn contact_jet_by_autodiff<M: Mechanics + Sized>(
+    mech: &M,
+    contact: usize,
+    q: &[f64],
+    order: usize,
+) -> PointJet {
+    let n = q.len();
+    let f = |component| ContactPositionFn {
+        mech,
+        contact,
+        component,
+    };
+    let (position, jac) = jacobian(&f(0), q);
+    let mut jet = PointJet {
+        coords: (0..n).collect(),
+        position: [position[0], position[1], position[2]],
+        first: (0..n)
+            .map(|a| [jac[(0, a)], jac[(1, a)], jac[(2, a)]])
+            .collect(),
+        second: Vec::new(),
+        third: Vec::new(),
+    };
+    if order >= 2 {
+        jet.second = vec![[0.0; 3]; n * n];
+        for m in 0..3 {
+            let mut w = [0.0; 3];
+            w[m] = 1.0;
+            let h = weighted_hessian(&f(0), q, &w);
+            for (entry, value) in jet.second.iter_mut().zip(h.iter()) {
+                entry[m] = *value;
+            }
+        }
+    }
+    if order >= 3 {
+        jet.third = vec![[0.0; 3]; n * n * n];
+        for e in 0..n {
+            let mut dir = vec![0.0; n];
+            dir[e] = 1.0;
+            for m in 0..3 {
+                let t = gradient_hessian_third(&f(m), q, &dir).contracted;
+                for a in 0..n {
+                    for b in 0..n {
+                        jet.third[(a * n + b) * n + e][m] = t[(a, b)];
+                    }
+                }
+            }
+        }
+    }
+    jet
 }

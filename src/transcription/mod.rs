@@ -19,7 +19,7 @@ pub use assemble::{InitialGuessReport, Transcription};
 pub use blocks::{Context, ScalarKind, VectorKind};
 pub use error::TranscriptionError;
 pub use layout::{Dims, Layout};
-pub use mechanics::Mechanics;
+pub use mechanics::{Mechanics, contact_jet_by_autodiff};
 pub use model_mechanics::ModelMechanics;
 pub use nlp::{Progress, ProgressFn, TranscriptionNlp};
 pub use pattern::{Pattern, PatternBuilder};

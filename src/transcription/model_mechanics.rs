@@ -7,8 +7,8 @@ use nalgebra::DMatrix;
 
 use crate::autodiff::ThirdOrder;
 use crate::model::{
-    LinkId, Model, Scalar, generalized_momentum, loop_residual, midpoint_gradient_hessian,
-    midpoint_third_order, point_position,
+    LinkId, Model, PointJet, Scalar, generalized_momentum, loop_residual,
+    midpoint_gradient_hessian, midpoint_third_order, point_jet, point_position,
 };
 use crate::problem::{ContactSpec, Interval, ProblemSpec};
 
@@ -116,6 +116,10 @@ impl Mechanics for ModelMechanics {
     fn contact_position<D: Scalar>(&self, contact: usize, q: &[D]) -> [D; 3] {
         let (link, point) = &self.contacts[contact];
         point_position(&self.model, *link, point, q)
+    }
+    fn contact_jet(&self, contact: usize, q: &[f64], order: usize) -> PointJet {
+        let (link, point) = &self.contacts[contact];
+        point_jet(&self.model, *link, point, q, order)
     }
     fn segment_gradient_hessian(&self, z: &[f64]) -> Option<(Vec<f64>, DMatrix<f64>)> {
         let (_, gradient, hessian) = midpoint_gradient_hessian(&self.model, z);

@@ -3,10 +3,8 @@
 
 use nalgebra::DMatrix;
 
+use super::contact_geometry::ContactGeometry;
 use super::{Context, tangential_rates};
-use crate::autodiff::{
-    ScalarFunction, VectorFunction, gradient_hessian, gradient_hessian_third, jacobian_directional,
-};
 use crate::contact::{signed_distance, tangential_coordinates};
 use crate::model::Scalar;
 use crate::transcription::Mechanics;
@@ -116,68 +114,9 @@ pub fn complementarity<D: Scalar>(
     }
 }
 
-/// The contact point's signed distance and tangential coordinates [φ, t_1 (, t_2)] as a
-/// function of q alone (length n), so that the contact blocks can be differentiated over n
-/// inputs and assembled by the chain rule, instead of over their 2n + 1 (or n + 1 + nd).
-struct PointCoordinates<'a, M> {
-    mech: &'a M,
-    ctx: &'a Context,
-    contact: usize,
-    /// Weights of [φ, t…] for the scalar form ([`ScalarFunction`]); unused by the vector form.
-    weights: [f64; 3],
-}
-
-impl<M: Mechanics> PointCoordinates<'_, M> {
-    fn coordinates<D: Scalar>(&self, q: &[D]) -> [D; 3] {
-        let p = self.mech.contact_position(self.contact, q);
-        let mut t = [D::from(0.0); 2];
-        tangential_coordinates(self.ctx.basis, &p, &mut t);
-        [signed_distance(&self.ctx.terrain, &p), t[0], t[1]]
-    }
-}
-
-impl<M: Mechanics> VectorFunction for PointCoordinates<'_, M> {
-    fn dim_in(&self) -> usize {
-        self.ctx.n
-    }
-    fn dim_out(&self) -> usize {
-        1 + self.ctx.nd() / 2
-    }
-    fn eval<D: Scalar>(&self, z: &[D], out: &mut [D]) {
-        let k = self.coordinates(z);
-        out.copy_from_slice(&k[..out.len()]);
-    }
-}
-
-impl<M: Mechanics> ScalarFunction for PointCoordinates<'_, M> {
-    fn dim(&self) -> usize {
-        self.ctx.n
-    }
-    fn eval<D: Scalar>(&self, z: &[D]) -> D {
-        let k = self.coordinates(z);
-        k.iter()
-            .zip(self.weights)
-            .fold(D::from(0.0), |acc, (&ki, w)| acc + ki * D::from(w))
-    }
-}
-
-fn point_coordinates<'a, M>(
-    mech: &'a M,
-    ctx: &'a Context,
-    contact: usize,
-    weights: [f64; 3],
-) -> PointCoordinates<'a, M> {
-    PointCoordinates {
-        mech,
-        ctx,
-        contact,
-        weights,
-    }
-}
-
 /// Jacobian (nd × (2n + 1)) of [`tangential_rate`] at z = [qa; qb; h] by the chain rule:
 /// with v = (qb − qa)/h and D = ∂t/∂q at qb, row d is [−D_d/h, (∂²t_d/∂q²)v + D_d/h,
-/// −D_d·v/h] (rows d + nt negated). Only first-order passes over the n coordinates.
+/// −D_d·v/h] (rows d + nt negated).
 pub fn tangential_rate_jacobian<M: Mechanics>(
     mech: &M,
     ctx: &Context,
@@ -188,10 +127,11 @@ pub fn tangential_rate_jacobian<M: Mechanics>(
     let nt = ctx.nd() / 2;
     let (qa, qb, h) = (&z[..n], &z[n..2 * n], z[2 * n]);
     let v: Vec<f64> = qa.iter().zip(qb).map(|(&a, &b)| (b - a) / h).collect();
-    let k = jacobian_directional(&point_coordinates(mech, ctx, contact, [0.0; 3]), qb, &v);
+    let geometry = ContactGeometry::new(mech, ctx, contact, qb, 2);
+    let (jacobian, directional) = (geometry.jacobian(), geometry.directional(&v));
     let mut out = DMatrix::zeros(2 * nt, 2 * n + 1);
     for d in 0..nt {
-        let (jac, hv) = (k.jacobian.row(1 + d), k.directional.row(1 + d));
+        let (jac, hv) = (jacobian.row(1 + d), directional.row(1 + d));
         let rate = jac.dot(&nalgebra::RowDVector::from_row_slice(&v));
         for sign_row in [(1.0, d), (-1.0, d + nt)] {
             let (sign, r) = sign_row;
@@ -206,9 +146,8 @@ pub fn tangential_rate_jacobian<M: Mechanics>(
 }
 
 /// Σ_r w_r ∇²(rate_r) of [`tangential_rate`] at z = [qa; qb; h] ((2n + 1)², symmetric) by the
-/// chain rule. With a = w_d − w_{d+nt}, s(q) = aᵀt(q), G = ∇s, H = ∇²s, T = ∇²(∇s·v) at qb
-/// (one third-order pass over the n coordinates): qb–qa −H/h, qb–qb T + 2H/h, h–qa G/h²,
-/// h–qb −Hv/h − G/h², h–h 2G·v/h² (qa–qa zero).
+/// chain rule. With a = w_d − w_{d+nt}, s(q) = aᵀt(q), G = ∇s, H = ∇²s, T = ∇²(∇s·v) at qb:
+/// qb–qa −H/h, qb–qb T + 2H/h, h–qa G/h², h–qb −Hv/h − G/h², h–h 2G·v/h² (qa–qa zero).
 pub fn tangential_rate_hessian<M: Mechanics>(
     mech: &M,
     ctx: &Context,
@@ -224,9 +163,13 @@ pub fn tangential_rate_hessian<M: Mechanics>(
     for d in 0..nt {
         weights[1 + d] = w[d] - w[d + nt];
     }
-    let s = gradient_hessian_third(&point_coordinates(mech, ctx, contact, weights), qb, &v);
-    let (g, hs, t) = (&s.gradient, &s.hessian, &s.contracted);
-    let hv = hs * nalgebra::DVector::from_column_slice(&v);
+    let geometry = ContactGeometry::new(mech, ctx, contact, qb, 3);
+    let (g, hs, t) = (
+        geometry.gradient(&weights),
+        geometry.hessian(&weights),
+        geometry.third(&weights, &v),
+    );
+    let hv = &hs * nalgebra::DVector::from_column_slice(&v);
     let gv: f64 = g.iter().zip(&v).map(|(a, b)| a * b).sum();
     let mut out = DMatrix::zeros(2 * n + 1, 2 * n + 1);
     let (h2, ih) = (h * h, 1.0 / h);
@@ -244,6 +187,39 @@ pub fn tangential_rate_hessian<M: Mechanics>(
     }
     out[(2 * n, 2 * n)] = 2.0 * gv / h2;
     out
+}
+
+/// Gradient of [`contact_work`] over z = [q; c; β]: [Nᵀc + Pᵀβ share; φ; ±t_d], by the chain
+/// rule from the point's first derivatives.
+pub fn contact_work_gradient<M: Mechanics>(
+    mech: &M,
+    ctx: &Context,
+    contact: usize,
+    z: &[f64],
+) -> Vec<f64> {
+    let (n, nd) = (ctx.n, ctx.nd());
+    let nt = nd / 2;
+    let geometry = ContactGeometry::new(mech, ctx, contact, &z[..n], 1);
+    let mut out = geometry.gradient(&work_weights(ctx, z));
+    let k = geometry.value();
+    out.push(k[0]);
+    for sign in [1.0, -1.0] {
+        for d in 0..nt {
+            out.push(sign * k[1 + d]);
+        }
+    }
+    out
+}
+
+/// b = [c, β⁺ − β⁻] of contact work, the weights of K = [φ, t] in it.
+fn work_weights(ctx: &Context, z: &[f64]) -> [f64; 3] {
+    let n = ctx.n;
+    let nt = ctx.nd() / 2;
+    let mut b = [z[n], 0.0, 0.0];
+    for d in 0..nt {
+        b[1 + d] = z[n + 1 + d] - z[n + 1 + d + nt];
+    }
+    b
 }
 
 /// Hessian of [`contact_work`] over z = [q; c; β] (the Jacobian of its DEL-row gradient) by the
@@ -285,27 +261,22 @@ fn contact_work_derivatives<M: Mechanics>(
 ) -> (DMatrix<f64>, Option<DMatrix<f64>>) {
     let (n, nd) = (ctx.n, ctx.nd());
     let nt = nd / 2;
-    let q = &z[..n];
-    let mut b = [z[n], 0.0, 0.0];
-    for d in 0..nt {
-        b[1 + d] = z[n + 1 + d] - z[n + 1 + d + nt];
-    }
+    let b = work_weights(ctx, z);
     let dim = n + 1 + nd;
+    let order = if dir.is_some() { 3 } else { 2 };
+    let geometry = ContactGeometry::new(mech, ctx, contact, &z[..n], order);
     let mut hessian = DMatrix::zeros(dim, dim);
-    let zero_dir = vec![0.0; n];
-    let dir_q = dir.map_or(&zero_dir[..], |d| &d[..n]);
-    let work = point_coordinates(mech, ctx, contact, b);
-    let k = jacobian_directional(&work, q, dir_q);
-    let mut contracted = dir.map(|_| DMatrix::zeros(dim, dim));
-    // q–q: ∇²(bᵀK) and, with a direction, ∇²(∇(bᵀK)·dir).
-    if let Some(c) = contracted.as_mut() {
-        let s = gradient_hessian_third(&work, q, dir_q);
-        hessian.view_mut((0, 0), (n, n)).copy_from(&s.hessian);
-        c.view_mut((0, 0), (n, n)).copy_from(&s.contracted);
-    } else {
-        let s = gradient_hessian(&work, q);
-        hessian.view_mut((0, 0), (n, n)).copy_from(&s.2);
-    }
+    hessian
+        .view_mut((0, 0), (n, n))
+        .copy_from(&geometry.hessian(&b));
+    let jacobian = geometry.jacobian();
+    let dir_q = dir.map(|d| &d[..n]);
+    let directional = dir_q.map(|d| geometry.directional(d));
+    let mut contracted = dir_q.map(|d| {
+        let mut c = DMatrix::zeros(dim, dim);
+        c.view_mut((0, 0), (n, n)).copy_from(&geometry.third(&b, d));
+        c
+    });
     // q–c and q–β: columns ∇K_k (sign ± for β⁺/β⁻), and their directional derivatives.
     let mut columns = vec![(n, 0, 1.0)];
     for d in 0..nt {
@@ -314,15 +285,65 @@ fn contact_work_derivatives<M: Mechanics>(
     }
     for (col, row_k, sign) in columns {
         for i in 0..n {
-            let g = sign * k.jacobian[(row_k, i)];
+            let g = sign * jacobian[(row_k, i)];
             hessian[(i, col)] = g;
             hessian[(col, i)] = g;
-            if let Some(c) = contracted.as_mut() {
-                let t = sign * k.directional[(row_k, i)];
+            if let (Some(c), Some(dd)) = (contracted.as_mut(), directional.as_ref()) {
+                let t = sign * dd[(row_k, i)];
                 c[(i, col)] = t;
                 c[(col, i)] = t;
             }
         }
     }
     (hessian, contracted)
+}
+
+/// Jacobian of φ_i(q) ([`distance`], 1 × n) or of −c_i φ_i(q) ([`contact_gap`], 1 × (n + 1),
+/// z = [q; c_i]) by the chain rule.
+pub fn distance_jacobian<M: Mechanics>(
+    mech: &M,
+    ctx: &Context,
+    contact: usize,
+    z: &[f64],
+    gap: bool,
+) -> DMatrix<f64> {
+    let n = ctx.n;
+    let geometry = ContactGeometry::new(mech, ctx, contact, &z[..n], 1);
+    let grad = geometry.gradient(&[1.0, 0.0, 0.0]);
+    if !gap {
+        return DMatrix::from_row_slice(1, n, &grad);
+    }
+    let c = z[n];
+    let mut out = DMatrix::zeros(1, n + 1);
+    for i in 0..n {
+        out[(0, i)] = -c * grad[i];
+    }
+    out[(0, n)] = -geometry.value()[0];
+    out
+}
+
+/// w·∇²φ_i (n × n) or w·∇²(−c_i φ_i) ((n + 1)²) by the chain rule; see [`distance_jacobian`].
+pub fn distance_hessian<M: Mechanics>(
+    mech: &M,
+    ctx: &Context,
+    contact: usize,
+    z: &[f64],
+    w: f64,
+    gap: bool,
+) -> DMatrix<f64> {
+    let n = ctx.n;
+    let geometry = ContactGeometry::new(mech, ctx, contact, &z[..n], 2);
+    if !gap {
+        return geometry.hessian(&[w, 0.0, 0.0]);
+    }
+    let c = z[n];
+    let mut out = DMatrix::zeros(n + 1, n + 1);
+    out.view_mut((0, 0), (n, n))
+        .copy_from(&geometry.hessian(&[-w * c, 0.0, 0.0]));
+    let grad = geometry.gradient(&[-w, 0.0, 0.0]);
+    for i in 0..n {
+        out[(i, n)] = grad[i];
+        out[(n, i)] = grad[i];
+    }
+    out
 }

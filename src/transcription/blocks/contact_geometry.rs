@@ -1,0 +1,215 @@
+//! A contact's terrain coordinates K(q) = κ(p(q)) = [φ, t_1 (, t_2)] and their derivatives in
+//! q, composed from the point's jet ([`Mechanics::contact_jet`]: analytic for URDF models)
+//! and forward AD of κ over the three components of p. Every contact block's chain-rule
+//! derivatives are built from these, so no dual number goes through the kinematic chain.
+
+use nalgebra::{DMatrix, Matrix3, Vector3};
+
+use super::Context;
+use crate::autodiff::{ScalarFunction, gradient_hessian, gradient_hessian_third};
+use crate::contact::{signed_distance, tangential_coordinates};
+use crate::model::{PointJet, Scalar};
+use crate::transcription::Mechanics;
+
+/// κ_k(p): the k-th terrain coordinate (0: signed distance, 1 + d: tangential d) of a point.
+struct TerrainCoordinate<'a> {
+    ctx: &'a Context,
+    component: usize,
+}
+
+impl ScalarFunction for TerrainCoordinate<'_> {
+    fn dim(&self) -> usize {
+        3
+    }
+    fn eval<D: Scalar>(&self, p: &[D]) -> D {
+        let p = [p[0], p[1], p[2]];
+        if self.component == 0 {
+            return signed_distance(&self.ctx.terrain, &p);
+        }
+        let mut t = [D::from(0.0); 2];
+        tangential_coordinates(self.ctx.basis, &p, &mut t);
+        t[self.component - 1]
+    }
+}
+
+/// K(q) and its derivatives at one configuration.
+pub(super) struct ContactGeometry<'a> {
+    ctx: &'a Context,
+    n: usize,
+    jet: PointJet,
+    /// Rows of K: 1 + tangents.
+    rows: usize,
+    /// κ_k(p).
+    value: [f64; 3],
+    /// ∇κ_k(p).
+    gradient: [Vector3<f64>; 3],
+    /// ∇²κ_k(p).
+    hessian: [Matrix3<f64>; 3],
+}
+
+impl<'a> ContactGeometry<'a> {
+    /// Derivatives of K at q up to `order` (1 to 3: the third is contracted on demand by
+    /// [`ContactGeometry::third`], which needs order 3).
+    pub(super) fn new<M: Mechanics>(
+        mech: &M,
+        ctx: &'a Context,
+        contact: usize,
+        q: &[f64],
+        order: usize,
+    ) -> Self {
+        let jet = mech.contact_jet(contact, q, order);
+        let rows = 1 + ctx.nd() / 2;
+        let mut value = [0.0; 3];
+        let mut gradient = [Vector3::zeros(); 3];
+        let mut hessian = [Matrix3::zeros(); 3];
+        for k in 0..rows {
+            let (v, g, h) =
+                gradient_hessian(&TerrainCoordinate { ctx, component: k }, &jet.position);
+            value[k] = v;
+            gradient[k] = Vector3::from_column_slice(&g);
+            hessian[k] = Matrix3::from_column_slice(h.as_slice());
+        }
+        ContactGeometry {
+            ctx,
+            n: q.len(),
+            jet,
+            rows,
+            value,
+            gradient,
+            hessian,
+        }
+    }
+
+    /// K(q) (length `rows`; the rest zero).
+    pub(super) fn value(&self) -> [f64; 3] {
+        self.value
+    }
+
+    fn first(&self, a: usize) -> Vector3<f64> {
+        Vector3::from(self.jet.first[a])
+    }
+
+    fn second(&self, a: usize, b: usize) -> Vector3<f64> {
+        Vector3::from(self.jet.second[a * self.jet.len() + b])
+    }
+
+    /// The direction in chain coordinates.
+    fn local(&self, dir: &[f64]) -> Vec<f64> {
+        self.jet.coords.iter().map(|&i| dir[i]).collect()
+    }
+
+    fn weighted(&self, w: &[f64]) -> (Vector3<f64>, Matrix3<f64>) {
+        let mut g = Vector3::zeros();
+        let mut h = Matrix3::zeros();
+        for (k, &wk) in w.iter().enumerate().take(self.rows) {
+            g += wk * self.gradient[k];
+            h += wk * self.hessian[k];
+        }
+        (g, h)
+    }
+
+    /// ∂K/∂q, rows × n.
+    pub(super) fn jacobian(&self) -> DMatrix<f64> {
+        let mut out = DMatrix::zeros(self.rows, self.n);
+        for (a, &i) in self.jet.coords.iter().enumerate() {
+            let pa = self.first(a);
+            for k in 0..self.rows {
+                out[(k, i)] += self.gradient[k].dot(&pa);
+            }
+        }
+        out
+    }
+
+    /// Σ_k w_k ∇²K_k (n × n; needs order ≥ 2): P1ᵀ H_w P1 + Σ_m (g_w)_m ∇²p_m.
+    pub(super) fn hessian(&self, w: &[f64]) -> DMatrix<f64> {
+        let (gw, hw) = self.weighted(w);
+        let c = self.jet.len();
+        let mut out = DMatrix::zeros(self.n, self.n);
+        for a in 0..c {
+            let hpa = hw * self.first(a);
+            for b in 0..c {
+                let v = hpa.dot(&self.first(b)) + gw.dot(&self.second(a, b));
+                out[(self.jet.coords[a], self.jet.coords[b])] += v;
+            }
+        }
+        out
+    }
+
+    /// Rows (∇²K_k)·dir, rows × n (needs order ≥ 2).
+    pub(super) fn directional(&self, dir: &[f64]) -> DMatrix<f64> {
+        let mut out = DMatrix::zeros(self.rows, self.n);
+        for k in 0..self.rows {
+            let mut w = [0.0; 3];
+            w[k] = 1.0;
+            let h = self.hessian(&w);
+            let row = &h * nalgebra::DVector::from_column_slice(dir);
+            out.row_mut(k).copy_from(&row.transpose());
+        }
+        out
+    }
+
+    /// ∇²(∇(Σ_k w_k K_k)·dir) (n × n; needs order 3). With s = wᵀκ, ṗ = P1·dir,
+    /// Q_a = ∂(P1·dir)/∂q_a and S = ∂²(P1·dir)/∂q²:
+    /// (P1ᵀ ∇³s[ṗ] P1) + Σ_r (∇²s ṗ)_r ∇²p_r + P1ᵀ ∇²s Q + Qᵀ ∇²s P1 + Σ_m (∇s)_m S_m.
+    pub(super) fn third(&self, w: &[f64], dir: &[f64]) -> DMatrix<f64> {
+        let c = self.jet.len();
+        let d = self.local(dir);
+        let mut pdot = Vector3::zeros();
+        for (a, &da) in d.iter().enumerate() {
+            pdot += da * self.first(a);
+        }
+        // ∇s, ∇²s and ∇³s contracted with ṗ, all in p.
+        let mut gw = Vector3::zeros();
+        let mut hw = Matrix3::zeros();
+        let mut tw = Matrix3::zeros();
+        for (k, &wk) in w.iter().enumerate().take(self.rows) {
+            if wk == 0.0 {
+                continue;
+            }
+            let s = gradient_hessian_third(
+                &TerrainCoordinate {
+                    ctx: self.ctx,
+                    component: k,
+                },
+                &self.jet.position,
+                pdot.as_slice(),
+            );
+            gw += wk * Vector3::from_column_slice(&s.gradient);
+            hw += wk * Matrix3::from_column_slice(s.hessian.as_slice());
+            tw += wk * Matrix3::from_column_slice(s.contracted.as_slice());
+        }
+        let q: Vec<Vector3<f64>> = (0..c)
+            .map(|a| (0..c).fold(Vector3::zeros(), |acc, e| acc + d[e] * self.second(a, e)))
+            .collect();
+        let hp = hw * pdot;
+        let mut out = DMatrix::zeros(self.n, self.n);
+        for a in 0..c {
+            let (pa, qa) = (self.first(a), q[a]);
+            let (tpa, hpa, hqa) = (tw * pa, hw * pa, hw * qa);
+            for b in 0..c {
+                let (pb, qb) = (self.first(b), q[b]);
+                let base = (a * c + b) * c;
+                let s = (0..c).fold(Vector3::zeros(), |acc, e| {
+                    acc + d[e] * Vector3::from(self.jet.third[base + e])
+                });
+                let v = tpa.dot(&pb)
+                    + hp.dot(&self.second(a, b))
+                    + hpa.dot(&qb)
+                    + hqa.dot(&pb)
+                    + gw.dot(&s);
+                out[(self.jet.coords[a], self.jet.coords[b])] += v;
+            }
+        }
+        out
+    }
+
+    /// Σ_k w_k ∇K_k (length n).
+    pub(super) fn gradient(&self, w: &[f64]) -> Vec<f64> {
+        let (gw, _) = self.weighted(w);
+        let mut out = vec![0.0; self.n];
+        for (a, &i) in self.jet.coords.iter().enumerate() {
+            out[i] += gw.dot(&self.first(a));
+        }
+        out
+    }
+}

@@ -1,0 +1,123 @@
+//! The analytic point jets (`vito::model::point_jet`: chain formulas from joint axes and
+//! origins) equal forward AD through `point_position` to round-off, for every link of the
+//! paper's robots and of vito's reference robots, in all three orders.
+
+use std::path::Path;
+
+use vito::model::{BaseType, Model, PointJet};
+use vito::problem::ContactSpec;
+use vito::transcription::{Mechanics, ModelMechanics, contact_jet_by_autodiff};
+
+/// Dense derivatives of the jet over all n coordinates: (first, second, third) with
+/// entries [m] of p.
+fn dense(jet: &PointJet, n: usize) -> (Vec<[f64; 3]>, Vec<[f64; 3]>, Vec<[f64; 3]>) {
+    let c = jet.len();
+    let (mut first, mut second, mut third) = (
+        vec![[0.0; 3]; n],
+        vec![[0.0; 3]; n * n],
+        vec![[0.0; 3]; n * n * n],
+    );
+    for a in 0..c {
+        first[jet.coords[a]] = jet.first[a];
+        for b in 0..c {
+            second[jet.coords[a] * n + jet.coords[b]] = jet.second[a * c + b];
+            for e in 0..c {
+                let (qa, qb, qe) = (jet.coords[a], jet.coords[b], jet.coords[e]);
+                third[(qa * n + qb) * n + qe] = jet.third[(a * c + b) * c + e];
+            }
+        }
+    }
+    (first, second, third)
+}
+
+fn max_difference(a: &[[f64; 3]], b: &[[f64; 3]]) -> (f64, f64) {
+    let mut diff: f64 = 0.0;
+    let mut scale: f64 = 0.0;
+    for (x, y) in a.iter().zip(b) {
+        for m in 0..3 {
+            diff = diff.max((x[m] - y[m]).abs());
+            scale = scale.max(y[m].abs());
+        }
+    }
+    (diff, scale)
+}
+
+fn check_robot(rel: &str, base: BaseType, links: usize) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("problems/robots")
+        .join(rel);
+    let model = Model::from_urdf_file(&path, base).unwrap_or_else(|e| panic!("{rel}: {e}"));
+    let n = model.nq();
+    let names: Vec<String> = model.link_names().iter().take(links).cloned().collect();
+    let contacts: Vec<ContactSpec> = names
+        .iter()
+        .map(|link| ContactSpec {
+            name: link.clone(),
+            link: link.clone(),
+            point: [0.031, -0.022, 0.047],
+            friction: 1.0,
+        })
+        .collect();
+    let mech = ModelMechanics::new(model, &contacts).expect("every link resolves");
+    let q: Vec<f64> = (0..n).map(|k| 0.9 * (1.7 * k as f64 + 0.4).sin()).collect();
+    let mut deepest = 0;
+    for (i, link) in names.iter().enumerate() {
+        let analytic = mech.contact_jet(i, &q, 3);
+        let reference = contact_jet_by_autodiff(&mech, i, &q, 3);
+        deepest = deepest.max(analytic.len());
+        let (d1, d2, d3) = dense(&analytic, n);
+        for (order, ours, theirs) in [
+            (0, vec![analytic.position], vec![reference.position]),
+            (1, d1, reference.first),
+            (2, d2, reference.second),
+            (3, d3, reference.third),
+        ] {
+            let (diff, scale) = max_difference(&ours, &theirs);
+            assert!(
+                diff <= 1e-12 * scale.max(1.0),
+                "{rel}, link {link}: order {order} differs by {diff:e} (scale {scale:e})"
+            );
+        }
+        // A lower order leaves the higher tensors empty and the others unchanged.
+        let first_only = mech.contact_jet(i, &q, 1);
+        assert!(first_only.second.is_empty() && first_only.third.is_empty());
+        assert_eq!(first_only.first, analytic.first);
+    }
+    assert!(
+        deepest >= 4,
+        "{rel}: no link deeper than {deepest} joints; the test proves too little"
+    );
+}
+
+#[test]
+fn brick_floating_base() {
+    check_robot("brick.urdf", BaseType::Floating, 10);
+}
+
+#[test]
+fn hopper_planar_base_with_prismatic_leg() {
+    check_robot("hopper_2d.urdf", BaseType::Planar, 10);
+}
+
+#[test]
+fn spring_flamingo_every_link() {
+    check_robot(
+        "spring_flamingo/spring_flamingo_passive_ankle.normalized.urdf",
+        BaseType::Planar,
+        100,
+    );
+}
+
+#[test]
+fn littledog_every_link() {
+    check_robot(
+        "littledog/LittleDog.normalized.urdf",
+        BaseType::Floating,
+        100,
+    );
+}
+
+#[test]
+fn hamr_first_links() {
+    check_robot("hamr/HAMR_scaledV2.normalized.urdf", BaseType::Floating, 12);
+}
