@@ -8,9 +8,11 @@ use vito::model::{BaseType, Model, PointJet};
 use vito::problem::ContactSpec;
 use vito::transcription::{Mechanics, ModelMechanics, contact_jet_by_autodiff};
 
-/// Dense derivatives of the jet over all n coordinates: (first, second, third) with
-/// entries [m] of p.
-fn dense(jet: &PointJet, n: usize) -> (Vec<[f64; 3]>, Vec<[f64; 3]>, Vec<[f64; 3]>) {
+/// Derivatives of p, one `[f64; 3]` per (multi-)index.
+type Tensor = Vec<[f64; 3]>;
+
+/// Dense derivatives of the jet over all n coordinates: (first, second, third).
+fn dense(jet: &PointJet, n: usize) -> (Tensor, Tensor, Tensor) {
     let c = jet.len();
     let (mut first, mut second, mut third) = (
         vec![[0.0; 3]; n],
