@@ -792,7 +792,9 @@ impl<M: Mechanics> Transcription<M> {
         f: impl Fn(&Block<K>) -> R + Sync + Send,
     ) -> Vec<R> {
         if self.parallel {
-            blocks.par_iter().map(f).collect()
+            // Batches of blocks: one task per block costs more in wake-ups than the
+            // cheaper blocks take to evaluate.
+            blocks.par_iter().with_min_len(32).map(f).collect()
         } else {
             blocks.iter().map(f).collect()
         }

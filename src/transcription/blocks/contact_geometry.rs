@@ -6,7 +6,9 @@
 use nalgebra::{DMatrix, Matrix3, Vector3};
 
 use super::Context;
-use crate::autodiff::{ScalarFunction, gradient_hessian, gradient_hessian_third};
+use crate::autodiff::{
+    ScalarFunction, ThirdOrder, gradient_hessian_into, gradient_hessian_third_into,
+};
 use crate::contact::{signed_distance, tangential_coordinates};
 use crate::model::{PointJet, Scalar};
 use crate::transcription::Mechanics;
@@ -62,11 +64,12 @@ impl<'a> ContactGeometry<'a> {
         let mut value = [0.0; 3];
         let mut gradient = [Vector3::zeros(); 3];
         let mut hessian = [Matrix3::zeros(); 3];
+        let (mut g, mut h) = ([0.0; 3], DMatrix::zeros(3, 3));
         for k in 0..rows {
-            let (v, g, h) =
-                gradient_hessian(&TerrainCoordinate { ctx, component: k }, &jet.position);
-            value[k] = v;
-            gradient[k] = Vector3::from_column_slice(&g);
+            // One tile of three inputs: κ is a function of p alone.
+            let f = TerrainCoordinate { ctx, component: k };
+            value[k] = gradient_hessian_into::<3, _>(&f, &jet.position, &mut g, &mut h);
+            gradient[k] = Vector3::from(g);
             hessian[k] = Matrix3::from_column_slice(h.as_slice());
         }
         ContactGeometry {
@@ -166,14 +169,12 @@ impl<'a> ContactGeometry<'a> {
             if wk == 0.0 {
                 continue;
             }
-            let s = gradient_hessian_third(
-                &TerrainCoordinate {
-                    ctx: self.ctx,
-                    component: k,
-                },
-                &self.jet.position,
-                pdot.as_slice(),
-            );
+            let f = TerrainCoordinate {
+                ctx: self.ctx,
+                component: k,
+            };
+            let mut s = ThirdOrder::zeros(3);
+            gradient_hessian_third_into::<3, _>(&f, &self.jet.position, pdot.as_slice(), &mut s);
             gw += wk * Vector3::from_column_slice(&s.gradient);
             hw += wk * Matrix3::from_column_slice(s.hessian.as_slice());
             tw += wk * Matrix3::from_column_slice(s.contracted.as_slice());
