@@ -420,7 +420,16 @@ fn print_summary(problem: &LoadedProblem, s: &Solution, dir: &Path) {
         s.callback_time_s,
         s.ipopt_time_s
     );
-    out!("max slack    {:.3e}", s.max_slack);
+    if s.solves > 1 {
+        out!(
+            "max slack    {:.3e} after {} solves (slack weight raised to {:e})",
+            s.max_slack,
+            s.solves,
+            s.slack_weight
+        );
+    } else {
+        out!("max slack    {:.3e}", s.max_slack);
+    }
     out!("max compl.   {:.3e}", s.max_complementarity);
     out!("max viol.    {:.3e}", s.max_constraint_violation);
     out!(

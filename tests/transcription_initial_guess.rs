@@ -56,3 +56,45 @@ fn reference_problem_sizes() {
     assert_eq!(l.num_variables(), 41 * 6 + 6 + 40 + 40 * 8 * 10 + 40);
     assert_eq!(l.num_constraints(), 40 * (6 + 32 + 8 + 8 + 3));
 }
+
+/// A warm start into free equal steps keeps the previous solution's duration (within the
+/// window) and resamples it over the knots by normalised time, so that a solution of the
+/// same problem comes back knot for knot (at 0.8 s, not stretched to the guess T_max = 2.5 s).
+#[test]
+fn warm_start_into_free_steps_keeps_the_previous_duration() {
+    use vito::problem::{InitialGuess, WarmStart};
+    use vito::transcription::ModelMechanics;
+    let mut spec = common::reference::spring_flamingo_walk();
+    let (n, knots) = (spec.q_initial.len(), spec.knots);
+    let duration = 0.8;
+    let times: Vec<f64> = (0..knots)
+        .map(|k| duration * k as f64 / (knots - 1) as f64)
+        .collect();
+    let q: Vec<Vec<f64>> = times
+        .iter()
+        .map(|&t| (0..n).map(|c| (3.0 * t + c as f64).sin()).collect())
+        .collect();
+    spec.initial_guess = InitialGuess::WarmStart(WarmStart {
+        source: "memory".into(),
+        times,
+        q: q.clone(),
+        u: Vec::new(),
+    });
+    let t = Transcription::new(ModelMechanics::load(&spec).unwrap(), &spec).unwrap();
+    let (x, l) = (t.initial_point(), t.layout());
+    let h = x[l.h(0)];
+    assert!(
+        (h * (knots - 1) as f64 - duration).abs() < 1e-12,
+        "h = {h}: duration {} instead of {duration}",
+        h * (knots - 1) as f64
+    );
+    // Interior knots carry the warm start (the first and last are fixed by the problem).
+    for (k, qk) in q.iter().enumerate().take(knots - 1).skip(1) {
+        for (c, i) in l.q(k).enumerate() {
+            let (lo, hi) = (t.variable_bounds().0[i], t.variable_bounds().1[i]);
+            if lo < hi && qk[c] > lo && qk[c] < hi {
+                assert!((x[i] - qk[c]).abs() < 1e-12, "knot {k}, coordinate {c}");
+            }
+        }
+    }
+}

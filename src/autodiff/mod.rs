@@ -20,11 +20,13 @@
 mod directional;
 mod hessian;
 mod jacobian;
+mod restrict;
 mod third;
 
 pub use directional::*;
 pub use hessian::*;
 pub use jacobian::*;
+pub use restrict::Restricted;
 pub use third::*;
 
 use crate::model::Scalar;

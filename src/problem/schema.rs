@@ -410,6 +410,13 @@ pub struct SlackSection {
     pub weight: f64,
     /// `"per_interval"` (default, the paper's) or `"per_contact"`.
     pub mode: Option<String>,
+    /// Largest slack a solution may keep (e.g. the paper's 1e-5). When a solve ends above it,
+    /// vito multiplies the weight by `growth` and solves again from that solution.
+    pub target: Option<f64>,
+    /// Factor on the weight per extra solve (default 10).
+    pub growth: Option<f64>,
+    /// Extra solves allowed (default 3).
+    pub rounds: Option<usize>,
 }
 
 /// `[[periodic]]`: q_N[c] − q_1[c] = offset and/or equal first and last velocities.

@@ -182,6 +182,19 @@ pub struct WarmStart {
     pub u: Vec<Vec<f64>>,
 }
 
+/// `[slack] target`: the exact-penalty continuation. While the largest slack exceeds
+/// `target`, multiply α by `growth` and solve again from the last solution, at most
+/// `rounds` more times.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SlackContinuation {
+    /// Largest acceptable slack (> 0).
+    pub target: f64,
+    /// Factor on α per extra solve (> 1).
+    pub growth: f64,
+    /// Extra solves allowed.
+    pub rounds: usize,
+}
+
 /// An Ipopt option value as written in a problem file.
 #[derive(Debug, Clone, PartialEq)]
 pub enum OptionValue {
@@ -205,6 +218,8 @@ pub struct ProblemSpec {
     /// Slack penalty α > 0 in the objective α Σ s.
     pub slack_weight: f64,
     pub slack_mode: SlackMode,
+    /// Re-solve with a growing slack weight until the largest slack is below a target.
+    pub slack_continuation: Option<SlackContinuation>,
     /// q_1, fixed (length n).
     pub q_initial: Vec<f64>,
     /// v_0 fixed to this value when set (length n); free otherwise.

@@ -16,7 +16,7 @@ use crate::problem::source::{line_of_offset, line_of_path, nearest, path_at_offs
 use crate::problem::{
     ContactSpec, CoordinateBound, CostTerm, HessianMode, InitialGuess, Integrator, Interval,
     KnotSet, Location, OptionValue, Periodicity, ProblemError, ProblemSpec, RobotInfo, RobotSpec,
-    SlackMode, TimeSteps, WarmStart,
+    SlackContinuation, SlackMode, TimeSteps, WarmStart,
 };
 
 /// A `--set key.path=value` override, as given and as parsed.
@@ -774,6 +774,39 @@ fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, ProblemError>
         }
     };
 
+    let slack_continuation = match raw.slack.target {
+        None => {
+            for (field, given) in [
+                ("slack.growth", raw.slack.growth.is_some()),
+                ("slack.rounds", raw.slack.rounds.is_some()),
+            ] {
+                if given {
+                    return Err(ctx.invalid(
+                        field,
+                        "has no effect without `slack.target`; give the target slack too",
+                    ));
+                }
+            }
+            None
+        }
+        Some(target) => {
+            let growth = raw.slack.growth.unwrap_or(10.0);
+            if !(growth > 1.0 && growth.is_finite()) {
+                return Err(ctx.invalid(
+                    "slack.growth",
+                    format!(
+                        "must be a number above 1 (the weight's factor per solve), got {growth}"
+                    ),
+                ));
+            }
+            Some(SlackContinuation {
+                target: positive(ctx, "slack.target", target)?,
+                growth,
+                rounds: raw.slack.rounds.unwrap_or(3),
+            })
+        }
+    };
+
     // Periodicity.
     let mut periodic = Vec::new();
     for (i, p) in raw.periodic.iter().enumerate() {
@@ -883,6 +916,7 @@ fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, ProblemError>
         integrator,
         slack_weight,
         slack_mode,
+        slack_continuation,
         q_initial,
         v_initial,
         q_final,

@@ -162,6 +162,8 @@ mod tests {
             max_slack: 3e-9,
             max_complementarity: 1e-9,
             max_constraint_violation: 1e-10,
+            slack_weight: 100.0,
+            solves: 1,
         }
     }
 

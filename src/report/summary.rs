@@ -58,6 +58,8 @@ pub fn summary_json(problem: &LoadedProblem, solution: &Solution) -> Value {
         "max_slack": num(s.max_slack),
         "max_complementarity": num(s.max_complementarity),
         "max_constraint_violation": num(s.max_constraint_violation),
+        "slack_weight": num(s.slack_weight),
+        "solves": s.solves,
         "n_variables": s.size.n_variables,
         "n_constraints": s.size.n_constraints,
         "nnz_jacobian": s.size.nnz_jacobian,

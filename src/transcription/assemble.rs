@@ -14,7 +14,8 @@ use super::layout::{Dims, Layout};
 use super::pattern::{Pattern, PatternBuilder};
 use super::{Mechanics, TranscriptionError};
 use crate::autodiff::{
-    ThirdOrder, gradient, gradient_hessian, gradient_hessian_third, jacobian, weighted_hessian,
+    Restricted, ThirdOrder, gradient, gradient_hessian, gradient_hessian_third, jacobian,
+    weighted_hessian,
 };
 use num_dual::Dual64;
 
@@ -559,12 +560,15 @@ impl<M: Mechanics> Transcription<M> {
             }
             b.jacobian_slots = slots;
             let mut hslots = Vec::new();
+            let mut active = vec![false; b.nonlinear];
             for a in 0..b.nonlinear {
                 for c in (0..=a).filter(|&c| b.has_hessian_pair(a, c)) {
                     if !hmask[a * nv + c] {
                         hslots.push((NO_SLOT, 0.0));
                         continue;
                     }
+                    active[a] = true;
+                    active[c] = true;
                     let mult = if a != c && b.vars[a] == b.vars[c] {
                         2.0
                     } else {
@@ -574,6 +578,7 @@ impl<M: Mechanics> Transcription<M> {
                 }
             }
             b.hessian_slots = hslots;
+            b.hessian_inputs = (0..b.nonlinear).filter(|&a| active[a]).collect();
         }
         for (b, m) in self.cost_blocks.iter_mut().zip(&cost_masks) {
             place(b, m, &mut jac, &mut hess);
@@ -679,7 +684,7 @@ impl<M: Mechanics> Transcription<M> {
     fn set_initial_guess(&mut self, spec: &ProblemSpec) -> Result<(), TranscriptionError> {
         let l = &self.layout;
         let mut x = vec![0.0; l.num_variables()];
-        let h_guess = match spec.time_steps {
+        let mut h_guess = match spec.time_steps {
             TimeSteps::Fixed(h) => h,
             TimeSteps::FreeEqual { t_max, .. } => t_max / l.intervals() as f64,
         };
@@ -696,7 +701,24 @@ impl<M: Mechanics> Transcription<M> {
                 }
             }
             InitialGuess::WarmStart(w) => {
-                let times: Vec<f64> = (0..l.knots).map(|k| k as f64 * h_guess).collect();
+                // Free steps take the previous solution's duration (within the window) and
+                // resample it over the knots; fixed steps sample it at their own times.
+                let duration = w.times.last().copied().unwrap_or(0.0)
+                    - w.times.first().copied().unwrap_or(0.0);
+                if let TimeSteps::FreeEqual { t_min, t_max } = spec.time_steps
+                    && duration > 0.0
+                {
+                    h_guess = duration.clamp(t_min, t_max) / l.intervals() as f64;
+                }
+                let stretch = match spec.time_steps {
+                    TimeSteps::FreeEqual { .. } if duration > 0.0 => {
+                        duration / (h_guess * l.intervals() as f64)
+                    }
+                    _ => 1.0,
+                };
+                let times: Vec<f64> = (0..l.knots)
+                    .map(|k| w.times.first().copied().unwrap_or(0.0) + k as f64 * h_guess * stretch)
+                    .collect();
                 for (k, &t) in times.iter().enumerate() {
                     let q = interpolate(&w.times, &w.q, t);
                     check_len("initial_guess.q", l.n, q.len())?;
@@ -729,6 +751,26 @@ impl<M: Mechanics> Transcription<M> {
             }
         }
         self.x_initial = x;
+        Ok(())
+    }
+
+    /// Slack weight α of the objective α Σ s.
+    pub fn slack_weight(&self) -> f64 {
+        self.slack_weight
+    }
+
+    /// Change α (for the exact-penalty continuation).
+    pub fn set_slack_weight(&mut self, weight: f64) {
+        self.slack_weight = weight;
+    }
+
+    /// Start the next solve from `x` (all variables, e.g. a previous solution), clamped to the
+    /// variable bounds.
+    pub fn set_initial_point(&mut self, x: &[f64]) -> Result<(), TranscriptionError> {
+        check_len("initial point", self.x_initial.len(), x.len())?;
+        for (i, (&xi, out)) in x.iter().zip(self.x_initial.iter_mut()).enumerate() {
+            *out = xi.clamp(self.x_lower[i], self.x_upper[i]);
+        }
         Ok(())
     }
 
@@ -928,7 +970,38 @@ impl<M: Mechanics> Transcription<M> {
                 _ => {}
             }
         }
-        weighted_hessian(&self.vector_fn(b), z, w)
+        let f = self.vector_fn(b);
+        if b.hessian_inputs.len() == b.nonlinear {
+            return weighted_hessian(&f, z, w);
+        }
+        let r = Restricted {
+            f: &f,
+            at: z,
+            free: &b.hessian_inputs,
+        };
+        expand_hessian(
+            &weighted_hessian(&r, &r.point(), w),
+            &b.hessian_inputs,
+            z.len(),
+        )
+    }
+
+    /// Hessian of a cost block at z, over the inputs in the Hessian pattern only.
+    fn cost_block_hessian(&self, b: &Block<ScalarKind>, z: &[f64]) -> DMatrix<f64> {
+        let f = self.scalar_fn(b);
+        if b.hessian_inputs.len() == b.nonlinear {
+            return gradient_hessian(&f, z).2;
+        }
+        let r = Restricted {
+            f: &f,
+            at: z,
+            free: &b.hessian_inputs,
+        };
+        expand_hessian(
+            &gradient_hessian(&r, &r.point()).2,
+            &b.hessian_inputs,
+            z.len(),
+        )
     }
 
     fn scalar_fn<'a>(&'a self, b: &'a Block<ScalarKind>) -> ScalarBlockFn<'a, M> {
@@ -1074,7 +1147,7 @@ impl<M: Mechanics> Transcription<M> {
             if b.nonlinear == 0 {
                 return DMatrix::zeros(0, 0);
             }
-            gradient_hessian(&self.scalar_fn(b), &gather(x, &b.vars)).2 * obj_factor
+            self.cost_block_hessian(b, &gather(x, &b.vars)) * obj_factor
         });
         for (b, local) in self.cost_blocks.iter().zip(costs) {
             scatter_lower(b, &local, values);
@@ -1180,6 +1253,17 @@ fn scatter_rows<K>(b: &Block<K>, local: &DMatrix<f64>, values: &mut [f64]) {
             }
         }
     }
+}
+
+/// A Hessian over the inputs `free` placed into a zero dim × dim Hessian.
+fn expand_hessian(sub: &DMatrix<f64>, free: &[usize], dim: usize) -> DMatrix<f64> {
+    let mut full = DMatrix::zeros(dim, dim);
+    for (a, &i) in free.iter().enumerate() {
+        for (c, &j) in free.iter().enumerate() {
+            full[(i, j)] = sub[(a, c)];
+        }
+    }
+    full
 }
 
 /// Add a block's local Hessian (lower pairs of its nonlinear inputs) into the Hessian.

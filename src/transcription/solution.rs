@@ -58,4 +58,9 @@ pub struct Solution {
     pub max_complementarity: f64,
     /// Largest constraint-row violation at the point Ipopt returned.
     pub max_constraint_violation: f64,
+    /// Slack weight α of the last solve (the problem's, or raised by `[slack] target`).
+    pub slack_weight: f64,
+    /// Ipopt solves made (more than 1 with `[slack] target`); iterations and times are their
+    /// sums.
+    pub solves: usize,
 }

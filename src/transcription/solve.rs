@@ -97,11 +97,54 @@ pub fn solve_with<M: Mechanics>(
     spec: &ProblemSpec,
     options: &SolveOptions,
 ) -> Result<Solution, TranscriptionError> {
-    let transcription = Transcription::new(mech, spec)?;
+    let mut transcription = Transcription::new(mech, spec)?;
     let mut solver = configure(spec, options)?;
     let mut nlp = TranscriptionNlp::new(&transcription, options.progress.as_deref());
     let report = solver.solve(&mut nlp)?;
-    Ok(fill_solution(&transcription, spec, &report))
+    let mut solution = fill_solution(&transcription, spec, &report);
+    let Some(continuation) = spec.slack_continuation else {
+        return Ok(solution);
+    };
+    // Exact-penalty continuation: a finite α can leave the solve at a relaxed point (SPEC.md);
+    // raise α and restart from that point, near the central path (small μ and bound push, unless
+    // the problem file sets them), so that the complementarity pattern found is kept.
+    let mut x = report.x;
+    let mut weight = spec.slack_weight;
+    for _ in 0..continuation.rounds {
+        if solution.max_slack <= continuation.target
+            || !solution.status.is_success()
+            || options
+                .cancel
+                .as_ref()
+                .is_some_and(|c| c.load(std::sync::atomic::Ordering::Relaxed))
+        {
+            break;
+        }
+        weight *= continuation.growth;
+        transcription.set_slack_weight(weight);
+        transcription.set_initial_point(&x)?;
+        let mut solver = configure(spec, options)?;
+        for (name, value) in [
+            ("mu_init", 1e-4),
+            ("bound_push", 1e-6),
+            ("bound_frac", 1e-6),
+        ] {
+            if !spec.solver_options.iter().any(|(n, _)| n == name) {
+                solver.set_option(name, ipopt::OptionValue::Num(value))?;
+            }
+        }
+        let mut nlp = TranscriptionNlp::new(&transcription, options.progress.as_deref());
+        let report = solver.solve(&mut nlp)?;
+        let mut next = fill_solution(&transcription, spec, &report);
+        next.iterations += solution.iterations;
+        next.wall_time_s += solution.wall_time_s;
+        next.callback_time_s += solution.callback_time_s;
+        next.ipopt_time_s += solution.ipopt_time_s;
+        next.solves = solution.solves + 1;
+        solution = next;
+        x = report.x;
+    }
+    Ok(solution)
 }
 
 /// Benchmark with the given mechanics.
@@ -242,5 +285,7 @@ fn fill_solution<M: Mechanics>(
         max_slack,
         max_complementarity,
         max_constraint_violation: t.violation(x).0,
+        slack_weight: t.slack_weight(),
+        solves: 1,
     }
 }

@@ -119,6 +119,9 @@ pub struct Block<K> {
     pub jacobian_slots: Vec<usize>,
     /// Hessian slot and multiplicity for each lower pair (a, b ≤ a) of nonlinear inputs.
     pub hessian_slots: Vec<(usize, f64)>,
+    /// Nonlinear inputs with at least one pair in the Hessian pattern: generic AD
+    /// differentiates over these only (e.g. u and h of ½Fd when B is constant).
+    pub hessian_inputs: Vec<usize>,
 }
 
 impl<K> Block<K> {
@@ -137,6 +140,7 @@ impl<K> Block<K> {
             targets,
             jacobian_slots: Vec::new(),
             hessian_slots: Vec::new(),
+            hessian_inputs: Vec::new(),
         }
     }
 }
