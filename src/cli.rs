@@ -115,6 +115,9 @@ pub enum Command {
     Bench {
         /// Problem files (default: problems/{hopper_2d,brick_3d,spring_flamingo_walk,littledog_step}.toml).
         files: Vec<PathBuf>,
+        /// Override a value of every file, e.g. `--set horizon.knots=40` (repeatable).
+        #[arg(long = "set", value_name = "KEY.PATH=VALUE")]
+        set: Vec<String>,
     },
     /// Solve every problem of the regression record and compare objectives; `--bless` rewrites it.
     #[command(after_help = EXIT_CODES)]
@@ -190,7 +193,7 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
         Command::Check { file, set } => check(&file, &set),
         Command::Init { urdf, base, out } => init(&urdf, base.into(), out.as_deref()),
         Command::Inspect { urdf, base, json } => inspect(&urdf, base.into(), json),
-        Command::Bench { files } => bench(&files),
+        Command::Bench { files, set } => bench(&files, &set),
         Command::Regress {
             bless,
             record,
@@ -516,7 +519,8 @@ pub const REFERENCE_PROBLEMS: [&str; 4] = [
 ];
 
 /// Prints one `transcription::bench` row per problem (sizes, solve and derivative times).
-fn bench(files: &[PathBuf]) -> Result<u8, CliError> {
+fn bench(files: &[PathBuf], set: &[String]) -> Result<u8, CliError> {
+    let overrides = parse_overrides(set)?;
     let files: Vec<PathBuf> = if files.is_empty() {
         REFERENCE_PROBLEMS.iter().map(PathBuf::from).collect()
     } else {
@@ -524,17 +528,19 @@ fn bench(files: &[PathBuf]) -> Result<u8, CliError> {
     };
     let problems = files
         .iter()
-        .map(|f| load(f, &[]))
+        .map(|f| load(f, &overrides))
         .collect::<Result<Vec<_>, _>>()?;
     out!(
-        "{:<24} {:>6} {:>6} {:>7} {:>7} {:>28} {:>15} {:>6} {:>9} {:>9} {:>9} {:>10}",
+        "{:<24} {:>5} {:>6} {:>6} {:>7} {:>7} {:>28} {:>15} {:>9} {:>6} {:>9} {:>9} {:>9} {:>10}",
         "problem",
+        "knots",
         "vars",
         "cons",
         "nnz J",
         "nnz H",
         "status",
         "objective",
+        "max slack",
         "iter",
         "wall s",
         "callb. s",
@@ -544,14 +550,16 @@ fn bench(files: &[PathBuf]) -> Result<u8, CliError> {
     for p in &problems {
         let r = vito::transcription::bench(&p.spec).map_err(CliError::Transcription)?;
         out!(
-            "{:<24} {:>6} {:>6} {:>7} {:>7} {:>28} {:>15.8e} {:>6} {:>9.3} {:>9.3} {:>9.3} {:>10.2e}",
+            "{:<24} {:>5} {:>6} {:>6} {:>7} {:>7} {:>28} {:>15.8e} {:>9.2e} {:>6} {:>9.3} {:>9.3} {:>9.3} {:>10.2e}",
             r.name,
+            p.spec.knots,
             r.size.n_variables,
             r.size.n_constraints,
             r.size.nnz_jacobian,
             r.size.nnz_hessian,
             status_name(r.status),
             r.objective,
+            r.max_slack,
             r.iterations,
             r.wall_time_s,
             r.callback_time_s,

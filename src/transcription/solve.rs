@@ -38,8 +38,12 @@ pub struct BenchRow {
     pub status: ipopt::Status,
     /// Final objective.
     pub objective: f64,
-    /// Ipopt iterations.
+    /// Ipopt iterations (summed over the solves of a slack continuation).
     pub iterations: usize,
+    /// Ipopt solves (more than 1 when `[slack] target` raised the weight).
+    pub solves: usize,
+    /// Largest slack of the solution.
+    pub max_slack: f64,
     /// Wall time of the solve, s.
     pub wall_time_s: f64,
     /// Time in vito's callbacks, s.
@@ -98,10 +102,19 @@ pub fn solve_with<M: Mechanics>(
     options: &SolveOptions,
 ) -> Result<Solution, TranscriptionError> {
     let mut transcription = Transcription::new(mech, spec)?;
+    solve_transcription(&mut transcription, spec, options)
+}
+
+/// Solve, then continue with a growing slack weight while `[slack] target` asks for it.
+fn solve_transcription<M: Mechanics>(
+    transcription: &mut Transcription<M>,
+    spec: &ProblemSpec,
+    options: &SolveOptions,
+) -> Result<Solution, TranscriptionError> {
     let mut solver = configure(spec, options)?;
-    let mut nlp = TranscriptionNlp::new(&transcription, options.progress.as_deref());
+    let mut nlp = TranscriptionNlp::new(transcription, options.progress.as_deref());
     let report = solver.solve(&mut nlp)?;
-    let mut solution = fill_solution(&transcription, spec, &report);
+    let mut solution = fill_solution(transcription, spec, &report);
     let Some(continuation) = spec.slack_continuation else {
         return Ok(solution);
     };
@@ -133,9 +146,9 @@ pub fn solve_with<M: Mechanics>(
                 solver.set_option(name, ipopt::OptionValue::Num(value))?;
             }
         }
-        let mut nlp = TranscriptionNlp::new(&transcription, options.progress.as_deref());
+        let mut nlp = TranscriptionNlp::new(transcription, options.progress.as_deref());
         let report = solver.solve(&mut nlp)?;
-        let mut next = fill_solution(&transcription, spec, &report);
+        let mut next = fill_solution(transcription, spec, &report);
         next.iterations += solution.iterations;
         next.wall_time_s += solution.wall_time_s;
         next.callback_time_s += solution.callback_time_s;
@@ -152,7 +165,7 @@ pub fn bench_with<M: Mechanics>(
     mech: M,
     spec: &ProblemSpec,
 ) -> Result<BenchRow, TranscriptionError> {
-    let t = Transcription::new(mech, spec)?;
+    let mut t = Transcription::new(mech, spec)?;
     let x = t.initial_point().to_vec();
     let mut jac = vec![0.0; t.jacobian_pattern().nnz()];
     let mut hess = vec![0.0; t.hessian_pattern().nnz()];
@@ -170,17 +183,18 @@ pub fn bench_with<M: Mechanics>(
         ipopt_options: vec![("print_level".into(), OptionValue::Int(0))],
         ..SolveOptions::default()
     };
-    let mut solver = configure(spec, &options)?;
-    let report = solver.solve(&mut TranscriptionNlp::new(&t, None))?;
+    let s = solve_transcription(&mut t, spec, &options)?;
     Ok(BenchRow {
         name: spec.name.clone(),
-        size: size_of(&t),
-        status: report.status,
-        objective: report.objective,
-        iterations: report.iterations,
-        wall_time_s: report.wall_time_s,
-        callback_time_s: report.callback_time_s,
-        ipopt_time_s: report.ipopt_time_s,
+        size: s.size,
+        status: s.status,
+        objective: s.objective,
+        iterations: s.iterations,
+        solves: s.solves,
+        max_slack: s.max_slack,
+        wall_time_s: s.wall_time_s,
+        callback_time_s: s.callback_time_s,
+        ipopt_time_s: s.ipopt_time_s,
         derivative_eval_s,
     })
 }
