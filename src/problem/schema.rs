@@ -105,6 +105,11 @@ pub struct ContactsSection {
     /// Per-contact friction by contact name, overriding `friction`.
     #[serde(default)]
     pub friction_by_name: BTreeMap<String, f64>,
+    /// Upper bound on ψ, the sliding-speed variable of every contact and interval (length /
+    /// time units). In flight nothing bounds ψ from above, and the barrier then pushes it (and
+    /// η) towards 1e6–1e8; a bound well above any real foot speed stops that drift without
+    /// cutting off a physical motion. Default: none (SPEC.md's NLP).
+    pub max_slip_speed: Option<f64>,
     /// Explicit contact points, after the URDF ones.
     #[serde(default)]
     pub point: Vec<ContactPointEntry>,

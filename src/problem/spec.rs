@@ -218,6 +218,8 @@ pub struct ProblemSpec {
     /// Slack penalty α > 0 in the objective α Σ s.
     pub slack_weight: f64,
     pub slack_mode: SlackMode,
+    /// Upper bound on every ψ (sliding speed), when set.
+    pub max_slip_speed: Option<f64>,
     /// Re-solve with a growing slack weight until the largest slack is below a target.
     pub slack_continuation: Option<SlackContinuation>,
     /// q_1, fixed (length n).

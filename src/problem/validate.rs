@@ -774,6 +774,11 @@ fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, ProblemError>
         }
     };
 
+    let max_slip_speed = raw
+        .contacts
+        .max_slip_speed
+        .map(|v| positive(ctx, "contacts.max_slip_speed", v))
+        .transpose()?;
     let slack_continuation = match raw.slack.target {
         None => {
             for (field, given) in [
@@ -917,6 +922,7 @@ fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, ProblemError>
         slack_weight,
         slack_mode,
         slack_continuation,
+        max_slip_speed,
         q_initial,
         v_initial,
         q_final,

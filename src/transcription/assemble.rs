@@ -669,6 +669,11 @@ impl<M: Mechanics> Transcription<M> {
             for i in l.contact_vars(j) {
                 lo[i] = 0.0;
             }
+            if let Some(v) = spec.max_slip_speed {
+                for i in 0..l.nc {
+                    hi[l.psi(j, i)] = v;
+                }
+            }
         }
         for i in l.slacks() {
             lo[i] = 0.0;

@@ -125,7 +125,7 @@ fn solve_transcription<M: Mechanics>(
     let mut weight = spec.slack_weight;
     for _ in 0..continuation.rounds {
         if solution.max_slack <= continuation.target
-            || !solution.status.is_success()
+            || !restartable(solution.status)
             || options
                 .cancel
                 .as_ref()
@@ -197,6 +197,22 @@ pub fn bench_with<M: Mechanics>(
         ipopt_time_s: s.ipopt_time_s,
         derivative_eval_s,
     })
+}
+
+/// Whether a solve that ended with `status` left a point worth continuing from with a
+/// larger slack weight: an optimum, or an iterate stopped by an iteration or time limit (a
+/// fresh start with a new barrier often gets out of a slow path). Not after a cancel, a
+/// failure in the problem's functions or an infeasibility verdict.
+fn restartable(status: ipopt::Status) -> bool {
+    use ipopt::Status::*;
+    matches!(
+        status,
+        SolveSucceeded
+            | SolvedToAcceptableLevel
+            | MaximumIterationsExceeded
+            | MaximumCpuTimeExceeded
+            | SearchDirectionBecomesTooSmall
+    )
 }
 
 fn size_of<M: Mechanics>(t: &Transcription<M>) -> NlpSize {
