@@ -98,3 +98,28 @@ fn warm_start_into_free_steps_keeps_the_previous_duration() {
         }
     }
 }
+
+/// `contacts.max_slip_speed` bounds every ψ from above and nothing else.
+#[test]
+fn max_slip_speed_bounds_every_psi() {
+    let mut spec = hopper_2d();
+    let free = Transcription::new(Hopper, &spec).unwrap();
+    spec.max_slip_speed = Some(7.5);
+    let bounded = Transcription::new(Hopper, &spec).unwrap();
+    let l = bounded.layout();
+    let mut psi = Vec::new();
+    for j in 0..l.intervals() {
+        for i in 0..l.nc {
+            psi.push(l.psi(j, i));
+        }
+    }
+    assert!(!psi.is_empty());
+    let (upper_free, upper) = (free.variable_bounds().1, bounded.variable_bounds().1);
+    for (v, (&a, &b)) in upper_free.iter().zip(upper).enumerate() {
+        if psi.contains(&v) {
+            assert_eq!((a, b), (f64::INFINITY, 7.5), "psi variable {v}");
+        } else {
+            assert_eq!(a, b, "variable {v} changed");
+        }
+    }
+}

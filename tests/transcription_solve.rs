@@ -254,3 +254,30 @@ fn progress_is_reported_and_cancel_stops() {
     assert!(calls.load(Ordering::SeqCst) <= 6);
     assert_eq!(s.q.len(), 21);
 }
+
+/// The exact-penalty continuation: with a weak penalty the hopper ends at a relaxed point;
+/// `[slack] target` raises α tenfold per extra solve, from the last point, until the slack
+/// is below the target, and reports the final α and the number of solves.
+#[test]
+fn slack_continuation_reaches_the_target() {
+    use vito::problem::SlackContinuation;
+    let mut spec = hopper_2d();
+    spec.slack_weight = 0.1;
+    let relaxed = run("hopper, alpha 0.1", Hopper, &spec);
+    assert!(
+        relaxed.max_slack > 1e-3,
+        "alpha = 0.1 should leave a relaxed point (max slack {:e})",
+        relaxed.max_slack
+    );
+    spec.slack_continuation = Some(SlackContinuation {
+        target: 1e-6,
+        growth: 10.0,
+        rounds: 4,
+    });
+    let s = run("hopper, alpha 0.1 with target 1e-6", Hopper, &spec);
+    assert!(s.status.is_success(), "{:?}", s.status);
+    assert!(s.max_slack <= 1e-6, "max slack {:e}", s.max_slack);
+    assert!(s.solves > 1 && s.solves <= 5, "{} solves", s.solves);
+    assert_eq!(s.slack_weight, 0.1 * 10f64.powi(s.solves as i32 - 1));
+    assert!(s.iterations > relaxed.iterations);
+}

@@ -194,3 +194,32 @@ fn broken_pipe_is_not_an_error() {
         String::from_utf8_lossy(&out.stderr)
     );
 }
+
+/// The continuation's and the ψ bound's settings are checked like every other field.
+#[test]
+fn bad_slack_target_and_slip_speed() {
+    let text = hopper_text().replace(
+        "mode = \"per_interval\"",
+        "mode = \"per_interval\"\ntarget = -1e-5",
+    );
+    let err = solve_fails("bad_slack_target", &text);
+    assert!(
+        err.contains("field `slack.target`: must be a finite number > 0, got -0.00001"),
+        "{err}"
+    );
+    let text = hopper_text().replace(
+        "mode = \"per_interval\"",
+        "mode = \"per_interval\"\ngrowth = 10.0",
+    );
+    let err = solve_fails("slack_growth_without_target", &text);
+    assert!(
+        err.contains("field `slack.growth`: has no effect without `slack.target`"),
+        "{err}"
+    );
+    let text = hopper_text().replace("friction = 0.8", "friction = 0.8\nmax_slip_speed = 0.0");
+    let err = solve_fails("zero_slip_speed", &text);
+    assert!(
+        err.contains("field `contacts.max_slip_speed`: must be a finite number > 0, got 0"),
+        "{err}"
+    );
+}
