@@ -56,6 +56,8 @@ pub struct Transcription<M> {
     parallel: bool,
     /// Contact blocks by the chain rule over q (true) or by generic AD over the block.
     contact_chain_rule: bool,
+    /// See [`Transcription::set_skip_fixed_variables`].
+    skip_fixed: bool,
 }
 
 fn range_vec(r: std::ops::Range<usize>) -> Vec<usize> {
@@ -140,6 +142,7 @@ impl<M: Mechanics> Transcription<M> {
             hessian: Pattern::default(),
             parallel: true,
             contact_chain_rule: true,
+            skip_fixed: false,
             mech,
         };
         // Measured (2 shared cores): rayon costs more than it saves on hopper-2d's 288
@@ -543,9 +546,16 @@ impl<M: Mechanics> Transcription<M> {
             .collect();
         let mut jac = PatternBuilder::default();
         let mut hess = PatternBuilder::default();
+        let fixed: Vec<bool> = self
+            .x_lower
+            .iter()
+            .zip(&self.x_upper)
+            .map(|(lo, hi)| lo == hi)
+            .collect();
         fn place<K>(
             b: &mut Block<K>,
             (jmask, hmask): &(Vec<bool>, Vec<bool>),
+            fixed: &[bool],
             jac: &mut PatternBuilder,
             hess: &mut PatternBuilder,
         ) {
@@ -583,15 +593,21 @@ impl<M: Mechanics> Transcription<M> {
             }
             b.hessian_slots = hslots;
             b.hessian_inputs = (0..b.nonlinear).filter(|&a| active[a]).collect();
+            b.hessian_free_inputs = b
+                .hessian_inputs
+                .iter()
+                .copied()
+                .filter(|&a| !fixed[b.vars[a]])
+                .collect();
         }
         for (b, m) in self.cost_blocks.iter_mut().zip(&cost_masks) {
-            place(b, m, &mut jac, &mut hess);
+            place(b, m, &fixed, &mut jac, &mut hess);
         }
         for (b, m) in self.gradient_blocks.iter_mut().zip(&gradient_masks) {
-            place(b, m, &mut jac, &mut hess);
+            place(b, m, &fixed, &mut jac, &mut hess);
         }
         for (b, m) in self.vector_blocks.iter_mut().zip(&vector_masks) {
-            place(b, m, &mut jac, &mut hess);
+            place(b, m, &fixed, &mut jac, &mut hess);
         }
         self.jacobian = jac.finish();
         self.hessian = hess.finish();
@@ -980,37 +996,49 @@ impl<M: Mechanics> Transcription<M> {
             }
         }
         let f = self.vector_fn(b);
-        if b.hessian_inputs.len() == b.nonlinear {
+        let inputs = self.hessian_inputs(b);
+        if inputs.len() == b.nonlinear {
             return weighted_hessian(&f, z, w);
         }
         let r = Restricted {
             f: &f,
             at: z,
-            free: &b.hessian_inputs,
+            free: inputs,
         };
-        expand_hessian(
-            &weighted_hessian(&r, &r.point(), w),
-            &b.hessian_inputs,
-            z.len(),
-        )
+        expand_hessian(&weighted_hessian(&r, &r.point(), w), inputs, z.len())
+    }
+
+    /// The inputs a generic-AD Hessian of `b` runs over: those in the Hessian pattern, less
+    /// the fixed variables when [`Transcription::set_skip_fixed_variables`] is on.
+    fn hessian_inputs<'b, K>(&self, b: &'b Block<K>) -> &'b [usize] {
+        if self.skip_fixed {
+            &b.hessian_free_inputs
+        } else {
+            &b.hessian_inputs
+        }
+    }
+
+    /// Leave the Hessian entries of variables fixed by their bounds at zero where that saves
+    /// work (generic-AD blocks). Ipopt drops those entries with its default
+    /// `fixed_variable_treatment make_parameter`; the solve turns this on unless that option
+    /// says otherwise. Off by default, so that every entry is exact.
+    pub fn set_skip_fixed_variables(&mut self, skip: bool) {
+        self.skip_fixed = skip;
     }
 
     /// Hessian of a cost block at z, over the inputs in the Hessian pattern only.
     fn cost_block_hessian(&self, b: &Block<ScalarKind>, z: &[f64]) -> DMatrix<f64> {
         let f = self.scalar_fn(b);
-        if b.hessian_inputs.len() == b.nonlinear {
+        let inputs = self.hessian_inputs(b);
+        if inputs.len() == b.nonlinear {
             return gradient_hessian(&f, z).2;
         }
         let r = Restricted {
             f: &f,
             at: z,
-            free: &b.hessian_inputs,
+            free: inputs,
         };
-        expand_hessian(
-            &gradient_hessian(&r, &r.point()).2,
-            &b.hessian_inputs,
-            z.len(),
-        )
+        expand_hessian(&gradient_hessian(&r, &r.point()).2, inputs, z.len())
     }
 
     fn scalar_fn<'a>(&'a self, b: &'a Block<ScalarKind>) -> ScalarBlockFn<'a, M> {

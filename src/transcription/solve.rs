@@ -111,6 +111,15 @@ fn solve_transcription<M: Mechanics>(
     spec: &ProblemSpec,
     options: &SolveOptions,
 ) -> Result<Solution, TranscriptionError> {
+    let relaxed_fixed = spec
+        .solver_options
+        .iter()
+        .chain(&options.ipopt_options)
+        .any(|(name, value)| {
+            name == "fixed_variable_treatment"
+                && *value != OptionValue::Str("make_parameter".into())
+        });
+    transcription.set_skip_fixed_variables(!relaxed_fixed);
     let mut solver = configure(spec, options)?;
     let mut nlp = TranscriptionNlp::new(transcription, options.progress.as_deref());
     let report = solver.solve(&mut nlp)?;

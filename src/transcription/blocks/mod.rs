@@ -122,6 +122,9 @@ pub struct Block<K> {
     /// Nonlinear inputs with at least one pair in the Hessian pattern: generic AD
     /// differentiates over these only (e.g. u and h of ½Fd when B is constant).
     pub hessian_inputs: Vec<usize>,
+    /// [`Block::hessian_inputs`] without the variables fixed by their bounds, whose Hessian
+    /// entries Ipopt drops (its default `fixed_variable_treatment make_parameter`).
+    pub hessian_free_inputs: Vec<usize>,
 }
 
 impl<K> Block<K> {
@@ -141,6 +144,7 @@ impl<K> Block<K> {
             jacobian_slots: Vec::new(),
             hessian_slots: Vec::new(),
             hessian_inputs: Vec::new(),
+            hessian_free_inputs: Vec::new(),
         }
     }
 }
