@@ -138,6 +138,7 @@ pub fn midpoint_gradient_hessian(model: &Model, z: &[f64]) -> (f64, Vec<f64>, DM
     let mut hessian = DMatrix::zeros(dim, dim);
     let value = for_each_column(
         model,
+        None,
         |i, seeded| Dual64::new(z[i], if seeded { 1.0 } else { 0.0 }),
         |row, col, y| {
             gradient[row] = y.re;
@@ -145,7 +146,7 @@ pub fn midpoint_gradient_hessian(model: &Model, z: &[f64]) -> (f64, Vec<f64>, DM
         },
     )
     .re;
-    symmetrise(&mut hessian);
+    symmetrise(&mut hessian, None);
     (value, gradient, hessian)
 }
 
@@ -164,7 +165,25 @@ pub fn midpoint_third_order(model: &Model, z: &[f64], dir: &[f64]) -> ThirdOrder
 /// overwritten). The Hessian and the contracted third derivative are symmetrised (the
 /// Jacobian of a gradient is symmetric up to rounding).
 pub fn midpoint_third_order_into(model: &Model, z: &[f64], dir: &[f64], out: &mut ThirdOrder) {
+    midpoint_third_order_columns(model, z, dir, None, out);
+}
+
+/// [`midpoint_third_order_into`] over the input columns marked in `columns` only (all when
+/// `None`; e.g. leaving out inputs fixed by their bounds, whose Hessian entries the solver
+/// drops). Entries between two marked inputs are exact; an entry with one marked input is
+/// taken from that input's column; entries between unmarked inputs are zero, and so is the
+/// value when no column is marked.
+pub fn midpoint_third_order_columns(
+    model: &Model,
+    z: &[f64],
+    dir: &[f64],
+    columns: Option<&[bool]>,
+    out: &mut ThirdOrder,
+) {
     let dim = check_segment(model, z, "midpoint_third_order");
+    if let Some(c) = columns {
+        assert_eq!(c.len(), dim, "midpoint_third_order: one column flag per input");
+    }
     assert_eq!(
         dir.len(),
         dim,
@@ -176,6 +195,8 @@ pub fn midpoint_third_order_into(model: &Model, z: &[f64], dir: &[f64], out: &mu
             && out.contracted.shape() == (dim, dim),
         "midpoint_third_order: buffer from ThirdOrder::zeros(2 nq + 1)"
     );
+    out.hessian.fill(0.0);
+    out.contracted.fill(0.0);
     let ThirdOrder {
         gradient,
         hessian,
@@ -184,6 +205,7 @@ pub fn midpoint_third_order_into(model: &Model, z: &[f64], dir: &[f64], out: &mu
     } = out;
     let value = for_each_column(
         model,
+        columns,
         |i, seeded| {
             Dual::new(
                 Dual64::new(z[i], if seeded { 1.0 } else { 0.0 }),
@@ -197,8 +219,8 @@ pub fn midpoint_third_order_into(model: &Model, z: &[f64], dir: &[f64], out: &mu
         },
     );
     out.value = value.re.re;
-    symmetrise(&mut out.hessian);
-    symmetrise(&mut out.contracted);
+    symmetrise(&mut out.hessian, columns);
+    symmetrise(&mut out.contracted, columns);
 }
 
 /// Checks the segment length 2n+1 (a caller's programming error otherwise) and returns it.
@@ -222,6 +244,7 @@ fn check_segment(model: &Model, z: &[f64], what: &str) -> usize {
 /// on this machine (tests/derivative_speed.rs).
 fn for_each_column<S: Scalar>(
     model: &Model,
+    columns: Option<&[bool]>,
     lift: impl Fn(usize, bool) -> S,
     mut store: impl FnMut(usize, usize, &S),
 ) -> S {
@@ -231,7 +254,7 @@ fn for_each_column<S: Scalar>(
     let mut d1 = vec![S::from(0.0); n];
     let mut d2 = d1.clone();
     let mut value = S::from(0.0);
-    for col in 0..dim {
+    for col in (0..dim).filter(|&c| columns.is_none_or(|m| m[c])) {
         zd[col] = lift(col, true);
         let (ld, dh) =
             midpoint_ld_gradient(model, &zd[..n], &zd[n..2 * n], zd[2 * n], &mut d1, &mut d2);
@@ -244,14 +267,21 @@ fn for_each_column<S: Scalar>(
     value
 }
 
-/// Replaces a square matrix by (A + Aᵀ)/2.
-fn symmetrise(a: &mut DMatrix<f64>) {
+/// Replaces a square matrix by (A + Aᵀ)/2 where both columns were computed (all when
+/// `columns` is `None`), and mirrors the computed column's entry where only one was.
+fn symmetrise(a: &mut DMatrix<f64>, columns: Option<&[bool]>) {
     let n = a.nrows();
+    let computed = |c: usize| columns.is_none_or(|m| m[c]);
     for i in 0..n {
         for j in 0..i {
-            let mean = 0.5 * (a[(i, j)] + a[(j, i)]);
-            a[(i, j)] = mean;
-            a[(j, i)] = mean;
+            let value = match (computed(i), computed(j)) {
+                (true, true) => 0.5 * (a[(i, j)] + a[(j, i)]),
+                (false, true) => a[(i, j)],
+                (true, false) => a[(j, i)],
+                (false, false) => 0.0,
+            };
+            a[(i, j)] = value;
+            a[(j, i)] = value;
         }
     }
 }

@@ -26,7 +26,8 @@ pub use dynamics::{
 pub use energy::{generalized_momentum, kinetic_energy, mass_matrix, potential_energy};
 pub use energy_adjoint::{
     MidpointGradient, kinetic_energy_gradient, lagrangian_gradient, midpoint_gradient_hessian,
-    midpoint_ld_gradient, midpoint_third_order, midpoint_third_order_into,
+    midpoint_ld_gradient, midpoint_third_order, midpoint_third_order_columns,
+    midpoint_third_order_into,
     potential_energy_gradient,
 };
 pub use error::ModelError;

@@ -593,6 +593,7 @@ impl<M: Mechanics> Transcription<M> {
             }
             b.hessian_slots = hslots;
             b.hessian_inputs = (0..b.nonlinear).filter(|&a| active[a]).collect();
+            b.free_input_mask = b.vars.iter().map(|&v| !fixed[v]).collect();
             b.hessian_free_inputs = b
                 .hessian_inputs
                 .iter()
@@ -915,6 +916,11 @@ impl<M: Mechanics> Transcription<M> {
     }
     /// Gradient of a gradient block at z (the DEL-row values).
     fn gradient_block_gradient(&self, b: &Block<ScalarKind>, z: &[f64]) -> Vec<f64> {
+        if b.kind == ScalarKind::Segment
+            && let Some(g) = self.mech.segment_gradient(z)
+        {
+            return g;
+        }
         if let ScalarKind::ContactWork { contact } = b.kind
             && self.contact_chain_rule
         {
@@ -941,7 +947,11 @@ impl<M: Mechanics> Transcription<M> {
     /// Hessian and contracted third derivative of a gradient block at z.
     fn gradient_block_third(&self, b: &Block<ScalarKind>, z: &[f64], dir: &[f64]) -> ThirdOrder {
         if b.kind == ScalarKind::Segment
-            && let Some(t) = self.mech.segment_third_order(z, dir)
+            && let Some(t) = self.mech.segment_third_order(
+                z,
+                dir,
+                self.skip_fixed.then_some(b.free_input_mask.as_slice()),
+            )
         {
             return t;
         }

@@ -61,14 +61,25 @@ pub trait Mechanics: Sync {
     {
         contact_jet_by_autodiff(self, contact, q, order)
     }
+    /// Gradient of Ld at z = [qa; qb; h] (length 2n + 1: D1Ld, D2Ld, ∂Ld/∂h) by a faster path
+    /// than generic AD (e.g. the model's adjoint), or `None` to use forward AD.
+    fn segment_gradient(&self, _z: &[f64]) -> Option<Vec<f64>> {
+        None
+    }
     /// Gradient and Hessian of Ld at z = [qa; qb; h] by a faster path than generic AD
     /// (e.g. the model's adjoint), or `None` to use forward AD on `discrete_lagrangian`.
     fn segment_gradient_hessian(&self, _z: &[f64]) -> Option<(Vec<f64>, DMatrix<f64>)> {
         None
     }
     /// Value, gradient, Hessian and third derivative of Ld contracted with `dir` at
-    /// z = [qa; qb; h] by a faster path than generic AD, or `None`.
-    fn segment_third_order(&self, _z: &[f64], _dir: &[f64]) -> Option<ThirdOrder> {
+    /// z = [qa; qb; h] by a faster path than generic AD, or `None`. With `columns`, only
+    /// entries between marked inputs need be exact (the others belong to fixed variables).
+    fn segment_third_order(
+        &self,
+        _z: &[f64],
+        _dir: &[f64],
+        _columns: Option<&[bool]>,
+    ) -> Option<ThirdOrder> {
         None
     }
     /// Semi-implicit Euler residual at knot k (eq. 1 of the paper; Posa et al. 2014) into

@@ -8,7 +8,7 @@ use nalgebra::DMatrix;
 use crate::autodiff::ThirdOrder;
 use crate::model::{
     LinkId, Model, PointJet, Scalar, generalized_momentum, loop_residual,
-    midpoint_gradient_hessian, midpoint_third_order, point_jet, point_position,
+    midpoint_gradient_hessian, midpoint_ld_gradient, midpoint_third_order_columns, point_jet, point_position,
 };
 use crate::problem::{ContactSpec, Interval, ProblemSpec};
 
@@ -121,12 +121,28 @@ impl Mechanics for ModelMechanics {
         let (link, point) = &self.contacts[contact];
         point_jet(&self.model, *link, point, q, order)
     }
+    fn segment_gradient(&self, z: &[f64]) -> Option<Vec<f64>> {
+        let n = self.model.nq();
+        let (mut d1, mut d2) = (vec![0.0; n], vec![0.0; n]);
+        let (_, dh) =
+            midpoint_ld_gradient(&self.model, &z[..n], &z[n..2 * n], z[2 * n], &mut d1, &mut d2);
+        d1.extend(d2);
+        d1.push(dh);
+        Some(d1)
+    }
     fn segment_gradient_hessian(&self, z: &[f64]) -> Option<(Vec<f64>, DMatrix<f64>)> {
         let (_, gradient, hessian) = midpoint_gradient_hessian(&self.model, z);
         Some((gradient, hessian))
     }
-    fn segment_third_order(&self, z: &[f64], dir: &[f64]) -> Option<ThirdOrder> {
-        Some(midpoint_third_order(&self.model, z, dir))
+    fn segment_third_order(
+        &self,
+        z: &[f64],
+        dir: &[f64],
+        columns: Option<&[bool]>,
+    ) -> Option<ThirdOrder> {
+        let mut out = ThirdOrder::zeros(z.len());
+        midpoint_third_order_columns(&self.model, z, dir, columns, &mut out);
+        Some(out)
     }
     fn loop_residual<D: Scalar>(&self, q: &[D], out: &mut [D]) {
         out.copy_from_slice(&loop_residual(&self.model, q));

@@ -125,6 +125,8 @@ pub struct Block<K> {
     /// [`Block::hessian_inputs`] without the variables fixed by their bounds, whose Hessian
     /// entries Ipopt drops (its default `fixed_variable_treatment make_parameter`).
     pub hessian_free_inputs: Vec<usize>,
+    /// For each input: whether its variable is free (not fixed by its bounds).
+    pub free_input_mask: Vec<bool>,
 }
 
 impl<K> Block<K> {
@@ -145,6 +147,7 @@ impl<K> Block<K> {
             hessian_slots: Vec::new(),
             hessian_inputs: Vec::new(),
             hessian_free_inputs: Vec::new(),
+            free_input_mask: Vec::new(),
         }
     }
 }
