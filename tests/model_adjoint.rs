@@ -478,7 +478,11 @@ fn third_order_over_some_columns() {
                 ("Hessian", &part.hessian, &full.hessian),
                 ("contracted", &part.contracted, &full.contracted),
             ] {
-                let expected = if columns[i] || columns[j] { b[(i, j)] } else { 0.0 };
+                let expected = if columns[i] || columns[j] {
+                    b[(i, j)]
+                } else {
+                    0.0
+                };
                 assert!(
                     (a[(i, j)] - expected).abs() <= 1e-9 * b.amax().max(1.0),
                     "{name} ({i}, {j}): {} vs {expected}",

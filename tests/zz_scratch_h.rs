@@ -10,5 +10,9 @@ fn h_loop() {
     let mut h = vec![0.0; t.hessian_pattern().nnz()];
     let mut j = vec![0.0; t.jacobian_pattern().nnz()];
     let mut g = vec![0.0; t.layout().num_constraints()];
-    for _ in 0..3000 { t.hessian_values(&x, 1.0, &lambda, &mut h); t.jacobian_values(&x, &mut j); t.constraints(&x, &mut g); }
+    for _ in 0..3000 {
+        t.hessian_values(&x, 1.0, &lambda, &mut h);
+        t.jacobian_values(&x, &mut j);
+        t.constraints(&x, &mut g);
+    }
 }

@@ -14,15 +14,26 @@ fn skip_timing() {
         for skip in [false, true, false, true] {
             t.set_skip_fixed_variables(skip);
             let s = Instant::now();
-            for _ in 0..50 { t.hessian_values(&x, 1.0, &lambda, &mut h); }
+            for _ in 0..50 {
+                t.hessian_values(&x, 1.0, &lambda, &mut h);
+            }
             let th = s.elapsed().as_secs_f64() / 50.0;
             let s = Instant::now();
-            for _ in 0..50 { t.jacobian_values(&x, &mut j); }
+            for _ in 0..50 {
+                t.jacobian_values(&x, &mut j);
+            }
             let tj = s.elapsed().as_secs_f64() / 50.0;
             let s = Instant::now();
-            for _ in 0..50 { t.constraints(&x, &mut g); }
+            for _ in 0..50 {
+                t.constraints(&x, &mut g);
+            }
             let tg = s.elapsed().as_secs_f64() / 50.0;
-            println!("{f} skip {skip}: H {:.3} ms, J {:.3} ms, g {:.3} ms", th * 1e3, tj * 1e3, tg * 1e3);
+            println!(
+                "{f} skip {skip}: H {:.3} ms, J {:.3} ms, g {:.3} ms",
+                th * 1e3,
+                tj * 1e3,
+                tg * 1e3
+            );
         }
     }
 }

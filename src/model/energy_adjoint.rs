@@ -182,7 +182,11 @@ pub fn midpoint_third_order_columns(
 ) {
     let dim = check_segment(model, z, "midpoint_third_order");
     if let Some(c) = columns {
-        assert_eq!(c.len(), dim, "midpoint_third_order: one column flag per input");
+        assert_eq!(
+            c.len(),
+            dim,
+            "midpoint_third_order: one column flag per input"
+        );
     }
     assert_eq!(
         dir.len(),

@@ -27,8 +27,7 @@ pub use energy::{generalized_momentum, kinetic_energy, mass_matrix, potential_en
 pub use energy_adjoint::{
     MidpointGradient, kinetic_energy_gradient, lagrangian_gradient, midpoint_gradient_hessian,
     midpoint_ld_gradient, midpoint_third_order, midpoint_third_order_columns,
-    midpoint_third_order_into,
-    potential_energy_gradient,
+    midpoint_third_order_into, potential_energy_gradient,
 };
 pub use error::ModelError;
 pub use inspect::{CoordinateInfo, Inspection, LoopInfo, SpringInfo, inspect};

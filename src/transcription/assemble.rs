@@ -6,9 +6,9 @@ use nalgebra::DMatrix;
 use rayon::prelude::*;
 
 use super::blocks::{
-    Block, Context, ScalarBlockFn, ScalarKind, VectorBlockFn, VectorKind, contact_work_gradient,
-    contact_work_hessian, contact_work_third, distance_hessian, distance_jacobian,
-    tangential_rate_hessian, tangential_rate_jacobian,
+    Block, Context, ScalarBlockFn, ScalarKind, VectorBlockFn, VectorKind, complementarity_hessian,
+    complementarity_jacobian, contact_work_gradient, contact_work_hessian, contact_work_third,
+    distance_hessian, distance_jacobian, tangential_rate_hessian, tangential_rate_jacobian,
 };
 use super::layout::{Dims, Layout};
 use super::pattern::{Pattern, PatternBuilder};
@@ -973,14 +973,17 @@ impl<M: Mechanics> Transcription<M> {
     /// Jacobian of a vector block at z (chain-rule assembly for the tangential rates).
     fn vector_block_jacobian(&self, b: &Block<VectorKind>, z: &[f64]) -> DMatrix<f64> {
         if self.contact_chain_rule {
-            match b.kind {
-                VectorKind::TangentialRate { contact } => {
+            match &b.kind {
+                &VectorKind::TangentialRate { contact } => {
                     return tangential_rate_jacobian(&self.mech, &self.ctx, contact, z);
                 }
-                VectorKind::Distance { contact } => {
+                VectorKind::Complementarity { contacts, slacks } => {
+                    return complementarity_jacobian(&self.ctx, contacts, *slacks, z);
+                }
+                &VectorKind::Distance { contact } => {
                     return distance_jacobian(&self.mech, &self.ctx, contact, z, false);
                 }
-                VectorKind::ContactGap { contact } => {
+                &VectorKind::ContactGap { contact } => {
                     return distance_jacobian(&self.mech, &self.ctx, contact, z, true);
                 }
                 _ => {}
@@ -992,14 +995,17 @@ impl<M: Mechanics> Transcription<M> {
     /// Σ_r w_r ∇²f_r of a vector block at z (chain-rule assembly for the tangential rates).
     fn vector_block_hessian(&self, b: &Block<VectorKind>, z: &[f64], w: &[f64]) -> DMatrix<f64> {
         if self.contact_chain_rule {
-            match b.kind {
-                VectorKind::TangentialRate { contact } => {
+            match &b.kind {
+                &VectorKind::TangentialRate { contact } => {
                     return tangential_rate_hessian(&self.mech, &self.ctx, contact, z, w);
                 }
-                VectorKind::Distance { contact } => {
+                VectorKind::Complementarity { contacts, .. } => {
+                    return complementarity_hessian(&self.ctx, contacts, z.len(), w);
+                }
+                &VectorKind::Distance { contact } => {
                     return distance_hessian(&self.mech, &self.ctx, contact, z, w[0], false);
                 }
-                VectorKind::ContactGap { contact } => {
+                &VectorKind::ContactGap { contact } => {
                     return distance_hessian(&self.mech, &self.ctx, contact, z, w[0], true);
                 }
                 _ => {}

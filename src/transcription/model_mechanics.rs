@@ -8,7 +8,8 @@ use nalgebra::DMatrix;
 use crate::autodiff::ThirdOrder;
 use crate::model::{
     LinkId, Model, PointJet, Scalar, generalized_momentum, loop_residual,
-    midpoint_gradient_hessian, midpoint_ld_gradient, midpoint_third_order_columns, point_jet, point_position,
+    midpoint_gradient_hessian, midpoint_ld_gradient, midpoint_third_order_columns, point_jet,
+    point_position,
 };
 use crate::problem::{ContactSpec, Interval, ProblemSpec};
 
@@ -124,8 +125,14 @@ impl Mechanics for ModelMechanics {
     fn segment_gradient(&self, z: &[f64]) -> Option<Vec<f64>> {
         let n = self.model.nq();
         let (mut d1, mut d2) = (vec![0.0; n], vec![0.0; n]);
-        let (_, dh) =
-            midpoint_ld_gradient(&self.model, &z[..n], &z[n..2 * n], z[2 * n], &mut d1, &mut d2);
+        let (_, dh) = midpoint_ld_gradient(
+            &self.model,
+            &z[..n],
+            &z[n..2 * n],
+            z[2 * n],
+            &mut d1,
+            &mut d2,
+        );
         d1.extend(d2);
         d1.push(dh);
         Some(d1)

@@ -11,8 +11,9 @@ mod contact_geometry;
 mod cost;
 
 pub(crate) use contact::{
-    contact_work_gradient, contact_work_hessian, contact_work_third, distance_hessian,
-    distance_jacobian, tangential_rate_hessian, tangential_rate_jacobian,
+    complementarity_hessian, complementarity_jacobian, contact_work_gradient, contact_work_hessian,
+    contact_work_third, distance_hessian, distance_jacobian, tangential_rate_hessian,
+    tangential_rate_jacobian,
 };
 
 pub use cost::term_name;
