@@ -211,7 +211,13 @@ fn slack_modes_and_integrators_compared() {
 /// The full path: robot from problems/robots/hopper_2d.urdf, through the model code.
 #[test]
 fn hopper_from_urdf_matches_the_independent_optimum() {
-    let s = solve(&hopper_2d(), &quiet()).unwrap();
+    // At SPEC's tol = 1e-6 the leg length in flight, a nearly flat direction of the optimum,
+    // can stop 3e-5 away from the independent solution (seen after a round-off change);
+    // at 1e-8 the two agree to 4e-7, so the comparison tests the NLP, not the stopping point.
+    let mut opts = quiet();
+    opts.ipopt_options
+        .push(("tol".into(), OptionValue::Num(1e-8)));
+    let s = solve(&hopper_2d(), &opts).unwrap();
     println!(
         "hopper-2d (URDF): {:?}, objective {:.9}, {} iterations, wall {:.3} s \
          (callbacks {:.3} s, ipopt {:.3} s)",
@@ -221,7 +227,8 @@ fn hopper_from_urdf_matches_the_independent_optimum() {
     assert!(s.max_slack < 1e-4 && s.max_complementarity < 1e-4);
     let (objective, q) = independent("hopper_2d");
     assert!((s.objective - objective).abs() < 1e-6 * objective);
-    assert!(max_q_difference(&s.q, &q) < 1e-5);
+    let dq = max_q_difference(&s.q, &q);
+    assert!(dq < 1e-5, "max |Δq| {dq:e}");
     assert_eq!(s.coordinate_names, ["x", "z", "theta", "r"]);
 }
 
