@@ -806,9 +806,10 @@ impl<M: Mechanics> Transcription<M> {
         self.parallel = parallel;
     }
 
-    /// Differentiate the tangential-rate and contact-work blocks by the chain rule over the n
-    /// coordinates (the default) or by generic forward AD over the whole block (for
-    /// comparison; the sparsity pattern is the same).
+    /// Differentiate the contact blocks (tangential rate, contact work, signed distance, c·φ)
+    /// by the chain rule through the contact point's jet, and the bilinear complementarity rows
+    /// in closed form (the default), or all of them by generic forward AD over the whole block
+    /// (for comparison; the sparsity pattern, probed with generic AD, is the same).
     pub fn set_contact_chain_rule(&mut self, enabled: bool) {
         self.contact_chain_rule = enabled;
     }
