@@ -288,3 +288,31 @@ fn slack_continuation_reaches_the_target() {
     assert_eq!(s.slack_weight, 0.1 * 10f64.powi(s.solves as i32 - 1));
     assert!(s.iterations > relaxed.iterations);
 }
+
+/// A solve stopped by its iteration limit is no point to warm-start from: the continuation's
+/// next solve (α × growth) starts from the initial guess with the file's own options, so it
+/// repeats, iterate for iterate, a direct solve at that α.
+#[test]
+fn continuation_after_an_iteration_limit_starts_from_the_guess() {
+    use vito::problem::SlackContinuation;
+    let mut spec = hopper_2d();
+    spec.solver_options
+        .push(("max_iter".into(), OptionValue::Int(15)));
+    spec.slack_weight = 10.0;
+    let direct = run("hopper, alpha 10, 15 iterations", Hopper, &spec);
+    assert_eq!(direct.status, Status::MaximumIterationsExceeded);
+    assert!(direct.max_slack > 1e-9, "max slack {:e}", direct.max_slack);
+
+    spec.slack_weight = 1.0;
+    spec.slack_continuation = Some(SlackContinuation {
+        target: 1e-9,
+        growth: 10.0,
+        rounds: 1,
+    });
+    let continued = run("hopper, alpha 1 then 10, 15 iterations each", Hopper, &spec);
+    assert_eq!(continued.solves, 2);
+    assert_eq!(continued.slack_weight, 10.0);
+    assert_eq!(continued.iterations, 15 + direct.iterations);
+    assert_eq!(continued.objective, direct.objective);
+    assert_eq!(continued.q, direct.q);
+}

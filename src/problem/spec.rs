@@ -183,8 +183,9 @@ pub struct WarmStart {
 }
 
 /// `[slack] target`: the exact-penalty continuation. While the largest slack exceeds
-/// `target`, multiply α by `growth` and solve again from the last solution, at most
-/// `rounds` more times.
+/// `target`, multiply α by `growth` and solve again (from the last solution after an
+/// optimum, from the initial guess after an iteration or time limit), at most `rounds` more
+/// times.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SlackContinuation {
     /// Largest acceptable slack (> 0).

@@ -121,7 +121,10 @@ fn solve_transcription<M: Mechanics>(
     };
     // Exact-penalty continuation: a finite α can leave the solve at a relaxed point (SPEC.md);
     // raise α and restart from that point, near the central path (small μ and bound push, unless
-    // the problem file sets them), so that the complementarity pattern found is kept.
+    // the problem file sets them), so that the complementarity pattern found is kept. A solve
+    // stopped by a limit is no such point (LittleDog: violation 4 after 1500 iterations, from
+    // where no later solve recovered): the raised-α solve then starts afresh from the guess.
+    let guess = transcription.initial_point().to_vec();
     let mut x = report.x;
     let mut weight = spec.slack_weight;
     for _ in 0..continuation.rounds {
@@ -136,14 +139,15 @@ fn solve_transcription<M: Mechanics>(
         }
         weight *= continuation.growth;
         transcription.set_slack_weight(weight);
-        transcription.set_initial_point(&x)?;
+        let warm = converged(solution.status);
+        transcription.set_initial_point(if warm { &x } else { &guess })?;
         let mut solver = configure(spec, options)?;
         for (name, value) in [
             ("mu_init", 1e-4),
             ("bound_push", 1e-6),
             ("bound_frac", 1e-6),
         ] {
-            if !spec.solver_options.iter().any(|(n, _)| n == name) {
+            if warm && !spec.solver_options.iter().any(|(n, _)| n == name) {
                 solver.set_option(name, ipopt::OptionValue::Num(value))?;
             }
         }
@@ -215,10 +219,10 @@ fn ipopt_drops_fixed_variables(spec: &ProblemSpec, options: &SolveOptions) -> bo
         })
 }
 
-/// Whether a solve that ended with `status` left a point worth continuing from with a
-/// larger slack weight: an optimum, or an iterate stopped by an iteration or time limit (a
-/// fresh start with a new barrier often gets out of a slow path). Not after a cancel, a
-/// failure in the problem's functions or an infeasibility verdict.
+/// Whether a solve that ended with `status` is worth continuing with a larger slack weight:
+/// an optimum (warm start from it), or a solve stopped by an iteration or time limit (a fresh
+/// start from the guess, where the larger weight often avoids the first solve's slow path).
+/// Not after a cancel, a failure in the problem's functions or an infeasibility verdict.
 fn restartable(status: ipopt::Status) -> bool {
     use ipopt::Status::*;
     matches!(
@@ -228,6 +232,14 @@ fn restartable(status: ipopt::Status) -> bool {
             | MaximumIterationsExceeded
             | MaximumCpuTimeExceeded
             | SearchDirectionBecomesTooSmall
+    )
+}
+
+/// Whether a solve ended at a (possibly relaxed) optimum, a point to warm-start from.
+fn converged(status: ipopt::Status) -> bool {
+    matches!(
+        status,
+        ipopt::Status::SolveSucceeded | ipopt::Status::SolvedToAcceptableLevel
     )
 }
 
