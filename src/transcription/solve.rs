@@ -121,9 +121,10 @@ fn solve_transcription<M: Mechanics>(
     };
     // Exact-penalty continuation: a finite α can leave the solve at a relaxed point (SPEC.md);
     // raise α and restart from that point, near the central path (small μ and bound push, unless
-    // the problem file sets them), so that the complementarity pattern found is kept. A solve
-    // stopped by a limit is no such point (LittleDog: violation 4 after 1500 iterations, from
-    // where no later solve recovered): the raised-α solve then starts afresh from the guess.
+    // the problem file or the caller sets them), so that the complementarity pattern found is
+    // kept. A solve stopped by a limit is no such point (LittleDog with L-BFGS, stopped after
+    // 1500 iterations at violation 4: the α = 3000 solve from there was still at violation 4
+    // after 1100 more): the raised-α solve then starts afresh from the guess.
     let guess = transcription.initial_point().to_vec();
     let mut x = report.x;
     let mut weight = spec.slack_weight;
@@ -142,13 +143,20 @@ fn solve_transcription<M: Mechanics>(
         let warm = converged(solution.status);
         transcription.set_initial_point(if warm { &x } else { &guess })?;
         let mut solver = configure(spec, options)?;
-        for (name, value) in [
-            ("mu_init", 1e-4),
-            ("bound_push", 1e-6),
-            ("bound_frac", 1e-6),
-        ] {
-            if warm && !spec.solver_options.iter().any(|(n, _)| n == name) {
-                solver.set_option(name, ipopt::OptionValue::Num(value))?;
+        if warm {
+            for (name, value) in [
+                ("mu_init", 1e-4),
+                ("bound_push", 1e-6),
+                ("bound_frac", 1e-6),
+            ] {
+                let given = spec
+                    .solver_options
+                    .iter()
+                    .chain(&options.ipopt_options)
+                    .any(|(n, _)| n == name);
+                if !given {
+                    solver.set_option(name, ipopt::OptionValue::Num(value))?;
+                }
             }
         }
         let mut nlp = TranscriptionNlp::new(transcription, options.progress.as_deref());
@@ -225,14 +233,11 @@ fn ipopt_drops_fixed_variables(spec: &ProblemSpec, options: &SolveOptions) -> bo
 /// Not after a cancel, a failure in the problem's functions or an infeasibility verdict.
 fn restartable(status: ipopt::Status) -> bool {
     use ipopt::Status::*;
-    matches!(
-        status,
-        SolveSucceeded
-            | SolvedToAcceptableLevel
-            | MaximumIterationsExceeded
-            | MaximumCpuTimeExceeded
-            | SearchDirectionBecomesTooSmall
-    )
+    converged(status)
+        || matches!(
+            status,
+            MaximumIterationsExceeded | MaximumCpuTimeExceeded | SearchDirectionBecomesTooSmall
+        )
 }
 
 /// Whether a solve ended at a (possibly relaxed) optimum, a point to warm-start from.
