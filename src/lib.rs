@@ -25,4 +25,5 @@ pub mod ipopt;
 pub mod model;
 pub mod problem;
 pub mod report;
+pub mod scalar;
 pub mod transcription;

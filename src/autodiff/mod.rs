@@ -29,7 +29,7 @@ pub use jacobian::*;
 pub use restrict::Restricted;
 pub use third::*;
 
-use crate::model::Scalar;
+use crate::scalar::Scalar;
 
 /// Tile size (inputs per forward pass) of the public drivers.
 ///
@@ -71,7 +71,7 @@ fn tile_range(c: usize, tile: usize, n: usize) -> std::ops::Range<usize> {
 pub(crate) mod test_functions {
     //! Closed-form test functions shared by the unit tests of this module.
     use super::{ScalarFunction, VectorFunction};
-    use crate::model::Scalar;
+    use crate::scalar::Scalar;
 
     /// f(z) = Σ_i c_i z_i³ + (Σ_i z_i)·sin(Σ_i i·z_i) + exp(z_0 z_{n−1}): every pair of inputs
     /// couples and every third derivative is nonzero.

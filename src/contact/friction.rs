@@ -1,6 +1,7 @@
 //! Friction directions: which world tangential coordinates the friction impulses act along.
 
-use crate::model::{BaseType, Scalar};
+use crate::model::BaseType;
+use crate::scalar::Scalar;
 
 /// The polyhedral friction cone's directions, fixed in the world.
 ///

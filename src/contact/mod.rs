@@ -3,7 +3,7 @@
 //! A contact is a point fixed on a link; the transcription asks the model for its world
 //! position p(q) and this module turns p into the signed distance φ (positive above the
 //! terrain) and the tangential coordinates whose gradients are the friction directions D.
-//! Everything is generic over [`crate::model::Scalar`], so φ and D are differentiated by AD.
+//! Everything is generic over [`crate::scalar::Scalar`], so φ and D are differentiated by AD.
 
 mod distance;
 mod friction;

@@ -1,6 +1,6 @@
 //! The terrain: a flat ground plus smoothed steps, as a height map z = H(x).
 
-use crate::model::Scalar;
+use crate::scalar::Scalar;
 
 /// A smoothed step in the ground: the height rises by `rise` across x = `edge_x`,
 /// H(x) = rise · ½ (1 + tanh((x − edge_x)/width)). C∞, so Newton steps can cross it.

@@ -3,7 +3,8 @@
 //! (benchmarks/SPEC.md, with joint damping from its addition 2).
 
 use crate::autodiff::{ScalarFunction, VectorFunction};
-use crate::model::{self, Model, Scalar};
+use crate::model::{self, Model};
+use crate::scalar::Scalar;
 use num_dual::Dual;
 
 /// Midpoint configuration (qa+qb)/2 and finite-difference velocity (qb−qa)/h.

@@ -7,7 +7,7 @@
 //! after + impulses*, so that contact impulses enter as `+ J(q_{k+1})ᵀ λ_k` and loop-closure
 //! impulses as `+ G(q_{k+1})ᵀ ν_k`, with G = ∂ loop_residual / ∂q.
 //!
-//! Every function of configurations is generic over [`crate::model::Scalar`]; the structs
+//! Every function of configurations is generic over [`crate::scalar::Scalar`]; the structs
 //! ([`MidpointSegment`], [`DiscreteForce`], [`InitialMomentum`], [`EulerKnotResidual`],
 //! [`LoopClosure`], [`MidpointKnotResidual`]) wrap them as [`crate::autodiff`] functions of one
 //! flat input vector, whose layout each documents.
@@ -17,8 +17,17 @@ mod loops;
 mod midpoint;
 mod step;
 
-pub use crate::problem::Integrator;
 pub use euler::*;
 pub use loops::*;
 pub use midpoint::*;
 pub use step::*;
+
+/// Which discrete mechanics the dynamics constraints use.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Integrator {
+    /// Midpoint discrete Lagrangian Ld = h·L((qa+qb)/2, (qb−qa)/h): second order, the paper's.
+    #[default]
+    Midpoint,
+    /// First-order semi-implicit Euler time stepping (Posa et al. 2014, eq. 1 of the paper).
+    Euler,
+}

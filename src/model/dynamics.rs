@@ -4,7 +4,8 @@ use super::energy::{com_position, project_wrenches, world_inertia_times};
 use super::kinematics::{Pose, Twist, check_len, child_pose, child_twist, frame_poses};
 use super::spatial::{Vec3, add, cross, mat_vec_const, scale, sub};
 use super::tree::Motion;
-use super::{LinkId, Model, Scalar};
+use super::{LinkId, Model};
+use crate::scalar::Scalar;
 
 /// B(q)·u: input i adds `u[i]` to coordinate `model.input_coordinates()[i]` (length `nq`;
 /// B is a constant selection matrix, `q` is accepted for the general signature).

@@ -2,12 +2,13 @@
 
 use nalgebra::DMatrix;
 
+use super::Model;
 use super::kinematics::{Pose, Twist, check_len, frame_poses, frame_twists};
 use super::spatial::{
     Vec3, add, const_mat_vec, cross, dot, mat_t_vec, mat_vec, mat_vec_const, scale, sub,
 };
 use super::tree::{Frame, Motion};
-use super::{Model, Scalar};
+use crate::scalar::Scalar;
 
 /// World position of a frame's centre of mass.
 pub(crate) fn com_position<D: Scalar>(frame: &Frame, pose: &Pose<D>) -> Vec3<D> {

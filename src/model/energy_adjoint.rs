@@ -13,6 +13,7 @@
 use nalgebra::DMatrix;
 use num_dual::{Dual, Dual64};
 
+use super::Model;
 use super::energy::{com_position, spring_energy};
 use super::kinematics::{Pose, Twist, check_len, child_pose, child_twist};
 use super::spatial::{
@@ -20,8 +21,8 @@ use super::spatial::{
     scale, sub,
 };
 use super::tree::{Frame, Motion};
-use super::{Model, Scalar};
 use crate::autodiff::{ThirdOrder, VectorFunction};
+use crate::scalar::Scalar;
 
 const IDENTITY: [[f64; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
 

@@ -5,7 +5,8 @@ use super::spatial::{
     Mat3, Vec3, add, axis_angle, cross, identity, mat_mul, mat_mul_const, mat_vec_const, scale, sub,
 };
 use super::tree::{Frame, Motion};
-use super::{LinkId, Model, Scalar};
+use super::{LinkId, Model};
+use crate::scalar::Scalar;
 
 /// World pose of one frame: `rotation` maps frame axes to world axes, `origin` is the frame
 /// origin in the world; `axis` is the joint axis in world axes (zero for fixed joints).

@@ -1,8 +1,9 @@
 //! Loop-closure residuals.
 
+use super::Model;
 use super::kinematics::{check_len, frame_pose};
 use super::spatial::{add, mat_mul, mat_mul_const, mat_t_vec, mat_vec_const, sub};
-use super::{Model, Scalar};
+use crate::scalar::Scalar;
 
 /// Loop-closure residual, length `model.num_loop_constraints()`: for each loop (document
 /// order) the two components of R_Bᵀ(p1 − p2) perpendicular to the pin axis (see

@@ -4,7 +4,7 @@
 //! parent · Trans(xyz) · R(rpy) · Rot(axis, q) with R(rpy) = Rz(y)·Ry(p)·Rx(r) (URDF).
 //! The configuration is q = [base coordinates; non-fixed joints in `<joint>` document order].
 //! The [`Model`] is immutable and all `f64`; the algorithms are free functions generic over
-//! [`Scalar`], so plain floats and (nested) dual numbers flow through the same formulas.
+//! [`crate::scalar::Scalar`], so plain floats and (nested) dual numbers flow through the same formulas.
 
 pub(crate) mod dynamics;
 pub(crate) mod energy;
@@ -15,7 +15,7 @@ pub(crate) mod kinematics;
 mod loops;
 mod point_jet;
 pub mod sample;
-mod scalar;
+
 pub(crate) mod spatial;
 pub(crate) mod tree;
 mod urdf;
@@ -34,7 +34,7 @@ pub use inspect::{CoordinateInfo, Inspection, LoopInfo, SpringInfo, inspect};
 pub use kinematics::{link_pose, point_position};
 pub use loops::loop_residual;
 pub use point_jet::{PointJet, point_jet};
-pub use scalar::Scalar;
+
 pub use tree::{ContactPoint, LinkId, LoopClosure, Model, Spring, SpringKind};
 
 /// How the robot's root link is attached to the world.

@@ -9,17 +9,8 @@
 use std::path::PathBuf;
 
 use crate::contact::Terrain;
+pub use crate::discrete::Integrator;
 use crate::model::BaseType;
-
-/// Which discrete mechanics the dynamics constraints use.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Integrator {
-    /// Midpoint discrete Lagrangian Ld = h·L((qa+qb)/2, (qb−qa)/h): second order, the paper's.
-    #[default]
-    Midpoint,
-    /// First-order semi-implicit Euler time stepping (Posa et al. 2014, eq. 1 of the paper).
-    Euler,
-}
 
 /// How the Lagrangian Hessian is obtained.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

@@ -11,8 +11,9 @@ use num_dual::Dual;
 use crate::autodiff::{
     ScalarFunction, ThirdOrder, VectorFunction, gradient_hessian_third, jacobian, weighted_hessian,
 };
-use crate::model::{PointJet, Scalar};
+use crate::model::PointJet;
 use crate::problem::Interval;
+use crate::scalar::Scalar;
 
 /// Discrete mechanics and contact kinematics of one robot, in its coordinate order.
 pub trait Mechanics: Sync {

@@ -7,11 +7,11 @@ use nalgebra::DMatrix;
 
 use crate::autodiff::ThirdOrder;
 use crate::model::{
-    LinkId, Model, PointJet, Scalar, generalized_momentum, loop_residual,
-    midpoint_gradient_hessian, midpoint_ld_gradient, midpoint_third_order_columns, point_jet,
-    point_position,
+    LinkId, Model, PointJet, generalized_momentum, loop_residual, midpoint_gradient_hessian,
+    midpoint_ld_gradient, midpoint_third_order_columns, point_jet, point_position,
 };
 use crate::problem::{ContactSpec, Interval, ProblemSpec};
+use crate::scalar::Scalar;
 
 /// A URDF model with the problem's contact points resolved to links.
 #[derive(Debug)]

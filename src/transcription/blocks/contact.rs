@@ -6,7 +6,7 @@ use nalgebra::DMatrix;
 use super::contact_geometry::ContactGeometry;
 use super::{Context, tangential_rates};
 use crate::contact::{signed_distance, tangential_coordinates};
-use crate::model::Scalar;
+use crate::scalar::Scalar;
 use crate::transcription::Mechanics;
 
 /// φ_i(q); z = [q].

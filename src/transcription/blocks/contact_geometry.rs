@@ -10,7 +10,8 @@ use crate::autodiff::{
     ScalarFunction, ThirdOrder, gradient_hessian_into, gradient_hessian_third_into,
 };
 use crate::contact::{signed_distance, tangential_coordinates};
-use crate::model::{PointJet, Scalar};
+use crate::model::PointJet;
+use crate::scalar::Scalar;
 use crate::transcription::Mechanics;
 
 /// κ_k(p): the k-th terrain coordinate (0: signed distance, 1 + d: tangential d) of a point.

@@ -1,8 +1,8 @@
 //! Cost blocks: one interval's (or the last knot's) share of each `CostTerm`.
 
 use super::Context;
-use crate::model::Scalar;
 use crate::problem::CostTerm;
+use crate::scalar::Scalar;
 
 /// ½ Σ w_i (a_i − b_i)² over paired slices.
 fn half_weighted_square<D: Scalar>(w: &[f64], a: impl Iterator<Item = D>, b: &[f64]) -> D {

@@ -4,7 +4,7 @@
 //! (eq. 1 of the paper) + J(q)ᵀλ + A(q)ᵀγ.
 
 use super::Context;
-use crate::model::Scalar;
+use crate::scalar::Scalar;
 use crate::transcription::Mechanics;
 
 /// Ld(qa, qb, h); z = [qa; qb; h].

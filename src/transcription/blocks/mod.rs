@@ -24,8 +24,8 @@ use num_dual::Dual;
 use super::Mechanics;
 use crate::autodiff::{ScalarFunction, VectorFunction};
 use crate::contact::{FrictionBasis, Terrain, tangential_coordinates};
-use crate::model::Scalar;
 use crate::problem::{CostTerm, Integrator};
+use crate::scalar::Scalar;
 
 /// Problem constants the block functions need besides the mechanics.
 #[derive(Debug, Clone)]

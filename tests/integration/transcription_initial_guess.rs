@@ -2,7 +2,7 @@
 //! constraint violation and ‖equality residuals‖₂, for hopper-2d and brick-3d, on the
 //! closed-form mechanics of SPEC.md. Also the problem sizes.
 
-mod common;
+use crate::common;
 
 use common::analytic::{Brick, Hopper};
 use common::reference::{brick_3d, hopper_2d};

@@ -1,7 +1,7 @@
 //! Bad input: each gives one clear error naming file, line and field, exit code 2, and an
 //! existing output directory is left untouched.
 
-use crate::util::{TestDir, hopper_text};
+use crate::cli::util::{TestDir, hopper_text};
 
 /// Writes `text` as `bad.toml`, runs `vito solve bad.toml --out out` over an existing `out/`
 /// and returns stderr after checking exit 2, a single error line and the untouched directory.

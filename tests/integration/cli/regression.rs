@@ -1,6 +1,6 @@
 //! The golden record `problems/golden.toml` and `vito regress`.
 
-use crate::util::{TestDir, hopper_text, problems_dir};
+use crate::cli::util::{TestDir, hopper_text, problems_dir};
 
 /// Every quick problem (hopper, brick) has an entry with a positive tolerance, so the solve
 /// tests and `vito regress` check its objective.

@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use crate::util::{TestDir, problems_dir, summary};
+use crate::cli::util::{TestDir, problems_dir, summary};
 
 /// Solves `file` into a temp dir and checks what issue 5 asks of every solve, the objective
 /// against the regression record `record` (under `problems/`).

@@ -3,7 +3,7 @@
 //! with the contact blocks by the chain rule over q and by generic AD over the block. Run:
 //! `cargo test --release --test contact_derivative_bench -- --ignored --nocapture`.
 
-mod common;
+use crate::common;
 
 use std::time::Instant;
 

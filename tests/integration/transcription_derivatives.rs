@@ -10,15 +10,15 @@
 //! and per-contact slacks, every cost term, periodicity of position and velocity, a
 //! smoothed step in the terrain, and a loop closure (with its impulses in the DEL rows).
 
-mod common;
+use crate::common;
 
 use common::analytic::{Brick, Hopper};
 use common::reference::{brick_3d, hopper_2d, spring_flamingo_walk};
 use vito::contact::Step;
-use vito::model::Scalar;
 use vito::problem::{
     CostTerm, Integrator, Interval, Periodicity, ProblemSpec, SlackMode, TimeSteps,
 };
+use vito::scalar::Scalar;
 use vito::transcription::{Mechanics, ModelMechanics, Transcription};
 
 /// A small deterministic generator (no dependency, same numbers every run).

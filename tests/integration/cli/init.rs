@@ -1,6 +1,6 @@
 //! `vito init` writes a starter problem that `vito check` accepts.
 
-use crate::util::{TestDir, problems_dir};
+use crate::cli::util::{TestDir, problems_dir};
 
 #[test]
 fn starter_problem_checks() {

@@ -3,7 +3,7 @@
 //! problems on the closed-form mechanics. Run:
 //! `cargo test --release --test transcription_bench -- --ignored --nocapture`.
 
-mod common;
+use crate::common;
 
 use std::time::Instant;
 

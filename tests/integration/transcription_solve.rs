@@ -1,12 +1,12 @@
 //! Solves of SPEC.md's reference problems (run in release:
-//! `cargo test --release --test transcription_solve -- --nocapture`).
+//! `cargo test --release --test integration transcription_solve:: -- --nocapture`).
 //!
 //! hopper-2d must converge with max slack and complementarity below 1e-4 and reach x = 0.5;
 //! brick-3d must converge and end at rest on a face. Both are compared with the independent
 //! CasADi implementation's stored results (tests/data/independent). The exact Hessian must
 //! take fewer iterations than L-BFGS on the hopper.
 
-mod common;
+use crate::common;
 
 use std::f64::consts::FRAC_PI_2;
 

@@ -2,7 +2,7 @@
 //! guess for all four reference problems, and agreement of the URDF hopper and brick with
 //! the closed-form mechanics at random points.
 
-mod common;
+use crate::common;
 
 use common::analytic::{Brick, Hopper};
 use common::reference::{brick_3d, hopper_2d, littledog_step, spring_flamingo_walk};

@@ -1,6 +1,6 @@
 //! `vito check` on every problem file under `problems/`, and its size report.
 
-use crate::util::{TestDir, problems_dir};
+use crate::cli::util::{TestDir, problems_dir};
 
 /// Every problem file validates and prints its size (quick: no solve).
 #[test]
@@ -46,9 +46,9 @@ fn check_reports_spec_sizes() {
     }
 }
 
-impl crate::util::VitoCmd {
+impl crate::cli::util::VitoCmd {
     /// `vito <command> <path>`.
-    pub fn arg_path(self, command: &str, path: &std::path::Path) -> crate::util::VitoCmd {
+    pub fn arg_path(self, command: &str, path: &std::path::Path) -> crate::cli::util::VitoCmd {
         self.args([std::ffi::OsStr::new(command), path.as_os_str()])
     }
 }

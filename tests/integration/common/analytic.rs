@@ -2,8 +2,8 @@
 //! (not through the URDF model), so the transcription is tested on its own.
 
 use num_dual::Dual;
-use vito::model::Scalar;
 use vito::problem::Interval;
+use vito::scalar::Scalar;
 use vito::transcription::Mechanics;
 
 const G: f64 = 9.81;

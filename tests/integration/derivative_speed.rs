@@ -21,9 +21,10 @@ use vito::autodiff::{
 };
 use vito::discrete::{MidpointSegment, ld};
 use vito::model::{
-    BaseType, MidpointGradient, Model, Scalar, midpoint_gradient_hessian, midpoint_ld_gradient,
+    BaseType, MidpointGradient, Model, midpoint_gradient_hessian, midpoint_ld_gradient,
     midpoint_third_order_into, sample,
 };
+use vito::scalar::Scalar;
 
 fn robot(rel: &str, base: BaseType) -> Model {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))

@@ -1,0 +1,9 @@
+//! Tests of the `vito` binary, a module per command or feature.
+
+pub mod util;
+
+mod check;
+mod errors;
+mod init;
+mod regression;
+mod solve;

@@ -1,0 +1,23 @@
+//! vito's integration tests: one test crate (the library is linked once), a module per area.
+//!
+//! Solving tests need the optimised build: `cargo test --release` (one module:
+//! `cargo test --release --test integration cli::`).
+
+mod common;
+
+mod cli;
+mod contact_derivative_bench;
+mod derivative_speed;
+mod discrete;
+mod ipopt;
+mod model_adjoint;
+mod model_errors;
+mod model_mechanics;
+mod model_point_jet;
+mod model_robots;
+mod model_timing;
+mod transcription_bench;
+mod transcription_derivatives;
+mod transcription_initial_guess;
+mod transcription_solve;
+mod transcription_urdf;
