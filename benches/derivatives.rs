@@ -8,7 +8,7 @@
 //!
 //! and, for scale, one plain `f64` evaluation of Ld.
 //!
-//! Inputs are seeded (a fixed LCG), so runs are comparable.
+//! Inputs come from `vito::testing::SeededRng`, so runs are comparable.
 //!
 //! Measured 2026-11-22 on the 2-core shared development VM (other sessions running, so ±50 %),
 //! `VITO_BENCH_MS=700`, µs per call (hess+third / hess / grad; plain f64 Ld):
@@ -32,6 +32,7 @@ use vito::autodiff::{
 };
 use vito::discrete::MidpointSegment;
 use vito::model::{BaseType, Model, sample};
+use vito::testing::SeededRng;
 
 /// Mean time per call of `f`, in µs, over at least 3 calls and about `budget`.
 fn time_us(budget: Duration, mut f: impl FnMut()) -> f64 {
@@ -43,17 +44,6 @@ fn time_us(budget: Duration, mut f: impl FnMut()) -> f64 {
         calls += 1;
     }
     start.elapsed().as_secs_f64() * 1e6 / f64::from(calls)
-}
-
-fn seeded(n: usize, seed: &mut u64) -> Vec<f64> {
-    (0..n)
-        .map(|_| {
-            *seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (*seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        })
-        .collect()
 }
 
 fn bench_tile<const T: usize>(name: &str, model: &Model, z: &[f64], dir: &[f64], budget: Duration) {
@@ -83,7 +73,7 @@ fn main() {
             .and_then(|s| s.parse().ok())
             .unwrap_or(1000),
     );
-    let mut seed = 42;
+    let mut rng = SeededRng::new(42);
     for n in [9, 19, 38] {
         let model = match Model::from_urdf_str(&sample::planar_chain(n), BaseType::Fixed) {
             Ok(m) => m,
@@ -92,14 +82,14 @@ fn main() {
                 return;
             }
         };
-        let qa = seeded(n, &mut seed);
+        let qa = rng.symmetric_vec(n, 0.5);
         let qb: Vec<f64> = qa
             .iter()
-            .zip(seeded(n, &mut seed))
+            .zip(rng.symmetric_vec(n, 0.5))
             .map(|(a, d)| a + 0.05 * d)
             .collect();
         let z: Vec<f64> = qa.iter().chain(&qb).copied().chain([0.03]).collect();
-        let dir = seeded(2 * n + 1, &mut seed);
+        let dir = rng.symmetric_vec(2 * n + 1, 0.5);
         let name = format!("del_segment_n{n}");
         let seg = MidpointSegment { model: &model };
         let plain = time_us(budget, || {

@@ -15,6 +15,7 @@
 //! - `transcription`: variable layout, constraint blocks, costs, sparse assembly, the NLP.
 //! - `problem`: TOML schema, validation into a checked `ProblemSpec`.
 //! - `report`: trajectory CSV, summary JSON, SVG plots, regression records.
+//! - `testing`: the seeded generator of test and benchmark inputs.
 #![deny(unsafe_code)]
 
 pub mod autodiff;
@@ -26,4 +27,5 @@ pub mod model;
 pub mod problem;
 pub mod report;
 pub mod scalar;
+pub mod testing;
 pub mod transcription;

@@ -25,6 +25,7 @@ use vito::model::{
     midpoint_third_order_into, sample,
 };
 use vito::scalar::Scalar;
+use vito::testing::SeededRng;
 
 fn robot(rel: &str, base: BaseType) -> Model {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -49,18 +50,6 @@ fn time<F: FnMut()>(mut f: F) -> f64 {
         best = best.min(start.elapsed().as_secs_f64() / reps as f64);
     }
     best
-}
-
-/// Deterministic pseudo-random vector in (−a, a)^n.
-fn random(n: usize, a: f64, seed: &mut u64) -> Vec<f64> {
-    (0..n)
-        .map(|_| {
-            *seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            a * (2.0 * ((*seed >> 11) as f64 / (1u64 << 53) as f64) - 1.0)
-        })
-        .collect()
 }
 
 /// The Jacobian of the adjoint gradient of Ld by tiles of `T` columns per pass, with the
@@ -137,13 +126,13 @@ fn tiled_direction_outside<const T: usize>(
 
 fn run(name: &str, model: &Model, h: f64) {
     let n = model.nq();
-    let mut seed = 17;
-    let qa = random(n, 0.5, &mut seed);
-    let step = random(n, 0.01, &mut seed);
+    let mut rng = SeededRng::new(17);
+    let qa = rng.symmetric_vec(n, 0.5);
+    let step = rng.symmetric_vec(n, 0.01);
     let mut z = qa.clone();
     z.extend(qa.iter().zip(&step).map(|(a, d)| a + d));
     z.push(h);
-    let mut dir = random(2 * n, 1.0, &mut seed);
+    let mut dir = rng.symmetric_vec(2 * n, 1.0);
     dir.push(0.0);
 
     let segment = MidpointSegment { model };

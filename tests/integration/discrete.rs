@@ -8,6 +8,7 @@ use vito::discrete::{
     MidpointKnotResidual, MidpointSegment, d1_ld, d2_ld, del_residual, first_step, ld, step,
 };
 use vito::model::{self, BaseType, Model, sample};
+use vito::testing::SeededRng;
 
 fn double_pendulum() -> Model {
     Model::from_urdf_str(&sample::double_pendulum(), BaseType::Fixed).expect("sample loads")
@@ -29,18 +30,6 @@ fn damped_chain(base: BaseType) -> Model {
 /// Total energy at a knot from a configuration and a velocity.
 fn energy(model: &Model, q: &[f64], v: &[f64]) -> f64 {
     model::kinetic_energy(model, q, v) + model::potential_energy(model, q)
-}
-
-/// Deterministic pseudo-random vector in (−a, a)^n.
-fn random(n: usize, a: f64, seed: &mut u64) -> Vec<f64> {
-    (0..n)
-        .map(|_| {
-            *seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            a * (2.0 * ((*seed >> 11) as f64 / (1u64 << 53) as f64) - 1.0)
-        })
-        .collect()
 }
 
 /// Simulates from (q0, v0) for `steps` steps and returns the configurations q_1..q_{steps+1}.
@@ -267,22 +256,22 @@ fn assert_close(ad: &DMatrix<f64>, fd: &DMatrix<f64>, what: &str) {
 }
 
 /// A random state: configurations within ±0.8 rad of 0, steps in [0.01, 0.05] s.
-fn random_segment(n: usize, seed: &mut u64) -> (Vec<f64>, Vec<f64>, f64) {
-    let qa = random(n, 0.8, seed);
-    let dq = random(n, 0.05, seed);
-    let h = 0.03 + random(1, 0.02, seed)[0];
+fn random_segment(n: usize, rng: &mut SeededRng) -> (Vec<f64>, Vec<f64>, f64) {
+    let qa = rng.symmetric_vec(n, 0.8);
+    let dq = rng.symmetric_vec(n, 0.05);
+    let h = 0.03 + rng.symmetric_vec(1, 0.02)[0];
     let qb = qa.iter().zip(&dq).map(|(a, d)| a + d).collect();
     (qa, qb, h)
 }
 
 #[test]
 fn gradient_of_ld_matches_central_differences() {
-    let mut seed = 1;
+    let mut rng = SeededRng::new(1);
     for model in [double_pendulum(), damped_chain(BaseType::Planar)] {
         let n = model.nq();
         let seg = MidpointSegment { model: &model };
         for _ in 0..5 {
-            let (qa, qb, h) = random_segment(n, &mut seed);
+            let (qa, qb, h) = random_segment(n, &mut rng);
             let z: Vec<f64> = qa.iter().chain(&qb).copied().chain([h]).collect();
             let (value, grad) = gradient(&seg, &z);
             assert_eq!(value, ld(&model, &qa, &qb, h));
@@ -305,15 +294,15 @@ fn gradient_of_ld_matches_central_differences() {
 
 #[test]
 fn jacobians_of_knot_residuals_match_central_differences() {
-    let mut seed = 7;
+    let mut rng = SeededRng::new(7);
     for model in [double_pendulum(), damped_chain(BaseType::Planar)] {
         let n = model.nq();
         let m = model.input_coordinates().len();
         for _ in 0..3 {
-            let (q0, q1, h0) = random_segment(n, &mut seed);
-            let (_, dq, h1) = random_segment(n, &mut seed);
+            let (q0, q1, h0) = random_segment(n, &mut rng);
+            let (_, dq, h1) = random_segment(n, &mut rng);
             let q2: Vec<f64> = q1.iter().zip(&dq).map(|(a, d)| a + d * 0.05).collect();
-            let (u0, u1) = (random(m, 2.0, &mut seed), random(m, 2.0, &mut seed));
+            let (u0, u1) = (rng.symmetric_vec(m, 2.0), rng.symmetric_vec(m, 2.0));
             let z: Vec<f64> = [&q0[..], &q1, &q2, &[h0, h1], &u0, &u1].concat();
             let del = MidpointKnotResidual { model: &model };
             let (values, jac) = jacobian(&del, &z);

@@ -15,6 +15,7 @@ use vito::model::{
     lagrangian_gradient, midpoint_gradient_hessian, midpoint_ld_gradient, midpoint_third_order,
     midpoint_third_order_into, potential_energy, potential_energy_gradient, sample,
 };
+use vito::testing::SeededRng;
 
 fn robot(rel: &str, base: BaseType) -> Model {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -133,18 +134,6 @@ fn robots() -> Vec<(&'static str, Model)> {
     ]
 }
 
-/// Deterministic pseudo-random vector in (−a, a)^n.
-fn random(n: usize, a: f64, seed: &mut u64) -> Vec<f64> {
-    (0..n)
-        .map(|_| {
-            *seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            a * (2.0 * ((*seed >> 11) as f64 / (1u64 << 53) as f64) - 1.0)
-        })
-        .collect()
-}
-
 /// Forward-dual gradient of a scalar function of a vector: one `Dual64` pass per input.
 fn dual_gradient(x: &[f64], f: impl Fn(&[Dual64]) -> Dual64) -> Vec<f64> {
     (0..x.len())
@@ -185,18 +174,18 @@ fn assert_matrix_close(what: &str, a: &DMatrix<f64>, b: &DMatrix<f64>, tol: f64)
 
 /// A configuration and velocity of moderate size for the model (HAMR's mm units scale
 /// base positions up, its ms units scale velocities down).
-fn state(model: &Model, seed: &mut u64) -> (Vec<f64>, Vec<f64>) {
+fn state(model: &Model, rng: &mut SeededRng) -> (Vec<f64>, Vec<f64>) {
     let n = model.nq();
-    (random(n, 0.8, seed), random(n, 1.5, seed))
+    (rng.symmetric_vec(n, 0.8), rng.symmetric_vec(n, 1.5))
 }
 
 #[test]
 fn kinetic_energy_gradient_matches_forward_duals() {
-    let mut seed = 11;
+    let mut rng = SeededRng::new(11);
     for (name, model) in robots() {
         let n = model.nq();
         for _ in 0..3 {
-            let (q, qdot) = state(&model, &mut seed);
+            let (q, qdot) = state(&model, &mut rng);
             let mut dq = vec![f64::NAN; n];
             let mut dqdot = vec![f64::NAN; n];
             let t = kinetic_energy_gradient(&model, &q, &qdot, &mut dq, &mut dqdot);
@@ -227,11 +216,11 @@ fn kinetic_energy_gradient_matches_forward_duals() {
 
 #[test]
 fn potential_energy_gradient_matches_forward_duals() {
-    let mut seed = 23;
+    let mut rng = SeededRng::new(23);
     for (name, model) in robots() {
         let n = model.nq();
         for _ in 0..3 {
-            let (q, _) = state(&model, &mut seed);
+            let (q, _) = state(&model, &mut rng);
             let mut dq = vec![f64::NAN; n];
             let v = potential_energy_gradient(&model, &q, &mut dq);
             let v_ref = potential_energy(&model, &q);
@@ -265,10 +254,10 @@ fn springs_and_gravity_both_enter_the_potential_gradient() {
 
 #[test]
 fn lagrangian_gradient_is_kinetic_minus_potential() {
-    let mut seed = 5;
+    let mut rng = SeededRng::new(5);
     for (name, model) in robots() {
         let n = model.nq();
-        let (q, v) = state(&model, &mut seed);
+        let (q, v) = state(&model, &mut rng);
         let (mut tq, mut tv, mut vq) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
         let t = kinetic_energy_gradient(&model, &q, &v, &mut tq, &mut tv);
         let pot = potential_energy_gradient(&model, &q, &mut vq);
@@ -285,10 +274,10 @@ fn lagrangian_gradient_is_kinetic_minus_potential() {
 }
 
 /// A midpoint segment z = [qa; qb; h] with qb near qa and h of the robot's time scale.
-fn segment(model: &Model, seed: &mut u64) -> Vec<f64> {
+fn segment(model: &Model, rng: &mut SeededRng) -> Vec<f64> {
     let n = model.nq();
-    let qa = random(n, 0.8, seed);
-    let step = random(n, 0.05, seed);
+    let qa = rng.symmetric_vec(n, 0.8);
+    let step = rng.symmetric_vec(n, 0.05);
     let h = if model.name().to_lowercase().contains("hamr") {
         0.3 // ms
     } else {
@@ -302,10 +291,10 @@ fn segment(model: &Model, seed: &mut u64) -> Vec<f64> {
 
 #[test]
 fn midpoint_slot_derivatives_match_the_discrete_module() {
-    let mut seed = 77;
+    let mut rng = SeededRng::new(77);
     for (name, model) in robots() {
         let n = model.nq();
-        let z = segment(&model, &mut seed);
+        let z = segment(&model, &mut rng);
         let (qa, qb, h) = (&z[..n], &z[n..2 * n], z[2 * n]);
         let (mut d1, mut d2) = (vec![f64::NAN; n], vec![f64::NAN; n]);
         let (value, dh) = midpoint_ld_gradient(&model, qa, qb, h, &mut d1, &mut d2);
@@ -336,19 +325,19 @@ fn midpoint_slot_derivatives_match_the_discrete_module() {
 }
 
 /// The multiplier direction of the DEL rows: [λ_a; λ_b; 0].
-fn direction(n: usize, seed: &mut u64) -> Vec<f64> {
-    let mut dir = random(2 * n, 1.0, seed);
+fn direction(n: usize, rng: &mut SeededRng) -> Vec<f64> {
+    let mut dir = rng.symmetric_vec(2 * n, 1.0);
     dir.push(0.0);
     dir
 }
 
 #[test]
 fn hessian_and_third_derivative_through_the_adjoint_match_forward_duals() {
-    let mut seed = 91;
+    let mut rng = SeededRng::new(91);
     for (name, model) in robots() {
         let n = model.nq();
-        let z = segment(&model, &mut seed);
-        let dir = direction(n, &mut seed);
+        let z = segment(&model, &mut rng);
+        let dir = direction(n, &mut rng);
         let reference = gradient_hessian_third(&MidpointSegment { model: &model }, &z, &dir);
         let f = MidpointGradient { model: &model };
         let (values, hess) = jacobian(&f, &z);
@@ -403,8 +392,8 @@ fn hessian_and_third_derivative_through_the_adjoint_match_forward_duals() {
 #[test]
 fn hessian_driver_buffer_reuse_and_any_direction() {
     let model = Model::from_urdf_str(TWISTED, BaseType::Floating).expect("loads");
-    let mut seed = 3;
-    let z = segment(&model, &mut seed);
+    let mut rng = SeededRng::new(3);
+    let z = segment(&model, &mut rng);
     let segment_fn = MidpointSegment { model: &model };
     let (value, grad, hess) = midpoint_gradient_hessian(&model, &z);
     let (value_ref, grad_ref, hess_ref) = gradient_hessian(&segment_fn, &z);
@@ -412,7 +401,7 @@ fn hessian_driver_buffer_reuse_and_any_direction() {
     assert_close("gradient", &grad, &grad_ref, 1e-12);
     assert_matrix_close("Hessian", &hess, &hess_ref, 1e-9);
 
-    let dir = random(z.len(), 1.0, &mut seed);
+    let dir = rng.symmetric_vec(z.len(), 1.0);
     let reference = gradient_hessian_third(&segment_fn, &z, &dir);
     let mut out = vito::autodiff::ThirdOrder::zeros(z.len());
     out.hessian.fill(7.0);
@@ -429,9 +418,9 @@ fn hessian_driver_buffer_reuse_and_any_direction() {
 #[test]
 fn adjoint_hessian_matches_central_differences() {
     let model = Model::from_urdf_str(TWISTED, BaseType::Floating).expect("loads");
-    let mut seed = 41;
-    let z = segment(&model, &mut seed);
-    let dir = direction(model.nq(), &mut seed);
+    let mut rng = SeededRng::new(41);
+    let z = segment(&model, &mut rng);
+    let dir = direction(model.nq(), &mut rng);
     let fast = midpoint_third_order(&model, &z, &dir);
     let f = MidpointGradient { model: &model };
     let eval = |x: &[f64]| {
@@ -464,9 +453,9 @@ fn adjoint_hessian_matches_central_differences() {
 #[test]
 fn third_order_over_some_columns() {
     let model = Model::from_urdf_str(TWISTED, BaseType::Floating).expect("loads");
-    let mut seed = 17;
-    let z = segment(&model, &mut seed);
-    let dir = random(z.len(), 1.0, &mut seed);
+    let mut rng = SeededRng::new(17);
+    let z = segment(&model, &mut rng);
+    let dir = rng.symmetric_vec(z.len(), 1.0);
     let full = midpoint_third_order(&model, &z, &dir);
     let columns: Vec<bool> = (0..z.len()).map(|i| i % 3 != 1).collect();
     let mut part = vito::autodiff::ThirdOrder::zeros(z.len());

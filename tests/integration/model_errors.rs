@@ -2,6 +2,7 @@
 //! only what is unambiguous, reports what it ignores, and never panics on input.
 
 use vito::model::{BaseType, Model, ModelError, sample};
+use vito::testing::SeededRng;
 
 /// A link with a valid inertial.
 fn link(name: &str) -> String {
@@ -234,13 +235,8 @@ fn mutated_documents_never_panic() {
         sample::brick().to_string(),
     ];
     let alphabet: Vec<char> = "<>/=\"' -0.9eEx,pi".chars().collect();
-    let mut state: u64 = 1;
-    let mut next = |n: usize| {
-        state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        ((state >> 33) as usize) % n
-    };
+    let mut rng = SeededRng::new(1);
+    let mut next = |n: usize| rng.index(n);
     for _ in 0..1000 {
         let doc = &docs[next(docs.len())];
         let chars: Vec<char> = doc.chars().collect();

@@ -11,21 +11,7 @@ use vito::model::{
     generalized_point_force, inverse_dynamics, kinetic_energy, loop_residual, mass_matrix,
     point_position, potential_energy, sample,
 };
-
-/// A deterministic pseudo-random sequence in [-1, 1).
-struct Lcg(u64);
-impl Lcg {
-    fn next(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        ((self.0 >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-    }
-    fn vec(&mut self, n: usize, scale: f64) -> Vec<f64> {
-        (0..n).map(|_| scale * self.next()).collect()
-    }
-}
+use vito::testing::SeededRng;
 
 fn from_str(xml: &str, base: BaseType) -> Model {
     Model::from_urdf_str(xml, base).unwrap_or_else(|e| panic!("{e}"))
@@ -137,9 +123,9 @@ fn double_pendulum_mass_matrix_closed_form() {
     assert_eq!(m.coordinate_names(), ["shoulder", "elbow"]);
     let (i1, i2) = (M1 * L1 * L1 / 12.0, M2 * L2 * L2 / 12.0);
     let (c1, c2) = (L1 / 2.0, L2 / 2.0);
-    let mut rng = Lcg(3);
+    let mut rng = SeededRng::new(3);
     for _ in 0..20 {
-        let q = rng.vec(2, PI);
+        let q = rng.symmetric_vec(2, PI);
         let cq = q[1].cos();
         let m11 = i1 + M1 * c1 * c1 + i2 + M2 * (L1 * L1 + c2 * c2 + 2.0 * L1 * c2 * cq);
         let m12 = i2 + M2 * (c2 * c2 + L1 * c2 * cq);
@@ -168,9 +154,9 @@ fn cart_pole_mass_matrix_closed_form() {
     let (mc, mp, len) = (2.0, 0.5, 1.2);
     let c = len / 2.0;
     let ip = mp * len * len / 12.0;
-    let mut rng = Lcg(5);
+    let mut rng = SeededRng::new(5);
     for _ in 0..20 {
-        let q = rng.vec(2, 3.0);
+        let q = rng.symmetric_vec(2, 3.0);
         let mm = mass_matrix(&m, &q);
         let m12 = -mp * c * q[1].cos();
         assert!(close(mm[(0, 0)], mc + mp, 1e-14, 0.0));
@@ -184,9 +170,9 @@ fn free_body_planar_mass_matrix() {
     let m = from_str(sample::brick(), BaseType::Planar);
     assert_eq!(m.coordinate_names(), ["base_x", "base_z", "base_pitch"]);
     let iyy = (0.2f64 * 0.2 + 0.05 * 0.05) / 12.0;
-    let mut rng = Lcg(9);
+    let mut rng = SeededRng::new(9);
     for _ in 0..10 {
-        let q = rng.vec(3, 2.0);
+        let q = rng.symmetric_vec(3, 2.0);
         let mm = mass_matrix(&m, &q);
         let want = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, iyy]];
         for i in 0..3 {
@@ -207,9 +193,9 @@ fn free_body_floating_mass_matrix() {
         (a * a + c * c) / 12.0,
         (a * a + b * b) / 12.0,
     ];
-    let mut rng = Lcg(13);
+    let mut rng = SeededRng::new(13);
     for _ in 0..20 {
-        let q = rng.vec(6, 1.5);
+        let q = rng.symmetric_vec(6, 1.5);
         let (sr, cr) = q[3].sin_cos();
         let (sp, cp) = q[4].sin_cos();
         let e = [[1.0, 0.0, -sp], [0.0, cr, sr * cp], [0.0, -sr, cr * cp]];
@@ -233,14 +219,18 @@ fn free_body_floating_mass_matrix() {
 
 // ---- cross-checks on every model ----------------------------------------------------------
 
-fn random_state(model: &Model, rng: &mut Lcg) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+fn random_state(model: &Model, rng: &mut SeededRng) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
     let n = model.nq();
-    (rng.vec(n, 0.8), rng.vec(n, 1.5), rng.vec(n, 2.0))
+    (
+        rng.symmetric_vec(n, 0.8),
+        rng.symmetric_vec(n, 1.5),
+        rng.symmetric_vec(n, 2.0),
+    )
 }
 
 #[test]
 fn mass_matrix_is_the_hessian_of_the_kinetic_energy_recursion() {
-    let mut rng = Lcg(21);
+    let mut rng = SeededRng::new(21);
     for (name, model) in all_models() {
         let n = model.nq();
         let (q, v, _) = random_state(&model, &mut rng);
@@ -282,7 +272,7 @@ fn mass_matrix_is_the_hessian_of_the_kinetic_energy_recursion() {
 
 #[test]
 fn momentum_is_the_velocity_gradient_of_kinetic_energy() {
-    let mut rng = Lcg(22);
+    let mut rng = SeededRng::new(22);
     for (name, model) in all_models() {
         let (q, v, _) = random_state(&model, &mut rng);
         let p = generalized_momentum(&model, &q, &v);
@@ -299,7 +289,7 @@ fn momentum_is_the_velocity_gradient_of_kinetic_energy() {
 
 #[test]
 fn inverse_dynamics_matches_mass_matrix_and_potential_gradient() {
-    let mut rng = Lcg(23);
+    let mut rng = SeededRng::new(23);
     for (name, model) in all_models() {
         let n = model.nq();
         let (q, _, a) = random_state(&model, &mut rng);
@@ -333,7 +323,7 @@ fn inverse_dynamics_matches_mass_matrix_and_potential_gradient() {
 fn inverse_dynamics_satisfies_euler_lagrange_of_the_kinetic_energy() {
     // τ = d/dt ∂T/∂q̇ − ∂T/∂q + ∂V/∂q, the time derivative by central differences along
     // (q + εv, v + εa).
-    let mut rng = Lcg(24);
+    let mut rng = SeededRng::new(24);
     let eps = 1e-5;
     for (name, model) in all_models() {
         let n = model.nq();
@@ -386,11 +376,11 @@ fn damping_force_opposes_velocity() {
 #[test]
 fn point_force_is_the_jacobian_transpose() {
     // Jᵀf = ∂(f·p(q))/∂q, the right side by forward duals.
-    let mut rng = Lcg(26);
+    let mut rng = SeededRng::new(26);
     for (name, model) in all_models() {
         let n = model.nq();
         let (q, _, _) = random_state(&model, &mut rng);
-        let force = [rng.next(), rng.next(), rng.next()];
+        let force = [rng.symmetric(1.0), rng.symmetric(1.0), rng.symmetric(1.0)];
         let point = [0.1, 0.2, -0.3];
         for link_name in model.link_names() {
             let link = model.link_index(link_name).expect("own link");
@@ -411,12 +401,12 @@ fn point_force_is_the_jacobian_transpose() {
 
 #[test]
 fn point_position_potential_and_loop_residual_ad_match_central_differences() {
-    let mut rng = Lcg(25);
+    let mut rng = SeededRng::new(25);
     let h = 1e-6;
     for (name, model) in all_models() {
         let n = model.nq();
         let (q, _, _) = random_state(&model, &mut rng);
-        let dir = rng.vec(n, 1.0);
+        let dir = rng.symmetric_vec(n, 1.0);
         let qd = dual_at(&q, &dir);
         let qp: Vec<f64> = q.iter().zip(&dir).map(|(x, d)| x + h * d).collect();
         let qm: Vec<f64> = q.iter().zip(&dir).map(|(x, d)| x - h * d).collect();

@@ -7,6 +7,7 @@ use vito::model::{
     BaseType, Model, SpringKind, inspect, kinetic_energy, loop_residual, point_position,
     potential_energy,
 };
+use vito::testing::SeededRng;
 
 fn robot(rel: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -17,21 +18,6 @@ fn robot(rel: &str) -> PathBuf {
 fn load(rel: &str, base: BaseType) -> Model {
     let path = robot(rel);
     Model::from_urdf_file(&path, base).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
-}
-
-/// A deterministic pseudo-random sequence in [-1, 1) (no RNG dependency).
-struct Lcg(u64);
-impl Lcg {
-    fn next(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        ((self.0 >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-    }
-    fn vec(&mut self, n: usize, scale: f64) -> Vec<f64> {
-        (0..n).map(|_| scale * self.next()).collect()
-    }
 }
 
 #[test]
@@ -285,10 +271,10 @@ fn hopper_energies_equal_spec_closed_forms() {
     assert_eq!(m.coordinate_limits()[2], (f64::NEG_INFINITY, f64::INFINITY));
     assert_eq!(m.contact_points().len(), 1);
     assert!((m.total_mass() - 3.3).abs() < 1e-15);
-    let mut rng = Lcg(7);
+    let mut rng = SeededRng::new(7);
     for _ in 0..50 {
-        let q = rng.vec(4, 2.0);
-        let v = rng.vec(4, 3.0);
+        let q = rng.symmetric_vec(4, 2.0);
+        let v = rng.symmetric_vec(4, 3.0);
         let (th, r) = (q[2], q[3]);
         let foot = [q[0] + r * th.sin(), q[1] - r * th.cos()];
         let foot_dot = [
@@ -341,10 +327,10 @@ fn brick_energies_equal_rigid_body_closed_forms() {
         (a * a + c * c) / 12.0,
         (a * a + b * b) / 12.0,
     ];
-    let mut rng = Lcg(11);
+    let mut rng = SeededRng::new(11);
     for _ in 0..50 {
-        let q = rng.vec(6, 1.5);
-        let v = rng.vec(6, 3.0);
+        let q = rng.symmetric_vec(6, 1.5);
+        let v = rng.symmetric_vec(6, 3.0);
         let w = body_rates(q[3], q[4], [v[3], v[4], v[5]]);
         let t = 0.5 * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
             + 0.5

@@ -19,22 +19,8 @@ use vito::problem::{
     CostTerm, Integrator, Interval, Periodicity, ProblemSpec, SlackMode, TimeSteps,
 };
 use vito::scalar::Scalar;
+use vito::testing::SeededRng;
 use vito::transcription::{Mechanics, ModelMechanics, Transcription};
-
-/// A small deterministic generator (no dependency, same numbers every run).
-struct Lcg(u64);
-impl Lcg {
-    fn next(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn range(&mut self, a: f64, b: f64) -> f64 {
-        a + (b - a) * self.next()
-    }
-}
 
 /// Any mechanics plus one made-up smooth loop closure, so loop blocks are exercised.
 struct WithLoop<M>(M);
@@ -139,7 +125,10 @@ fn hopper_everything(integrator: Integrator, slack_mode: SlackMode) -> ProblemSp
 
 /// A random point: configurations near the guess, positive steps, contact variables in
 /// [0, 1]; plus random multipliers and objective factor.
-fn random_point<M: Mechanics>(t: &Transcription<M>, rng: &mut Lcg) -> (Vec<f64>, Vec<f64>, f64) {
+fn random_point<M: Mechanics>(
+    t: &Transcription<M>,
+    rng: &mut SeededRng,
+) -> (Vec<f64>, Vec<f64>, f64) {
     let l = t.layout();
     let mut x: Vec<f64> = t
         .initial_point()
@@ -194,7 +183,7 @@ fn agree(exact: f64, fd: f64, tol: f64) -> bool {
 }
 
 fn check_derivatives<M: Mechanics>(name: &str, t: &Transcription<M>, seed: u64) {
-    let mut rng = Lcg(seed);
+    let mut rng = SeededRng::new(seed);
     let (x, lambda, sigma) = random_point(t, &mut rng);
     let nv = x.len();
     let nr = t.layout().num_constraints();

@@ -7,6 +7,7 @@ use crate::common;
 use common::analytic::{Brick, Hopper};
 use common::reference::{brick_3d, hopper_2d, littledog_step, spring_flamingo_walk};
 use vito::problem::{Integrator, ProblemSpec};
+use vito::testing::SeededRng;
 use vito::transcription::{InitialGuessReport, Mechanics, ModelMechanics, Transcription};
 
 fn report(spec: &ProblemSpec) -> (Transcription<ModelMechanics>, InitialGuessReport) {
@@ -81,16 +82,13 @@ fn littledog_matches_spec_sizes_and_initial_values() {
 fn compare<A: Mechanics, B: Mechanics>(spec: &ProblemSpec, a: A, b: B) -> f64 {
     let ta = Transcription::new(a, spec).unwrap();
     let tb = Transcription::new(b, spec).unwrap();
-    let mut state = 12345u64;
+    let mut rng = SeededRng::new(12345);
     let mut worst = 0.0_f64;
     for _ in 0..3 {
         let x: Vec<f64> = ta
             .initial_point()
             .iter()
-            .map(|&v| {
-                state = state.wrapping_mul(6364136223846793005).wrapping_add(1);
-                v + 0.1 * ((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5)
-            })
+            .map(|&v| v + 0.1 * (rng.unit() - 0.5))
             .collect();
         let m = ta.layout().num_constraints();
         let (mut ga, mut gb) = (vec![0.0; m], vec![0.0; m]);
