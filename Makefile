@@ -3,6 +3,7 @@
 #   make test       install missing Debian packages, run the test suite (optimised build)
 #   make test-slow  the slow tests (#[ignore]d by default)
 #   make lint       rustfmt and clippy, as CI checks them
+#   make bench      the timing harnesses in benches/ (print figures)
 
 CARGO ?= cargo
 PROBLEM ?= problems/hopper_2d.toml
@@ -12,7 +13,7 @@ OUT ?= out/hopper_2d
 # solve lock already gives one solve per process); parallel work uses processes.
 export OPENBLAS_NUM_THREADS ?= 1
 
-.PHONY: deps build demo test test-slow lint
+.PHONY: deps build demo test test-slow lint bench
 
 deps:
 	bash vendor-config/install-deps.sh
@@ -33,3 +34,6 @@ test-slow: deps
 lint:
 	$(CARGO) fmt --check
 	$(CARGO) clippy --all-targets -- -D warnings
+
+bench: deps
+	$(CARGO) bench

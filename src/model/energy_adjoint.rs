@@ -246,7 +246,7 @@ fn check_segment(model: &Model, z: &[f64], what: &str) -> usize {
 ///
 /// One column per pass with an unboxed nested dual beat tiles of `num-dual`'s vector duals
 /// (whose `Option`-wrapped derivative vectors cost more than their width saves) by 1.4–3×
-/// on this machine (tests/derivative_speed.rs).
+/// on this machine (benches/del_segment_paths.rs).
 fn for_each_column<S: Scalar>(
     model: &Model,
     columns: Option<&[bool]>,

@@ -11,7 +11,7 @@
 //! vector in G_k and in R_j(G_k), j ≤ k, is carried by the bodies below the joints above it,
 //! so for chain positions i ≤ j ≤ k
 //!   ∂p/∂q_k = G_k,   ∂²p/∂q_j∂q_k = R_j(G_k),   ∂³p/∂q_i∂q_j∂q_k = R_i(R_j(G_k)),
-//! and the other orders follow by symmetry. `tests/model_point_jet.rs` checks every entry
+//! and the other orders follow by symmetry. `tests/integration/model_point_jet.rs` checks every entry
 //! against forward AD through [`super::point_position`].
 
 use super::kinematics::{Pose, check_len, child_pose};

@@ -147,7 +147,7 @@ impl<M: Mechanics> Transcription<M> {
         };
         // Measured (2 shared cores): rayon costs more than it saves on hopper-2d's 288
         // variables (J+H 1.6 ms serial, 6 ms parallel) and pays on brick-3d's 3532
-        // (J+H 104 ms serial, 58 ms parallel, one run); see tests/transcription_bench.rs.
+        // (J+H 104 ms serial, 58 ms parallel, one run); see benches/transcription_evaluation.rs.
         t.parallel = t.layout.num_variables() >= 1000;
         t.place_blocks();
         t.set_bounds(spec)?;

@@ -6,8 +6,6 @@
 mod common;
 
 mod cli;
-mod contact_derivative_bench;
-mod derivative_speed;
 mod discrete;
 mod ipopt;
 mod model_adjoint;
@@ -15,8 +13,6 @@ mod model_errors;
 mod model_mechanics;
 mod model_point_jet;
 mod model_robots;
-mod model_timing;
-mod transcription_bench;
 mod transcription_derivatives;
 mod transcription_initial_guess;
 mod transcription_solve;

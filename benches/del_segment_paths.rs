@@ -9,7 +9,7 @@
 //! and, to justify (c)'s layout, the same Jacobian by tiles of `num-dual` vector duals.
 //! No assertions on time; the results are checked against each other.
 //!
-//! Run with `cargo test --release --test derivative_speed -- --ignored --nocapture`.
+//! Run with `cargo bench --bench del_segment_paths`.
 
 use std::hint::black_box;
 use std::path::Path;
@@ -234,8 +234,6 @@ fn run(name: &str, model: &Model, h: f64) {
     assert!(err < 1e-9, "{name} Hessian: relative difference {err:e}");
 }
 
-#[test]
-#[ignore = "prints timings; run explicitly in release"]
 fn print_derivative_speed() {
     for n in [9, 19, 38] {
         let model = Model::from_urdf_str(&sample::planar_chain(n), BaseType::Fixed)
@@ -258,4 +256,8 @@ fn print_derivative_speed() {
     let mut hamr = robot("hamr/HAMR_scaledV2.normalized.urdf", BaseType::Floating);
     hamr.set_gravity([0.0, 0.0, -9.81e-3]);
     run("hamr", &hamr, 0.3);
+}
+
+fn main() {
+    print_derivative_speed();
 }

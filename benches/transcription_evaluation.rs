@@ -1,9 +1,10 @@
 //! Derivative-evaluation timings (prints numbers, asserts none): one Jacobian plus one
 //! Lagrangian Hessian at the initial point, serial and on rayon's pool, for the reference
 //! problems on the closed-form mechanics. Run:
-//! `cargo test --release --test transcription_bench -- --ignored --nocapture`.
+//! `cargo bench --bench transcription_evaluation`.
 
-use crate::common;
+#[path = "../tests/integration/common/mod.rs"]
+mod common;
 
 use std::time::Instant;
 
@@ -55,8 +56,6 @@ fn report<M: Mechanics>(name: &str, mut t: Transcription<M>) {
     }
 }
 
-#[test]
-#[ignore]
 fn derivative_evaluation_times() {
     report(
         "hopper-2d",
@@ -66,8 +65,6 @@ fn derivative_evaluation_times() {
 }
 
 /// `vito bench` rows for the reference problems loaded from URDF.
-#[test]
-#[ignore]
 fn bench_rows_from_urdf() {
     for spec in [
         common::reference::hopper_2d(),
@@ -93,4 +90,9 @@ fn bench_rows_from_urdf() {
             row.derivative_eval_s * 1e3
         );
     }
+}
+
+fn main() {
+    derivative_evaluation_times();
+    bench_rows_from_urdf();
 }

@@ -1,5 +1,5 @@
 //! Prints evaluation times of the model functions on the paper's robots (no assertions on
-//! time). Run with `cargo test --release --test model_timing -- --ignored --nocapture`.
+//! time). Run with `cargo bench --bench model_functions`.
 
 use std::hint::black_box;
 use std::path::Path;
@@ -92,8 +92,6 @@ fn run<const N2: usize>(name: &str, model: &Model) {
     );
 }
 
-#[test]
-#[ignore = "prints timings; run explicitly in release"]
 fn print_model_timings() {
     run::<18>(
         "spring_flamingo",
@@ -110,4 +108,8 @@ fn print_model_timings() {
         "hamr",
         &robot("hamr/HAMR_scaledV2.normalized.urdf", BaseType::Floating),
     );
+}
+
+fn main() {
+    print_model_timings();
 }

@@ -1,9 +1,10 @@
 //! Contact-block derivative timings and agreement (prints numbers; asserts only agreement):
 //! per block kind, one Jacobian plus one Lagrangian Hessian on the URDF reference problems,
 //! with the contact blocks by the chain rule over q and by generic AD over the block. Run:
-//! `cargo test --release --test contact_derivative_bench -- --ignored --nocapture`.
+//! `cargo bench --bench contact_derivatives`.
 
-use crate::common;
+#[path = "../tests/integration/common/mod.rs"]
+mod common;
 
 use std::time::Instant;
 
@@ -25,8 +26,6 @@ fn max_relative_difference(a: &[f64], b: &[f64]) -> f64 {
         .fold(0.0, f64::max)
 }
 
-#[test]
-#[ignore]
 fn contact_derivative_times_and_agreement() {
     for spec in [hopper_2d(), brick_3d()] {
         let mut t = Transcription::new(ModelMechanics::load(&spec).unwrap(), &spec).unwrap();
@@ -89,9 +88,7 @@ fn contact_derivative_times_and_agreement() {
 
 /// Ipopt's own timing split (`print_timing_statistics yes`) for the URDF reference solves;
 /// read the "LinearSystemFactorization" line against the factorisation count. Run:
-/// `cargo test --release --test contact_derivative_bench ipopt_timing -- --ignored --nocapture`.
-#[test]
-#[ignore]
+/// `cargo bench --bench contact_derivatives`.
 fn ipopt_timing_statistics() {
     use vito::problem::OptionValue;
     use vito::transcription::{SolveOptions, solve};
@@ -120,4 +117,9 @@ fn ipopt_timing_statistics() {
             s.max_slack
         );
     }
+}
+
+fn main() {
+    contact_derivative_times_and_agreement();
+    ipopt_timing_statistics();
 }
