@@ -34,6 +34,9 @@ pub enum ReportError {
         /// The operating-system error.
         source: std::io::Error,
     },
+    /// The output directory may not or cannot be replaced.
+    #[error(transparent)]
+    Output(#[from] OutputDirError),
     /// plotters failed to draw.
     #[error("cannot draw {path}: {message}")]
     Plot {
@@ -78,7 +81,7 @@ pub fn write_outputs(
         let path = path.to_owned();
         move |source| ReportError::Io { path, source }
     };
-    let staged = StagedDir::new(target).map_err(io(target))?;
+    let staged = StagedDir::new(target)?;
     let dir = staged.path().to_owned();
     let units = column_units(&problem.robot, &problem.units);
     let csv_path = dir.join("trajectory.csv");
@@ -103,7 +106,7 @@ pub fn write_outputs(
         &units.time,
     )
     .map_err(plot_err("contact_modes.svg"))?;
-    staged.commit().map_err(io(target))
+    Ok(staged.commit()?)
 }
 
 #[cfg(test)]
@@ -235,6 +238,10 @@ mod output_tests {
         let target = dir.path().join("out");
         std::fs::create_dir(&target).unwrap();
         std::fs::write(target.join("stale.txt"), "old").unwrap();
+        // Not vito's: refused and left alone. Once marked as vito's, it is replaced whole.
+        assert!(write_outputs(&target, &problem, &s).is_err());
+        assert!(target.join("stale.txt").exists());
+        std::fs::write(target.join(MARKER), "").unwrap();
         let written = write_outputs(&target, &problem, &s).unwrap();
         assert_eq!(written, target);
         assert!(!target.join("stale.txt").exists());
