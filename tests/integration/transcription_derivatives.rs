@@ -15,11 +15,12 @@ use crate::common;
 use common::analytic::{Brick, Hopper};
 use common::reference::{brick_3d, hopper_2d, spring_flamingo_walk};
 use vito::contact::Step;
+use vito::discrete::{Mechanics, MechanicsDerivatives, ModelMechanics};
 use vito::problem::{
     CostTerm, Integrator, Interval, Periodicity, ProblemSpec, SlackMode, TimeSteps,
 };
 use vito::scalar::Scalar;
-use vito::transcription::{Mechanics, ModelMechanics, Transcription};
+use vito::transcription::Transcription;
 
 /// A small deterministic generator (no dependency, same numbers every run).
 struct Lcg(u64);
@@ -82,6 +83,8 @@ impl<M: Mechanics> Mechanics for WithLoop<M> {
     }
 }
 
+impl<M: MechanicsDerivatives> MechanicsDerivatives for WithLoop<M> {}
+
 /// The hopper with every optional feature switched on and a short horizon.
 fn hopper_everything(integrator: Integrator, slack_mode: SlackMode) -> ProblemSpec {
     let mut spec = hopper_2d();
@@ -139,7 +142,10 @@ fn hopper_everything(integrator: Integrator, slack_mode: SlackMode) -> ProblemSp
 
 /// A random point: configurations near the guess, positive steps, contact variables in
 /// [0, 1]; plus random multipliers and objective factor.
-fn random_point<M: Mechanics>(t: &Transcription<M>, rng: &mut Lcg) -> (Vec<f64>, Vec<f64>, f64) {
+fn random_point<M: MechanicsDerivatives>(
+    t: &Transcription<M>,
+    rng: &mut Lcg,
+) -> (Vec<f64>, Vec<f64>, f64) {
     let l = t.layout();
     let mut x: Vec<f64> = t
         .initial_point()
@@ -158,7 +164,7 @@ fn random_point<M: Mechanics>(t: &Transcription<M>, rng: &mut Lcg) -> (Vec<f64>,
     (x, lambda, rng.range(0.5, 2.0))
 }
 
-fn dense_jacobian<M: Mechanics>(t: &Transcription<M>, x: &[f64]) -> Vec<Vec<f64>> {
+fn dense_jacobian<M: MechanicsDerivatives>(t: &Transcription<M>, x: &[f64]) -> Vec<Vec<f64>> {
     let p = t.jacobian_pattern();
     let mut values = vec![0.0; p.nnz()];
     t.jacobian_values(x, &mut values);
@@ -169,7 +175,7 @@ fn dense_jacobian<M: Mechanics>(t: &Transcription<M>, x: &[f64]) -> Vec<Vec<f64>
     j
 }
 
-fn lagrangian_gradient<M: Mechanics>(
+fn lagrangian_gradient<M: MechanicsDerivatives>(
     t: &Transcription<M>,
     x: &[f64],
     lambda: &[f64],
@@ -193,7 +199,7 @@ fn agree(exact: f64, fd: f64, tol: f64) -> bool {
     (exact - fd).abs() <= tol * exact.abs().max(1.0)
 }
 
-fn check_derivatives<M: Mechanics>(name: &str, t: &Transcription<M>, seed: u64) {
+fn check_derivatives<M: MechanicsDerivatives>(name: &str, t: &Transcription<M>, seed: u64) {
     let mut rng = Lcg(seed);
     let (x, lambda, sigma) = random_point(t, &mut rng);
     let nv = x.len();

@@ -1,6 +1,7 @@
 //! Cost blocks: one interval's (or the last knot's) share of each `CostTerm`.
 
 use super::Context;
+use crate::discrete::midpoint_state;
 use crate::problem::CostTerm;
 use crate::scalar::Scalar;
 
@@ -26,10 +27,9 @@ pub fn cost<D: Scalar>(term: &CostTerm, ctx: &Context, z: &[D]) -> D {
             time_weighted,
         } => {
             let (qa, qb, h) = (&z[..n], &z[n..2 * n], z[2 * n]);
-            let mid = qa.iter().zip(qb).map(|(&a, &b)| (a + b) * D::from(0.5));
-            let vel = qa.iter().zip(qb).map(|(&a, &b)| (b - a) / h);
-            let value = half_weighted_square(q_weights, mid, q_target)
-                + half_weighted_square(v_weights, vel, v_target);
+            let (mid, vel) = midpoint_state(qa, qb, h);
+            let value = half_weighted_square(q_weights, mid.into_iter(), q_target)
+                + half_weighted_square(v_weights, vel.into_iter(), v_target);
             if *time_weighted { value * h } else { value }
         }
         CostTerm::Input {
