@@ -3,8 +3,9 @@
 
 use super::Transcription;
 use super::blocks::{Block, ScalarKind, VectorKind};
+use super::costs::{self, CostInputs};
+use super::layout::Layout;
 use crate::discrete::{Integrator, MechanicsDerivatives};
-use crate::problem::CostTerm;
 
 pub(super) fn range_vec(r: std::ops::Range<usize>) -> Vec<usize> {
     r.collect()
@@ -251,46 +252,47 @@ impl<M: MechanicsDerivatives> Transcription<M> {
             }
         }
         for (term, cost) in self.ctx.costs.iter().enumerate() {
-            let kind = ScalarKind::Cost { term };
-            let mut push = |vars: Vec<usize>, nonlinear: usize| {
+            let declared = costs::declaration(cost);
+            for vars in cost_placements(l, declared.inputs) {
+                let nonlinear = if declared.linear { 0 } else { vars.len() };
+                let kind = ScalarKind::Cost { term };
                 self.cost_blocks
-                    .push(Block::new(kind.clone(), vars, nonlinear, vec![]));
-            };
-            match cost {
-                CostTerm::StateTracking { .. } | CostTerm::ConfigurationDifference { .. } => {
-                    for j in 0..l.intervals() {
-                        let mut vars = range_vec(l.q(j));
-                        vars.extend(l.q(j + 1));
-                        if matches!(cost, CostTerm::StateTracking { .. }) {
-                            vars.push(l.h(j));
-                        }
-                        let len = vars.len();
-                        push(vars, len);
-                    }
-                }
-                CostTerm::Input { .. } => {
-                    for j in 0..l.intervals() {
-                        let mut vars = range_vec(l.u(j));
-                        vars.push(l.h(j));
-                        let len = vars.len();
-                        push(vars, len);
-                    }
-                }
-                CostTerm::InputRate { .. } => {
-                    for j in 1..l.intervals() {
-                        let mut vars = range_vec(l.u(j - 1));
-                        vars.extend(l.u(j));
-                        let len = vars.len();
-                        push(vars, len);
-                    }
-                }
-                CostTerm::FinalState { .. } => push(range_vec(l.q(last_knot)), n),
-                CostTerm::Time { .. } => {
-                    for j in 0..l.intervals() {
-                        push(vec![l.h(j)], 0);
-                    }
-                }
+                    .push(Block::new(kind, vars, nonlinear, vec![]));
             }
         }
+    }
+}
+
+/// The variables of every placement of a cost term that reads `inputs`, in placement order.
+fn cost_placements(l: &Layout, inputs: CostInputs) -> Vec<Vec<usize>> {
+    let interval = |j: usize, with_step: bool| {
+        let mut vars = range_vec(l.q(j));
+        vars.extend(l.q(j + 1));
+        if with_step {
+            vars.push(l.h(j));
+        }
+        vars
+    };
+    match inputs {
+        CostInputs::IntervalWithStep => (0..l.intervals()).map(|j| interval(j, true)).collect(),
+        CostInputs::IntervalConfigurations => {
+            (0..l.intervals()).map(|j| interval(j, false)).collect()
+        }
+        CostInputs::InputWithStep => (0..l.intervals())
+            .map(|j| {
+                let mut vars = range_vec(l.u(j));
+                vars.push(l.h(j));
+                vars
+            })
+            .collect(),
+        CostInputs::AdjacentInputs => (1..l.intervals())
+            .map(|j| {
+                let mut vars = range_vec(l.u(j - 1));
+                vars.extend(l.u(j));
+                vars
+            })
+            .collect(),
+        CostInputs::LastConfiguration => vec![range_vec(l.q(l.knots - 1))],
+        CostInputs::Step => (0..l.intervals()).map(|j| vec![l.h(j)]).collect(),
     }
 }

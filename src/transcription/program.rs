@@ -4,12 +4,13 @@
 
 use super::TranscriptionError;
 use super::blocks::{Block, Context, ScalarKind, VectorKind};
+use super::costs::{CostSizes, length_mismatch};
 use super::evaluate::ContactDerivatives;
 use super::layout::{Dims, Layout};
 use super::pattern::Pattern;
 use crate::contact::FrictionBasis;
 use crate::discrete::MechanicsDerivatives;
-use crate::problem::{CostTerm, HessianMode, ProblemSpec, TimeSteps};
+use crate::problem::{HessianMode, ProblemSpec, TimeSteps};
 
 /// SPEC.md's values at the initial guess (no solver involved).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -99,7 +100,13 @@ impl<M: MechanicsDerivatives> Transcription<M> {
             costs: spec.costs.clone(),
         };
         for (t, term) in spec.costs.iter().enumerate() {
-            check_cost_lengths(t, term, n, m)?;
+            if let Some((field, expected, found)) = length_mismatch(term, CostSizes { n, m }) {
+                return Err(TranscriptionError::Length {
+                    field: format!("costs[{t}].{field}"),
+                    expected,
+                    found,
+                });
+            }
         }
         let equal_steps = matches!(spec.time_steps, TimeSteps::FreeEqual { .. });
         let layout = Layout::new(
@@ -219,37 +226,5 @@ impl<M: MechanicsDerivatives> Transcription<M> {
     /// Problem constants of the blocks.
     pub fn context(&self) -> &Context {
         &self.ctx
-    }
-}
-
-pub(super) fn check_cost_lengths(
-    t: usize,
-    term: &CostTerm,
-    n: usize,
-    m: usize,
-) -> Result<(), TranscriptionError> {
-    let f = |name: &str| format!("costs[{t}].{name}");
-    match term {
-        CostTerm::StateTracking {
-            q_target,
-            v_target,
-            q_weights,
-            v_weights,
-            ..
-        } => {
-            check_len(&f("q_target"), n, q_target.len())?;
-            check_len(&f("v_target"), n, v_target.len())?;
-            check_len(&f("q_weights"), n, q_weights.len())?;
-            check_len(&f("v_weights"), n, v_weights.len())
-        }
-        CostTerm::Input { weights, .. } | CostTerm::InputRate { weights } => {
-            check_len(&f("weights"), m, weights.len())
-        }
-        CostTerm::ConfigurationDifference { weights } => check_len(&f("weights"), n, weights.len()),
-        CostTerm::FinalState { q_target, weights } => {
-            check_len(&f("q_target"), n, q_target.len())?;
-            check_len(&f("weights"), n, weights.len())
-        }
-        CostTerm::Time { .. } => Ok(()),
     }
 }

@@ -8,7 +8,6 @@
 
 mod contact;
 mod contact_geometry;
-mod cost;
 
 pub(crate) use contact::{
     complementarity_hessian, complementarity_jacobian, contact_work_gradient, contact_work_hessian,
@@ -16,10 +15,9 @@ pub(crate) use contact::{
     tangential_rate_jacobian,
 };
 
-pub use cost::term_name;
-
 use num_dual::Dual;
 
+use super::costs::{CostSizes, cost_value};
 use crate::autodiff::{ScalarFunction, VectorFunction};
 use crate::contact::{FrictionBasis, Terrain, tangential_coordinates};
 use crate::discrete::{
@@ -225,7 +223,10 @@ impl<M: Mechanics> ScalarFunction for ScalarBlockFn<'_, M> {
             ScalarKind::Segment => SegmentLagrangian { mech }.eval(z),
             ScalarKind::ContactWork { contact } => contact::contact_work(mech, ctx, *contact, z),
             ScalarKind::LoopWork => loop_work(mech, z),
-            ScalarKind::Cost { term } => cost::cost(&ctx.costs[*term], ctx, z),
+            ScalarKind::Cost { term } => {
+                let sizes = CostSizes { n: ctx.n, m: ctx.m };
+                cost_value(&ctx.costs[*term], sizes, z)
+            }
         }
     }
 }
