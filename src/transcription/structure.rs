@@ -18,10 +18,21 @@ use crate::discrete::MechanicsDerivatives;
 /// Slot marker of a local entry that is structurally zero (not in the pattern).
 pub(super) const NO_SLOT: usize = usize::MAX;
 
+/// One block's structural nonzeros: its local Jacobian entries (output o × input a at
+/// `o * inputs + a`) and lower Hessian pairs (a, c ≤ a at `a * inputs + c`).
+type BlockMask = (Vec<bool>, Vec<bool>);
+
+/// The structure of every block, in the order of the block lists.
+struct Structure {
+    cost: Vec<BlockMask>,
+    gradient: Vec<BlockMask>,
+    vector: Vec<BlockMask>,
+}
+
 impl<M: MechanicsDerivatives> Transcription<M> {
     /// Points to probe structural zeros at: the initial point moved by seeded noise
     /// (steps scaled so they stay positive).
-    pub(super) fn probe_points(&self) -> Vec<Vec<f64>> {
+    fn probe_points(&self) -> Vec<Vec<f64>> {
         let mut state = 0x9e37_79b9_7f4a_7c15_u64;
         let mut uniform = move || {
             state = state
@@ -49,12 +60,12 @@ impl<M: MechanicsDerivatives> Transcription<M> {
     /// any probe point (with random multipliers): entries zero at every probe are
     /// structural zeros (e.g. a leg's joint in another leg's DEL row) and stay out of the
     /// patterns.
-    pub(super) fn probe<K>(
+    fn probe<K>(
         &self,
         b: &Block<K>,
         points: &[Vec<f64>],
         local: impl Fn(&[f64], &[f64]) -> (Option<DMatrix<f64>>, Option<DMatrix<f64>>),
-    ) -> (Vec<bool>, Vec<bool>) {
+    ) -> BlockMask {
         let nv = b.vars.len();
         let mut jac = vec![false; b.targets.len() * nv];
         let mut hess = vec![false; nv * nv];
@@ -88,7 +99,15 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         (jac, hess)
     }
 
+    /// Sparsity patterns of the whole NLP: the structure of every block, placed.
     pub(super) fn build_patterns(&mut self) {
+        let structure = self.probe_structure();
+        self.assign_slots(&structure);
+    }
+
+    /// Which local entries of every block can be nonzero, by probing values (see
+    /// [`Transcription::probe`]). The one place that decides structure.
+    fn probe_structure(&self) -> Structure {
         let points = self.probe_points();
         let cost_masks: Vec<_> = self
             .cost_blocks
@@ -120,6 +139,16 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                 })
             })
             .collect();
+        Structure {
+            cost: cost_masks,
+            gradient: gradient_masks,
+            vector: vector_masks,
+        }
+    }
+
+    /// Global Jacobian and Hessian slots of every block's structural nonzeros, and the
+    /// inputs its generic-AD Hessian runs over.
+    fn assign_slots(&mut self, structure: &Structure) {
         let mut jac = PatternBuilder::default();
         let mut hess = PatternBuilder::default();
         let fixed: Vec<bool> = self
@@ -130,7 +159,7 @@ impl<M: MechanicsDerivatives> Transcription<M> {
             .collect();
         fn place<K>(
             b: &mut Block<K>,
-            (jmask, hmask): &(Vec<bool>, Vec<bool>),
+            (jmask, hmask): &BlockMask,
             fixed: &[bool],
             jac: &mut PatternBuilder,
             hess: &mut PatternBuilder,
@@ -177,13 +206,13 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                 .filter(|&a| !fixed[b.vars[a]])
                 .collect();
         }
-        for (b, m) in self.cost_blocks.iter_mut().zip(&cost_masks) {
+        for (b, m) in self.cost_blocks.iter_mut().zip(&structure.cost) {
             place(b, m, &fixed, &mut jac, &mut hess);
         }
-        for (b, m) in self.gradient_blocks.iter_mut().zip(&gradient_masks) {
+        for (b, m) in self.gradient_blocks.iter_mut().zip(&structure.gradient) {
             place(b, m, &fixed, &mut jac, &mut hess);
         }
-        for (b, m) in self.vector_blocks.iter_mut().zip(&vector_masks) {
+        for (b, m) in self.vector_blocks.iter_mut().zip(&structure.vector) {
             place(b, m, &fixed, &mut jac, &mut hess);
         }
         self.jacobian = jac.finish();
