@@ -4,7 +4,8 @@
 //! that add into constraint rows; derivatives by `jacobian` and `weighted_hessian`), a
 //! *gradient* block (a scalar whose gradient components add into rows, like the DEL
 //! equations, which are sums of gradients of Ld; derivatives by the third-order driver),
-//! or a *cost* block (a scalar added to the objective).
+//! or a *cost* block (a scalar added to the objective; each term's value is in
+//! `transcription/costs/`). The dynamics blocks evaluate the DEL pieces of `discrete::del`.
 
 mod contact;
 mod contact_geometry;
