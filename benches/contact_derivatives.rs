@@ -9,9 +9,14 @@ mod common;
 use std::time::Instant;
 
 use common::reference::{brick_3d, hopper_2d};
-use vito::transcription::{Mechanics, ModelMechanics, Transcription};
+use vito::discrete::{MechanicsDerivatives, ModelMechanics};
+use vito::transcription::Transcription;
 
-fn jh<M: Mechanics>(t: &Transcription<M>, x: &[f64], lambda: &[f64]) -> (Vec<f64>, Vec<f64>) {
+fn jh<M: MechanicsDerivatives>(
+    t: &Transcription<M>,
+    x: &[f64],
+    lambda: &[f64],
+) -> (Vec<f64>, Vec<f64>) {
     let mut jac = vec![0.0; t.jacobian_pattern().nnz()];
     let mut hess = vec![0.0; t.hessian_pattern().nnz()];
     t.jacobian_values(x, &mut jac);

@@ -19,11 +19,11 @@ use num_dual::{Dual, Dual64, DualSVec, DualSVec64};
 use vito::autodiff::{
     ThirdOrder, gradient_hessian, gradient_hessian_third, jacobian, weighted_hessian,
 };
-use vito::discrete::{MidpointSegment, ld};
-use vito::model::{
-    BaseType, MidpointGradient, Model, midpoint_gradient_hessian, midpoint_ld_gradient,
-    midpoint_third_order_into, sample,
+use vito::discrete::{
+    MidpointGradient, MidpointSegment, ld, midpoint_gradient_hessian, midpoint_ld_gradient,
+    midpoint_third_order_into,
 };
+use vito::model::{BaseType, Model, sample};
 use vito::scalar::Scalar;
 use vito::testing::SeededRng;
 

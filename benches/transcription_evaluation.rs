@@ -10,9 +10,10 @@ use std::time::Instant;
 
 use common::analytic::{Brick, Hopper};
 use common::reference::{brick_3d, hopper_2d};
-use vito::transcription::{Mechanics, Transcription};
+use vito::discrete::MechanicsDerivatives;
+use vito::transcription::Transcription;
 
-fn median_eval<M: Mechanics>(t: &Transcription<M>, repeats: usize) -> (f64, f64, f64) {
+fn median_eval<M: MechanicsDerivatives>(t: &Transcription<M>, repeats: usize) -> (f64, f64, f64) {
     let x = t.initial_point().to_vec();
     let mut g = vec![0.0; t.layout().num_constraints()];
     let mut jac = vec![0.0; t.jacobian_pattern().nnz()];
@@ -37,7 +38,7 @@ fn median_eval<M: Mechanics>(t: &Transcription<M>, repeats: usize) -> (f64, f64,
     (med(tg), med(tj), med(th))
 }
 
-fn report<M: Mechanics>(name: &str, mut t: Transcription<M>) {
+fn report<M: MechanicsDerivatives>(name: &str, mut t: Transcription<M>) {
     for parallel in [false, true] {
         t.set_parallel(parallel);
         let (g, j, h) = median_eval(&t, 21);

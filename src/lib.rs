@@ -10,9 +10,14 @@
 //! - `ipopt`: the only place with `unsafe`: FFI bindings and the safe solver wrapper.
 //! - `model`: URDF → kinematic tree, energies, springs, dampers, loop closures (generic scalar).
 //! - `autodiff`: dense local Jacobians and Hessians of small functions by forward-mode duals.
-//! - `discrete`: discrete Lagrangians (midpoint, first-order Euler), forces, forward stepping.
-//! - `contact`: terrain, signed distance, friction directions.
-//! - `transcription`: variable layout, constraint blocks, costs, sparse assembly, the NLP.
+//! - `discrete`: the robot's mechanics traits (`Mechanics`, `MechanicsDerivatives`, for a URDF
+//!   robot `ModelMechanics`), discrete Lagrangians (midpoint, first-order Euler) and forces, the
+//!   DEL equations (`discrete/del.rs`), forward stepping. A new integrator goes here.
+//! - `contact`: terrain (`contact/terrain.rs`), signed distance, the friction basis and its one
+//!   rule (`FrictionBasis::detect`).
+//! - `transcription`: variable layout, constraint blocks (contact complementarity rows in
+//!   `transcription/blocks/contact.rs`), cost terms (one file each in `transcription/costs/`),
+//!   placement, sparsity, start, evaluation, the NLP adapter for Ipopt.
 //! - `problem`: TOML schema, validation into a checked `ProblemSpec`.
 //! - `report`: trajectory CSV, summary JSON, SVG plots, regression records.
 //! - `testing`: the seeded generator of test and benchmark inputs.

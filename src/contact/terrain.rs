@@ -1,4 +1,6 @@
-//! The terrain: a flat ground plus smoothed steps, as a height map z = H(x).
+//! The terrain: a flat ground plus smoothed steps, as a height map z = H(x). Each kind of
+//! feature is a type with its own height (a new kind: its type here, a field of [`Terrain`],
+//! its `[terrain]` schema entry).
 
 use crate::scalar::Scalar;
 
@@ -15,6 +17,14 @@ pub struct Step {
     pub rise: f64,
     /// Smoothing length w > 0: 10–90 % of the rise lies within ±1.1·w of the edge.
     pub width: f64,
+}
+
+impl Step {
+    /// The height this step adds at world x: rise · ½ (1 + tanh((x − edge_x)/width)).
+    pub fn height<D: Scalar>(&self, x: D) -> D {
+        let s = (x - D::from(self.edge_x)) / D::from(self.width);
+        (s.tanh() + D::from(1.0)) * D::from(0.5 * self.rise)
+    }
 }
 
 /// The terrain: flat ground at `ground_height` plus smoothed steps (heights add up).
@@ -36,8 +46,7 @@ impl Terrain {
     pub fn height<D: Scalar>(&self, x: D) -> D {
         let mut height = D::from(self.ground_height);
         for step in &self.steps {
-            let s = (x - D::from(step.edge_x)) / D::from(step.width);
-            height += (s.tanh() + D::from(1.0)) * D::from(0.5 * step.rise);
+            height += step.height(x);
         }
         height
     }

@@ -2,6 +2,7 @@
 //! the paper): M(q_k)(v_{k+1} − v_k) = h_k(B(q_k)u_k − C(q_k, v_{k+1})v_{k+1} − ∂V/∂q(q_k)
 //! − diag(d)v_{k+1}) + J(q_{k+1})ᵀλ_k, with q_{k+1} = q_k + h_k v_{k+1}.
 
+use super::difference_velocity;
 use crate::autodiff::VectorFunction;
 use crate::model::{self, Model};
 use crate::scalar::Scalar;
@@ -19,12 +20,8 @@ pub fn euler_residual<D: Scalar>(
     h: D,
     u: &[D],
 ) -> Vec<D> {
-    let v_next: Vec<D> = q_k.iter().zip(q_next).map(|(&a, &b)| (b - a) / h).collect();
-    let accel: Vec<D> = v_k
-        .iter()
-        .zip(&v_next)
-        .map(|(&a, &b)| (b - a) / h)
-        .collect();
+    let v_next = difference_velocity(q_k, q_next, h);
+    let accel = difference_velocity(v_k, &v_next, h);
     let id = model::inverse_dynamics(model, q_k, &v_next, &accel);
     let input = model::generalized_input_force(model, q_k, u);
     id.iter()
@@ -61,7 +58,7 @@ impl VectorFunction for EulerKnotResidual<'_> {
         let v_k: Vec<D> = if self.first_step {
             x.to_vec()
         } else {
-            x.iter().zip(q_k).map(|(&a, &b)| (b - a) / h_prev).collect()
+            difference_velocity(x, q_k, h_prev)
         };
         out.copy_from_slice(&euler_residual(self.model, &v_k, q_k, q_next, h, u));
     }

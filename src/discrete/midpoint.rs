@@ -7,11 +7,17 @@ use crate::model::{self, Model};
 use crate::scalar::Scalar;
 use num_dual::Dual;
 
-/// Midpoint configuration (qa+qb)/2 and finite-difference velocity (qb−qa)/h.
-fn midpoint_state<D: Scalar>(qa: &[D], qb: &[D], h: D) -> (Vec<D>, Vec<D>) {
+/// The midpoint rule's state on an interval: configuration (qa+qb)/2 and velocity (qb−qa)/h
+/// (`qa`, `qb` length n, `h` in s). Every midpoint formula (Ld, Fd, their adjoint, the costs)
+/// takes its state from here.
+pub fn midpoint_state<D: Scalar>(qa: &[D], qb: &[D], h: D) -> (Vec<D>, Vec<D>) {
     let q_mid = qa.iter().zip(qb).map(|(&a, &b)| (a + b) * 0.5).collect();
-    let v_mid = qa.iter().zip(qb).map(|(&a, &b)| (b - a) / h).collect();
-    (q_mid, v_mid)
+    (q_mid, difference_velocity(qa, qb, h))
+}
+
+/// The finite-difference velocity (qb−qa)/h between two knots h apart.
+pub fn difference_velocity<D: Scalar>(qa: &[D], qb: &[D], h: D) -> Vec<D> {
+    qa.iter().zip(qb).map(|(&a, &b)| (b - a) / h).collect()
 }
 
 /// Midpoint discrete Lagrangian Ld(qa, qb, h) = h·(T − V)((qa+qb)/2, (qb−qa)/h), in J·s.

@@ -24,11 +24,7 @@ pub use dynamics::{
     generalized_damping_force, generalized_input_force, generalized_point_force, inverse_dynamics,
 };
 pub use energy::{generalized_momentum, kinetic_energy, mass_matrix, potential_energy};
-pub use energy_adjoint::{
-    MidpointGradient, kinetic_energy_gradient, lagrangian_gradient, midpoint_gradient_hessian,
-    midpoint_ld_gradient, midpoint_third_order, midpoint_third_order_columns,
-    midpoint_third_order_into, potential_energy_gradient,
-};
+pub use energy_adjoint::{kinetic_energy_gradient, lagrangian_gradient, potential_energy_gradient};
 pub use error::ModelError;
 pub use inspect::{CoordinateInfo, Inspection, LoopInfo, SpringInfo, inspect};
 pub use kinematics::{link_pose, point_position};

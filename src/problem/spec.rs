@@ -110,6 +110,7 @@ pub struct CoordinateBound {
 /// One cost term. Running terms are summed over intervals k = 1..N−1 and weighted by h_k
 /// when `time_weighted` is set. Every quadratic term carries the factor ½:
 /// ½ (a − b)ᵀ diag(w) (a − b). Weight vectors have full length (n, or m for inputs).
+/// Each term's variables and value: `src/transcription/costs/<term>.rs`.
 #[derive(Debug, Clone, PartialEq)]
 pub enum CostTerm {
     /// Σ_k [h_k] ½ (x̄_k − x_g)ᵀ diag(w_q, w_v) (x̄_k − x_g), with the midpoint state

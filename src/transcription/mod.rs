@@ -1,28 +1,41 @@
 //! The variational contact NLP: variable layout, constraint blocks, costs, sparse assembly.
 //!
 //! [`Transcription`] builds SPEC.md's nonlinear program for a [`ProblemSpec`] and a robot
-//! given as [`Mechanics`]; its value methods assemble exact sparse derivatives from
-//! per-block forward-mode AD.
+//! given as [`Mechanics`] (with [`MechanicsDerivatives`]); its value methods assemble exact
+//! sparse derivatives from per-block derivatives.
+//!
+//! Where things are: `layout` (variable and row indices), `blocks` (what each block computes:
+//! dynamics pieces from `discrete::del`, contact rows), `costs` (one file per cost term: add
+//! a term there), `placement` (which
+//! blocks exist and what they read and write), `structure` (sparsity patterns), `start`
+//! (bounds, initial guess, warm start), `evaluate` (values and derivatives), `program` (the
+//! [`Transcription`] itself), `nlp` (the Ipopt callbacks' adapter), `solve` (solving a problem
+//! file's NLP, slack continuation), `robot` (a problem's URDF mechanics).
 
-mod assemble;
 mod blocks;
+mod costs;
 mod error;
+mod evaluate;
 mod layout;
-mod mechanics;
-mod model_mechanics;
 mod nlp;
 mod pattern;
+mod placement;
+mod program;
+mod robot;
 mod solution;
 mod solve;
+mod start;
+mod structure;
 
-pub use assemble::{InitialGuessReport, Transcription};
+pub use crate::discrete::{
+    Mechanics, MechanicsDerivatives, ModelMechanics, contact_jet_by_autodiff,
+};
 pub use blocks::{Context, ScalarKind, VectorKind};
 pub use error::TranscriptionError;
 pub use layout::{Dims, Layout};
-pub use mechanics::{Mechanics, contact_jet_by_autodiff};
-pub use model_mechanics::ModelMechanics;
 pub use nlp::{Progress, ProgressFn, TranscriptionNlp};
 pub use pattern::{Pattern, PatternBuilder};
+pub use program::{InitialGuessReport, Transcription};
 pub use solution::{NlpSize, Solution};
 pub use solve::{
     BenchRow, SolveOptions, bench, bench_with, evaluate_initial_guess, solve, solve_with,

@@ -1,7 +1,7 @@
 //! The transcription as Ipopt's sparse NLP, with progress reporting at each iteration.
 
-use super::Mechanics;
-use super::assemble::Transcription;
+use super::Transcription;
+use crate::discrete::MechanicsDerivatives;
 use crate::ipopt::{IterationInfo, Nlp};
 use crate::problem::HessianMode;
 
@@ -31,7 +31,7 @@ pub struct TranscriptionNlp<'a, M> {
     progress: Option<&'a ProgressFn>,
 }
 
-impl<'a, M: Mechanics> TranscriptionNlp<'a, M> {
+impl<'a, M: MechanicsDerivatives> TranscriptionNlp<'a, M> {
     /// Wrap `transcription`; `progress` is called once per iteration.
     pub fn new(transcription: &'a Transcription<M>, progress: Option<&'a ProgressFn>) -> Self {
         TranscriptionNlp {
@@ -49,7 +49,7 @@ impl<'a, M: Mechanics> TranscriptionNlp<'a, M> {
     }
 }
 
-impl<M: Mechanics> Nlp for TranscriptionNlp<'_, M> {
+impl<M: MechanicsDerivatives> Nlp for TranscriptionNlp<'_, M> {
     fn num_variables(&self) -> usize {
         self.transcription.layout().num_variables()
     }

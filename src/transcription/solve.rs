@@ -8,7 +8,7 @@ use std::time::Instant;
 use super::blocks::VectorKind;
 use super::nlp::{ProgressFn, TranscriptionNlp};
 use super::{
-    InitialGuessReport, Mechanics, ModelMechanics, NlpSize, Solution, Transcription,
+    InitialGuessReport, MechanicsDerivatives, ModelMechanics, NlpSize, Solution, Transcription,
     TranscriptionError,
 };
 use crate::autodiff::VectorFunction;
@@ -96,7 +96,7 @@ fn configure(spec: &ProblemSpec, options: &SolveOptions) -> Result<Solver, Trans
 }
 
 /// Solve `spec` for the given mechanics (e.g. closed-form test robots).
-pub fn solve_with<M: Mechanics>(
+pub fn solve_with<M: MechanicsDerivatives>(
     mech: M,
     spec: &ProblemSpec,
     options: &SolveOptions,
@@ -106,7 +106,7 @@ pub fn solve_with<M: Mechanics>(
 }
 
 /// Solve, then continue with a growing slack weight while `[slack] target` asks for it.
-fn solve_transcription<M: Mechanics>(
+fn solve_transcription<M: MechanicsDerivatives>(
     transcription: &mut Transcription<M>,
     spec: &ProblemSpec,
     options: &SolveOptions,
@@ -174,7 +174,7 @@ fn solve_transcription<M: Mechanics>(
 }
 
 /// Benchmark with the given mechanics.
-pub fn bench_with<M: Mechanics>(
+pub fn bench_with<M: MechanicsDerivatives>(
     mech: M,
     spec: &ProblemSpec,
 ) -> Result<BenchRow, TranscriptionError> {
@@ -248,7 +248,7 @@ fn converged(status: ipopt::Status) -> bool {
     )
 }
 
-fn size_of<M: Mechanics>(t: &Transcription<M>) -> NlpSize {
+fn size_of<M: MechanicsDerivatives>(t: &Transcription<M>) -> NlpSize {
     NlpSize {
         n_variables: t.layout().num_variables(),
         n_constraints: t.layout().num_constraints(),
@@ -261,7 +261,7 @@ fn size_of<M: Mechanics>(t: &Transcription<M>) -> NlpSize {
 }
 
 /// Signed distance φ_i(q) of every contact at q.
-fn distances<M: Mechanics>(t: &Transcription<M>, q: &[f64]) -> Vec<f64> {
+fn distances<M: MechanicsDerivatives>(t: &Transcription<M>, q: &[f64]) -> Vec<f64> {
     (0..t.layout().nc)
         .map(|i| {
             let kind = VectorKind::Distance { contact: i };
@@ -279,7 +279,7 @@ fn distances<M: Mechanics>(t: &Transcription<M>, q: &[f64]) -> Vec<f64> {
         .collect()
 }
 
-fn fill_solution<M: Mechanics>(
+fn fill_solution<M: MechanicsDerivatives>(
     t: &Transcription<M>,
     spec: &ProblemSpec,
     report: &ipopt::SolveReport,

@@ -5,7 +5,8 @@ use nalgebra::{DMatrix, DVector};
 use vito::autodiff::{ScalarFunction, VectorFunction, gradient, gradient_hessian, jacobian};
 use vito::discrete::{
     DiscreteForce, EulerKnotResidual, InitialMomentum, Integrator, KnotWindow, LoopClosure,
-    MidpointKnotResidual, MidpointSegment, d1_ld, d2_ld, del_residual, first_step, ld, step,
+    MidpointKnotResidual, MidpointSegment, ModelMechanics, d1_ld, d2_ld, del_residual, first_step,
+    knot_residual, knot_residual_jacobian_next, ld, step,
 };
 use vito::model::{self, BaseType, Model, sample};
 use vito::testing::SeededRng;
@@ -341,6 +342,27 @@ fn jacobians_of_knot_residuals_match_central_differences() {
             assert!(
                 (&assembled - &jac).amax() < 1e-10 * jac.amax().max(1.0),
                 "assembled DEL Jacobian"
+            );
+
+            // The DEL of the mechanics trait (the NLP's pieces: the adjoint segment gradient,
+            // ½Fd) is the model's DEL, and its Jacobian in q_{k+1} is that block of the
+            // one-piece Jacobian; an impulse adds as it is.
+            let mech = ModelMechanics::with_contacts(model.clone(), Vec::new());
+            let impulse = rng.symmetric_vec(n, 0.3);
+            let residual = knot_residual(&mech, &window, &impulse);
+            for i in 0..n {
+                let expected = values[i] + impulse[i];
+                assert!(
+                    (residual[i] - expected).abs() < 1e-12 * (1.0 + expected.abs()),
+                    "knot residual {i}: {} vs {expected}",
+                    residual[i]
+                );
+            }
+            let next = knot_residual_jacobian_next(&mech, &window);
+            let reference = jac.columns(2 * n, n).into_owned();
+            assert!(
+                (&next - &reference).amax() < 1e-10 * reference.amax().max(1.0),
+                "DEL Jacobian in q_next: {next} vs {reference}"
             );
 
             for first_step in [false, true] {

@@ -1,4 +1,4 @@
-//! The hand-written reverse sweep (model/energy_adjoint.rs) against the forward-dual path:
+//! The hand-written reverse sweep (model/energy_adjoint.rs, discrete/midpoint_derivatives.rs) against the forward-dual path:
 //! gradients of T, V and L, the midpoint slot derivatives, and the Hessian and contracted
 //! third derivative of Ld taken through it, on the reference robots and the paper's robots.
 
@@ -9,11 +9,13 @@ use num_dual::Dual64;
 use vito::autodiff::{
     ScalarFunction, gradient, gradient_hessian, gradient_hessian_third, jacobian, weighted_hessian,
 };
-use vito::discrete::{MidpointSegment, d1_ld, d2_ld, ld};
+use vito::discrete::{
+    MidpointGradient, MidpointSegment, d1_ld, d2_ld, ld, midpoint_gradient_hessian,
+    midpoint_ld_gradient, midpoint_third_order, midpoint_third_order_into,
+};
 use vito::model::{
-    BaseType, MidpointGradient, Model, kinetic_energy, kinetic_energy_gradient,
-    lagrangian_gradient, midpoint_gradient_hessian, midpoint_ld_gradient, midpoint_third_order,
-    midpoint_third_order_into, potential_energy, potential_energy_gradient, sample,
+    BaseType, Model, kinetic_energy, kinetic_energy_gradient, lagrangian_gradient,
+    potential_energy, potential_energy_gradient, sample,
 };
 use vito::testing::SeededRng;
 
@@ -460,7 +462,7 @@ fn third_order_over_some_columns() {
     let columns: Vec<bool> = (0..z.len()).map(|i| i % 3 != 1).collect();
     let mut part = vito::autodiff::ThirdOrder::zeros(z.len());
     part.contracted.fill(5.0);
-    vito::model::midpoint_third_order_columns(&model, &z, &dir, Some(&columns), &mut part);
+    vito::discrete::midpoint_third_order_columns(&model, &z, &dir, Some(&columns), &mut part);
     for i in 0..z.len() {
         for j in 0..z.len() {
             for (name, a, b) in [

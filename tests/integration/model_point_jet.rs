@@ -4,9 +4,9 @@
 
 use std::path::Path;
 
+use vito::discrete::{MechanicsDerivatives, ModelMechanics, contact_jet_by_autodiff};
 use vito::model::{BaseType, Model, PointJet};
 use vito::problem::ContactSpec;
-use vito::transcription::{Mechanics, ModelMechanics, contact_jet_by_autodiff};
 
 /// Derivatives of p, one `[f64; 3]` per (multi-)index.
 type Tensor = Vec<[f64; 3]>;

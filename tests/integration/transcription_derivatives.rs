@@ -15,12 +15,13 @@ use crate::common;
 use common::analytic::{Brick, Hopper};
 use common::reference::{brick_3d, hopper_2d, spring_flamingo_walk};
 use vito::contact::Step;
+use vito::discrete::{Mechanics, MechanicsDerivatives, ModelMechanics};
 use vito::problem::{
     CostTerm, Integrator, Interval, Periodicity, ProblemSpec, SlackMode, TimeSteps,
 };
 use vito::scalar::Scalar;
 use vito::testing::SeededRng;
-use vito::transcription::{Mechanics, ModelMechanics, Transcription};
+use vito::transcription::Transcription;
 
 /// Any mechanics plus one made-up smooth loop closure, so loop blocks are exercised.
 struct WithLoop<M>(M);
@@ -67,6 +68,8 @@ impl<M: Mechanics> Mechanics for WithLoop<M> {
         out[0] = q[0].sin() * q[1] + q[3] * q[3] - D::from(0.25);
     }
 }
+
+impl<M: MechanicsDerivatives> MechanicsDerivatives for WithLoop<M> {}
 
 /// The hopper with every optional feature switched on and a short horizon.
 fn hopper_everything(integrator: Integrator, slack_mode: SlackMode) -> ProblemSpec {
@@ -125,7 +128,7 @@ fn hopper_everything(integrator: Integrator, slack_mode: SlackMode) -> ProblemSp
 
 /// A random point: configurations near the guess, positive steps, contact variables in
 /// [0, 1]; plus random multipliers and objective factor.
-fn random_point<M: Mechanics>(
+fn random_point<M: MechanicsDerivatives>(
     t: &Transcription<M>,
     rng: &mut SeededRng,
 ) -> (Vec<f64>, Vec<f64>, f64) {
@@ -147,7 +150,7 @@ fn random_point<M: Mechanics>(
     (x, lambda, rng.range(0.5, 2.0))
 }
 
-fn dense_jacobian<M: Mechanics>(t: &Transcription<M>, x: &[f64]) -> Vec<Vec<f64>> {
+fn dense_jacobian<M: MechanicsDerivatives>(t: &Transcription<M>, x: &[f64]) -> Vec<Vec<f64>> {
     let p = t.jacobian_pattern();
     let mut values = vec![0.0; p.nnz()];
     t.jacobian_values(x, &mut values);
@@ -158,7 +161,7 @@ fn dense_jacobian<M: Mechanics>(t: &Transcription<M>, x: &[f64]) -> Vec<Vec<f64>
     j
 }
 
-fn lagrangian_gradient<M: Mechanics>(
+fn lagrangian_gradient<M: MechanicsDerivatives>(
     t: &Transcription<M>,
     x: &[f64],
     lambda: &[f64],
@@ -182,7 +185,7 @@ fn agree(exact: f64, fd: f64, tol: f64) -> bool {
     (exact - fd).abs() <= tol * exact.abs().max(1.0)
 }
 
-fn check_derivatives<M: Mechanics>(name: &str, t: &Transcription<M>, seed: u64) {
+fn check_derivatives<M: MechanicsDerivatives>(name: &str, t: &Transcription<M>, seed: u64) {
     let mut rng = SeededRng::new(seed);
     let (x, lambda, sigma) = random_point(t, &mut rng);
     let nv = x.len();

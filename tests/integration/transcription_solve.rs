@@ -12,9 +12,10 @@ use std::f64::consts::FRAC_PI_2;
 
 use common::analytic::{Brick, Hopper};
 use common::reference::{brick_3d, hopper_2d};
+use vito::discrete::MechanicsDerivatives;
 use vito::ipopt::Status;
 use vito::problem::{HessianMode, Integrator, OptionValue, ProblemSpec, SlackMode};
-use vito::transcription::{Mechanics, Solution, SolveOptions, solve, solve_with};
+use vito::transcription::{Solution, SolveOptions, solve, solve_with};
 
 fn quiet() -> SolveOptions {
     SolveOptions {
@@ -23,7 +24,7 @@ fn quiet() -> SolveOptions {
     }
 }
 
-fn run<M: Mechanics>(label: &str, mech: M, spec: &ProblemSpec) -> Solution {
+fn run<M: MechanicsDerivatives>(label: &str, mech: M, spec: &ProblemSpec) -> Solution {
     let s = solve_with(mech, spec, &quiet()).unwrap();
     println!(
         "{label}: {:?}, objective {:.9}, {} iterations, wall {:.3} s (callbacks {:.3} s, ipopt {:.3} s), \

@@ -6,9 +6,10 @@ use crate::common;
 
 use common::analytic::{Brick, Hopper};
 use common::reference::{brick_3d, hopper_2d, littledog_step, spring_flamingo_walk};
+use vito::discrete::{MechanicsDerivatives, ModelMechanics};
 use vito::problem::{Integrator, ProblemSpec};
 use vito::testing::SeededRng;
-use vito::transcription::{InitialGuessReport, Mechanics, ModelMechanics, Transcription};
+use vito::transcription::{InitialGuessReport, Transcription};
 
 fn report(spec: &ProblemSpec) -> (Transcription<ModelMechanics>, InitialGuessReport) {
     let t = Transcription::new(ModelMechanics::load(spec).unwrap(), spec).unwrap();
@@ -79,7 +80,11 @@ fn littledog_matches_spec_sizes_and_initial_values() {
 }
 
 /// Constraint values of the URDF and closed-form transcriptions at the same random points.
-fn compare<A: Mechanics, B: Mechanics>(spec: &ProblemSpec, a: A, b: B) -> f64 {
+fn compare<A: MechanicsDerivatives, B: MechanicsDerivatives>(
+    spec: &ProblemSpec,
+    a: A,
+    b: B,
+) -> f64 {
     let ta = Transcription::new(a, spec).unwrap();
     let tb = Transcription::new(b, spec).unwrap();
     let mut rng = SeededRng::new(12345);

@@ -6,8 +6,8 @@ use nalgebra::DMatrix;
 use super::contact_geometry::ContactGeometry;
 use super::{Context, tangential_rates};
 use crate::contact::{signed_distance, tangential_coordinates};
+use crate::discrete::{Mechanics, MechanicsDerivatives, difference_velocity};
 use crate::scalar::Scalar;
-use crate::transcription::Mechanics;
 
 /// φ_i(q); z = [q].
 pub fn distance<D: Scalar, M: Mechanics>(mech: &M, ctx: &Context, contact: usize, z: &[D]) -> D {
@@ -47,7 +47,7 @@ pub fn tangential_rate<D: Scalar, M: Mechanics>(
     let n = ctx.n;
     let nt = ctx.nd() / 2;
     let (qa, qb, h) = (&z[..n], &z[n..2 * n], z[2 * n]);
-    let qdot: Vec<D> = qa.iter().zip(qb).map(|(&a, &b)| (b - a) / h).collect();
+    let qdot = difference_velocity(qa, qb, h);
     let mut rate = [D::from(0.0); 2];
     tangential_rates(mech, ctx, contact, qb, &qdot, &mut rate[..nt]);
     for d in 0..nt {
@@ -117,7 +117,7 @@ pub fn complementarity<D: Scalar>(
 /// Jacobian (nd × (2n + 1)) of [`tangential_rate`] at z = [qa; qb; h] by the chain rule:
 /// with v = (qb − qa)/h and D = ∂t/∂q at qb, row d is [−D_d/h, (∂²t_d/∂q²)v + D_d/h,
 /// −D_d·v/h] (rows d + nt negated).
-pub fn tangential_rate_jacobian<M: Mechanics>(
+pub fn tangential_rate_jacobian<M: MechanicsDerivatives>(
     mech: &M,
     ctx: &Context,
     contact: usize,
@@ -126,7 +126,7 @@ pub fn tangential_rate_jacobian<M: Mechanics>(
     let n = ctx.n;
     let nt = ctx.nd() / 2;
     let (qa, qb, h) = (&z[..n], &z[n..2 * n], z[2 * n]);
-    let v: Vec<f64> = qa.iter().zip(qb).map(|(&a, &b)| (b - a) / h).collect();
+    let v = difference_velocity(qa, qb, h);
     let geometry = ContactGeometry::new(mech, ctx, contact, qb, 2);
     let (jacobian, directional) = (geometry.jacobian(), geometry.directional(&v));
     let mut out = DMatrix::zeros(2 * nt, 2 * n + 1);
@@ -148,7 +148,7 @@ pub fn tangential_rate_jacobian<M: Mechanics>(
 /// Σ_r w_r ∇²(rate_r) of [`tangential_rate`] at z = [qa; qb; h] ((2n + 1)², symmetric) by the
 /// chain rule. With a = w_d − w_{d+nt}, s(q) = aᵀt(q), G = ∇s, H = ∇²s, T = ∇²(∇s·v) at qb:
 /// qb–qa −H/h, qb–qb T + 2H/h, h–qa G/h², h–qb −Hv/h − G/h², h–h 2G·v/h² (qa–qa zero).
-pub fn tangential_rate_hessian<M: Mechanics>(
+pub fn tangential_rate_hessian<M: MechanicsDerivatives>(
     mech: &M,
     ctx: &Context,
     contact: usize,
@@ -158,7 +158,7 @@ pub fn tangential_rate_hessian<M: Mechanics>(
     let n = ctx.n;
     let nt = ctx.nd() / 2;
     let (qa, qb, h) = (&z[..n], &z[n..2 * n], z[2 * n]);
-    let v: Vec<f64> = qa.iter().zip(qb).map(|(&a, &b)| (b - a) / h).collect();
+    let v = difference_velocity(qa, qb, h);
     let mut weights = [0.0; 3];
     for d in 0..nt {
         weights[1 + d] = w[d] - w[d + nt];
@@ -191,7 +191,7 @@ pub fn tangential_rate_hessian<M: Mechanics>(
 
 /// Gradient of [`contact_work`] over z = [q; c; β]: [Nᵀc + Pᵀβ share; φ; ±t_d], by the chain
 /// rule from the point's first derivatives.
-pub fn contact_work_gradient<M: Mechanics>(
+pub fn contact_work_gradient<M: MechanicsDerivatives>(
     mech: &M,
     ctx: &Context,
     contact: usize,
@@ -225,7 +225,7 @@ fn work_weights(ctx: &Context, z: &[f64]) -> [f64; 3] {
 /// Hessian of [`contact_work`] over z = [q; c; β] (the Jacobian of its DEL-row gradient) by the
 /// chain rule: with b = [c, β⁺ − β⁻] and K = [φ, t], the q–q block is ∇²(bᵀK), the q–c column
 /// ∇φ and the q–β⁺/β⁻ columns ±∇t_d (the function is linear in c and β).
-pub fn contact_work_hessian<M: Mechanics>(
+pub fn contact_work_hessian<M: MechanicsDerivatives>(
     mech: &M,
     ctx: &Context,
     contact: usize,
@@ -238,7 +238,7 @@ pub fn contact_work_hessian<M: Mechanics>(
 /// (the DEL-row multipliers on q; the c and β entries of `dir` must be zero, as their
 /// gradient components go to no row), both (n + 1 + nd)², symmetric. Returns `None` when
 /// `dir` has a nonzero c or β entry.
-pub fn contact_work_third<M: Mechanics>(
+pub fn contact_work_third<M: MechanicsDerivatives>(
     mech: &M,
     ctx: &Context,
     contact: usize,
@@ -252,7 +252,7 @@ pub fn contact_work_third<M: Mechanics>(
     contracted.map(|c| (hessian, c))
 }
 
-fn contact_work_derivatives<M: Mechanics>(
+fn contact_work_derivatives<M: MechanicsDerivatives>(
     mech: &M,
     ctx: &Context,
     contact: usize,
@@ -300,7 +300,7 @@ fn contact_work_derivatives<M: Mechanics>(
 
 /// Jacobian of φ_i(q) ([`distance`], 1 × n) or of −c_i φ_i(q) ([`contact_gap`], 1 × (n + 1),
 /// z = [q; c_i]) by the chain rule.
-pub fn distance_jacobian<M: Mechanics>(
+pub fn distance_jacobian<M: MechanicsDerivatives>(
     mech: &M,
     ctx: &Context,
     contact: usize,
@@ -323,7 +323,7 @@ pub fn distance_jacobian<M: Mechanics>(
 }
 
 /// w·∇²φ_i (n × n) or w·∇²(−c_i φ_i) ((n + 1)²) by the chain rule; see [`distance_jacobian`].
-pub fn distance_hessian<M: Mechanics>(
+pub fn distance_hessian<M: MechanicsDerivatives>(
     mech: &M,
     ctx: &Context,
     contact: usize,

@@ -1,5 +1,5 @@
 //! A contact's terrain coordinates K(q) = κ(p(q)) = [φ, t_1 (, t_2)] and their derivatives in
-//! q, composed from the point's jet ([`Mechanics::contact_jet`]: analytic for URDF models)
+//! q, composed from the point's jet ([`MechanicsDerivatives::contact_jet`]: analytic for URDF models)
 //! and forward AD of κ over the three components of p. Every contact block's chain-rule
 //! derivatives are built from these, so no dual number goes through the kinematic chain.
 
@@ -10,9 +10,9 @@ use crate::autodiff::{
     ScalarFunction, ThirdOrder, gradient_hessian_into, gradient_hessian_third_into,
 };
 use crate::contact::{signed_distance, tangential_coordinates};
+use crate::discrete::MechanicsDerivatives;
 use crate::model::PointJet;
 use crate::scalar::Scalar;
-use crate::transcription::Mechanics;
 
 /// κ_k(p): the k-th terrain coordinate (0: signed distance, 1 + d: tangential d) of a point.
 struct TerrainCoordinate<'a> {
@@ -53,7 +53,7 @@ pub(super) struct ContactGeometry<'a> {
 impl<'a> ContactGeometry<'a> {
     /// Derivatives of K at q up to `order` (1 to 3: the third is contracted on demand by
     /// [`ContactGeometry::third`], which needs order 3).
-    pub(super) fn new<M: Mechanics>(
+    pub(super) fn new<M: MechanicsDerivatives>(
         mech: &M,
         ctx: &'a Context,
         contact: usize,

@@ -4,11 +4,11 @@
 //! that add into constraint rows; derivatives by `jacobian` and `weighted_hessian`), a
 //! *gradient* block (a scalar whose gradient components add into rows, like the DEL
 //! equations, which are sums of gradients of Ld; derivatives by the third-order driver),
-//! or a *cost* block (a scalar added to the objective).
+//! or a *cost* block (a scalar added to the objective; each term's value is in
+//! `transcription/costs/`). The dynamics blocks evaluate the DEL pieces of `discrete::del`.
 
 mod contact;
 mod contact_geometry;
-mod cost;
 
 pub(crate) use contact::{
     complementarity_hessian, complementarity_jacobian, contact_work_gradient, contact_work_hessian,
@@ -16,14 +16,14 @@ pub(crate) use contact::{
     tangential_rate_jacobian,
 };
 
-pub use cost::term_name;
-mod del;
-
 use num_dual::Dual;
 
-use super::Mechanics;
+use super::costs::{CostSizes, cost_value};
 use crate::autodiff::{ScalarFunction, VectorFunction};
 use crate::contact::{FrictionBasis, Terrain, tangential_coordinates};
+use crate::discrete::{
+    Mechanics, SegmentLagrangian, euler_knot, half_force, initial_momentum, loop_work,
+};
 use crate::problem::{CostTerm, Integrator};
 use crate::scalar::Scalar;
 
@@ -177,9 +177,9 @@ impl<M: Mechanics> VectorFunction for VectorBlockFn<'_, M> {
     fn eval<D: Scalar>(&self, z: &[D], out: &mut [D]) {
         let (mech, ctx) = (self.mech, self.ctx);
         match self.kind {
-            VectorKind::HalfForce => del::half_force(mech, ctx, z, out),
-            VectorKind::InitialMomentum => del::initial_momentum(mech, ctx, z, out),
-            VectorKind::EulerKnot { first_step } => del::euler_knot(mech, ctx, *first_step, z, out),
+            VectorKind::HalfForce => half_force(mech, z, out),
+            VectorKind::InitialMomentum => initial_momentum(mech, z, out),
+            VectorKind::EulerKnot { first_step } => euler_knot(mech, *first_step, z, out),
             VectorKind::TangentialRate { contact } => {
                 contact::tangential_rate(mech, ctx, *contact, z, out)
             }
@@ -221,10 +221,13 @@ impl<M: Mechanics> ScalarFunction for ScalarBlockFn<'_, M> {
     fn eval<D: Scalar>(&self, z: &[D]) -> D {
         let (mech, ctx) = (self.mech, self.ctx);
         match self.kind {
-            ScalarKind::Segment => del::segment(mech, ctx, z),
+            ScalarKind::Segment => SegmentLagrangian { mech }.eval(z),
             ScalarKind::ContactWork { contact } => contact::contact_work(mech, ctx, *contact, z),
-            ScalarKind::LoopWork => del::loop_work(mech, ctx, z),
-            ScalarKind::Cost { term } => cost::cost(&ctx.costs[*term], ctx, z),
+            ScalarKind::LoopWork => loop_work(mech, z),
+            ScalarKind::Cost { term } => {
+                let sizes = CostSizes { n: ctx.n, m: ctx.m };
+                cost_value(&ctx.costs[*term], sizes, z)
+            }
         }
     }
 }

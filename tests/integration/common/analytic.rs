@@ -2,9 +2,8 @@
 //! (not through the URDF model), so the transcription is tested on its own.
 
 use num_dual::Dual;
-use vito::problem::Interval;
+use vito::discrete::{Mechanics, MechanicsDerivatives};
 use vito::scalar::Scalar;
-use vito::transcription::Mechanics;
 
 const G: f64 = 9.81;
 
@@ -73,12 +72,9 @@ impl Mechanics for Hopper {
     fn num_contacts(&self) -> usize {
         1
     }
-    fn coordinate_limits(&self) -> Vec<Interval> {
-        let mut l = vec![Interval::FREE; 4];
-        l[3] = Interval {
-            lower: 0.3,
-            upper: 0.7,
-        };
+    fn coordinate_limits(&self) -> Vec<(f64, f64)> {
+        let mut l = vec![(f64::NEG_INFINITY, f64::INFINITY); 4];
+        l[3] = (0.3, 0.7);
         l
     }
     fn has_discrete_force(&self) -> bool {
@@ -152,6 +148,9 @@ impl Brick {
     }
 }
 
+/// Every derivative by forward AD (the defaults).
+impl MechanicsDerivatives for Hopper {}
+
 impl Mechanics for Brick {
     fn nq(&self) -> usize {
         6
@@ -186,3 +185,6 @@ impl Mechanics for Brick {
         w
     }
 }
+
+/// Every derivative by forward AD (the defaults).
+impl MechanicsDerivatives for Brick {}

@@ -1,16 +1,17 @@
 //! [`Mechanics`] for a URDF [`Model`]: the midpoint discrete Lagrangian from the model's
-//! energies, inputs and damping in Fd, the Euler residual from its inverse dynamics,
-//! contacts resolved by link name.
+//! energies, inputs and damping in Fd, the Euler residual from its inverse dynamics, and
+//! [`MechanicsDerivatives`] by the model's adjoint (Ld) and chain formulas (contact jets).
 
-use super::{Mechanics, TranscriptionError};
 use nalgebra::DMatrix;
 
+use super::{
+    Mechanics, MechanicsDerivatives, midpoint_gradient_hessian, midpoint_ld_gradient,
+    midpoint_third_order_columns,
+};
 use crate::autodiff::ThirdOrder;
 use crate::model::{
-    LinkId, Model, PointJet, generalized_momentum, loop_residual, midpoint_gradient_hessian,
-    midpoint_ld_gradient, midpoint_third_order_columns, point_jet, point_position,
+    LinkId, Model, PointJet, generalized_momentum, loop_residual, point_jet, point_position,
 };
-use crate::problem::{ContactSpec, Interval, ProblemSpec};
 use crate::scalar::Scalar;
 
 /// A URDF model with the problem's contact points resolved to links.
@@ -21,35 +22,10 @@ pub struct ModelMechanics {
 }
 
 impl ModelMechanics {
-    /// Resolve each contact's link by name; the error names the contact and the link.
-    pub fn new(model: Model, contacts: &[ContactSpec]) -> Result<Self, TranscriptionError> {
-        let mut resolved = Vec::with_capacity(contacts.len());
-        for (k, c) in contacts.iter().enumerate() {
-            let link = model
-                .link_index(&c.link)
-                .ok_or_else(|| TranscriptionError::Invalid {
-                    field: format!("contacts[{k}].link"),
-                    message: format!(
-                        "contact `{}` names link `{}`, which the URDF does not have (links: {})",
-                        c.name,
-                        c.link,
-                        model.link_names().join(", ")
-                    ),
-                })?;
-            resolved.push((link, c.point));
-        }
-        Ok(ModelMechanics {
-            model,
-            contacts: resolved,
-        })
-    }
-
-    /// Load the robot of `spec` from its URDF (base and gravity from the spec) with the
-    /// spec's contacts.
-    pub fn load(spec: &ProblemSpec) -> Result<Self, TranscriptionError> {
-        let mut model = Model::from_urdf_file(&spec.robot.urdf, spec.robot.base)?;
-        model.set_gravity(spec.robot.gravity);
-        ModelMechanics::new(model, &spec.contacts)
+    /// The model with its contact points, each a link and a point in that link's frame
+    /// (length units), in the problem's contact order.
+    pub fn with_contacts(model: Model, contacts: Vec<(LinkId, [f64; 3])>) -> Self {
+        ModelMechanics { model, contacts }
     }
 
     /// The model.
@@ -71,12 +47,8 @@ impl Mechanics for ModelMechanics {
     fn num_contacts(&self) -> usize {
         self.contacts.len()
     }
-    fn coordinate_limits(&self) -> Vec<Interval> {
-        self.model
-            .coordinate_limits()
-            .iter()
-            .map(|&(lower, upper)| Interval { lower, upper })
-            .collect()
+    fn coordinate_limits(&self) -> Vec<(f64, f64)> {
+        self.model.coordinate_limits().to_vec()
     }
     fn coordinate_names(&self) -> Vec<String> {
         self.model.coordinate_names().to_vec()
@@ -118,11 +90,17 @@ impl Mechanics for ModelMechanics {
         let (link, point) = &self.contacts[contact];
         point_position(&self.model, *link, point, q)
     }
+    fn loop_residual<D: Scalar>(&self, q: &[D], out: &mut [D]) {
+        out.copy_from_slice(&loop_residual(&self.model, q));
+    }
+}
+
+impl MechanicsDerivatives for ModelMechanics {
     fn contact_jet(&self, contact: usize, q: &[f64], order: usize) -> PointJet {
         let (link, point) = &self.contacts[contact];
         point_jet(&self.model, *link, point, q, order)
     }
-    fn segment_gradient(&self, z: &[f64]) -> Option<Vec<f64>> {
+    fn segment_gradient(&self, z: &[f64]) -> Vec<f64> {
         let n = self.model.nq();
         let (mut d1, mut d2) = (vec![0.0; n], vec![0.0; n]);
         let (_, dh) = midpoint_ld_gradient(
@@ -135,24 +113,16 @@ impl Mechanics for ModelMechanics {
         );
         d1.extend(d2);
         d1.push(dh);
-        Some(d1)
+        d1
     }
-    fn segment_gradient_hessian(&self, z: &[f64]) -> Option<(Vec<f64>, DMatrix<f64>)> {
+    fn segment_gradient_hessian(&self, z: &[f64]) -> (Vec<f64>, DMatrix<f64>) {
         let (_, gradient, hessian) = midpoint_gradient_hessian(&self.model, z);
-        Some((gradient, hessian))
+        (gradient, hessian)
     }
-    fn segment_third_order(
-        &self,
-        z: &[f64],
-        dir: &[f64],
-        columns: Option<&[bool]>,
-    ) -> Option<ThirdOrder> {
+    fn segment_third_order(&self, z: &[f64], dir: &[f64], columns: Option<&[bool]>) -> ThirdOrder {
         let mut out = ThirdOrder::zeros(z.len());
         midpoint_third_order_columns(&self.model, z, dir, columns, &mut out);
-        Some(out)
-    }
-    fn loop_residual<D: Scalar>(&self, q: &[D], out: &mut [D]) {
-        out.copy_from_slice(&loop_residual(&self.model, q));
+        out
     }
 }
 
@@ -205,7 +175,7 @@ mod tests {
             (sample::brick(), BaseType::Floating),
         ] {
             let model = Model::from_urdf_str(xml, base).expect("sample loads");
-            let mech = ModelMechanics::new(model, &[]).expect("no contacts");
+            let mech = ModelMechanics::with_contacts(model, Vec::new());
             let (n, m) = (mech.nq(), mech.nu());
             let wave = |k: usize, s: f64| (0.7 * k as f64 + s).sin();
             let q_k: Vec<f64> = (0..n).map(|k| wave(k, 0.3)).collect();

@@ -1,0 +1,139 @@
+//! The discrete Euler–Lagrange (DEL) equations of any [`Mechanics`]: the pieces the NLP places
+//! on its dynamics rows, and the knot residual with its Jacobian in q_{k+1} that a forward
+//! step solves, built from the same pieces.
+//!
+//! Midpoint DEL row of knot k (impulse units): D2Ld(q_{k−1}, q_k, h_{k−1}) + D1Ld(q_k, q_{k+1},
+//! h_k) + ½Fd_{k−1} + ½Fd_k + J(q_{k+1})ᵀλ_k + G(q_{k+1})ᵀν_k, where D1Ld and D2Ld are the
+//! halves of [`MechanicsDerivatives::segment_gradient`], ½Fd is [`half_force`], the contact
+//! impulse J(q)ᵀλ is the q-gradient of the contact work (`crate::transcription`'s contact
+//! blocks) and the loop impulse Gᵀν the q-gradient of [`loop_work`]. The first knot's row
+//! starts from the momentum M(q_0)v_0 ([`initial_momentum`]) instead of D2Ld + ½Fd. The Euler
+//! rows are one [`euler_knot`] residual (eq. 1 of the paper) plus the same impulses.
+
+use nalgebra::DMatrix;
+
+use super::{KnotWindow, Mechanics, MechanicsDerivatives, difference_velocity};
+use crate::autodiff::{VectorFunction, jacobian};
+use crate::scalar::Scalar;
+
+/// ½Fd(qa, qb, u, h) into `out` (length n); z = [qa; qb; u; h].
+pub fn half_force<D: Scalar, M: Mechanics>(mech: &M, z: &[D], out: &mut [D]) {
+    let (n, m) = (mech.nq(), mech.nu());
+    let (qa, rest) = z.split_at(n);
+    let (qb, rest) = rest.split_at(n);
+    let (u, h) = rest.split_at(m);
+    mech.discrete_force(qa, qb, u, h[0], out);
+    for o in out.iter_mut() {
+        *o *= D::from(0.5);
+    }
+}
+
+/// M(q_0)v_0 into `out` (length n); z = [q_0; v_0].
+pub fn initial_momentum<D: Scalar, M: Mechanics>(mech: &M, z: &[D], out: &mut [D]) {
+    let n = mech.nq();
+    mech.momentum(&z[..n], &z[n..2 * n], out);
+}
+
+/// Semi-implicit Euler residual at knot k into `out` (length n); z = [v_0; q_0; q_1; h_0; u_0]
+/// at the first step, else [q_{k−1}; q_k; q_{k+1}; h_{k−1}; h_k; u_k] with
+/// v_k = (q_k − q_{k−1})/h_{k−1}.
+pub fn euler_knot<D: Scalar, M: Mechanics>(mech: &M, first_step: bool, z: &[D], out: &mut [D]) {
+    let n = mech.nq();
+    let (x, rest) = z.split_at(n);
+    let (q_k, rest) = rest.split_at(n);
+    let (q_next, rest) = rest.split_at(n);
+    let (v_k, h, u) = if first_step {
+        (x.to_vec(), rest[0], &rest[1..])
+    } else {
+        (difference_velocity(x, q_k, rest[0]), rest[1], &rest[2..])
+    };
+    mech.euler_residual(&v_k, q_k, q_next, h, u, out);
+}
+
+/// γᵀa(q); z = [q; γ]. Its gradient in q is the loop impulse G(q)ᵀγ.
+pub fn loop_work<D: Scalar, M: Mechanics>(mech: &M, z: &[D]) -> D {
+    let n = mech.nq();
+    let mut a = vec![D::from(0.0); mech.num_loop_constraints()];
+    mech.loop_residual(&z[..n], &mut a);
+    a.iter()
+        .zip(&z[n..])
+        .fold(D::from(0.0), |acc, (&ai, &gi)| acc + ai * gi)
+}
+
+/// [`half_force`] as a [`VectorFunction`] of z = [qa; qb; u; h] (dim 2n + m + 1) → R^n.
+#[derive(Debug, Clone, Copy)]
+pub struct HalfForce<'a, M> {
+    /// The robot.
+    pub mech: &'a M,
+}
+
+impl<M: Mechanics> VectorFunction for HalfForce<'_, M> {
+    fn dim_in(&self) -> usize {
+        2 * self.mech.nq() + self.mech.nu() + 1
+    }
+    fn dim_out(&self) -> usize {
+        self.mech.nq()
+    }
+    fn eval<D: Scalar>(&self, z: &[D], out: &mut [D]) {
+        half_force(self.mech, z, out);
+    }
+}
+
+/// The segment input z = [qa; qb; h] of Ld.
+fn segment(qa: &[f64], qb: &[f64], h: f64) -> Vec<f64> {
+    let mut z = qa.to_vec();
+    z.extend_from_slice(qb);
+    z.push(h);
+    z
+}
+
+/// The force input z = [qa; qb; u; h] of ½Fd.
+fn force_input(qa: &[f64], qb: &[f64], u: &[f64], h: f64) -> Vec<f64> {
+    let mut z = qa.to_vec();
+    z.extend_from_slice(qb);
+    z.extend_from_slice(u);
+    z.push(h);
+    z
+}
+
+/// Midpoint DEL residual at knot k (length n, impulse units) of any mechanics:
+/// D2Ld(q_{k−1}, q_k, h_{k−1}) + D1Ld(q_k, q_{k+1}, h_k) + ½Fd_{k−1} + ½Fd_k + `impulse`,
+/// where `impulse` (length n) is the caller's J(q_{k+1})ᵀλ_k + G(q_{k+1})ᵀν_k (zeros without
+/// contact or loops). The slot derivatives are [`MechanicsDerivatives::segment_gradient`],
+/// the numbers the NLP's DEL rows add up.
+pub fn knot_residual<M: MechanicsDerivatives>(
+    mech: &M,
+    w: &KnotWindow<'_, f64>,
+    impulse: &[f64],
+) -> Vec<f64> {
+    let n = mech.nq();
+    let before = mech.segment_gradient(&segment(w.q_prev, w.q_curr, w.h_prev));
+    let after = mech.segment_gradient(&segment(w.q_curr, w.q_next, w.h_curr));
+    let mut residual: Vec<f64> = (0..n).map(|i| before[n + i] + after[i]).collect();
+    let mut force = vec![0.0; n];
+    for (qa, qb, u, h) in [
+        (w.q_prev, w.q_curr, w.u_prev, w.h_prev),
+        (w.q_curr, w.q_next, w.u_curr, w.h_curr),
+    ] {
+        half_force(mech, &force_input(qa, qb, u, h), &mut force);
+        residual.iter_mut().zip(&force).for_each(|(r, f)| *r += f);
+    }
+    residual.iter_mut().zip(impulse).for_each(|(r, p)| *r += p);
+    residual
+}
+
+/// Jacobian of [`knot_residual`] in q_{k+1} without the impulse (n × n): ∂D1Ld/∂qb of segment
+/// k (a block of [`MechanicsDerivatives::segment_gradient_hessian`]) plus ½∂Fd_k/∂qb. The
+/// caller adds the derivative of its impulse term.
+pub fn knot_residual_jacobian_next<M: MechanicsDerivatives>(
+    mech: &M,
+    w: &KnotWindow<'_, f64>,
+) -> DMatrix<f64> {
+    let n = mech.nq();
+    let (_, hessian) = mech.segment_gradient_hessian(&segment(w.q_curr, w.q_next, w.h_curr));
+    let force = force_input(w.q_curr, w.q_next, w.u_curr, w.h_curr);
+    let (_, force_jacobian) = jacobian(&HalfForce { mech }, &force);
+    DMatrix::from_fn(n, n, |r, c| {
+        hessian[(r, n + c)] + force_jacobian[(r, n + c)]
+    })
+}

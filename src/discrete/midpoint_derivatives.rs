@@ -1,0 +1,237 @@
+//! Fast derivatives of the midpoint Ld of a URDF model over one segment z = [qa; qb; h]:
+//! the gradient (D1Ld, D2Ld, ∂Ld/∂h) from one adjoint sweep of L
+//! ([`crate::model::lagrangian_gradient`]), and its Hessian and contracted third derivative
+//! as the Jacobian of that gradient by forward duals, 2n+1 passes in all, where forward duals
+//! through Ld need O(n²).
+
+use nalgebra::DMatrix;
+use num_dual::{Dual, Dual64};
+
+use super::midpoint::midpoint_state;
+use crate::autodiff::{ThirdOrder, VectorFunction};
+use crate::model::kinematics::check_len;
+use crate::model::{Model, lagrangian_gradient};
+use crate::scalar::Scalar;
+
+/// The midpoint discrete Lagrangian Ld(qa, qb, h) = h·L(q̄, v̄), q̄ = (qa+qb)/2, v̄ = (qb−qa)/h,
+/// and its gradient from one adjoint sweep of L at (q̄, v̄):
+/// D1Ld = (h/2)·∂L/∂q − ∂L/∂v, D2Ld = (h/2)·∂L/∂q + ∂L/∂v, ∂Ld/∂h = L − v̄·∂L/∂v.
+///
+/// `qa`, `qb`, `d1_ld` and `d2_ld` have length `nq` (`d1_ld`, `d2_ld` overwritten, N·m·s per
+/// coordinate); `h` in s. Returns (Ld in J·s, ∂Ld/∂h in J), the numbers of
+/// [`crate::discrete::ld`], [`crate::discrete::d1_ld`] and [`crate::discrete::d2_ld`].
+pub fn midpoint_ld_gradient<D: Scalar>(
+    model: &Model,
+    qa: &[D],
+    qb: &[D],
+    h: D,
+    d1_ld: &mut [D],
+    d2_ld: &mut [D],
+) -> (D, D) {
+    check_len(model, qa.len(), "qa");
+    check_len(model, qb.len(), "qb");
+    check_len(model, d1_ld.len(), "d1_ld");
+    check_len(model, d2_ld.len(), "d2_ld");
+    let (q_mid, v_mid) = midpoint_state(qa, qb, h);
+    // ∂L/∂q and ∂L/∂v are written into the output buffers, then combined in place.
+    let lagrangian = lagrangian_gradient(model, &q_mid, &v_mid, d1_ld, d2_ld);
+    let half_h = h * 0.5;
+    let mut ld_partial_h = lagrangian;
+    for ((d1, d2), &v) in d1_ld.iter_mut().zip(d2_ld.iter_mut()).zip(&v_mid) {
+        let (l_q, l_v) = (*d1, *d2);
+        *d1 = half_h * l_q - l_v;
+        *d2 = half_h * l_q + l_v;
+        ld_partial_h -= v * l_v;
+    }
+    (h * lagrangian, ld_partial_h)
+}
+
+/// The gradient of the midpoint Ld as a [`VectorFunction`]: z = [qa; qb; h] (dim 2n+1) →
+/// [D1Ld (n); D2Ld (n); ∂Ld/∂h (1)] (dim 2n+1).
+///
+/// Its Jacobian is the Hessian of Ld, and its `weighted_hessian` with w = [λ_a; λ_b; 0] the
+/// third derivative of Ld contracted with w: the numbers `gradient_hessian_third` gives for
+/// [`crate::discrete::MidpointSegment`]. Those O(n²) tiled drivers cost as much as the
+/// forward-dual path; [`midpoint_gradient_hessian`] and [`midpoint_third_order`] take the
+/// Jacobian column by column instead (2n+1 passes).
+#[derive(Debug, Clone, Copy)]
+pub struct MidpointGradient<'a> {
+    /// The robot.
+    pub model: &'a Model,
+}
+
+impl VectorFunction for MidpointGradient<'_> {
+    fn dim_in(&self) -> usize {
+        2 * self.model.nq() + 1
+    }
+    fn dim_out(&self) -> usize {
+        2 * self.model.nq() + 1
+    }
+    fn eval<D: Scalar>(&self, z: &[D], out: &mut [D]) {
+        let n = self.model.nq();
+        let (d1, rest) = out.split_at_mut(n);
+        let (d2, dh) = rest.split_at_mut(n);
+        dh[0] = midpoint_ld_gradient(self.model, &z[..n], &z[n..2 * n], z[2 * n], d1, d2).1;
+    }
+}
+
+/// Value, gradient and Hessian of the midpoint Ld at z = [qa; qb; h] (length 2n+1): the
+/// numbers of `gradient_hessian(&MidpointSegment, z)` (Hessian `(2n+1) × (2n+1)`, symmetric),
+/// computed as the Jacobian of the adjoint gradient, one [`Dual64`] pass per column.
+pub fn midpoint_gradient_hessian(model: &Model, z: &[f64]) -> (f64, Vec<f64>, DMatrix<f64>) {
+    let dim = check_segment(model, z, "midpoint_gradient_hessian");
+    let mut gradient = vec![0.0; dim];
+    let mut hessian = DMatrix::zeros(dim, dim);
+    let value = for_each_column(
+        model,
+        None,
+        |i, seeded| Dual64::new(z[i], if seeded { 1.0 } else { 0.0 }),
+        |row, col, y| {
+            gradient[row] = y.re;
+            hessian[(row, col)] = y.eps;
+        },
+    )
+    .re;
+    symmetrise(&mut hessian, None);
+    (value, gradient, hessian)
+}
+
+/// Value, gradient, Hessian and contracted third derivative of the midpoint Ld at
+/// z = [qa; qb; h] (length 2n+1), contracted with `dir` (length 2n+1; the NLP passes
+/// [λ_a; λ_b; 0]): the same [`ThirdOrder`] as `gradient_hessian_third(&MidpointSegment, z,
+/// dir)`, computed as the Jacobian of the adjoint gradient, one pass per column of a
+/// [`Dual64`] whose inner ε carries `dir` nested in a [`Dual64`] that seeds the column.
+pub fn midpoint_third_order(model: &Model, z: &[f64], dir: &[f64]) -> ThirdOrder {
+    let mut out = ThirdOrder::zeros(2 * model.nq() + 1);
+    midpoint_third_order_into(model, z, dir, &mut out);
+    out
+}
+
+/// [`midpoint_third_order`] writing into `out` (sized by [`ThirdOrder::zeros`]`(2n+1)`,
+/// overwritten). The Hessian and the contracted third derivative are symmetrised (the
+/// Jacobian of a gradient is symmetric up to rounding).
+pub fn midpoint_third_order_into(model: &Model, z: &[f64], dir: &[f64], out: &mut ThirdOrder) {
+    midpoint_third_order_columns(model, z, dir, None, out);
+}
+
+/// [`midpoint_third_order_into`] over the input columns marked in `columns` only (all when
+/// `None`; e.g. leaving out inputs fixed by their bounds, whose Hessian entries the solver
+/// drops). Entries between two marked inputs are exact; an entry with one marked input is
+/// taken from that input's column; entries between unmarked inputs are zero, and so is the
+/// value when no column is marked.
+pub fn midpoint_third_order_columns(
+    model: &Model,
+    z: &[f64],
+    dir: &[f64],
+    columns: Option<&[bool]>,
+    out: &mut ThirdOrder,
+) {
+    let dim = check_segment(model, z, "midpoint_third_order");
+    if let Some(c) = columns {
+        assert_eq!(
+            c.len(),
+            dim,
+            "midpoint_third_order: one column flag per input"
+        );
+    }
+    assert_eq!(
+        dir.len(),
+        dim,
+        "midpoint_third_order: dir must have length 2 nq + 1"
+    );
+    assert!(
+        out.gradient.len() == dim
+            && out.hessian.shape() == (dim, dim)
+            && out.contracted.shape() == (dim, dim),
+        "midpoint_third_order: buffer from ThirdOrder::zeros(2 nq + 1)"
+    );
+    out.hessian.fill(0.0);
+    out.contracted.fill(0.0);
+    let ThirdOrder {
+        gradient,
+        hessian,
+        contracted,
+        ..
+    } = out;
+    let value = for_each_column(
+        model,
+        columns,
+        |i, seeded| {
+            Dual::new(
+                Dual64::new(z[i], if seeded { 1.0 } else { 0.0 }),
+                Dual64::from(dir[i]),
+            )
+        },
+        |row, col, y| {
+            gradient[row] = y.re.re;
+            hessian[(row, col)] = y.re.eps;
+            contracted[(row, col)] = y.eps.eps;
+        },
+    );
+    out.value = value.re.re;
+    symmetrise(&mut out.hessian, columns);
+    symmetrise(&mut out.contracted, columns);
+}
+
+/// Checks the segment length 2n+1 (a caller's programming error otherwise) and returns it.
+fn check_segment(model: &Model, z: &[f64], what: &str) -> usize {
+    let dim = 2 * model.nq() + 1;
+    assert_eq!(
+        z.len(),
+        dim,
+        "{what}: z has length {} but the segment [qa; qb; h] has 2 nq + 1 = {dim}",
+        z.len()
+    );
+    dim
+}
+
+/// Evaluates the adjoint gradient of Ld once per input column of z = [qa; qb; h]
+/// (dim 2n+1), the inputs lifted by `lift(i, seeded)` with `seeded` true for the column,
+/// and hands every output (row, column, value) to `store`. Returns Ld from the last pass.
+///
+/// One column per pass with an unboxed nested dual beat tiles of `num-dual`'s vector duals
+/// (whose `Option`-wrapped derivative vectors cost more than their width saves) by 1.4–3×
+/// on this machine (benches/del_segment_paths.rs).
+fn for_each_column<S: Scalar>(
+    model: &Model,
+    columns: Option<&[bool]>,
+    lift: impl Fn(usize, bool) -> S,
+    mut store: impl FnMut(usize, usize, &S),
+) -> S {
+    let n = model.nq();
+    let dim = 2 * n + 1;
+    let mut zd: Vec<S> = (0..dim).map(|i| lift(i, false)).collect();
+    let mut d1 = vec![S::from(0.0); n];
+    let mut d2 = d1.clone();
+    let mut value = S::from(0.0);
+    for col in (0..dim).filter(|&c| columns.is_none_or(|m| m[c])) {
+        zd[col] = lift(col, true);
+        let (ld, dh) =
+            midpoint_ld_gradient(model, &zd[..n], &zd[n..2 * n], zd[2 * n], &mut d1, &mut d2);
+        zd[col] = lift(col, false);
+        for (row, y) in d1.iter().chain(&d2).chain(std::iter::once(&dh)).enumerate() {
+            store(row, col, y);
+        }
+        value = ld;
+    }
+    value
+}
+
+/// Replaces a square matrix by (A + Aᵀ)/2 where both columns were computed (all when
+/// `columns` is `None`), and mirrors the computed column's entry where only one was.
+fn symmetrise(a: &mut DMatrix<f64>, columns: Option<&[bool]>) {
+    let n = a.nrows();
+    let computed = |c: usize| columns.is_none_or(|m| m[c]);
+    for i in 0..n {
+        for j in 0..i {
+            let value = match (computed(i), computed(j)) {
+                (true, true) => 0.5 * (a[(i, j)] + a[(j, i)]),
+                (false, true) => a[(i, j)],
+                (true, false) => a[(j, i)],
+                (false, false) => 0.0,
+            };
+            a[(i, j)] = value;
+            a[(j, i)] = value;
+        }
+    }
+}

@@ -1,0 +1,230 @@
+//! The [`Transcription`]: the NLP of one problem, built from its parts (`placement`: which
+//! blocks; `structure`: sparsity; `start`: bounds and initial guess; `evaluate`: values and
+//! derivatives), with its accessors and evaluation settings.
+
+use super::TranscriptionError;
+use super::blocks::{Block, Context, ScalarKind, VectorKind};
+use super::costs::{CostSizes, length_mismatch};
+use super::evaluate::ContactDerivatives;
+use super::layout::{Dims, Layout};
+use super::pattern::Pattern;
+use crate::contact::FrictionBasis;
+use crate::discrete::MechanicsDerivatives;
+use crate::problem::{HessianMode, ProblemSpec, TimeSteps};
+
+/// SPEC.md's values at the initial guess (no solver involved).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct InitialGuessReport {
+    /// Objective f(x₀) (problem cost + slack penalty).
+    pub objective: f64,
+    /// Largest constraint violation at x₀.
+    pub max_constraint_violation: f64,
+    /// 2-norm of the equality-constraint residuals at x₀.
+    pub equality_residual_norm: f64,
+}
+
+/// The variational contact NLP of one problem (SPEC.md), ready for Ipopt.
+pub struct Transcription<M> {
+    pub(super) mech: M,
+    pub(super) ctx: Context,
+    pub(super) layout: Layout,
+    pub(super) slack_weight: f64,
+    pub(super) hessian_mode: HessianMode,
+    pub(super) x_lower: Vec<f64>,
+    pub(super) x_upper: Vec<f64>,
+    pub(super) g_lower: Vec<f64>,
+    pub(super) g_upper: Vec<f64>,
+    pub(super) x_initial: Vec<f64>,
+    pub(super) vector_blocks: Vec<Block<VectorKind>>,
+    pub(super) gradient_blocks: Vec<Block<ScalarKind>>,
+    pub(super) cost_blocks: Vec<Block<ScalarKind>>,
+    pub(super) jacobian: Pattern,
+    pub(super) hessian: Pattern,
+    pub(super) parallel: bool,
+    /// How the contact blocks' derivatives are taken when evaluating.
+    pub(super) contact_derivatives: ContactDerivatives,
+    /// See [`Transcription::set_skip_fixed_variables`].
+    pub(super) skip_fixed: bool,
+}
+
+pub(super) fn check_len(
+    field: &str,
+    expected: usize,
+    found: usize,
+) -> Result<(), TranscriptionError> {
+    if expected == found {
+        Ok(())
+    } else {
+        Err(TranscriptionError::Length {
+            field: field.to_string(),
+            expected,
+            found,
+        })
+    }
+}
+
+impl<M: MechanicsDerivatives> Transcription<M> {
+    /// Lay out the NLP of `spec` for the robot `mech` (whose contacts are `spec.contacts`,
+    /// in order) and compute its sparsity patterns.
+    pub fn new(mech: M, spec: &ProblemSpec) -> Result<Self, TranscriptionError> {
+        let (n, m, nl) = (mech.nq(), mech.nu(), mech.num_loop_constraints());
+        let nc = spec.contacts.len();
+        check_len("contacts", mech.num_contacts(), nc)?;
+        check_len("q_initial", n, spec.q_initial.len())?;
+        check_len("q_final", n, spec.q_final.len())?;
+        check_len("input_bounds", m, spec.input_bounds.len())?;
+        if let Some(v) = &spec.v_initial {
+            check_len("v_initial", n, v.len())?;
+        }
+        if spec.knots < 2 {
+            return Err(TranscriptionError::Invalid {
+                field: "knots".into(),
+                message: format!("{} knots; a trajectory needs at least 2", spec.knots),
+            });
+        }
+        let basis = FrictionBasis::detect(
+            spec.robot.base,
+            &spec.q_initial,
+            mech.num_contacts(),
+            |contact, q| mech.contact_position(contact, q),
+        );
+        let nd = basis.num_directions();
+        let ctx = Context {
+            n,
+            m,
+            nl,
+            basis,
+            friction: spec.contacts.iter().map(|c| c.friction).collect(),
+            terrain: spec.terrain.clone(),
+            integrator: spec.integrator,
+            costs: spec.costs.clone(),
+        };
+        for (t, term) in spec.costs.iter().enumerate() {
+            if let Some((field, expected, found)) = length_mismatch(term, CostSizes { n, m }) {
+                return Err(TranscriptionError::Length {
+                    field: format!("costs[{t}].{field}"),
+                    expected,
+                    found,
+                });
+            }
+        }
+        let equal_steps = matches!(spec.time_steps, TimeSteps::FreeEqual { .. });
+        let layout = Layout::new(
+            Dims { n, m, nc, nd, nl },
+            spec.knots,
+            spec.slack_mode,
+            equal_steps,
+            &spec.periodic,
+        );
+        let mut t = Transcription {
+            ctx,
+            layout,
+            slack_weight: spec.slack_weight,
+            hessian_mode: spec.hessian,
+            x_lower: Vec::new(),
+            x_upper: Vec::new(),
+            g_lower: Vec::new(),
+            g_upper: Vec::new(),
+            x_initial: Vec::new(),
+            vector_blocks: Vec::new(),
+            gradient_blocks: Vec::new(),
+            cost_blocks: Vec::new(),
+            jacobian: Pattern::default(),
+            hessian: Pattern::default(),
+            parallel: true,
+            contact_derivatives: ContactDerivatives::ChainRule,
+            skip_fixed: false,
+            mech,
+        };
+        // Measured (2 shared cores): rayon costs more than it saves on hopper-2d's 288
+        // variables (J+H 1.6 ms serial, 6 ms parallel) and pays on brick-3d's 3532
+        // (J+H 104 ms serial, 58 ms parallel, one run); see benches/transcription_evaluation.rs.
+        t.parallel = t.layout.num_variables() >= 1000;
+        t.place_blocks();
+        t.set_bounds(spec)?;
+        t.set_initial_guess(spec)?;
+        t.build_patterns();
+        Ok(t)
+    }
+
+    /// Slack weight α of the objective α Σ s.
+    pub fn slack_weight(&self) -> f64 {
+        self.slack_weight
+    }
+
+    /// Change α (for the exact-penalty continuation).
+    pub fn set_slack_weight(&mut self, weight: f64) {
+        self.slack_weight = weight;
+    }
+
+    /// Evaluate independent blocks on rayon's thread pool or on one thread (the default
+    /// is parallel from 1000 variables on).
+    pub fn set_parallel(&mut self, parallel: bool) {
+        self.parallel = parallel;
+    }
+
+    /// Differentiate the contact blocks (tangential rate, contact work, signed distance, c·φ)
+    /// by the chain rule through the contact point's jet, and the bilinear complementarity rows
+    /// in closed form (the default), or all of them by generic forward AD over the whole block
+    /// (for comparison; the sparsity pattern, probed with generic AD, is the same).
+    pub fn set_contact_chain_rule(&mut self, enabled: bool) {
+        self.contact_derivatives = if enabled {
+            ContactDerivatives::ChainRule
+        } else {
+            ContactDerivatives::GenericAd
+        };
+    }
+
+    /// Leave the Hessian entries of variables fixed by their bounds at zero where that saves
+    /// work (generic-AD blocks). Ipopt drops those entries with its default
+    /// `fixed_variable_treatment make_parameter`; the solve turns this on unless that option
+    /// says otherwise. Off by default, so that every entry is exact.
+    pub fn set_skip_fixed_variables(&mut self, skip: bool) {
+        self.skip_fixed = skip;
+    }
+
+    /// The variable and row layout.
+    pub fn layout(&self) -> &Layout {
+        &self.layout
+    }
+
+    /// The robot mechanics.
+    pub fn mechanics(&self) -> &M {
+        &self.mech
+    }
+
+    /// Variable bounds (lower, upper), length = number of variables.
+    pub fn variable_bounds(&self) -> (&[f64], &[f64]) {
+        (&self.x_lower, &self.x_upper)
+    }
+
+    /// Constraint bounds (lower, upper), length = number of rows.
+    pub fn constraint_bounds(&self) -> (&[f64], &[f64]) {
+        (&self.g_lower, &self.g_upper)
+    }
+
+    /// The starting point.
+    pub fn initial_point(&self) -> &[f64] {
+        &self.x_initial
+    }
+
+    /// Jacobian sparsity.
+    pub fn jacobian_pattern(&self) -> &Pattern {
+        &self.jacobian
+    }
+
+    /// Lagrangian-Hessian sparsity (lower triangle).
+    pub fn hessian_pattern(&self) -> &Pattern {
+        &self.hessian
+    }
+
+    /// How the Hessian is obtained.
+    pub fn hessian_mode(&self) -> HessianMode {
+        self.hessian_mode
+    }
+
+    /// Problem constants of the blocks.
+    pub fn context(&self) -> &Context {
+        &self.ctx
+    }
+}

@@ -1,0 +1,218 @@
+//! Where the solve starts and what it may not leave: variable and constraint bounds, the
+//! initial guess (linear or warm-started from a previous trajectory) and later restarts.
+
+use super::program::check_len;
+use super::{Transcription, TranscriptionError};
+use crate::discrete::MechanicsDerivatives;
+use crate::problem::{InitialGuess, Interval, KnotSet, ProblemSpec, TimeSteps};
+
+pub(super) fn intersect(a: Interval, b: Interval) -> Interval {
+    Interval {
+        lower: a.lower.max(b.lower),
+        upper: a.upper.min(b.upper),
+    }
+}
+
+impl<M: MechanicsDerivatives> Transcription<M> {
+    pub(super) fn set_bounds(&mut self, spec: &ProblemSpec) -> Result<(), TranscriptionError> {
+        let l = &self.layout;
+        let nv = l.num_variables();
+        let mut lo = vec![f64::NEG_INFINITY; nv];
+        let mut hi = vec![f64::INFINITY; nv];
+        let limits = self.mech.coordinate_limits();
+        let last = l.knots - 1;
+        for k in 0..l.knots {
+            for c in 0..l.n {
+                let mut b = Interval::FREE;
+                if spec.joint_limits {
+                    let (lower, upper) = limits[c];
+                    b = intersect(b, Interval { lower, upper });
+                }
+                for cb in spec.bounds.iter().filter(|cb| cb.coordinate == c) {
+                    let applies = match &cb.knots {
+                        KnotSet::All => true,
+                        KnotSet::Interior => k > 0 && k < last,
+                        KnotSet::First => k == 0,
+                        KnotSet::Last => k == last,
+                        KnotSet::List(list) => list.contains(&k),
+                    };
+                    if applies {
+                        b = intersect(b, cb.bound);
+                    }
+                }
+                if k == last {
+                    b = intersect(b, spec.q_final[c]);
+                }
+                if k == 0 {
+                    b = Interval::fixed(spec.q_initial[c]);
+                }
+                if b.lower > b.upper {
+                    return Err(TranscriptionError::EmptyBound {
+                        coordinate: c,
+                        knot: k,
+                        lower: b.lower,
+                        upper: b.upper,
+                    });
+                }
+                lo[l.q(k).start + c] = b.lower;
+                hi[l.q(k).start + c] = b.upper;
+            }
+        }
+        if let Some(v0) = &spec.v_initial {
+            for (i, &v) in l.v0().zip(v0) {
+                lo[i] = v;
+                hi[i] = v;
+            }
+        }
+        let (h_lo, h_hi) = match spec.time_steps {
+            TimeSteps::Fixed(h) => (h, h),
+            TimeSteps::FreeEqual { t_min, t_max } => {
+                let intervals = l.intervals() as f64;
+                (t_min / intervals, t_max / intervals)
+            }
+        };
+        if !(h_lo > 0.0 && h_lo <= h_hi) {
+            return Err(TranscriptionError::Invalid {
+                field: "time_steps".into(),
+                message: format!("step bounds [{h_lo}, {h_hi}] must satisfy 0 < min ≤ max"),
+            });
+        }
+        for j in 0..l.intervals() {
+            lo[l.h(j)] = h_lo;
+            hi[l.h(j)] = h_hi;
+            for (i, b) in l.u(j).zip(&spec.input_bounds) {
+                lo[i] = b.lower;
+                hi[i] = b.upper;
+            }
+            for i in l.contact_vars(j) {
+                lo[i] = 0.0;
+            }
+            if let Some(v) = spec.max_slip_speed {
+                for i in 0..l.nc {
+                    hi[l.psi(j, i)] = v;
+                }
+            }
+        }
+        for i in l.slacks() {
+            lo[i] = 0.0;
+        }
+        let nr = l.num_constraints();
+        let g_lower = vec![0.0; nr];
+        let g_upper = (0..nr)
+            .map(|r| if l.is_equality(r) { 0.0 } else { f64::INFINITY })
+            .collect();
+        self.x_lower = lo;
+        self.x_upper = hi;
+        self.g_lower = g_lower;
+        self.g_upper = g_upper;
+        Ok(())
+    }
+
+    pub(super) fn set_initial_guess(
+        &mut self,
+        spec: &ProblemSpec,
+    ) -> Result<(), TranscriptionError> {
+        let l = &self.layout;
+        let mut x = vec![0.0; l.num_variables()];
+        let mut h_guess = match spec.time_steps {
+            TimeSteps::Fixed(h) => h,
+            TimeSteps::FreeEqual { t_max, .. } => t_max / l.intervals() as f64,
+        };
+        let last = l.knots - 1;
+        match &spec.initial_guess {
+            InitialGuess::Linear { from, to } => {
+                check_len("initial_guess.from", l.n, from.len())?;
+                check_len("initial_guess.to", l.n, to.len())?;
+                for k in 0..l.knots {
+                    let s = k as f64 / last as f64;
+                    for (c, i) in l.q(k).enumerate() {
+                        x[i] = from[c] + s * (to[c] - from[c]);
+                    }
+                }
+            }
+            InitialGuess::WarmStart(w) => {
+                // Free steps take the previous solution's duration (within the window) and
+                // resample it over the knots; fixed steps sample it at their own times.
+                let duration = w.times.last().copied().unwrap_or(0.0)
+                    - w.times.first().copied().unwrap_or(0.0);
+                if let TimeSteps::FreeEqual { t_min, t_max } = spec.time_steps
+                    && duration > 0.0
+                {
+                    h_guess = duration.clamp(t_min, t_max) / l.intervals() as f64;
+                }
+                let stretch = match spec.time_steps {
+                    TimeSteps::FreeEqual { .. } if duration > 0.0 => {
+                        duration / (h_guess * l.intervals() as f64)
+                    }
+                    _ => 1.0,
+                };
+                let times: Vec<f64> = (0..l.knots)
+                    .map(|k| w.times.first().copied().unwrap_or(0.0) + k as f64 * h_guess * stretch)
+                    .collect();
+                for (k, &t) in times.iter().enumerate() {
+                    let q = interpolate(&w.times, &w.q, t);
+                    check_len("initial_guess.q", l.n, q.len())?;
+                    for (c, i) in l.q(k).enumerate() {
+                        x[i] = q[c];
+                    }
+                    if k < last && !w.u.is_empty() {
+                        let u = interpolate(&w.times[..w.u.len()], &w.u, t);
+                        check_len("initial_guess.u", l.m, u.len())?;
+                        for (c, i) in l.u(k).enumerate() {
+                            x[i] = u[c];
+                        }
+                    }
+                }
+            }
+        }
+        for j in 0..l.intervals() {
+            x[l.h(j)] = h_guess;
+            for i in l.contact_vars(j) {
+                x[i] = 0.01;
+            }
+        }
+        for i in l.slacks() {
+            x[i] = 0.01;
+        }
+        // A fixed variable starts at its fixed value (SPEC.md).
+        for ((xi, &lo), &hi) in x.iter_mut().zip(&self.x_lower).zip(&self.x_upper) {
+            if lo == hi {
+                *xi = lo;
+            }
+        }
+        self.x_initial = x;
+        Ok(())
+    }
+
+    /// Start the next solve from `x` (all variables, e.g. a previous solution), clamped to the
+    /// variable bounds.
+    pub fn set_initial_point(&mut self, x: &[f64]) -> Result<(), TranscriptionError> {
+        check_len("initial point", self.x_initial.len(), x.len())?;
+        for (i, (&xi, out)) in x.iter().zip(self.x_initial.iter_mut()).enumerate() {
+            *out = xi.clamp(self.x_lower[i], self.x_upper[i]);
+        }
+        Ok(())
+    }
+}
+
+/// Piecewise-linear interpolation of rows `values` given at `times`, clamped at the ends.
+pub(super) fn interpolate(times: &[f64], values: &[Vec<f64>], t: f64) -> Vec<f64> {
+    if times.is_empty() || values.is_empty() {
+        return Vec::new();
+    }
+    let last = times.len().min(values.len()) - 1;
+    if t <= times[0] {
+        return values[0].clone();
+    }
+    if t >= times[last] {
+        return values[last].clone();
+    }
+    let k = times[..=last].partition_point(|&s| s <= t).clamp(1, last);
+    let (t0, t1) = (times[k - 1], times[k]);
+    let s = if t1 > t0 { (t - t0) / (t1 - t0) } else { 0.0 };
+    values[k - 1]
+        .iter()
+        .zip(&values[k])
+        .map(|(a, b)| a + s * (b - a))
+        .collect()
+}
