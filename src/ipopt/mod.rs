@@ -1,5 +1,6 @@
-//! Safe wrapper over Debian's system Ipopt (C interface `IpStdCInterface.h`, bindings by
-//! bindgen in `build.rs`). The only module with `unsafe`.
+//! Safe wrapper over Debian's system Ipopt, 3.11 to 3.14 (C interface `IpStdCInterface.h`,
+//! bindings by bindgen in `build.rs`; the differences between versions live in `compat.rs`).
+//! The only module with `unsafe`.
 //!
 //! A problem implements [`Nlp`]; a [`Solver`] holds the options (vito's defaults from
 //! `vendor-config/ipopt-defaults.opt`, then the caller's) and returns a [`SolveReport`].
@@ -24,6 +25,7 @@
 //! ```
 
 mod callbacks;
+mod compat;
 mod error;
 mod handle;
 mod nlp;
@@ -32,6 +34,7 @@ mod solver;
 mod status;
 mod sys;
 
+pub use compat::{LONG_VERSION, VERSION};
 pub use error::IpoptError;
 pub use nlp::{IterationInfo, Nlp};
 pub use options::{DEFAULTS_FILE, OptionValue, check_allowed, default_options, parse_option_file};

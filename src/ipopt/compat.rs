@@ -1,0 +1,79 @@
+//! The one place that knows how Ipopt's C interface differs between the versions vito builds
+//! against (3.11 to 3.14). `build.rs` reads the version of the `IpStdCInterface.h` it generates
+//! the bindings from and sets `cfg(ipopt_3_14)` for 3.14 and later; the rest of the wrapper
+//! uses the names defined here and never looks at `sys`'s version-dependent types itself.
+//!
+//! | | 3.11-3.13 (`coin/`) | 3.14 (`coin-or/`) |
+//! | --- | --- | --- |
+//! | truth values | `Bool` = `int`, `TRUE` 1 | C `bool` |
+//! | indices, integer options | `Index`, `Int` = `int` | `ipindex` (`int`; `int64_t` in an `IPOPT_INT64` build) |
+//! | numbers | `Number` = `double` | `ipnumber` (`double`) |
+//! | return codes | up to `Maximum_CpuTime_Exceeded` = -4 | also `Maximum_WallTime_Exceeded` = -5 |
+
+#[cfg(not(ipopt_3_14))]
+mod types {
+    use super::super::sys;
+
+    /// Ipopt's index type (sizes, sparsity triplets, iteration counts).
+    pub type Index = sys::Index;
+    /// Ipopt's floating-point type.
+    pub type Number = sys::Number;
+    /// The value type of `AddIpoptIntOption`.
+    pub type Int = sys::Int;
+    /// The callbacks' and option setters' truth value: an `int` before 3.14.
+    pub type Bool = sys::Bool;
+    /// Ipopt's true.
+    pub const TRUE: Bool = 1;
+    /// Ipopt's false.
+    pub const FALSE: Bool = 0;
+
+    /// A truth value from Ipopt as a Rust `bool`.
+    pub fn is_true(value: Bool) -> bool {
+        value != 0
+    }
+
+    /// 3.11 has no wall-time limit; the code is kept (never returned) so that every version
+    /// has the same status table.
+    pub const MAXIMUM_WALL_TIME_EXCEEDED: sys::ApplicationReturnStatus =
+        sys::ApplicationReturnStatus(-5);
+}
+
+#[cfg(ipopt_3_14)]
+mod types {
+    use super::super::sys;
+
+    /// Ipopt's index type (sizes, sparsity triplets, iteration counts).
+    pub type Index = sys::ipindex;
+    /// Ipopt's floating-point type.
+    pub type Number = sys::ipnumber;
+    /// The value type of `AddIpoptIntOption` (an `ipindex` since 3.14).
+    pub type Int = sys::ipindex;
+    /// The callbacks' and option setters' truth value: C `bool` since 3.14.
+    pub type Bool = bool;
+    /// Ipopt's true.
+    pub const TRUE: Bool = true;
+    /// Ipopt's false.
+    pub const FALSE: Bool = false;
+
+    /// A truth value from Ipopt as a Rust `bool`.
+    pub fn is_true(value: Bool) -> bool {
+        value
+    }
+
+    /// `max_wall_time` reached (option and code new in 3.14).
+    pub const MAXIMUM_WALL_TIME_EXCEEDED: sys::ApplicationReturnStatus =
+        sys::ApplicationReturnStatus::Maximum_WallTime_Exceeded;
+}
+
+pub(super) use types::*;
+
+/// The Ipopt release vito was built against, from its `IpoptConfig.h`, e.g. `"3.14.17"`.
+pub const VERSION: &str = env!("VITO_IPOPT_VERSION");
+
+/// `vito <version> (Ipopt <version>)`'s version part, for `--version`.
+pub const LONG_VERSION: &str = concat!(
+    env!("CARGO_PKG_VERSION"),
+    " (Ipopt ",
+    env!("VITO_IPOPT_VERSION"),
+    ")"
+);
