@@ -31,6 +31,9 @@ say() { echo "test-debian13: $*" >&2; }
 if [ "${1:-}" = "--inside" ]; then
     root="$2" sysroot="$3" registry="$4" work="$5"
     mount -t proc proc "$root/proc"
+    # OpenMPI (initialised when libipopt loads, see src/ipopt/compat.rs) reads the CPU
+    # topology from /sys through hwloc.
+    mount -t sysfs -o ro sysfs "$root/sys"
     mount -t tmpfs -o mode=1777 tmpfs "$root/dev/shm"
     mkdir -p "$root/opt/rust"
     mount --bind "$sysroot" "$root/opt/rust"
@@ -57,7 +60,7 @@ if [ "${1:-}" = "--inside" ]; then
     set -e
     # Unmount explicitly (the namespace would drop them anyway when this process ends).
     umount "$root/root/.cargo/registry" 2>/dev/null || true
-    umount "$root/opt/rust" "$root/dev/shm" "$root/proc"
+    umount "$root/opt/rust" "$root/dev/shm" "$root/sys" "$root/proc"
     exit "$status"
 fi
 

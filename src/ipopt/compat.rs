@@ -77,3 +77,65 @@ pub const LONG_VERSION: &str = concat!(
     env!("VITO_IPOPT_VERSION"),
     ")"
 );
+
+/// Whether the process has MPI, and its state, as far as Ipopt's MUMPS is concerned.
+///
+/// Debian 13's Ipopt 3.14 links the MPI build of MUMPS 5.7 (OpenMPI); Debian 12's links the
+/// sequential MUMPS, which has no MPI at all.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MpiState {
+    /// No `MPI_Initialized` symbol in the process: sequential MUMPS.
+    Absent,
+    /// MPI is linked; `initialized` once `MPI_Init` ran, `finalized` once `MPI_Finalize` ran
+    /// (after which no MPI call, so no MUMPS factorisation, may happen in this process).
+    Linked {
+        /// `MPI_Initialized`'s answer.
+        initialized: bool,
+        /// `MPI_Finalized`'s answer.
+        finalized: bool,
+    },
+}
+
+/// An MPI query function (`MPI_Initialized`, `MPI_Finalized`): `int f(int *flag)`.
+type MpiFlagQuery = unsafe extern "C" fn(*mut std::ffi::c_int) -> std::ffi::c_int;
+
+unsafe extern "C" {
+    /// glibc's symbol lookup (in libc itself since glibc 2.34).
+    fn dlsym(
+        handle: *mut std::ffi::c_void,
+        symbol: *const std::ffi::c_char,
+    ) -> *mut std::ffi::c_void;
+}
+
+/// Looks `name` up among the symbols of the program and the libraries it loaded.
+fn mpi_query(name: &std::ffi::CStr) -> Option<MpiFlagQuery> {
+    // SAFETY: a null handle is glibc's RTLD_DEFAULT (search the global scope); `name` is a
+    // NUL-terminated string that dlsym only reads.
+    let address = unsafe { dlsym(std::ptr::null_mut(), name.as_ptr()) };
+    if address.is_null() {
+        return None;
+    }
+    // SAFETY: MPI_Initialized and MPI_Finalized are declared `int f(int *flag)` by every MPI
+    // standard; a non-null address for those names is that function.
+    Some(unsafe { std::mem::transmute::<*mut std::ffi::c_void, MpiFlagQuery>(address) })
+}
+
+/// The process's MPI state (see [`MpiState`]). Both queries may be called at any time, also
+/// before `MPI_Init` and after `MPI_Finalize` (MPI standard, section "Startup").
+pub fn mpi_state() -> MpiState {
+    let (Some(initialized), Some(finalized)) =
+        (mpi_query(c"MPI_Initialized"), mpi_query(c"MPI_Finalized"))
+    else {
+        return MpiState::Absent;
+    };
+    let ask = |query: MpiFlagQuery| {
+        let mut flag: std::ffi::c_int = 0;
+        // SAFETY: `flag` is a live int the function writes its answer to.
+        let code = unsafe { query(&mut flag) };
+        code == 0 && flag != 0
+    };
+    MpiState::Linked {
+        initialized: ask(initialized),
+        finalized: ask(finalized),
+    }
+}

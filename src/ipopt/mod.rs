@@ -34,7 +34,7 @@ mod solver;
 mod status;
 mod sys;
 
-pub use compat::{LONG_VERSION, VERSION};
+pub use compat::{LONG_VERSION, MpiState, VERSION, mpi_state};
 pub use error::IpoptError;
 pub use nlp::{IterationInfo, Nlp};
 pub use options::{DEFAULTS_FILE, OptionValue, check_allowed, default_options, parse_option_file};
