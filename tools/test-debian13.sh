@@ -7,7 +7,8 @@
 # What it does, all under one temporary directory that is removed at the end, also after a
 # failure or Ctrl-C:
 #   1. debootstrap a minimal trixie root with gcc, make and ca-certificates (what README's
-#      "fresh machine" assumes besides Rust);
+#      "fresh machine" assumes besides Rust), and procps (`kill`, which the Ctrl-C test of
+#      tests/cli runs; a standard Debian install has it, the minbase variant does not);
 #   2. copy HEAD of this repository into it (`git archive`: committed files only);
 #   3. in a private mount namespace (every mount disappears with it), mount /proc, a tmpfs on
 #      /dev/shm, the host's Rust toolchain read-only at /opt/rust, and the host's cargo registry
@@ -124,7 +125,7 @@ trap 'exit 143' TERM
 
 say "bootstrapping trixie into $root from $mirror"
 t=$SECONDS
-if ! debootstrap --variant=minbase --include=ca-certificates,gcc,libc6-dev,make \
+if ! debootstrap --variant=minbase --include=ca-certificates,gcc,libc6-dev,make,procps \
     trixie "$root" "$mirror" >"$work/debootstrap.log" 2>&1; then
     tail -n 30 "$work/debootstrap.log" >&2
     say "debootstrap failed"

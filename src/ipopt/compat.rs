@@ -80,8 +80,10 @@ pub const LONG_VERSION: &str = concat!(
 
 /// Whether the process has MPI, and its state, as far as Ipopt's MUMPS is concerned.
 ///
-/// Debian 13's Ipopt 3.14 links the MPI build of MUMPS 5.7 (OpenMPI); Debian 12's links the
-/// sequential MUMPS, which has no MPI at all.
+/// Debian 13's Ipopt 3.14 links the MPI build of MUMPS 5.7 (OpenMPI), and its `libipopt`
+/// calls `MPI_Init` when the library is loaded, before `main`, and `MPI_Finalize` at exit:
+/// vito never initialises MPI itself, and no MPI call may follow process exit handlers.
+/// Debian 12's Ipopt 3.11 links the sequential MUMPS, which has no MPI at all.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum MpiState {
     /// No `MPI_Initialized` symbol in the process: sequential MUMPS.
