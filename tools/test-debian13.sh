@@ -10,8 +10,8 @@
 #      "fresh machine" assumes besides Rust), and procps (`kill`, which the Ctrl-C test of
 #      tests/cli runs; a standard Debian install has it, the minbase variant does not);
 #   2. copy HEAD of this repository into it (`git archive`: committed files only);
-#   3. in a private mount namespace (every mount disappears with it), mount /proc, a tmpfs on
-#      /dev/shm, the host's Rust toolchain read-only at /opt/rust, and the host's cargo registry
+#   3. in private mount and PID namespaces (every mount and process disappears with them),
+#      mount /proc, /sys (read-only), a tmpfs on /dev/shm, the host's Rust toolchain read-only at /opt/rust, and the host's cargo registry
 #      as the lower layer of an overlay (the chroot reuses the downloaded crates; whatever it
 #      adds goes to the temporary directory, never to the host's ~/.cargo);
 #   4. chroot and run `make demo && make test` there, as root with CI=true, from /src.
@@ -99,9 +99,13 @@ inner=""
 
 cleanup() {
     local status=$?
-    trap - EXIT INT TERM
+    # Finish the clean-up even if another Ctrl-C or TERM comes.
+    trap - EXIT
+    trap '' INT TERM
     if [ -n "$inner" ] && kill -0 "$inner" 2>/dev/null; then
-        kill -TERM "$inner" 2>/dev/null || true
+        # unshare ignores INT and TERM while its child runs: KILL it, and --kill-child takes
+        # down the PID namespace, i.e. everything still running in the chroot.
+        kill -KILL "$inner" 2>/dev/null || true
         wait "$inner" 2>/dev/null || true
     fi
     # The mounts live in the inner namespace only; should any be visible here (an unshare
@@ -138,7 +142,10 @@ git -C "$repo" archive --format=tar HEAD | tar -x -C "$root/src"
 say "copied HEAD $(git -C "$repo" rev-parse --short HEAD) into /src"
 
 t=$SECONDS
-unshare --mount --propagation private \
+# A private mount namespace (the mounts vanish with it) and a PID namespace whose first process
+# is the inner script: when cleanup ends unshare, --kill-child kills that process, and with it
+# every process left in the chroot.
+unshare --mount --propagation private --pid --fork --kill-child \
     bash "$here/test-debian13.sh" --inside "$root" "$sysroot" "$registry" "$work" &
 inner=$!
 set +e
