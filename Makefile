@@ -4,6 +4,7 @@
 #   make test-slow  the slow tests (#[ignore]d by default)
 #   make lint       rustfmt and clippy, as CI checks them
 #   make bench      the timing harnesses in benches/ (print figures)
+#   make test-debian13  `make demo` and `make test` in a fresh Debian 13 chroot (Ipopt 3.14; root)
 
 CARGO ?= cargo
 PROBLEM ?= problems/hopper_2d.toml
@@ -13,7 +14,7 @@ OUT ?= out/hopper_2d
 # solve lock already gives one solve per process); parallel work uses processes.
 export OPENBLAS_NUM_THREADS ?= 1
 
-.PHONY: deps build demo test test-slow lint bench
+.PHONY: deps build demo test test-slow lint bench test-debian13
 
 deps:
 	bash vendor-config/install-deps.sh
@@ -37,3 +38,8 @@ lint:
 
 bench: deps
 	$(CARGO) bench
+
+# The two commands above on Debian 13 (trixie, Ipopt 3.14), in a debootstrapped chroot that is
+# removed afterwards; needs root and Debian's archive. See tools/test-debian13.sh.
+test-debian13:
+	bash tools/test-debian13.sh

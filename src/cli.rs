@@ -37,7 +37,7 @@ const EXIT_CODES: &str = "Exit codes:\n  0  solved (check, inspect, regress: pas
 
 /// vito: variational contact-implicit trajectory optimisation for legged robots.
 #[derive(Debug, Parser)]
-#[command(name = "vito", version, about, after_help = EXIT_CODES)]
+#[command(name = "vito", version = vito::ipopt::LONG_VERSION, about, after_help = EXIT_CODES)]
 pub struct Args {
     #[command(subcommand)]
     pub command: Command,

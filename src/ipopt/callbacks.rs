@@ -12,11 +12,9 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-use super::sys::{Bool, Index, Number, UserDataPtr};
+use super::compat::{Bool, FALSE, Index, Number, TRUE, is_true};
+use super::sys::UserDataPtr;
 use super::{IterationInfo, Nlp};
-
-const TRUE: Bool = 1;
-const FALSE: Bool = 0;
 
 /// What `solve` shares with the trampolines through Ipopt's `user_data` pointer; it lives on
 /// `solve`'s stack for the duration of `IpoptSolve` only.
@@ -178,7 +176,7 @@ pub(super) extern "C" fn eval_f<P: Nlp + ?Sized>(
         if obj_value.is_null() {
             return Flow::Mismatch;
         }
-        let value = ctx.problem.objective(x, new_x != 0);
+        let value = ctx.problem.objective(x, is_true(new_x));
         // SAFETY: obj_value is non-null (checked) and points at Ipopt's output Number.
         unsafe { *obj_value = value };
         finite_flow(&[value])
@@ -198,7 +196,7 @@ pub(super) extern "C" fn eval_grad_f<P: Nlp + ?Sized>(
     guard(ctx, "gradient", |ctx| {
         // SAFETY: x holds n values; grad_f is Ipopt's separate output array of n values.
         let (x, grad) = unsafe { (input(x, n), output(grad_f, n)) };
-        ctx.problem.gradient(x, new_x != 0, grad);
+        ctx.problem.gradient(x, is_true(new_x), grad);
         finite_flow(grad)
     })
 }
@@ -217,7 +215,7 @@ pub(super) extern "C" fn eval_g<P: Nlp + ?Sized>(
     guard(ctx, "constraints", |ctx| {
         // SAFETY: x holds n values; g is Ipopt's separate output array of m values.
         let (x, g) = unsafe { (input(x, n), output(g, m)) };
-        ctx.problem.constraints(x, new_x != 0, g);
+        ctx.problem.constraints(x, is_true(new_x), g);
         finite_flow(g)
     })
 }
@@ -258,7 +256,7 @@ pub(super) extern "C" fn eval_jac_g<P: Nlp + ?Sized>(
         }
         // SAFETY: x holds n values; values is Ipopt's output array of nele_jac numbers.
         let (x, values) = unsafe { (input(x, n), output(values, nele_jac)) };
-        ctx.problem.jacobian_values(x, new_x != 0, values);
+        ctx.problem.jacobian_values(x, is_true(new_x), values);
         finite_flow(values)
     })
 }
@@ -304,8 +302,14 @@ pub(super) extern "C" fn eval_h<P: Nlp + ?Sized>(
         // array of nele_hess numbers.
         let (x, lambda, values) =
             unsafe { (input(x, n), input(lambda, m), output(values, nele_hess)) };
-        ctx.problem
-            .hessian_values(x, new_x != 0, obj_factor, lambda, new_lambda != 0, values);
+        ctx.problem.hessian_values(
+            x,
+            is_true(new_x),
+            obj_factor,
+            lambda,
+            is_true(new_lambda),
+            values,
+        );
         finite_flow(values)
     })
 }

@@ -47,7 +47,7 @@ pub enum IpoptError {
     /// `CreateIpoptProblem` returned null.
     #[error("Ipopt could not create the problem (CreateIpoptProblem returned null)")]
     CreateFailed,
-    /// `IpoptSolve` returned a code that Ipopt 3.11 does not define.
+    /// `IpoptSolve` returned a code that the Ipopt built against does not define.
     #[error("Ipopt returned the unknown status code {code}")]
     UnknownStatus {
         /// The raw `ApplicationReturnStatus` value.

@@ -5,6 +5,7 @@ use std::ffi::{CString, c_void};
 use std::ptr::NonNull;
 
 use super::callbacks::{self, Context};
+use super::compat::{self, Index, Int};
 use super::sys;
 use super::{Nlp, OptionValue};
 
@@ -47,9 +48,9 @@ pub(super) struct Outputs {
     pub code: i32,
 }
 
-/// `i32` for Ipopt's `Index`, or `None` if it does not fit.
-fn index(value: usize) -> Option<sys::Index> {
-    sys::Index::try_from(value).ok()
+/// `value` as Ipopt's `Index`, or `None` if it does not fit.
+fn index(value: usize) -> Option<Index> {
+    Index::try_from(value).ok()
 }
 
 impl Handle {
@@ -108,18 +109,17 @@ impl Handle {
                         text.as_ptr().cast_mut(),
                     )
                 };
-                (ok != 0).then(|| value.clone())
+                compat::is_true(ok).then(|| value.clone())
             }
             OptionValue::Num(x) => {
                 if self.add_num(&name, *x) {
                     return Some(value.clone());
                 }
-                let integral = x.fract() == 0.0 && x.abs() <= f64::from(sys::Int::MAX);
-                (integral && self.add_int(&name, *x as sys::Int))
-                    .then_some(OptionValue::Int(*x as i64))
+                let integral = x.fract() == 0.0 && x.abs() <= f64::from(Int::MAX);
+                (integral && self.add_int(&name, *x as Int)).then_some(OptionValue::Int(*x as i64))
             }
             OptionValue::Int(i) => {
-                if let Ok(small) = sys::Int::try_from(*i)
+                if let Ok(small) = Int::try_from(*i)
                     && self.add_int(&name, small)
                 {
                     return Some(value.clone());
@@ -132,12 +132,16 @@ impl Handle {
 
     fn add_num(&mut self, name: &CString, value: f64) -> bool {
         // SAFETY: live problem; a NUL-terminated name that Ipopt only reads.
-        unsafe { sys::AddIpoptNumOption(self.raw.as_ptr(), name.as_ptr().cast_mut(), value) != 0 }
+        compat::is_true(unsafe {
+            sys::AddIpoptNumOption(self.raw.as_ptr(), name.as_ptr().cast_mut(), value)
+        })
     }
 
-    fn add_int(&mut self, name: &CString, value: sys::Int) -> bool {
+    fn add_int(&mut self, name: &CString, value: Int) -> bool {
         // SAFETY: live problem; a NUL-terminated name that Ipopt only reads.
-        unsafe { sys::AddIpoptIntOption(self.raw.as_ptr(), name.as_ptr().cast_mut(), value) != 0 }
+        compat::is_true(unsafe {
+            sys::AddIpoptIntOption(self.raw.as_ptr(), name.as_ptr().cast_mut(), value)
+        })
     }
 
     /// Runs `IpoptSolve` from `x0` with `ctx` as the callbacks' user data.

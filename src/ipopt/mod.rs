@@ -1,14 +1,18 @@
-//! Safe wrapper over Debian's system Ipopt (C interface `IpStdCInterface.h`, bindings by
-//! bindgen in `build.rs`). The only module with `unsafe`.
+//! Safe wrapper over Debian's system Ipopt, 3.11 to 3.14 (C interface `IpStdCInterface.h`,
+//! bindings by bindgen in `build.rs`; the differences between versions live in `compat.rs`).
+//! The only module with `unsafe`.
 //!
 //! A problem implements [`Nlp`]; a [`Solver`] holds the options (vito's defaults from
 //! `vendor-config/ipopt-defaults.opt`, then the caller's) and returns a [`SolveReport`].
 //!
-//! Safety rules the wrapper keeps, because Debian's Ipopt 3.11.9 breaks otherwise:
-//! - one solve per process at a time (a global lock; parallel work uses processes);
+//! Safety rules the wrapper keeps, because Debian's Ipopt 3.11.9 (and 3.14.17) breaks otherwise:
+//! - one solve per process at a time (a global lock; parallel work uses processes; on Debian
+//!   13 MUMPS calls MPI, which `libipopt` initialises for one thread when it loads, see
+//!   [`mpi_state`]);
 //! - a panic in a callback is caught and returned as [`IpoptError::CallbackPanicked`], never
 //!   unwound into C++; a NaN or Inf output is reported to Ipopt as a failed evaluation;
-//! - `linear_solver` other than `mumps` is refused (`ma97` would end the process);
+//! - `linear_solver` other than `mumps` is refused (`ma97` would end the process: `exit(1)` in
+//!   3.11, a segfault in 3.14.17);
 //! - no stray `ipopt.opt` in the working directory is read.
 //!
 //! ```no_run
@@ -24,6 +28,7 @@
 //! ```
 
 mod callbacks;
+mod compat;
 mod error;
 mod handle;
 mod nlp;
@@ -32,6 +37,7 @@ mod solver;
 mod status;
 mod sys;
 
+pub use compat::{LONG_VERSION, MpiState, VERSION, mpi_state};
 pub use error::IpoptError;
 pub use nlp::{IterationInfo, Nlp};
 pub use options::{DEFAULTS_FILE, OptionValue, check_allowed, default_options, parse_option_file};

@@ -114,9 +114,11 @@ pub fn default_options() -> Vec<(String, OptionValue)> {
 
 /// Refuses the options that Debian's Ipopt cannot take safely, before Ipopt sees them.
 ///
-/// Only MUMPS is built in: `linear_solver = ma97` makes Ipopt print "Abort..." and call
-/// `exit(1)`, ending the whole process; ma27, ma57, ma77, ma86, pardiso, wsmp and custom end
-/// the solve with `InvalidOption`. Option names are case-sensitive in Ipopt, values are not.
+/// Only MUMPS is built in: `linear_solver = ma97` makes Ipopt 3.11 print "Abort..." and call
+/// `exit(1)`, and makes 3.14.17 return `InvalidOption` and then segfault in
+/// `FreeIpoptProblem`, ending the whole process either way; ma27, ma57, ma77, ma86, pardiso,
+/// wsmp and custom end the solve with `InvalidOption`. Option names are case-sensitive in
+/// Ipopt, values are not.
 pub fn check_allowed(name: &str, value: &OptionValue) -> Result<(), IpoptError> {
     if name == "linear_solver" {
         let is_mumps =
@@ -125,9 +127,9 @@ pub fn check_allowed(name: &str, value: &OptionValue) -> Result<(), IpoptError> 
             return Err(IpoptError::Refused {
                 name: name.to_string(),
                 value: value.to_string(),
-                reason: "Debian's Ipopt is built with MUMPS only (ma97 would make Ipopt call \
-                         exit(1); the other HSL, Pardiso and WSMP solvers are missing); use \
-                         \"mumps\""
+                reason: "Debian's Ipopt is built with MUMPS only (ma97 would end the process: \
+                         Ipopt 3.11 calls exit(1), 3.14 crashes; the other HSL, Pardiso and \
+                         WSMP solvers are missing); use \"mumps\""
                     .to_string(),
             });
         }

@@ -7,12 +7,14 @@ use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 use std::time::Instant;
 
 use super::callbacks::{Context, panic_message};
+use super::compat::Index;
 use super::handle::{Definition, Handle};
 use super::options::{FORCED, check_allowed, default_options};
 use super::{IpoptError, Nlp, OptionValue, Status};
 
 /// Serialises every use of Ipopt in the process: Debian's Ipopt 3.11 with sequential MUMPS
-/// crashes, or exits with status 0, when two solves run at once.
+/// crashes, or exits with status 0, when two solves run at once; 3.14 with the MPI build of
+/// MUMPS is no more re-entrant (see `tests/ipopt.rs`).
 static SOLVE_LOCK: Mutex<()> = Mutex::new(());
 
 thread_local! {
@@ -265,10 +267,10 @@ struct Setup {
     g_lower: Vec<f64>,
     g_upper: Vec<f64>,
     x0: Vec<f64>,
-    jacobian_rows: Vec<i32>,
-    jacobian_cols: Vec<i32>,
-    hessian_rows: Vec<i32>,
-    hessian_cols: Vec<i32>,
+    jacobian_rows: Vec<Index>,
+    jacobian_cols: Vec<Index>,
+    hessian_rows: Vec<Index>,
+    hessian_cols: Vec<Index>,
     has_hessian: bool,
 }
 
@@ -280,13 +282,13 @@ impl Setup {
     fn query<P: Nlp + ?Sized>(problem: &P) -> Result<Setup, IpoptError> {
         let n = problem.num_variables();
         let m = problem.num_constraints();
-        let max = i32::MAX as usize;
+        let max = usize::try_from(Index::MAX).unwrap_or(usize::MAX);
         if n == 0 {
             return Err(invalid("the problem has no variables".to_string()));
         }
         if n > max || m > max {
             return Err(invalid(format!(
-                "{n} variables and {m} constraints exceed Ipopt's 32-bit indices"
+                "{n} variables and {m} constraints exceed Ipopt's indices"
             )));
         }
         let (mut x_lower, mut x_upper) = (vec![0.0; n], vec![0.0; n]);
@@ -355,7 +357,8 @@ fn check_bounds(kind: &str, lower: &[f64], upper: &[f64]) -> Result<(), IpoptErr
     Ok(())
 }
 
-/// Triplet indices in range (and in the lower triangle when `lower_triangle`), as `i32`.
+/// Triplet indices in range (and in the lower triangle when `lower_triangle`), as Ipopt's
+/// `Index`.
 fn check_triplets(
     kind: &str,
     rows: &[usize],
@@ -363,7 +366,7 @@ fn check_triplets(
     num_rows: usize,
     num_cols: usize,
     lower_triangle: bool,
-) -> Result<(Vec<i32>, Vec<i32>), IpoptError> {
+) -> Result<(Vec<Index>, Vec<Index>), IpoptError> {
     for (k, (&r, &c)) in rows.iter().zip(cols).enumerate() {
         if r >= num_rows || c >= num_cols {
             return Err(invalid(format!(
@@ -377,9 +380,9 @@ fn check_triplets(
             )));
         }
     }
-    // In range of an i32 because num_rows, num_cols ≤ i32::MAX (checked by the caller).
-    let to_i32 = |v: &[usize]| v.iter().map(|&i| i as i32).collect();
-    Ok((to_i32(rows), to_i32(cols)))
+    // In range of an Index because num_rows, num_cols ≤ Index::MAX (checked by the caller).
+    let to_index = |v: &[usize]| v.iter().map(|&i| i as Index).collect();
+    Ok((to_index(rows), to_index(cols)))
 }
 
 /// The one-variable problem behind the handle `set_option` creates to check an option with

@@ -1,8 +1,10 @@
 //! Ipopt's return status (`ApplicationReturnStatus`) as a Rust enum.
 
+use super::compat;
 use super::sys;
 
-/// How a solve ended: one variant per Ipopt `ApplicationReturnStatus` (Ipopt 3.11).
+/// How a solve ended: one variant per Ipopt `ApplicationReturnStatus` (Ipopt 3.11 to 3.14;
+/// [`Status::MaximumWallTimeExceeded`] only from 3.14).
 ///
 /// Each variant quotes the line Ipopt prints at the end of the solve (`print_level` ≥ 1).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -38,6 +40,9 @@ pub enum Status {
     ErrorInStepComputation,
     /// "EXIT: Maximum CPU time exceeded." `max_cpu_time` was reached.
     MaximumCpuTimeExceeded,
+    /// "EXIT: Maximum wallclock time exceeded." `max_wall_time` was reached (option and status
+    /// new in Ipopt 3.14; never returned by 3.11).
+    MaximumWallTimeExceeded,
     /// "EXIT: Problem has too few degrees of freedom." More active equality constraints than
     /// free variables.
     NotEnoughDegreesOfFreedom,
@@ -66,7 +71,7 @@ pub enum Status {
 }
 
 /// Each Ipopt code with its variant and its snake-case name (the names used in reports).
-const TABLE: [(sys::ApplicationReturnStatus, Status, &str); 19] = [
+const TABLE: [(sys::ApplicationReturnStatus, Status, &str); 20] = [
     (
         sys::ApplicationReturnStatus::Solve_Succeeded,
         Status::SolveSucceeded,
@@ -123,6 +128,11 @@ const TABLE: [(sys::ApplicationReturnStatus, Status, &str); 19] = [
         "maximum_cpu_time_exceeded",
     ),
     (
+        compat::MAXIMUM_WALL_TIME_EXCEEDED,
+        Status::MaximumWallTimeExceeded,
+        "maximum_wall_time_exceeded",
+    ),
+    (
         sys::ApplicationReturnStatus::Not_Enough_Degrees_Of_Freedom,
         Status::NotEnoughDegreesOfFreedom,
         "not_enough_degrees_of_freedom",
@@ -166,8 +176,8 @@ const TABLE: [(sys::ApplicationReturnStatus, Status, &str); 19] = [
 
 impl Status {
     /// Every status, in Ipopt's order (successes first, then failures by code).
-    pub const ALL: [Status; 19] = {
-        let mut all = [Status::SolveSucceeded; 19];
+    pub const ALL: [Status; 20] = {
+        let mut all = [Status::SolveSucceeded; 20];
         let mut i = 0;
         while i < TABLE.len() {
             all[i] = TABLE[i].1;
@@ -176,7 +186,7 @@ impl Status {
         all
     };
 
-    /// The variant for one of Ipopt's return codes, `None` for a code Ipopt 3.11 does not
+    /// The variant for one of Ipopt's return codes, `None` for a code Ipopt 3.14 does not
     /// define.
     pub fn from_code(code: i32) -> Option<Status> {
         TABLE
@@ -235,7 +245,8 @@ mod tests {
             }
         }
         assert_eq!(Status::from_code(7), None);
-        assert_eq!(Status::from_code(-5), None);
+        assert_eq!(Status::from_code(-6), None);
+        assert_eq!(Status::from_code(-5), Some(Status::MaximumWallTimeExceeded));
     }
 
     #[test]

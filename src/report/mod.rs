@@ -268,11 +268,13 @@ mod output_tests {
             "problem",
             "parameters",
             "vito_version",
+            "ipopt_version",
         ] {
             assert!(summary.get(key).is_some(), "summary.json lacks `{key}`");
         }
         assert_eq!(summary["status"], "solve_succeeded");
         assert_eq!(summary["objective"], 1.25);
+        assert_eq!(summary["ipopt_version"], crate::ipopt::VERSION);
         let table =
             read_csv(&std::fs::read_to_string(target.join("trajectory.csv")).unwrap()).unwrap();
         assert_eq!(table.rows(), s.times.len());

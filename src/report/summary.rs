@@ -72,6 +72,7 @@ pub fn summary_json(problem: &LoadedProblem, solution: &Solution) -> Value {
         "problem_sha256": problem.sha256,
         "parameters": parameters,
         "vito_version": env!("CARGO_PKG_VERSION"),
+        "ipopt_version": crate::ipopt::VERSION,
         "units": {
             "length": problem.units.length,
             "mass": problem.units.mass,
