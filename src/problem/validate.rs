@@ -1164,56 +1164,13 @@ fn read_warm_start(
         message,
     };
     let text = std::fs::read_to_string(path).map_err(|e| err(format!("cannot read it: {e}")))?;
-    let table = crate::report::read_csv(&text).map_err(err)?;
-    let times = table
-        .column("time")
-        .ok_or_else(|| err("no `time` column".into()))?;
-    if times.len() < 2 || times.iter().any(|t| t.is_nan()) || times.windows(2).any(|w| w[1] <= w[0])
-    {
-        return Err(err(
-            "the `time` column must hold at least two increasing numbers".into(),
-        ));
-    }
-    let mut q = vec![vec![0.0; robot.coordinates.len()]; times.len()];
-    for (j, name) in robot.coordinates.iter().enumerate() {
-        let column = table.column(name).ok_or_else(|| {
-            err(format!(
-                "no column for coordinate `{name}` (columns: {})",
-                list_names(&table.names, 24)
-            ))
-        })?;
-        for (k, v) in column.iter().enumerate() {
-            if v.is_nan() {
-                return Err(err(format!(
-                    "coordinate `{name}` has no value in row {}",
-                    k + 1
-                )));
-            }
-            q[k][j] = *v;
-        }
-    }
-    let mut u = Vec::new();
-    let input_columns: Vec<Option<Vec<f64>>> = robot
-        .inputs
-        .iter()
-        .map(|name| table.column(&crate::report::input_column_name(name)))
-        .collect();
-    if !robot.inputs.is_empty() && input_columns.iter().all(Option::is_some) {
-        for k in 0..times.len() - 1 {
-            u.push(
-                input_columns
-                    .iter()
-                    .map(|c| c.as_ref().map_or(0.0, |c| c[k]))
-                    .map(|v| if v.is_nan() { 0.0 } else { v })
-                    .collect(),
-            );
-        }
-    }
+    let recorded = crate::trajectory_csv::read_trajectory(&text, &robot.coordinates, &robot.inputs)
+        .map_err(err)?;
     Ok(WarmStart {
         source: path.to_owned(),
-        times,
-        q,
-        u,
+        times: recorded.times,
+        q: recorded.q,
+        u: recorded.u,
     })
 }
 
