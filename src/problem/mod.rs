@@ -4,11 +4,14 @@
 //! name against the robot and returns a [`LoadedProblem`] holding the [`ProblemSpec`].
 
 mod error;
+mod load;
+mod overrides;
 mod robot;
 pub mod schema;
 mod source;
 mod spec;
 mod starter;
+mod units;
 mod validate;
 
 pub use crate::model::CoordinateKind;
