@@ -12,8 +12,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use clap::{Parser, Subcommand, ValueEnum};
 
 use vito::model::BaseType;
+use vito::pipeline;
 use vito::problem::{LoadedProblem, Override, ProblemError, RobotInfo, TimeSteps, load};
-use vito::report::{self, GoldenEntry, GoldenRecord, is_solved, objective_matches, status_name};
+use vito::report::{self, is_solved, status_name};
 use vito::transcription::Solution;
 
 /// A closed stdout (`vito check x | head -1`) ends the command quietly with success,
@@ -222,69 +223,13 @@ fn parse_overrides(set: &[String]) -> Result<Vec<Override>, CliError> {
         .collect::<Result<_, _>>()?)
 }
 
-/// Friction directions per contact the transcription uses: 4 with a floating base, else 2.
-fn friction_directions(base: BaseType) -> usize {
-    match base {
-        BaseType::Floating => 4,
-        BaseType::Fixed | BaseType::Planar => 2,
-    }
-}
-
-/// The NLP size by SPEC.md's layout (variables, constraints).
-fn expected_size(p: &LoadedProblem) -> (usize, usize) {
-    let s = &p.spec;
-    let n = p.robot.coordinates.len();
-    let m = p.robot.inputs.len();
-    let nc = s.contacts.len();
-    let nd = friction_directions(s.robot.base);
-    let intervals = s.knots - 1;
-    let slacks = match s.slack_mode {
-        vito::problem::SlackMode::PerInterval => 1,
-        vito::problem::SlackMode::PerContact => 3 * nc,
-    };
-    let slack_variables = match s.slack_mode {
-        vito::problem::SlackMode::PerInterval => 1,
-        vito::problem::SlackMode::PerContact => 3 * nc,
-    };
-    let variables = s.knots * n + n + intervals * (1 + m + nc * (2 + 2 * nd) + slack_variables);
-    // DEL (n), tangential velocity (nc·nd), φ ≥ 0 and friction cone (nc each), and the
-    // three complementarity rows per slack.
-    let per_interval = n + nc * nd + 2 * nc + 3 * slacks;
-    let equal_steps = match s.time_steps {
-        TimeSteps::FreeEqual { .. } => intervals.saturating_sub(1),
-        TimeSteps::Fixed(_) => 0,
-    };
-    let periodic: usize = s
-        .periodic
-        .iter()
-        .map(|q| usize::from(q.position) + usize::from(q.velocity))
-        .sum();
-    (variables, intervals * per_interval + equal_steps + periodic)
-}
-
-/// Asks Ipopt whether it takes every option of the problem (name, type, range), so that a
-/// typo in `[solver.ipopt]` is an input error naming its line, before any solve.
-fn check_solver_options(p: &LoadedProblem) -> Result<(), CliError> {
-    use vito::problem::OptionValue;
-    for (name, value) in &p.spec.solver_options {
-        let value = match value {
-            OptionValue::Str(s) => vito::ipopt::OptionValue::Str(s.clone()),
-            OptionValue::Num(x) => vito::ipopt::OptionValue::Num(*x),
-            OptionValue::Int(i) => vito::ipopt::OptionValue::Int(*i),
-        };
-        vito::ipopt::Solver::new()
-            .set_option(name, value)
-            .map_err(|e| p.field_error(&format!("solver.ipopt.{name}"), e.to_string()))?;
-    }
-    Ok(())
-}
-
 fn check(file: &Path, set: &[String]) -> Result<u8, CliError> {
     let overrides = parse_overrides(set)?;
     let p = load(file, &overrides)?;
-    check_solver_options(&p)?;
+    pipeline::check_solver_options(&p)?;
     let s = &p.spec;
-    let (variables, constraints) = expected_size(&p);
+    let nlp = pipeline::build_nlp(s)?;
+    let size = pipeline::nlp_size(&nlp);
     let horizon = match s.time_steps {
         TimeSteps::Fixed(h) => format!(
             "{} knots, fixed h = {h} {t} (T = {} {t})",
@@ -333,8 +278,13 @@ fn check(file: &Path, set: &[String]) -> Result<u8, CliError> {
         s.slack_weight
     );
     out!(
-        "  NLP size:    {variables} variables, {constraints} constraints (SPEC.md layout, {} friction directions per contact)",
-        friction_directions(s.robot.base)
+        "  NLP size:    {} variables, {} constraints, nnz J {}, nnz H {} ({} friction directions per contact, {} loop-closure rows per interval)",
+        size.n_variables,
+        size.n_constraints,
+        size.nnz_jacobian,
+        size.nnz_hessian,
+        nlp.layout().nd,
+        nlp.layout().nl
     );
     Ok(0)
 }
@@ -353,12 +303,8 @@ pub fn progress_line(
 fn solve(file: &Path, set: &[String], out: Option<&Path>, quiet: bool) -> Result<u8, CliError> {
     let overrides = parse_overrides(set)?;
     let problem = load(file, &overrides)?;
-    check_solver_options(&problem)?;
-    let target = match (out, &problem.output_dir) {
-        (Some(o), _) => o.to_owned(),
-        (None, Some(d)) => d.clone(),
-        (None, None) => PathBuf::from("out").join(&problem.spec.name),
-    };
+    pipeline::check_solver_options(&problem)?;
+    let target = pipeline::output_dir(&problem, out);
     let cancel = Arc::new(AtomicBool::new(false));
     {
         let cancel = cancel.clone();
@@ -406,7 +352,7 @@ fn run_solver(
         cancel: Some(cancel),
         ipopt_options: Vec::new(),
     };
-    vito::transcription::solve(&problem.spec, &options).map_err(CliError::Transcription)
+    pipeline::solve(&problem.spec, &options).map_err(CliError::Transcription)
 }
 
 fn print_summary(problem: &LoadedProblem, s: &Solution, dir: &Path) {
@@ -450,10 +396,7 @@ fn print_summary(problem: &LoadedProblem, s: &Solution, dir: &Path) {
 
 fn init(urdf: &Path, base: BaseType, out: Option<&Path>) -> Result<u8, CliError> {
     let robot = RobotInfo::read(urdf, base).map_err(|e| CliError::Input(e.to_string()))?;
-    let urdf_text = match out.and_then(Path::parent) {
-        Some(dir) if !dir.as_os_str().is_empty() => relative_path(urdf, dir),
-        _ => urdf.display().to_string(),
-    };
+    let urdf_text = vito::paths::reference_from(urdf, out);
     let text = vito::problem::starter_problem(&robot, base, &urdf_text);
     match out {
         None => {
@@ -474,26 +417,6 @@ fn init(urdf: &Path, base: BaseType, out: Option<&Path>) -> Result<u8, CliError>
         }
     }
     Ok(0)
-}
-
-/// `target` relative to `dir` when both are relative or share a prefix; else absolute.
-fn relative_path(target: &Path, dir: &Path) -> String {
-    let abs = |p: &Path| std::path::absolute(p).unwrap_or_else(|_| p.to_owned());
-    let (t, d) = (abs(target), abs(dir));
-    let common = t
-        .components()
-        .zip(d.components())
-        .take_while(|(a, b)| a == b)
-        .count();
-    let ups = d.components().count() - common;
-    let mut rel = PathBuf::new();
-    for _ in 0..ups {
-        rel.push("..");
-    }
-    for c in t.components().skip(common) {
-        rel.push(c);
-    }
-    rel.display().to_string()
 }
 
 fn inspect(urdf: &Path, base: BaseType, json: bool) -> Result<u8, CliError> {
@@ -548,7 +471,7 @@ fn bench(files: &[PathBuf], set: &[String]) -> Result<u8, CliError> {
         "J+H eval s"
     );
     for p in &problems {
-        let r = vito::transcription::bench(&p.spec).map_err(CliError::Transcription)?;
+        let r = pipeline::bench(&p.spec).map_err(CliError::Transcription)?;
         out!(
             "{:<24} {:>5} {:>6} {:>6} {:>7} {:>7} {:>28} {:>15.8e} {:>9.2e} {:>6} {:>9.3} {:>9.3} {:>9.3} {:>10.2e}",
             r.name,
@@ -570,109 +493,16 @@ fn bench(files: &[PathBuf], set: &[String]) -> Result<u8, CliError> {
     Ok(0)
 }
 
-/// One row of the regression table.
-struct RegressRow {
-    file: String,
-    status: String,
-    objective: Option<f64>,
-    recorded: Option<f64>,
-    verdict: &'static str,
-}
-
 fn regress(record_path: &Path, files: &[PathBuf], bless: bool) -> Result<u8, CliError> {
-    let mut record = GoldenRecord::read(record_path)?;
-    let base = record_path.parent().unwrap_or(Path::new("")).to_owned();
-    let mut names: Vec<String> = record.problem.iter().map(|e| e.file.clone()).collect();
-    for f in files {
-        let name = relative_path(
-            f,
-            if base.as_os_str().is_empty() {
-                Path::new(".")
-            } else {
-                &base
-            },
-        );
-        if !names.contains(&name) {
-            names.push(name);
-        }
-    }
-    if names.is_empty() {
-        return Err(CliError::Input(format!(
-            "{} lists no problems; name problem files to add them with --bless",
-            record_path.display()
-        )));
-    }
+    use vito::regress::{RegressError, Verdict};
     let exe = std::env::current_exe().map_err(|e| CliError::Internal(e.to_string()))?;
-    let scratch = tempdir_near(record_path)?;
-    let mut rows = Vec::new();
-    let mut failed = false;
-    for name in &names {
-        let problem = base.join(name);
-        let out = scratch.join(name.replace(['/', '\\'], "_"));
-        // Each solve runs in its own process (one Ipopt solve per process; see DESIGN.md).
-        let status = std::process::Command::new(&exe)
-            .arg("solve")
-            .arg(&problem)
-            .arg("--out")
-            .arg(&out)
-            .arg("--quiet")
-            .stdout(std::process::Stdio::null())
-            .status()
-            .map_err(|e| CliError::Internal(format!("cannot run {}: {e}", exe.display())))?;
-        let summary = std::fs::read_to_string(out.join("summary.json"))
-            .ok()
-            .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok());
-        let recorded = record.entry(name).cloned();
-        let row = match summary {
-            None => {
-                failed = true;
-                RegressRow {
-                    file: name.clone(),
-                    status: format!("no result (exit {})", status.code().unwrap_or(-1)),
-                    objective: None,
-                    recorded: recorded.as_ref().map(|e| e.objective),
-                    verdict: "FAIL",
-                }
-            }
-            Some(summary) => {
-                let objective = summary["objective"].as_f64().unwrap_or(f64::NAN);
-                let status_text = summary["status"].as_str().unwrap_or("?").to_owned();
-                let solved = matches!(
-                    status_text.as_str(),
-                    "solve_succeeded" | "solved_to_acceptable_level"
-                );
-                let verdict = match (&recorded, solved) {
-                    (_, false) => "FAIL",
-                    (None, true) => "NEW",
-                    (Some(e), true) if objective_matches(e, objective) => "ok",
-                    (Some(_), true) => "DIFF",
-                };
-                if bless && solved {
-                    record.upsert(GoldenEntry {
-                        file: name.clone(),
-                        objective,
-                        tolerance: recorded
-                            .as_ref()
-                            .map_or(report::DEFAULT_TOLERANCE, |e| e.tolerance),
-                        status: status_text.clone(),
-                        iterations: summary["iterations"].as_u64().unwrap_or(0) as usize,
-                        max_slack: summary["max_slack"].as_f64().unwrap_or(f64::NAN),
-                        source: Some(format!("vito {}", env!("CARGO_PKG_VERSION"))),
-                    });
-                }
-                failed |= verdict != "ok";
-                RegressRow {
-                    file: name.clone(),
-                    status: status_text,
-                    objective: Some(objective),
-                    recorded: recorded.as_ref().map(|e| e.objective),
-                    verdict,
-                }
-            }
-        };
-        rows.push(row);
-    }
-    let _ = std::fs::remove_dir_all(&scratch);
+    let rows = vito::regress::regress(&exe, record_path, files, bless).map_err(|e| match e {
+        RegressError::Record(e) => CliError::Golden(e),
+        e @ RegressError::NoProblems { .. } => CliError::Input(e.to_string()),
+        e @ (RegressError::Spawn { .. } | RegressError::Scratch { .. }) => {
+            CliError::Internal(e.to_string())
+        }
+    })?;
     out!(
         "{:<32} {:<28} {:>18} {:>18} {:>10}  result",
         "problem",
@@ -683,10 +513,9 @@ fn regress(record_path: &Path, files: &[PathBuf], bless: bool) -> Result<u8, Cli
     );
     for r in &rows {
         let fmt = |x: Option<f64>| x.map_or("-".to_owned(), |v| format!("{v:.10e}"));
-        let diff = match (r.objective, r.recorded) {
-            (Some(a), Some(b)) => format!("{:.2e}", (a - b).abs() / b.abs().max(1.0)),
-            _ => "-".into(),
-        };
+        let diff = r
+            .relative_difference()
+            .map_or("-".to_owned(), |d| format!("{d:.2e}"));
         out!(
             "{:<32} {:<28} {:>18} {:>18} {:>10}  {}",
             r.file,
@@ -698,26 +527,16 @@ fn regress(record_path: &Path, files: &[PathBuf], bless: bool) -> Result<u8, Cli
         );
     }
     if bless {
-        record.write(record_path)?;
         out!("blessed {}", record_path.display());
-        return Ok(if rows.iter().any(|r| r.verdict == "FAIL") {
+        return Ok(if rows.iter().any(|r| r.verdict == Verdict::Fail) {
             1
         } else {
             0
         });
     }
-    Ok(if failed { 1 } else { 0 })
-}
-
-fn tempdir_near(path: &Path) -> Result<PathBuf, CliError> {
-    let dir = std::env::temp_dir().join(format!(
-        "vito-regress-{}-{}",
-        std::process::id(),
-        path.file_stem()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_default()
-    ));
-    std::fs::create_dir_all(&dir)
-        .map_err(|e| CliError::Internal(format!("cannot create {}: {e}", dir.display())))?;
-    Ok(dir)
+    Ok(if rows.iter().all(|r| r.verdict == Verdict::Ok) {
+        0
+    } else {
+        1
+    })
 }

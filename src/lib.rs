@@ -21,6 +21,13 @@
 //! - `problem`: TOML schema, validation into a checked `ProblemSpec`.
 //! - `report`: trajectory CSV, summary JSON, SVG plots, regression records.
 //! - `testing`: the seeded generator of test and benchmark inputs.
+//! - `pipeline`: the steps the commands run on a loaded problem (Ipopt's option check, the
+//!   solver's NLP and its size, solve, bench), so that `check` reports what `solve` builds.
+//! - `regress`: solving a regression record's problems, one process each, and blessing it.
+//! - `paths`: a path as another file's directory names it.
+//! - `trajectory_csv`: the trajectory CSV format (columns, units, numbers, parsing), written
+//!   by `report` and read by `problem` for warm starts.
+//! - `names`: how messages list names.
 #![deny(unsafe_code)]
 
 pub mod autodiff;
@@ -29,8 +36,13 @@ pub mod discrete;
 #[allow(unsafe_code)]
 pub mod ipopt;
 pub mod model;
+pub mod names;
+pub mod paths;
+pub mod pipeline;
 pub mod problem;
+pub mod regress;
 pub mod report;
 pub mod scalar;
 pub mod testing;
+pub mod trajectory_csv;
 pub mod transcription;

@@ -39,9 +39,41 @@ pub enum BaseType {
     /// Root link welded to the world.
     #[default]
     Fixed,
-    /// Trans(base_x, 0, base_z)·Ry(base_pitch): coordinates `base_x`, `base_z`, `base_pitch`.
+    /// Trans(base_x, 0, base_z)·Ry(base_pitch): coordinates [`PLANAR_BASE_COORDINATES`].
     Planar,
-    /// Trans(x, y, z)·Rz(yaw)·Ry(pitch)·Rx(roll): `base_x`, `base_y`, `base_z`, `base_roll`,
-    /// `base_pitch`, `base_yaw`.
+    /// Trans(x, y, z)·Rz(yaw)·Ry(pitch)·Rx(roll): coordinates [`FLOATING_BASE_COORDINATES`].
     Floating,
+}
+
+/// The planar base's coordinates, in the order they lead q.
+pub const PLANAR_BASE_COORDINATES: [&str; 3] = ["base_x", "base_z", "base_pitch"];
+
+/// The floating base's coordinates, in the order they lead q.
+pub const FLOATING_BASE_COORDINATES: [&str; 6] = [
+    "base_x",
+    "base_y",
+    "base_z",
+    "base_roll",
+    "base_pitch",
+    "base_yaw",
+];
+
+impl BaseType {
+    /// Names of the base coordinates, which lead q (none for a fixed base).
+    pub fn coordinate_names(self) -> &'static [&'static str] {
+        match self {
+            BaseType::Fixed => &[],
+            BaseType::Planar => &PLANAR_BASE_COORDINATES,
+            BaseType::Floating => &FLOATING_BASE_COORDINATES,
+        }
+    }
+}
+
+/// Whether a coordinate is a length or an angle (for units in outputs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CoordinateKind {
+    /// A length (prismatic joint, base translation).
+    Linear,
+    /// An angle (revolute or continuous joint, base rotation).
+    Angular,
 }

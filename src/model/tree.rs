@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use super::{BaseType, ModelError};
+use super::{BaseType, CoordinateKind, ModelError};
 
 /// Index of a URDF link in [`Model::link_names`].
 #[repr(transparent)]
@@ -232,6 +232,17 @@ impl Model {
     /// Coordinate names, length `nq`: base coordinates, then joints in document order.
     pub fn coordinate_names(&self) -> &[String] {
         &self.coordinate_names
+    }
+
+    /// Per coordinate, whether it is a length (prismatic joint, base translation) or an angle.
+    pub fn coordinate_kinds(&self) -> Vec<CoordinateKind> {
+        let mut kinds = vec![CoordinateKind::Angular; self.nq()];
+        for frame in &self.frames {
+            if frame.motion == Motion::Prismatic {
+                kinds[frame.coordinate] = CoordinateKind::Linear;
+            }
+        }
+        kinds
     }
 
     /// Index of the coordinate with this name.

@@ -568,43 +568,30 @@ fn lump(parts: &[MassPiece]) -> MassPiece {
     (mass, com, inertia)
 }
 
-/// The virtual base frames: (coordinate name, motion, axis, coordinate index).
-/// One virtual base frame: its motion, axis and coordinate index.
+/// One virtual base frame: its motion, axis and coordinate index (into
+/// [`BaseType::coordinate_names`]).
 type BaseFrame = (Motion, [f64; 3], usize);
 
-fn base_chain(base: BaseType) -> (Vec<&'static str>, Vec<BaseFrame>) {
+fn base_chain(base: BaseType) -> Vec<BaseFrame> {
     const X: [f64; 3] = [1.0, 0.0, 0.0];
     const Y: [f64; 3] = [0.0, 1.0, 0.0];
     const Z: [f64; 3] = [0.0, 0.0, 1.0];
     match base {
-        BaseType::Fixed => (vec![], vec![]),
-        BaseType::Planar => (
-            vec!["base_x", "base_z", "base_pitch"],
-            vec![
-                (Motion::Prismatic, X, 0),
-                (Motion::Prismatic, Z, 1),
-                (Motion::Revolute, Y, 2),
-            ],
-        ),
+        BaseType::Fixed => vec![],
+        BaseType::Planar => vec![
+            (Motion::Prismatic, X, 0),
+            (Motion::Prismatic, Z, 1),
+            (Motion::Revolute, Y, 2),
+        ],
         // Trans(x, y, z)·Rz(yaw)·Ry(pitch)·Rx(roll), q_base = [x, y, z, roll, pitch, yaw].
-        BaseType::Floating => (
-            vec![
-                "base_x",
-                "base_y",
-                "base_z",
-                "base_roll",
-                "base_pitch",
-                "base_yaw",
-            ],
-            vec![
-                (Motion::Prismatic, X, 0),
-                (Motion::Prismatic, Y, 1),
-                (Motion::Prismatic, Z, 2),
-                (Motion::Revolute, Z, 5),
-                (Motion::Revolute, Y, 4),
-                (Motion::Revolute, X, 3),
-            ],
-        ),
+        BaseType::Floating => vec![
+            (Motion::Prismatic, X, 0),
+            (Motion::Prismatic, Y, 1),
+            (Motion::Prismatic, Z, 2),
+            (Motion::Revolute, Z, 5),
+            (Motion::Revolute, Y, 4),
+            (Motion::Revolute, X, 3),
+        ],
     }
 }
 
@@ -705,7 +692,8 @@ fn build(
         });
     }
     // Coordinates: base, then non-fixed joints in document order.
-    let (base_names, base_frames) = base_chain(base);
+    let base_names = base.coordinate_names();
+    let base_frames = base_chain(base);
     let mut coordinate_names: Vec<String> = base_names.iter().map(|s| s.to_string()).collect();
     let mut coordinate_limits = vec![(f64::NEG_INFINITY, f64::INFINITY); base_names.len()];
     let mut damping = vec![0.0; base_names.len()];

@@ -5,6 +5,8 @@
 use std::fmt;
 use std::path::PathBuf;
 
+pub use crate::names::list_names;
+
 /// Where in a problem file something is: file, 1-based line (when known) and TOML path.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Location {
@@ -137,22 +139,5 @@ impl ProblemError {
             | ProblemError::WarmStart { at, .. } => Some(at.as_ref()),
             ProblemError::Io { .. } | ProblemError::Override { .. } => None,
         }
-    }
-}
-
-/// Lists names for a message, at most `max` of them.
-pub fn list_names<S: AsRef<str>>(names: &[S], max: usize) -> String {
-    let mut out: Vec<String> = names
-        .iter()
-        .take(max)
-        .map(|n| format!("`{}`", n.as_ref()))
-        .collect();
-    if names.len() > max {
-        out.push(format!("… ({} in all)", names.len()));
-    }
-    if out.is_empty() {
-        "(none)".into()
-    } else {
-        out.join(", ")
     }
 }

@@ -4,16 +4,22 @@
 //! name against the robot and returns a [`LoadedProblem`] holding the [`ProblemSpec`].
 
 mod error;
+mod load;
+mod overrides;
 mod robot;
 pub mod schema;
 mod source;
 mod spec;
 mod starter;
+mod units;
 mod validate;
 
+pub use crate::model::CoordinateKind;
 pub use error::{Location, ProblemError};
-pub use robot::{CoordinateKind, RobotError, RobotInfo, UrdfContact};
+pub use load::{LoadedProblem, load};
+pub use overrides::Override;
+pub use robot::{RobotError, RobotInfo, UrdfContact};
 pub use source::{edit_distance, nearest};
 pub use spec::*;
 pub use starter::starter_problem;
-pub use validate::{LoadedProblem, Override, Units, load};
+pub use units::Units;

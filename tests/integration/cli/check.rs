@@ -1,6 +1,8 @@
 //! `vito check` on every problem file under `problems/`, and its size report.
 
-use crate::cli::util::{TestDir, problems_dir};
+use std::path::Path;
+
+use crate::cli::util::{TestDir, problems_dir, summary};
 
 /// Every problem file validates and prints its size (quick: no solve).
 #[test]
@@ -44,6 +46,120 @@ fn check_reports_spec_sizes() {
             .assert_exit(0);
         assert!(run.stdout.contains(size), "{file}: {}", run.stdout);
     }
+}
+
+/// The problem files under `problems/` (the regression records excluded).
+fn problem_files() -> Vec<std::path::PathBuf> {
+    let mut files: Vec<_> = std::fs::read_dir(problems_dir())
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| {
+            p.extension().and_then(|e| e.to_str()) == Some("toml")
+                && !p
+                    .file_name()
+                    .and_then(|n| n.to_str())
+                    .is_some_and(|n| n.starts_with("golden"))
+        })
+        .collect();
+    files.sort();
+    files
+}
+
+/// (variables, constraints, nnz J, nnz H) from `vito check`'s `NLP size:` line.
+fn checked_size(stdout: &str) -> [u64; 4] {
+    let line = stdout
+        .lines()
+        .find_map(|l| l.trim().strip_prefix("NLP size:"))
+        .unwrap_or_else(|| panic!("no NLP size line in\n{stdout}"));
+    let numbers: Vec<u64> = line
+        .split(|c: char| !c.is_ascii_digit())
+        .filter(|w| !w.is_empty())
+        .take(4)
+        .map(|w| w.parse().unwrap())
+        .collect();
+    numbers
+        .try_into()
+        .unwrap_or_else(|_| panic!("four sizes in `{line}`"))
+}
+
+/// The sizes of the NLP that `vito solve` built, from its `summary.json`.
+fn solved_size(dir: &Path) -> [u64; 4] {
+    let s = summary(dir);
+    [
+        "n_variables",
+        "n_constraints",
+        "nnz_jacobian",
+        "nnz_hessian",
+    ]
+    .map(|k| {
+        s[k].as_u64()
+            .unwrap_or_else(|| panic!("{k} in summary.json"))
+    })
+}
+
+/// `vito check` and a `vito solve` stopped before its first iteration agree on the sizes.
+fn assert_check_matches_solve(t: &TestDir, file: &Path, set: &[&str]) -> [u64; 4] {
+    let mut check = t.vito().arg_path("check", file);
+    let out = t.path().join(file.file_stem().unwrap());
+    let mut solve = t
+        .vito()
+        .arg_path("solve", file)
+        .args(["--quiet", "--set", "solver.ipopt.max_iter=0", "--out"])
+        .args([&out]);
+    for s in set {
+        check = check.args(["--set", s]);
+        solve = solve.args(["--set", s]);
+    }
+    let checked = checked_size(&check.assert_exit(0).stdout);
+    // Not optimal after no iteration: exit 1, with the outputs written.
+    solve.assert_exit(1);
+    assert_eq!(checked, solved_size(&out), "{}", file.display());
+    checked
+}
+
+/// What `vito check` prints is the NLP the solver builds, for every problem file.
+#[test]
+fn check_size_is_the_solvers_for_every_problem_file() {
+    let t = TestDir::new("check_size_is_the_solvers");
+    let files = problem_files();
+    assert!(files.len() >= 4, "{files:?}");
+    for file in &files {
+        let [variables, constraints, ..] = assert_check_matches_solve(&t, file, &[]);
+        assert!(variables > 0 && constraints > 0, "{}", file.display());
+    }
+}
+
+/// With loop closures (HAMR, 24 rows per interval) the sizes count the loop impulses and rows
+/// that a size derived apart from the solver once left out (252 / 130 instead of 300 / 202).
+#[test]
+fn check_size_counts_loop_closures() {
+    let t = TestDir::new("check_size_counts_loop_closures");
+    let urdf = problems_dir().join("robots/hamr/HAMR_scaledV2.normalized.urdf");
+    let file = t.write(
+        "hamr_three_knots.toml",
+        &format!(
+            r#"name = "hamr_three_knots"
+[robot]
+urdf = {urdf:?}
+base = "floating"
+units = "mm g ms"
+gravity = [0.0, 0.0, -9.81e-3]
+
+[horizon]
+knots = 3
+time_step = 0.1
+
+[initial.q]
+default = 0.0
+base_z = 20.0
+
+[slack]
+weight = 100.0
+"#
+        ),
+    );
+    let [variables, constraints, ..] = assert_check_matches_solve(&t, &file, &[]);
+    assert_eq!((variables, constraints), (300, 202));
 }
 
 impl crate::cli::util::VitoCmd {

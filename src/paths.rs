@@ -1,0 +1,62 @@
+//! A path as a file in another directory would name it: relative where the two share a
+//! prefix, so that a problem file or a regression record can move with what it names.
+
+use std::path::{Path, PathBuf};
+
+/// `target` relative to `dir` when both are relative or share a prefix; else absolute.
+pub fn relative_path(target: &Path, dir: &Path) -> String {
+    let abs = |p: &Path| std::path::absolute(p).unwrap_or_else(|_| p.to_owned());
+    let (t, d) = (abs(target), abs(dir));
+    let common = t
+        .components()
+        .zip(d.components())
+        .take_while(|(a, b)| a == b)
+        .count();
+    let ups = d.components().count() - common;
+    let mut rel = PathBuf::new();
+    for _ in 0..ups {
+        rel.push("..");
+    }
+    for c in t.components().skip(common) {
+        rel.push(c);
+    }
+    rel.display().to_string()
+}
+
+/// How a file written to `out` names `target`: relative to `out`'s directory, or as given
+/// when the file goes to stdout or to the working directory.
+pub fn reference_from(target: &Path, out: Option<&Path>) -> String {
+    match out.and_then(Path::parent) {
+        Some(dir) if !dir.as_os_str().is_empty() => relative_path(target, dir),
+        _ => target.display().to_string(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn relative_between_siblings_and_from_the_working_directory() {
+        assert_eq!(
+            relative_path(Path::new("a/robots/r.urdf"), Path::new("a/problems")),
+            "../robots/r.urdf"
+        );
+        assert_eq!(
+            relative_path(Path::new("p/x.toml"), Path::new(".")),
+            "p/x.toml"
+        );
+        assert_eq!(
+            reference_from(Path::new("r.urdf"), Some(Path::new("out/p.toml"))),
+            "../r.urdf"
+        );
+        assert_eq!(
+            reference_from(Path::new("robots/r.urdf"), Some(Path::new("p.toml"))),
+            "robots/r.urdf"
+        );
+        assert_eq!(
+            reference_from(Path::new("robots/r.urdf"), None),
+            "robots/r.urdf"
+        );
+    }
+}

@@ -1,0 +1,327 @@
+//! Reading a problem file: its bytes and hash, the `--set` overrides, the TOML grammar, then
+//! the checks of [`super::validate`], into a [`LoadedProblem`].
+
+#![warn(missing_docs)]
+
+use std::path::{Path, PathBuf};
+
+use sha2::{Digest, Sha256};
+
+use crate::problem::schema::ProblemFile;
+use crate::problem::validate::{Context, check};
+use crate::problem::{Location, Override, ProblemError, ProblemSpec, RobotInfo, Units};
+
+/// A checked problem with what outputs need to say where it came from.
+#[derive(Debug, Clone)]
+pub struct LoadedProblem {
+    /// The checked problem the transcription solves.
+    pub spec: ProblemSpec,
+    /// Names, limits and units of the robot.
+    pub robot: RobotInfo,
+    /// Problem file as given.
+    pub file: PathBuf,
+    /// SHA-256 of the problem file's bytes (hex).
+    pub sha256: String,
+    /// The `--set` overrides applied, as `path = value` strings.
+    pub parameters: Vec<(String, String)>,
+    /// Output directory from the file (`output.dir`), if any.
+    pub output_dir: Option<PathBuf>,
+    /// Length, mass and time unit names (from `robot.units`; SI by default).
+    pub units: Units,
+    /// Free text from the file.
+    pub description: Option<String>,
+    /// The goal pose q_goal (the centre of the q_N box; q_1 when the file has none).
+    pub goal: Vec<f64>,
+}
+
+impl LoadedProblem {
+    /// An error about `field` (a TOML path such as `solver.ipopt.tol`) located in the
+    /// problem file, for checks made after loading (e.g. by Ipopt).
+    pub fn field_error(&self, field: &str, message: impl Into<String>) -> ProblemError {
+        let ctx = Context {
+            file: self.file.clone(),
+            text: std::fs::read_to_string(&self.file).unwrap_or_default(),
+            overridden: self.parameters.iter().map(|(p, _)| p.clone()).collect(),
+        };
+        ctx.invalid(field, message)
+    }
+}
+
+/// Reads, overrides and checks a problem file.
+pub fn load(path: &Path, overrides: &[Override]) -> Result<LoadedProblem, ProblemError> {
+    let bytes = std::fs::read(path).map_err(|source| ProblemError::Io {
+        path: path.to_owned(),
+        source,
+    })?;
+    let sha256: String = Sha256::digest(&bytes)
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect();
+    let text = String::from_utf8(bytes).map_err(|_| ProblemError::Invalid {
+        at: Box::new(Location {
+            file: path.to_owned(),
+            line: None,
+            field: String::new(),
+            from_override: false,
+        }),
+        message: "the file is not UTF-8 text".into(),
+    })?;
+    let ctx = Context {
+        file: path.to_owned(),
+        text: text.clone(),
+        overridden: overrides.iter().map(|o| o.path.clone()).collect(),
+    };
+    let raw: ProblemFile = if overrides.is_empty() {
+        toml::from_str(&text).map_err(|e| ctx.serde_error(&e, &text))?
+    } else {
+        let mut table: toml::Table =
+            toml::from_str(&text).map_err(|e| ctx.serde_error(&e, &text))?;
+        for o in overrides {
+            o.apply(&mut table)?;
+        }
+        let rewritten = toml::to_string(&table).map_err(|e| ProblemError::Override {
+            arg: String::new(),
+            message: e.to_string(),
+        })?;
+        toml::from_str(&rewritten).map_err(|e| ctx.serde_error(&e, &rewritten))?
+    };
+    let mut loaded = check(&ctx, raw)?;
+    loaded.sha256 = sha256;
+    loaded.parameters = overrides
+        .iter()
+        .map(|o| (o.path.clone(), o.value.to_string()))
+        .collect();
+    Ok(loaded)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact::Step;
+    use crate::problem::{CostTerm, InitialGuess, Interval, TimeSteps};
+
+    fn problems_dir() -> PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("problems")
+    }
+
+    #[test]
+    fn hopper_file_is_spec_hopper() {
+        let p = load(&problems_dir().join("hopper_2d.toml"), &[]).unwrap();
+        let s = &p.spec;
+        assert_eq!(s.name, "hopper-2d");
+        assert_eq!(s.knots, 21);
+        assert_eq!(s.time_steps, TimeSteps::Fixed(0.05));
+        assert_eq!(s.q_initial, [0.0, 0.5, 0.0, 0.5]);
+        assert_eq!(s.v_initial, Some(vec![0.0; 4]));
+        let goal = [0.5, 0.5, 0.0, 0.5];
+        for (b, g) in s.q_final.iter().zip(goal) {
+            assert_eq!(*b, Interval::fixed(g));
+        }
+        assert_eq!(
+            s.input_bounds[0],
+            Interval {
+                lower: -10.0,
+                upper: 10.0
+            }
+        );
+        assert_eq!(
+            s.input_bounds[1],
+            Interval {
+                lower: -100.0,
+                upper: 100.0
+            }
+        );
+        assert_eq!(s.contacts.len(), 1);
+        assert_eq!(s.contacts[0].friction, 0.8);
+        assert_eq!(s.slack_weight, 100.0);
+        assert_eq!(
+            s.costs,
+            vec![
+                CostTerm::StateTracking {
+                    q_target: goal.to_vec(),
+                    v_target: vec![0.0; 4],
+                    q_weights: vec![1.0; 4],
+                    v_weights: vec![0.0; 4],
+                    time_weighted: true,
+                },
+                CostTerm::Input {
+                    weights: vec![0.1, 0.01],
+                    time_weighted: true,
+                },
+            ]
+        );
+        assert_eq!(
+            s.initial_guess,
+            InitialGuess::Linear {
+                from: s.q_initial.clone(),
+                to: goal.to_vec()
+            }
+        );
+        assert_eq!(p.sha256.len(), 64);
+    }
+
+    #[test]
+    fn spring_flamingo_weights_are_doubled_for_the_half() {
+        let p = load(&problems_dir().join("spring_flamingo_walk.toml"), &[]).unwrap();
+        let s = &p.spec;
+        assert_eq!(
+            s.time_steps,
+            TimeSteps::FreeEqual {
+                t_min: 0.5,
+                t_max: 2.5
+            }
+        );
+        let delta = std::f64::consts::FRAC_PI_2 - 1.57075;
+        assert!((s.q_initial[5] - delta).abs() < 1e-15);
+        assert_eq!(s.q_final[0], Interval::fixed(-0.9));
+        assert_eq!(s.q_final[1], Interval::fixed(0.875));
+        match &s.costs[0] {
+            CostTerm::StateTracking {
+                q_weights,
+                v_weights,
+                ..
+            } => {
+                assert_eq!(q_weights, &vec![0.2; 9]);
+                assert_eq!(v_weights, &vec![0.2; 9]);
+            }
+            other => panic!("expected state tracking, got {other:?}"),
+        }
+        assert_eq!(
+            s.costs[1],
+            CostTerm::Input {
+                weights: vec![2.0; 4],
+                time_weighted: true
+            }
+        );
+        assert_eq!(
+            s.input_bounds,
+            vec![
+                Interval {
+                    lower: -300.0,
+                    upper: 300.0
+                };
+                4
+            ]
+        );
+        assert_eq!(s.contacts.len(), 4);
+        assert_eq!(s.contacts[0].point, [0.0, 0.0, 0.0]);
+    }
+
+    #[test]
+    fn littledog_goal_is_a_box_and_terrain_has_the_step() {
+        let p = load(&problems_dir().join("littledog_step.toml"), &[]).unwrap();
+        let s = &p.spec;
+        assert_eq!(s.q_final[0].lower, 0.45 - 0.01);
+        assert_eq!(s.q_final[0].upper, 0.45 + 0.01);
+        assert!((s.q_final[2].lower - 0.236).abs() < 1e-15);
+        assert_eq!(
+            s.terrain.steps,
+            vec![Step {
+                edge_x: 0.25,
+                rise: 0.11,
+                width: 0.005
+            }]
+        );
+        match &s.costs[0] {
+            CostTerm::StateTracking {
+                q_weights,
+                q_target,
+                ..
+            } => {
+                assert_eq!(&q_weights[..7], &[0.0, 0.0, 0.0, 10.0, 10.0, 10.0, 5.0]);
+                assert_eq!(q_weights[7], 1.0);
+                assert_eq!(q_target[0], 0.45);
+                assert_eq!(q_target[2], 0.246);
+            }
+            other => panic!("expected state tracking, got {other:?}"),
+        }
+        assert!(s.input_bounds.iter().all(|b| *b == Interval::FREE));
+        // The explicit feet are the URDF's own zero-radius spheres, in the same order.
+        assert_eq!(s.contacts.len(), 4);
+        for (c, u) in s.contacts.iter().zip(&p.robot.contacts) {
+            assert_eq!(
+                (c.link.as_str(), c.point),
+                (u.link.as_str(), u.point),
+                "{}",
+                c.name
+            );
+        }
+        assert_eq!(s.contacts[3].name, "back_right_foot");
+    }
+
+    #[test]
+    fn overrides_change_values_and_are_recorded() {
+        let o = [Override::parse("contacts.friction=0.3").unwrap()];
+        let p = load(&problems_dir().join("hopper_2d.toml"), &o).unwrap();
+        assert_eq!(p.spec.contacts[0].friction, 0.3);
+        assert_eq!(
+            p.parameters,
+            vec![("contacts.friction".to_owned(), "0.3".to_owned())]
+        );
+    }
+
+    #[test]
+    fn warm_start_reads_a_trajectory_csv_by_name() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::create_dir(dir.path().join("robots")).unwrap();
+        std::fs::copy(
+            problems_dir().join("robots/hopper_2d.urdf"),
+            dir.path().join("robots/hopper_2d.urdf"),
+        )
+        .unwrap();
+        // Columns in another order than the model's, with units, and an empty last input cell.
+        std::fs::write(
+            dir.path().join("prev.csv"),
+            "time [s],r [m],theta [rad],z [m],x [m],u_theta [N·m],u_r [N],slack\n\
+             0,0.5,0,0.5,0,1.5,-2,0.01\n\
+             0.5,0.45,0.1,0.6,0.25,0.5,3,0.01\n\
+             1,0.5,0,0.5,0.5,,,\n",
+        )
+        .unwrap();
+        let text = std::fs::read_to_string(problems_dir().join("hopper_2d.toml"))
+            .unwrap()
+            .replace("to = \"final\"", "warm_start = \"prev.csv\"");
+        std::fs::write(dir.path().join("p.toml"), text).unwrap();
+        let p = load(&dir.path().join("p.toml"), &[]).unwrap();
+        let InitialGuess::WarmStart(w) = &p.spec.initial_guess else {
+            panic!("expected a warm start, got {:?}", p.spec.initial_guess);
+        };
+        assert_eq!(w.times, [0.0, 0.5, 1.0]);
+        assert_eq!(w.q[1], [0.25, 0.6, 0.1, 0.45]);
+        assert_eq!(w.u, vec![vec![1.5, -2.0], vec![0.5, 3.0]]);
+
+        // A missing coordinate column is an error naming the column and the file's line.
+        std::fs::write(dir.path().join("prev.csv"), "time [s],x [m]\n0,0\n1,1\n").unwrap();
+        let err = load(&dir.path().join("p.toml"), &[])
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("field `initial_guess.warm_start`"), "{err}");
+        assert!(err.contains("no column for coordinate `z`"), "{err}");
+    }
+
+    #[test]
+    fn other_units_need_explicit_gravity() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::create_dir(dir.path().join("robots")).unwrap();
+        std::fs::copy(
+            problems_dir().join("robots/hopper_2d.urdf"),
+            dir.path().join("robots/hopper_2d.urdf"),
+        )
+        .unwrap();
+        let text = std::fs::read_to_string(problems_dir().join("hopper_2d.toml"))
+            .unwrap()
+            .replace("gravity = [0.0, 0.0, -9.81]", "units = \"mm g ms\"");
+        std::fs::write(dir.path().join("p.toml"), text).unwrap();
+        let err = load(&dir.path().join("p.toml"), &[])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("field `robot.gravity`") && err.contains("mm g ms"),
+            "{err}"
+        );
+        let o = [Override::parse("robot.gravity=[0, 0, -9.81e-3]").unwrap()];
+        let p = load(&dir.path().join("p.toml"), &o).unwrap();
+        assert_eq!(p.spec.robot.gravity, [0.0, 0.0, -9.81e-3]);
+        assert_eq!(p.units.force(), "g·mm/ms²");
+    }
+}

@@ -1,0 +1,96 @@
+//! `[robot]`: units, base, URDF and gravity.
+
+use std::path::{Path, PathBuf};
+
+use super::context::Context;
+use super::values::finite;
+use crate::model::BaseType;
+use crate::problem::schema::{BaseName, ProblemFile};
+use crate::problem::units::si_units;
+use crate::problem::{ProblemError, RobotInfo, Units};
+
+/// The checked `[robot]` section.
+pub(super) struct CheckedRobot {
+    pub(super) units: Units,
+    pub(super) base: BaseType,
+    pub(super) urdf: PathBuf,
+    pub(super) robot: RobotInfo,
+    pub(super) gravity: [f64; 3],
+}
+
+pub(super) fn check_robot(ctx: &Context, raw: &ProblemFile) -> Result<CheckedRobot, ProblemError> {
+    let units = parse_units(ctx, raw.robot.units.as_deref())?;
+    let base = match raw.robot.base {
+        BaseName::Fixed => BaseType::Fixed,
+        BaseName::Planar => BaseType::Planar,
+        BaseName::Floating => BaseType::Floating,
+    };
+    let dir = ctx.file.parent().unwrap_or(Path::new(""));
+    let urdf = dir.join(&raw.robot.urdf);
+    if !urdf.is_file() {
+        return Err(ctx.invalid(
+            "robot.urdf",
+            format!(
+                "URDF file {} does not exist (paths are relative to the problem file)",
+                urdf.display()
+            ),
+        ));
+    }
+    let robot = RobotInfo::read(&urdf, base).map_err(|source| ProblemError::Robot {
+        at: ctx.at("robot.urdf"),
+        source,
+    })?;
+    let gravity = match raw.robot.gravity {
+        Some(g) => {
+            for (i, v) in g.iter().enumerate() {
+                finite(ctx, &format!("robot.gravity[{i}]"), *v)?;
+            }
+            g
+        }
+        None if raw.robot.units.is_some() && units != si_units() => {
+            return Err(ctx.invalid(
+                "robot.gravity",
+                format!(
+                    "the robot uses units `{} {} {}`: give gravity in them (e.g. [0, 0, -9.81e-3] for mm/ms²)",
+                    units.length, units.mass, units.time
+                ),
+            ));
+        }
+        None => [0.0, 0.0, -9.81],
+    };
+    let n = robot.coordinates.len();
+    if n == 0 {
+        return Err(ctx.invalid(
+            "robot.base",
+            "the robot has no coordinates: a fixed base and no moving joints; choose `planar` or `floating`",
+        ));
+    }
+    Ok(CheckedRobot {
+        units,
+        base,
+        urdf,
+        robot,
+        gravity,
+    })
+}
+
+fn parse_units(ctx: &Context, units: Option<&str>) -> Result<Units, ProblemError> {
+    let si = si_units();
+    match units.map(str::trim) {
+        None | Some("SI") | Some("si") => Ok(si),
+        Some(text) => {
+            let parts: Vec<&str> = text.split_whitespace().collect();
+            if parts.len() != 3 {
+                return Err(ctx.invalid(
+                    "robot.units",
+                    format!("expected \"SI\" or three unit names \"length mass time\" (e.g. \"mm g ms\"), got \"{text}\""),
+                ));
+            }
+            Ok(Units {
+                length: parts[0].into(),
+                mass: parts[1].into(),
+                time: parts[2].into(),
+            })
+        }
+    }
+}

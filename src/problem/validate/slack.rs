@@ -1,0 +1,63 @@
+//! `[slack]`: the penalty weight, the slack mode and the exact-penalty continuation.
+
+use super::context::Context;
+use super::values::positive;
+use crate::problem::schema::ProblemFile;
+use crate::problem::{ProblemError, SlackContinuation, SlackMode};
+
+/// (weight α, mode).
+pub(super) fn check_slack_penalty(
+    ctx: &Context,
+    raw: &ProblemFile,
+) -> Result<(f64, SlackMode), ProblemError> {
+    let slack_weight = positive(ctx, "slack.weight", raw.slack.weight)?;
+    let slack_mode = match raw.slack.mode.as_deref() {
+        None | Some("per_interval") => SlackMode::PerInterval,
+        Some("per_contact") => SlackMode::PerContact,
+        Some(other) => {
+            let valid = ["per_interval", "per_contact"].map(String::from);
+            return Err(ctx.unknown_name("slack.mode", "slack mode", other, &valid));
+        }
+    };
+    Ok((slack_weight, slack_mode))
+}
+
+/// `slack.target`, `growth` and `rounds`, if a target is given.
+pub(super) fn check_slack_continuation(
+    ctx: &Context,
+    raw: &ProblemFile,
+) -> Result<Option<SlackContinuation>, ProblemError> {
+    let slack_continuation = match raw.slack.target {
+        None => {
+            for (field, given) in [
+                ("slack.growth", raw.slack.growth.is_some()),
+                ("slack.rounds", raw.slack.rounds.is_some()),
+            ] {
+                if given {
+                    return Err(ctx.invalid(
+                        field,
+                        "has no effect without `slack.target`; give the target slack too",
+                    ));
+                }
+            }
+            None
+        }
+        Some(target) => {
+            let growth = raw.slack.growth.unwrap_or(10.0);
+            if !(growth > 1.0 && growth.is_finite()) {
+                return Err(ctx.invalid(
+                    "slack.growth",
+                    format!(
+                        "must be a number above 1 (the weight's factor per solve), got {growth}"
+                    ),
+                ));
+            }
+            Some(SlackContinuation {
+                target: positive(ctx, "slack.target", target)?,
+                growth,
+                rounds: raw.slack.rounds.unwrap_or(3),
+            })
+        }
+    };
+    Ok(slack_continuation)
+}

@@ -1,0 +1,333 @@
+//! The trajectory CSV format, written by `report` and read back by `problem` for warm
+//! starts: one row per knot, one column per named quantity, units in headers.
+//!
+//! Columns, in order: `time [s]`; each coordinate `<name> [m|rad]`; each velocity
+//! `<name>_dot [m/s|rad/s]` (v_0 on the first row, the backward difference (q_k − q_{k−1})/h
+//! after); each input `u_<name> [N|N·m]`; per contact `<contact>_normal [N·s]`, its friction
+//! impulses `<contact>_friction_<dir> [N·s]` (dir +x, −x in the plane; +x, +y, −x, −y in
+//! space) and its signed distance `<contact>_distance [m]`; the slacks `slack` (or
+//! `slack_<j>` in per-contact mode). Interval quantities (inputs, impulses, distances at the
+//! interval's end knot, slacks) sit on the interval's first knot; the last row leaves them
+//! empty. Units follow the robot's (`robot.units`).
+//!
+//! This module knows the format only (column names, units, number text, parsing), not where
+//! the numbers come from, so that both `report` (above it) and `problem` can use it.
+
+use crate::names::list_names;
+
+/// What one CSV holds, by knot (k = 0..N−1) and interval (k = 0..N−2).
+#[derive(Debug, Clone, Copy)]
+pub struct Trajectory<'a> {
+    /// Knot times (length N).
+    pub times: &'a [f64],
+    /// Coordinate names (length n).
+    pub coordinate_names: &'a [String],
+    /// Configurations (N × n).
+    pub q: &'a [Vec<f64>],
+    /// Velocities (N × n).
+    pub v: &'a [Vec<f64>],
+    /// Input names (length m).
+    pub input_names: &'a [String],
+    /// Inputs per interval (N−1 × m).
+    pub u: &'a [Vec<f64>],
+    /// Contact names (length nc).
+    pub contact_names: &'a [String],
+    /// Friction directions per contact.
+    pub friction_directions: usize,
+    /// Normal impulses per interval (N−1 × nc).
+    pub normal_impulse: &'a [Vec<f64>],
+    /// Friction impulses per interval (N−1 × nc × nd).
+    pub friction_impulse: &'a [Vec<Vec<f64>>],
+    /// Signed distances per interval (N−1 × nc).
+    pub signed_distance: &'a [Vec<f64>],
+    /// Slacks per interval (N−1 × slacks per interval).
+    pub slack: &'a [Vec<f64>],
+}
+
+/// Unit labels for the columns.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ColumnUnits {
+    /// Time unit, e.g. `s`.
+    pub time: String,
+    /// Length unit, e.g. `m`.
+    pub length: String,
+    /// Per coordinate: `m` or `rad` (length n).
+    pub coordinates: Vec<String>,
+    /// Per input: `N` or `N·m` (length m).
+    pub inputs: Vec<String>,
+    /// Impulse unit, e.g. `N·s`.
+    pub impulse: String,
+}
+
+/// The column holding input `name`.
+pub fn input_column_name(name: &str) -> String {
+    format!("u_{name}")
+}
+
+/// Names of the friction directions for `nd` directions per contact.
+pub fn friction_direction_names(nd: usize) -> Vec<String> {
+    match nd {
+        2 => vec!["+x".into(), "-x".into()],
+        4 => vec!["+x".into(), "+y".into(), "-x".into(), "-y".into()],
+        _ => (0..nd).map(|d| format!("d{d}")).collect(),
+    }
+}
+
+fn header(name: &str, unit: &str) -> String {
+    if unit.is_empty() {
+        name.to_owned()
+    } else {
+        format!("{name} [{unit}]")
+    }
+}
+
+fn number(x: f64) -> String {
+    // `{:e}`-free shortest round-trip representation: Rust's Display for f64 is exact.
+    format!("{x}")
+}
+
+/// Renders the trajectory CSV.
+pub fn write_trajectory(trajectory: &Trajectory<'_>, units: &ColumnUnits) -> String {
+    let s = trajectory;
+    let mut names = vec![header("time", &units.time)];
+    for (c, unit) in s.coordinate_names.iter().zip(&units.coordinates) {
+        names.push(header(c, unit));
+    }
+    for (c, unit) in s.coordinate_names.iter().zip(&units.coordinates) {
+        names.push(header(
+            &format!("{c}_dot"),
+            &format!("{unit}/{}", units.time),
+        ));
+    }
+    for (u, unit) in s.input_names.iter().zip(&units.inputs) {
+        names.push(header(&input_column_name(u), unit));
+    }
+    let directions = friction_direction_names(s.friction_directions);
+    for c in s.contact_names {
+        names.push(header(&format!("{c}_normal"), &units.impulse));
+        for d in &directions {
+            names.push(header(&format!("{c}_friction_{d}"), &units.impulse));
+        }
+        names.push(header(&format!("{c}_distance"), &units.length));
+    }
+    let slacks = s.slack.first().map_or(1, Vec::len);
+    if slacks == 1 {
+        names.push("slack".into());
+    } else {
+        names.extend((0..slacks).map(|j| format!("slack_{j}")));
+    }
+    let mut out = names.join(",");
+    out.push('\n');
+    let knots = s.times.len();
+    for k in 0..knots {
+        let mut row: Vec<String> = vec![number(s.times[k])];
+        row.extend(s.q[k].iter().map(|&x| number(x)));
+        row.extend(s.v[k].iter().map(|&x| number(x)));
+        let interval = k + 1 < knots;
+        let cell = |x: Option<&f64>| match (interval, x) {
+            (true, Some(x)) => number(*x),
+            _ => String::new(),
+        };
+        for j in 0..s.input_names.len() {
+            row.push(cell(s.u.get(k).and_then(|u| u.get(j))));
+        }
+        for i in 0..s.contact_names.len() {
+            row.push(cell(s.normal_impulse.get(k).and_then(|c| c.get(i))));
+            for d in 0..directions.len() {
+                row.push(cell(
+                    s.friction_impulse
+                        .get(k)
+                        .and_then(|b| b.get(i))
+                        .and_then(|b| b.get(d)),
+                ));
+            }
+            row.push(cell(s.signed_distance.get(k).and_then(|p| p.get(i))));
+        }
+        for j in 0..slacks {
+            row.push(cell(s.slack.get(k).and_then(|x| x.get(j))));
+        }
+        out.push_str(&row.join(","));
+        out.push('\n');
+    }
+    out
+}
+
+/// A numeric CSV read back: column names without their `[unit]`, and columns of numbers
+/// (empty cells are NaN).
+#[derive(Debug, Clone, PartialEq)]
+pub struct CsvTable {
+    /// Column names, units stripped.
+    pub names: Vec<String>,
+    /// One vector per column (rows in order).
+    pub columns: Vec<Vec<f64>>,
+}
+
+impl CsvTable {
+    /// The column called `name` (units stripped), if any.
+    pub fn column(&self, name: &str) -> Option<Vec<f64>> {
+        let i = self.names.iter().position(|n| n == name)?;
+        Some(self.columns[i].clone())
+    }
+    /// Number of data rows.
+    pub fn rows(&self) -> usize {
+        self.columns.first().map_or(0, Vec::len)
+    }
+}
+
+/// Parses a numeric CSV with a header row; the message names the row and column at fault.
+pub fn read_csv(text: &str) -> Result<CsvTable, String> {
+    let mut lines = text.lines().filter(|l| !l.trim().is_empty());
+    let header = lines.next().ok_or("the file is empty")?;
+    let names: Vec<String> = header
+        .split(',')
+        .map(|h| match h.find(" [") {
+            Some(i) => h[..i].trim().to_owned(),
+            None => h.trim().to_owned(),
+        })
+        .collect();
+    let mut columns = vec![Vec::new(); names.len()];
+    for (r, line) in lines.enumerate() {
+        let cells: Vec<&str> = line.split(',').collect();
+        if cells.len() != names.len() {
+            return Err(format!(
+                "row {} has {} cells, the header has {}",
+                r + 2,
+                cells.len(),
+                names.len()
+            ));
+        }
+        for (c, cell) in cells.iter().enumerate() {
+            let cell = cell.trim();
+            let v = if cell.is_empty() {
+                f64::NAN
+            } else {
+                cell.parse::<f64>().map_err(|_| {
+                    format!(
+                        "row {}, column `{}`: `{cell}` is not a number",
+                        r + 2,
+                        names[c]
+                    )
+                })?
+            };
+            columns[c].push(v);
+        }
+    }
+    Ok(CsvTable { names, columns })
+}
+
+/// What a warm start takes from a trajectory CSV: knot times, configurations by coordinate
+/// name, and inputs by input name when every input has a column.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RecordedTrajectory {
+    /// Knot times (at least two, increasing).
+    pub times: Vec<f64>,
+    /// Configurations at those times, in the order of the names asked for.
+    pub q: Vec<Vec<f64>>,
+    /// Inputs per interval (one fewer than times), empty when some input has no column;
+    /// empty cells read as 0.
+    pub u: Vec<Vec<f64>>,
+}
+
+/// Reads the time, coordinate and input columns of a trajectory CSV by name, in the order
+/// `coordinates` and `inputs` give; the message says what is missing or wrong.
+pub fn read_trajectory(
+    text: &str,
+    coordinates: &[String],
+    inputs: &[String],
+) -> Result<RecordedTrajectory, String> {
+    let table = read_csv(text)?;
+    let times = table.column("time").ok_or("no `time` column")?;
+    if times.len() < 2 || times.iter().any(|t| t.is_nan()) || times.windows(2).any(|w| w[1] <= w[0])
+    {
+        return Err("the `time` column must hold at least two increasing numbers".into());
+    }
+    let mut q = vec![vec![0.0; coordinates.len()]; times.len()];
+    for (j, name) in coordinates.iter().enumerate() {
+        let column = table.column(name).ok_or_else(|| {
+            format!(
+                "no column for coordinate `{name}` (columns: {})",
+                list_names(&table.names, 24)
+            )
+        })?;
+        for (k, v) in column.iter().enumerate() {
+            if v.is_nan() {
+                return Err(format!("coordinate `{name}` has no value in row {}", k + 1));
+            }
+            q[k][j] = *v;
+        }
+    }
+    let mut u = Vec::new();
+    let input_columns: Vec<Option<Vec<f64>>> = inputs
+        .iter()
+        .map(|name| table.column(&input_column_name(name)))
+        .collect();
+    if !inputs.is_empty() && input_columns.iter().all(Option::is_some) {
+        for k in 0..times.len() - 1 {
+            u.push(
+                input_columns
+                    .iter()
+                    .map(|c| c.as_ref().map_or(0.0, |c| c[k]))
+                    .map(|v| if v.is_nan() { 0.0 } else { v })
+                    .collect(),
+            );
+        }
+    }
+    Ok(RecordedTrajectory { times, q, u })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn written_trajectory_reads_back_by_name() {
+        let names = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+        let coordinates = names(&["x", "theta"]);
+        let inputs = names(&["theta"]);
+        let contacts = names(&["toe"]);
+        let q = vec![vec![0.0, 0.5], vec![0.25, -1.5], vec![0.5, 2.0]];
+        let trajectory = Trajectory {
+            times: &[0.0, 0.1, 0.3],
+            coordinate_names: &coordinates,
+            q: &q,
+            v: &[vec![0.0; 2], vec![2.5, -20.0], vec![1.25, 17.5]],
+            input_names: &inputs,
+            u: &[vec![3.0], vec![-4.0]],
+            contact_names: &contacts,
+            friction_directions: 2,
+            normal_impulse: &[vec![1.0], vec![0.0]],
+            friction_impulse: &[vec![vec![0.5, 0.0]], vec![vec![0.0, 0.0]]],
+            signed_distance: &[vec![0.0], vec![0.1]],
+            slack: &[vec![1e-9], vec![2e-9]],
+        };
+        let units = ColumnUnits {
+            time: "s".into(),
+            length: "m".into(),
+            coordinates: vec!["m".into(), "rad".into()],
+            inputs: vec!["N·m".into()],
+            impulse: "N·s".into(),
+        };
+        let text = write_trajectory(&trajectory, &units);
+        assert_eq!(
+            text.lines().next(),
+            Some(
+                "time [s],x [m],theta [rad],x_dot [m/s],theta_dot [rad/s],u_theta [N·m],\
+                 toe_normal [N·s],toe_friction_+x [N·s],toe_friction_-x [N·s],toe_distance [m],slack"
+            )
+        );
+        assert_eq!(text.lines().nth(3), Some("0.3,0.5,2,1.25,17.5,,,,,,"));
+        // Asked in another order than written.
+        let back = read_trajectory(&text, &names(&["theta", "x"]), &inputs).unwrap();
+        assert_eq!(back.times, [0.0, 0.1, 0.3]);
+        assert_eq!(back.q[1], [-1.5, 0.25]);
+        assert_eq!(back.u, vec![vec![3.0], vec![-4.0]]);
+        let err = read_trajectory(&text, &names(&["z"]), &[]).unwrap_err();
+        assert!(
+            err.starts_with("no column for coordinate `z` (columns: `time`, `x`"),
+            "{err}"
+        );
+        // Without a column for every input, no inputs are taken.
+        let back = read_trajectory(&text, &coordinates, &names(&["theta", "r"])).unwrap();
+        assert!(back.u.is_empty());
+    }
+}
