@@ -160,6 +160,12 @@ impl CliError {
                 vito::transcription::TranscriptionError::Solver(_) => 3,
                 _ => 2,
             },
+            // A target vito may not replace is the user's input, found before solving.
+            CliError::Report(report::ReportError::Output(
+                report::OutputDirError::NotOurs { .. }
+                | report::OutputDirError::Protected { .. }
+                | report::OutputDirError::Invalid { .. },
+            )) => 2,
             CliError::Report(_) | CliError::Internal(_) => 3,
         }
     }
@@ -304,7 +310,7 @@ fn solve(file: &Path, set: &[String], out: Option<&Path>, quiet: bool) -> Result
     let overrides = parse_overrides(set)?;
     let problem = load(file, &overrides)?;
     pipeline::check_solver_options(&problem)?;
-    let target = pipeline::output_dir(&problem, out);
+    let target = pipeline::checked_output_dir(&problem, out).map_err(report::ReportError::from)?;
     let cancel = Arc::new(AtomicBool::new(false));
     {
         let cancel = cancel.clone();

@@ -71,3 +71,14 @@ pub fn output_dir(problem: &LoadedProblem, out: Option<&Path>) -> PathBuf {
         (None, None) => PathBuf::from("out").join(&problem.spec.name),
     }
 }
+
+/// [`output_dir`] checked before any solving against the rule of
+/// [`crate::report::OutputTarget`]: only vito's own results or an empty directory are
+/// replaced, and never the current directory or one holding the problem file or its robot.
+pub fn checked_output_dir(
+    problem: &LoadedProblem,
+    out: Option<&Path>,
+) -> Result<crate::report::OutputTarget, crate::report::OutputDirError> {
+    let target = output_dir(problem, out);
+    crate::report::OutputTarget::check(&target, &[&problem.file, &problem.spec.robot.urdf])
+}

@@ -73,7 +73,7 @@ pub fn column_units(robot: &RobotInfo, units: &Units) -> ColumnUnits {
 /// Writes `trajectory.csv`, `summary.json` and the three plots into `target`, atomically:
 /// an existing `target` is replaced only once everything is written.
 pub fn write_outputs(
-    target: &Path,
+    target: &OutputTarget,
     problem: &LoadedProblem,
     solution: &Solution,
 ) -> Result<PathBuf, ReportError> {
@@ -81,7 +81,8 @@ pub fn write_outputs(
         let path = path.to_owned();
         move |source| ReportError::Io { path, source }
     };
-    let staged = StagedDir::new(target)?;
+    let staged = target.stage()?;
+    let target = target.path();
     let dir = staged.path().to_owned();
     let units = column_units(&problem.robot, &problem.units);
     let csv_path = dir.join("trajectory.csv");
@@ -239,10 +240,11 @@ mod output_tests {
         std::fs::create_dir(&target).unwrap();
         std::fs::write(target.join("stale.txt"), "old").unwrap();
         // Not vito's: refused and left alone. Once marked as vito's, it is replaced whole.
-        assert!(write_outputs(&target, &problem, &s).is_err());
+        assert!(OutputTarget::check(&target, &[]).is_err());
         assert!(target.join("stale.txt").exists());
         std::fs::write(target.join(MARKER), "").unwrap();
-        let written = write_outputs(&target, &problem, &s).unwrap();
+        let checked = OutputTarget::check(&target, &[]).unwrap();
+        let written = write_outputs(&checked, &problem, &s).unwrap();
         assert_eq!(written, target);
         assert!(!target.join("stale.txt").exists());
         for svg in ["coordinates.svg", "inputs.svg", "contact_modes.svg"] {

@@ -5,5 +5,6 @@ pub mod util;
 mod check;
 mod errors;
 mod init;
+mod output_dirs;
 mod regression;
 mod solve;
