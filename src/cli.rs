@@ -439,19 +439,14 @@ fn inspect(urdf: &Path, base: BaseType, json: bool) -> Result<u8, CliError> {
     Ok(0)
 }
 
-/// The reference problems of SPEC.md, as `vito bench` runs them by default.
-pub const REFERENCE_PROBLEMS: [&str; 4] = [
-    "problems/hopper_2d.toml",
-    "problems/brick_3d.toml",
-    "problems/spring_flamingo_walk.toml",
-    "problems/littledog_step.toml",
-];
-
 /// Prints one `transcription::bench` row per problem (sizes, solve and derivative times).
 fn bench(files: &[PathBuf], set: &[String]) -> Result<u8, CliError> {
     let overrides = parse_overrides(set)?;
     let files: Vec<PathBuf> = if files.is_empty() {
-        REFERENCE_PROBLEMS.iter().map(PathBuf::from).collect()
+        pipeline::REFERENCE_PROBLEMS
+            .iter()
+            .map(PathBuf::from)
+            .collect()
     } else {
         files.to_vec()
     };

@@ -40,6 +40,14 @@ pub fn solve(spec: &ProblemSpec, options: &SolveOptions) -> Result<Solution, Tra
     transcription::solve_with(mechanics(spec)?, spec, options)
 }
 
+/// The reference problems of SPEC.md, as `vito bench` runs them by default.
+pub const REFERENCE_PROBLEMS: [&str; 4] = [
+    "problems/hopper_2d.toml",
+    "problems/brick_3d.toml",
+    "problems/spring_flamingo_walk.toml",
+    "problems/littledog_step.toml",
+];
+
 /// Benchmarks `spec` (sizes, one derivative evaluation, a full solve) with the robot from its
 /// URDF.
 pub fn bench(spec: &ProblemSpec) -> Result<BenchRow, TranscriptionError> {

@@ -127,6 +127,61 @@ pub(crate) fn const_mat_vec<D: Scalar>(c: &[[f64; 3]; 3], v: Vec3<D>) -> Vec3<D>
     ]
 }
 
+/// Unit vector, or `None` for a zero or non-finite vector.
+pub(crate) fn normalized(v: [f64; 3]) -> Option<[f64; 3]> {
+    let norm = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    (norm.is_finite() && norm > 1e-12).then(|| [v[0] / norm, v[1] / norm, v[2] / norm])
+}
+
+/// Two unit vectors perpendicular to the unit `axis`: the other two coordinate axes when
+/// `axis` is a coordinate axis, else an orthonormal pair.
+pub(crate) fn perpendicular_pair(axis: [f64; 3]) -> [[f64; 3]; 2] {
+    let unit = |k: usize| {
+        let mut e = [0.0; 3];
+        e[k] = 1.0;
+        e
+    };
+    for (k, component) in axis.iter().enumerate() {
+        if (component.abs() - 1.0).abs() < 1e-12 {
+            let others: Vec<usize> = (0..3).filter(|&j| j != k).collect();
+            return [unit(others[0]), unit(others[1])];
+        }
+    }
+    let k = (0..3)
+        .min_by(|&a, &b| axis[a].abs().total_cmp(&axis[b].abs()))
+        .unwrap_or(0);
+    let cross = |a: [f64; 3], b: [f64; 3]| {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    };
+    let e1 = normalized(cross(axis, unit(k))).unwrap_or(unit(0));
+    [e1, cross(axis, e1)]
+}
+
+/// Whether a symmetric 3×3 matrix is positive definite (Sylvester's criterion).
+pub(crate) fn positive_definite(m: &[[f64; 3]; 3]) -> bool {
+    let d1 = m[0][0];
+    let d2 = m[0][0] * m[1][1] - m[0][1] * m[1][0];
+    let d3 = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+        - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+        + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+    d1 > 0.0 && d2 > 0.0 && d3 > 0.0 && m.iter().flatten().all(|x| x.is_finite())
+}
+
+/// The transpose of a 3×3 matrix.
+pub(crate) fn transpose(m: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
+    let mut t = [[0.0; 3]; 3];
+    for (i, row) in m.iter().enumerate() {
+        for (j, &x) in row.iter().enumerate() {
+            t[j][i] = x;
+        }
+    }
+    t
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -160,5 +215,29 @@ mod tests {
                 && (x_image[1] - 1.0).abs() < 1e-15
                 && x_image[2].abs() < 1e-15
         );
+    }
+
+    #[test]
+    fn perpendicular_pairs_are_orthonormal() {
+        assert_eq!(
+            perpendicular_pair([0.0, 1.0, 0.0]),
+            [[1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]
+        );
+        assert_eq!(
+            perpendicular_pair([0.0, 0.0, -1.0]),
+            [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]
+        );
+        let axis = normalized([1.0, 2.0, -0.5]).expect("non-zero");
+        let [e1, e2] = perpendicular_pair(axis);
+        let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        for (a, b, want) in [
+            (e1, e1, 1.0),
+            (e2, e2, 1.0),
+            (e1, e2, 0.0),
+            (e1, axis, 0.0),
+            (e2, axis, 0.0),
+        ] {
+            assert!((dot(a, b) - want).abs() < 1e-15);
+        }
     }
 }

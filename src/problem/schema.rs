@@ -67,8 +67,7 @@ pub struct ProblemFile {
 pub struct RobotSection {
     /// URDF path, relative to the problem file.
     pub urdf: String,
-    /// `fixed`, `planar` (base_x, base_z, base_pitch) or `floating` (base_x, base_y, base_z,
-    /// base_roll, base_pitch, base_yaw).
+    /// `fixed`, `planar` or `floating` (coordinates: [`crate::model::BaseType::coordinate_names`]).
     #[serde(default)]
     pub base: BaseName,
     /// Gravity in world coordinates, robot units (default [0, 0, −9.81] m/s²).
@@ -87,9 +86,9 @@ pub enum BaseName {
     /// Root link welded to the world (default).
     #[default]
     Fixed,
-    /// base_x, base_z, base_pitch.
+    /// Coordinates [`crate::model::PLANAR_BASE_COORDINATES`].
     Planar,
-    /// base_x, base_y, base_z, base_roll, base_pitch, base_yaw.
+    /// Coordinates [`crate::model::FLOATING_BASE_COORDINATES`].
     Floating,
 }
 

@@ -1,0 +1,546 @@
+//! The checked [`Model`] from a parsed URDF and its Drake extensions: names, the tree's
+//! order, coordinates, frames with lumped masses, contact points, springs, loop closures and
+//! inputs, each step a function.
+
+use std::collections::{HashMap, HashSet};
+
+use super::extensions::{Extensions, bad};
+use super::inertia::{MassPiece, link_inertia, lump};
+use crate::model::spatial::{mat_mul, normalized, perpendicular_pair, rpy_to_matrix, transpose};
+use crate::model::tree::{Frame, LinkPlacement, Motion};
+use crate::model::{BaseType, ContactPoint, LinkId, LoopClosure, Model, ModelError, Spring};
+
+fn rpy(v: &[f64; 3]) -> [[f64; 3]; 3] {
+    rpy_to_matrix(v[0], v[1], v[2])
+}
+
+const IDENTITY: [[f64; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+
+/// One virtual base frame: its motion, axis and coordinate index (into
+/// [`BaseType::coordinate_names`]).
+type BaseFrame = (Motion, [f64; 3], usize);
+
+fn base_chain(base: BaseType) -> Vec<BaseFrame> {
+    const X: [f64; 3] = [1.0, 0.0, 0.0];
+    const Y: [f64; 3] = [0.0, 1.0, 0.0];
+    const Z: [f64; 3] = [0.0, 0.0, 1.0];
+    match base {
+        BaseType::Fixed => vec![],
+        BaseType::Planar => vec![
+            (Motion::Prismatic, X, 0),
+            (Motion::Prismatic, Z, 1),
+            (Motion::Revolute, Y, 2),
+        ],
+        // Trans(x, y, z)·Rz(yaw)·Ry(pitch)·Rx(roll), q_base = [x, y, z, roll, pitch, yaw].
+        BaseType::Floating => vec![
+            (Motion::Prismatic, X, 0),
+            (Motion::Prismatic, Y, 1),
+            (Motion::Prismatic, Z, 2),
+            (Motion::Revolute, Z, 5),
+            (Motion::Revolute, Y, 4),
+            (Motion::Revolute, X, 3),
+        ],
+    }
+}
+
+/// Converts a parsed URDF with its extensions into a model with the given base.
+pub(super) fn build(
+    robot: &urdf_rs::Robot,
+    ext: &Extensions,
+    base: BaseType,
+    mut warnings: Vec<String>,
+) -> Result<Model, ModelError> {
+    if robot.links.is_empty() {
+        return Err(ModelError::NoLinks);
+    }
+    let (link_of, joint_of) = index_names(robot)?;
+    let tree = tree_order(robot, &link_of)?;
+    let coordinates = coordinates(robot, ext, base, &mut warnings)?;
+    let joints = JointCoordinates {
+        joint_of: &joint_of,
+        joint_coordinate: &coordinates.joint_coordinate,
+    };
+    let bodies = bodies(robot, ext, base, &link_of, &tree, &coordinates)?;
+    let contact_points = contact_points(robot);
+    let springs = springs(ext, &joints)?;
+    let loop_closures = loop_closures(ext, &bodies.link_names)?;
+    let inputs = inputs(robot, ext, &joints, &mut warnings)?;
+    Ok(Model {
+        frames: bodies.frames,
+        link_frame: bodies.link_frame,
+        link_names: bodies.link_names,
+        coordinate_names: coordinates.names,
+        coordinate_limits: coordinates.limits,
+        damping: coordinates.damping,
+        input_names: inputs.names,
+        input_coordinates: inputs.coordinates,
+        effort_limits: inputs.effort_limits,
+        contact_points,
+        springs,
+        loop_closures,
+        gravity: [0.0, 0.0, -9.81],
+        total_mass: bodies.total_mass,
+        base,
+        name: robot.name.clone(),
+        warnings,
+    })
+}
+
+/// Index of a link or joint by name.
+type NameIndex<'a> = HashMap<&'a str, usize>;
+
+/// Link and joint indices by name; a name used twice is an error.
+fn index_names(robot: &urdf_rs::Robot) -> Result<(NameIndex<'_>, NameIndex<'_>), ModelError> {
+    let mut link_of: HashMap<&str, usize> = HashMap::new();
+    for (i, link) in robot.links.iter().enumerate() {
+        if link_of.insert(link.name.as_str(), i).is_some() {
+            return Err(ModelError::DuplicateName {
+                kind: "link",
+                name: link.name.clone(),
+            });
+        }
+    }
+    let mut joint_of: HashMap<&str, usize> = HashMap::new();
+    for (j, joint) in robot.joints.iter().enumerate() {
+        if joint_of.insert(joint.name.as_str(), j).is_some() {
+            return Err(ModelError::DuplicateName {
+                kind: "joint",
+                name: joint.name.clone(),
+            });
+        }
+    }
+    Ok((link_of, joint_of))
+}
+
+/// The tree's shape: each link's parent joint, and the links parents first.
+struct Tree {
+    parent_joint: Vec<Option<usize>>,
+    /// Depth-first from the root.
+    order: Vec<usize>,
+}
+
+/// Checks that the joints form one tree of supported joints and orders its links.
+fn tree_order(robot: &urdf_rs::Robot, link_of: &NameIndex) -> Result<Tree, ModelError> {
+    let mut parent_joint: Vec<Option<usize>> = vec![None; robot.links.len()];
+    let mut children: Vec<Vec<usize>> = vec![Vec::new(); robot.links.len()];
+    for (j, joint) in robot.joints.iter().enumerate() {
+        use urdf_rs::JointType as T;
+        if !matches!(
+            joint.joint_type,
+            T::Fixed | T::Revolute | T::Continuous | T::Prismatic
+        ) {
+            return Err(ModelError::UnsupportedJointType {
+                joint: joint.name.clone(),
+                joint_type: format!("{:?}", joint.joint_type).to_lowercase(),
+            });
+        }
+        let lookup = |name: &str, role: &'static str| {
+            link_of
+                .get(name)
+                .copied()
+                .ok_or_else(|| ModelError::MissingLink {
+                    joint: joint.name.clone(),
+                    role,
+                    link: name.to_string(),
+                })
+        };
+        let parent = lookup(&joint.parent.link, "parent")?;
+        let child = lookup(&joint.child.link, "child")?;
+        if let Some(first) = parent_joint[child] {
+            return Err(ModelError::MultipleParents {
+                link: joint.child.link.clone(),
+                first: robot.joints[first].name.clone(),
+                second: joint.name.clone(),
+            });
+        }
+        parent_joint[child] = Some(j);
+        children[parent].push(child);
+    }
+    let roots: Vec<usize> = (0..robot.links.len())
+        .filter(|&i| parent_joint[i].is_none())
+        .collect();
+    let root = match roots.as_slice() {
+        [] => {
+            return Err(ModelError::Cycle {
+                link: robot.links[0].name.clone(),
+            });
+        }
+        [r] => *r,
+        many => {
+            return Err(ModelError::MultipleRoots {
+                roots: many.iter().map(|&i| robot.links[i].name.clone()).collect(),
+            });
+        }
+    };
+    // Depth-first order from the root: parents before children.
+    let mut order = Vec::with_capacity(robot.links.len());
+    let mut stack = vec![root];
+    while let Some(l) = stack.pop() {
+        order.push(l);
+        stack.extend(children[l].iter().rev());
+    }
+    if order.len() < robot.links.len() {
+        let visited: HashSet<usize> = order.iter().copied().collect();
+        let stray = (0..robot.links.len())
+            .find(|i| !visited.contains(i))
+            .unwrap_or(0);
+        return Err(ModelError::Cycle {
+            link: robot.links[stray].name.clone(),
+        });
+    }
+    Ok(Tree {
+        parent_joint,
+        order,
+    })
+}
+
+/// The coordinates: base, then non-fixed joints in document order.
+struct Coordinates {
+    names: Vec<String>,
+    limits: Vec<(f64, f64)>,
+    damping: Vec<f64>,
+    /// Per joint, its coordinate (`None` for fixed joints).
+    joint_coordinate: Vec<Option<usize>>,
+}
+
+fn coordinates(
+    robot: &urdf_rs::Robot,
+    ext: &Extensions,
+    base: BaseType,
+    warnings: &mut Vec<String>,
+) -> Result<Coordinates, ModelError> {
+    let base_names = base.coordinate_names();
+    let mut coordinate_names: Vec<String> = base_names.iter().map(|s| s.to_string()).collect();
+    let mut coordinate_limits = vec![(f64::NEG_INFINITY, f64::INFINITY); base_names.len()];
+    let mut damping = vec![0.0; base_names.len()];
+    let mut joint_coordinate: Vec<Option<usize>> = vec![None; robot.joints.len()];
+    for (j, joint) in robot.joints.iter().enumerate() {
+        if joint.joint_type == urdf_rs::JointType::Fixed {
+            continue;
+        }
+        if base_names.contains(&joint.name.as_str()) {
+            return Err(ModelError::NameClash {
+                joint: joint.name.clone(),
+            });
+        }
+        joint_coordinate[j] = Some(coordinate_names.len());
+        coordinate_names.push(joint.name.clone());
+        let (_, has_lower, has_upper) = ext
+            .limit_presence
+            .get(&joint.name)
+            .copied()
+            .unwrap_or((false, false, false));
+        let continuous_unlimited =
+            joint.joint_type == urdf_rs::JointType::Continuous && !has_lower && !has_upper;
+        if !continuous_unlimited && (!has_lower || !has_upper) {
+            warnings.push(format!(
+                "joint '{}': no lower/upper limit given; left unbounded",
+                joint.name
+            ));
+        }
+        let lower = if has_lower {
+            joint.limit.lower
+        } else {
+            f64::NEG_INFINITY
+        };
+        let upper = if has_upper {
+            joint.limit.upper
+        } else {
+            f64::INFINITY
+        };
+        coordinate_limits.push((lower, upper));
+        damping.push(joint.dynamics.as_ref().map_or(0.0, |d| d.damping));
+    }
+    Ok(Coordinates {
+        names: coordinate_names,
+        limits: coordinate_limits,
+        damping,
+        joint_coordinate,
+    })
+}
+
+/// The rigid bodies: tree frames with their lumped masses, and where each link sits.
+struct Bodies {
+    frames: Vec<Frame>,
+    /// Per link, in topological order.
+    link_frame: Vec<LinkPlacement>,
+    /// Link names in topological order (the link ids).
+    link_names: Vec<String>,
+    total_mass: f64,
+}
+
+/// Frames: the virtual base chain, then one per moving joint (links behind fixed joints
+/// share their parent's frame), masses lumped per frame.
+fn bodies(
+    robot: &urdf_rs::Robot,
+    ext: &Extensions,
+    base: BaseType,
+    link_of: &NameIndex,
+    tree: &Tree,
+    coordinates: &Coordinates,
+) -> Result<Bodies, ModelError> {
+    let base_frames = base_chain(base);
+    let mut frames: Vec<Frame> = Vec::with_capacity(base_frames.len() + robot.links.len());
+    for (k, &(motion, axis, coordinate)) in base_frames.iter().enumerate() {
+        frames.push(Frame::massless(
+            k.checked_sub(1),
+            IDENTITY,
+            [0.0; 3],
+            axis,
+            motion,
+            coordinate,
+        ));
+    }
+    // Each link's placement; a link behind a fixed joint shares its parent's frame.
+    let mut placement_of: Vec<Option<LinkPlacement>> = vec![None; robot.links.len()];
+    // Mass pieces per frame: (mass, com in frame, inertia about com in frame axes).
+    let mut pieces: Vec<Vec<MassPiece>> = vec![Vec::new(); frames.len()];
+    let mut total_mass = 0.0;
+    for &l in &tree.order {
+        let link = &robot.links[l];
+        let placement = match tree.parent_joint[l] {
+            None => {
+                frames.push(Frame::massless(
+                    frames.len().checked_sub(1),
+                    IDENTITY,
+                    [0.0; 3],
+                    [1.0, 0.0, 0.0],
+                    Motion::Fixed,
+                    0,
+                ));
+                pieces.push(Vec::new());
+                LinkPlacement {
+                    frame: frames.len() - 1,
+                    rotation: IDENTITY,
+                    translation: [0.0; 3],
+                }
+            }
+            Some(j) => {
+                let joint = &robot.joints[j];
+                let parent = placement_of[link_of[joint.parent.link.as_str()]]
+                    .clone()
+                    .ok_or_else(|| ModelError::Cycle {
+                        link: link.name.clone(),
+                    })?;
+                // Joint frame in the parent's tree frame: parent placement ∘ Trans(xyz)·R(rpy).
+                let rotation = mat_mul(&parent.rotation, &rpy(&joint.origin.rpy));
+                let translation = parent.point_in_frame(&joint.origin.xyz);
+                let motion = match joint.joint_type {
+                    urdf_rs::JointType::Prismatic => Motion::Prismatic,
+                    urdf_rs::JointType::Revolute | urdf_rs::JointType::Continuous => {
+                        Motion::Revolute
+                    }
+                    _ => Motion::Fixed,
+                };
+                if motion == Motion::Fixed {
+                    LinkPlacement {
+                        frame: parent.frame,
+                        rotation,
+                        translation,
+                    }
+                } else {
+                    let axis = normalized(*joint.axis.xyz).ok_or(ModelError::BadAxis {
+                        joint: joint.name.clone(),
+                        axis: *joint.axis.xyz,
+                    })?;
+                    frames.push(Frame::massless(
+                        Some(parent.frame),
+                        rotation,
+                        translation,
+                        axis,
+                        motion,
+                        coordinates.joint_coordinate[j].unwrap_or(0),
+                    ));
+                    pieces.push(Vec::new());
+                    LinkPlacement {
+                        frame: frames.len() - 1,
+                        rotation: IDENTITY,
+                        translation: [0.0; 3],
+                    }
+                }
+            }
+        };
+        if ext.has_inertial.contains(&link.name) {
+            let (mass, com, inertia) = link_inertia(link)?;
+            total_mass += mass;
+            let r = &placement.rotation;
+            pieces[placement.frame].push((
+                mass,
+                placement.point_in_frame(&com),
+                mat_mul(&mat_mul(r, &inertia), &transpose(r)),
+            ));
+        }
+        placement_of[l] = Some(placement);
+    }
+    for (frame, parts) in frames.iter_mut().zip(&pieces) {
+        (frame.mass, frame.com, frame.inertia) = lump(parts);
+    }
+    // Link ids follow the topological order.
+    let link_names: Vec<String> = tree
+        .order
+        .iter()
+        .map(|&l| robot.links[l].name.clone())
+        .collect();
+    let link_frame: Vec<LinkPlacement> = tree
+        .order
+        .iter()
+        .map(|&l| {
+            placement_of[l].clone().ok_or(ModelError::Cycle {
+                link: robot.links[l].name.clone(),
+            })
+        })
+        .collect::<Result<_, _>>()?;
+    Ok(Bodies {
+        frames,
+        link_frame,
+        link_names,
+        total_mass,
+    })
+}
+
+/// Contact points: zero-radius spheres, links in document order.
+fn contact_points(robot: &urdf_rs::Robot) -> Vec<ContactPoint> {
+    let mut contact_points = Vec::new();
+    for link in &robot.links {
+        let is_point = |c: &&urdf_rs::Collision| matches!(c.geometry, urdf_rs::Geometry::Sphere { radius } if radius == 0.0);
+        let n_points = link.collision.iter().filter(is_point).count();
+        for (k, collision) in link.collision.iter().enumerate() {
+            if !is_point(&collision) {
+                continue;
+            }
+            // Unnamed: the link's name when it is the link's only point.
+            let fallback = if n_points == 1 {
+                link.name.clone()
+            } else {
+                format!("{}_contact{k}", link.name)
+            };
+            contact_points.push(ContactPoint {
+                name: collision.name.clone().unwrap_or(fallback),
+                link: link.name.clone(),
+                point: *collision.origin.xyz,
+            });
+        }
+    }
+    contact_points
+}
+
+/// Which coordinate a joint named by an extension moves.
+struct JointCoordinates<'a> {
+    joint_of: &'a NameIndex<'a>,
+    joint_coordinate: &'a [Option<usize>],
+}
+
+impl JointCoordinates<'_> {
+    /// The coordinate of `joint`, named by `element` `owner`; an undefined or fixed joint is
+    /// an error naming both.
+    fn of(&self, element: &'static str, owner: &str, joint: &str) -> Result<usize, ModelError> {
+        let j = self.joint_of.get(joint).copied().ok_or_else(|| {
+            bad(
+                element,
+                owner,
+                format!("refers to joint '{joint}', which is not defined"),
+            )
+        })?;
+        self.joint_coordinate[j].ok_or_else(|| {
+            bad(
+                element,
+                owner,
+                format!("acts on joint '{joint}', which is fixed and has no coordinate"),
+            )
+        })
+    }
+}
+
+fn springs(ext: &Extensions, joints: &JointCoordinates) -> Result<Vec<Spring>, ModelError> {
+    let mut springs = Vec::with_capacity(ext.springs.len());
+    for raw in &ext.springs {
+        let coordinate = joints.of("force_element", &raw.name, &raw.joint)?;
+        if !(raw.stiffness.is_finite() && raw.stiffness >= 0.0) {
+            return Err(bad(
+                "force_element",
+                &raw.name,
+                format!("stiffness {} must be finite and ≥ 0", raw.stiffness),
+            ));
+        }
+        springs.push(Spring {
+            name: raw.name.clone(),
+            kind: raw.kind,
+            coordinate,
+            stiffness: raw.stiffness,
+            rest: raw.rest,
+        });
+    }
+    Ok(springs)
+}
+
+fn loop_closures(ext: &Extensions, link_names: &[String]) -> Result<Vec<LoopClosure>, ModelError> {
+    let link_id = |name: &str| link_names.iter().position(|n| n == name).map(LinkId);
+    let mut loop_closures = Vec::with_capacity(ext.loops.len());
+    for raw in &ext.loops {
+        let find = |name: &str| {
+            link_id(name).ok_or_else(|| {
+                bad(
+                    "loop_joint",
+                    &raw.name,
+                    format!("refers to link '{name}', which is not defined"),
+                )
+            })
+        };
+        let axis = normalized(raw.axis).ok_or(ModelError::BadAxis {
+            joint: raw.name.clone(),
+            axis: raw.axis,
+        })?;
+        loop_closures.push(LoopClosure {
+            name: raw.name.clone(),
+            link1: find(&raw.link1)?,
+            point1: raw.xyz1,
+            link2: find(&raw.link2)?,
+            point2: raw.xyz2,
+            rotation2: rpy(&raw.rpy2),
+            axis,
+            directions: perpendicular_pair(axis),
+        });
+    }
+    Ok(loop_closures)
+}
+
+/// The inputs: one per `<transmission>`, with the joint's effort limit.
+struct Inputs {
+    names: Vec<String>,
+    coordinates: Vec<usize>,
+    effort_limits: Vec<f64>,
+}
+
+fn inputs(
+    robot: &urdf_rs::Robot,
+    ext: &Extensions,
+    joints: &JointCoordinates,
+    warnings: &mut Vec<String>,
+) -> Result<Inputs, ModelError> {
+    let mut input_names = Vec::new();
+    let mut input_coordinates = Vec::new();
+    let mut effort_limits = Vec::new();
+    for (name, joint, reduction) in &ext.transmissions {
+        let coordinate = joints.of("transmission", name, joint)?;
+        if *reduction != 1.0 {
+            warnings.push(format!(
+                "transmission '{name}': mechanicalReduction {reduction} ignored (vito uses 1)"
+            ));
+        }
+        let j = joints.joint_of[joint.as_str()];
+        let has_limit = ext.limit_presence.get(joint).is_some_and(|p| p.0);
+        let effort = if has_limit {
+            robot.joints[j].limit.effort
+        } else {
+            f64::INFINITY
+        };
+        input_names.push(joint.clone());
+        input_coordinates.push(coordinate);
+        effort_limits.push(effort);
+    }
+    Ok(Inputs {
+        names: input_names,
+        coordinates: input_coordinates,
+        effort_limits,
+    })
+}

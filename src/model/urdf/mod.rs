@@ -1,0 +1,47 @@
+//! URDF → [`Model`]: urdf-rs reads the standard elements, a roxmltree pass reads Drake's
+//! extensions. The only module that imports `urdf_rs`: `repair` mends the text, `extensions`
+//! reads Drake's elements, `inertia` checks and lumps masses, `build` makes the [`Model`].
+//!
+//! Read: links (`<inertial>`, zero-radius `<collision>` spheres as point contacts), joints
+//! of type fixed, revolute, continuous and prismatic (origin, axis, `<limit>` lower/upper/effort,
+//! `<dynamics damping>`), `<transmission>` joints (inputs), and Drake's `<force_element>`
+//! (`<torsional_spring>`, `<prismatic_spring>`) and `<loop_joint>`.
+//!
+//! Repaired before parsing, each listed in [`Model::warnings`] (the original files of the
+//! paper's robots need them): a `<limit>` without `velocity` or `effort` (both then mean "no
+//! limit"), `pi`-expressions such as `-pi/4` in `<limit>`, commas in `xyz`/`rpy`, a one-value
+//! mesh `scale`, capitalised joint types, and stray `/` text.
+//!
+//! Limitations (ignored): visual elements and meshes, non-zero-radius collision geometry,
+//! `velocity` limits, `friction` in `<dynamics>`, `<mimic>`, `<calibration>`,
+//! `<safety_controller>`, `mechanicalReduction` (must be 1), `<gazebo>`, Drake `<frame>`
+//! (reported as a warning), collision groups.
+
+mod build;
+mod extensions;
+mod inertia;
+mod repair;
+
+use roxmltree::Document;
+
+use super::{BaseType, Model, ModelError};
+
+/// Parses, repairs, checks and converts a URDF document.
+pub(crate) fn load(xml: &str, origin: &str, base: BaseType) -> Result<Model, ModelError> {
+    let mut warnings = Vec::new();
+    let repaired = repair::repair(xml, origin, &mut warnings)?;
+    let doc = Document::parse(&repaired).map_err(|e| xml_error(origin, e))?;
+    let extensions = extensions::read_extensions(&doc, &mut warnings)?;
+    let robot = urdf_rs::read_from_string(&repaired).map_err(|e| ModelError::Urdf {
+        origin: origin.to_string(),
+        message: e.to_string(),
+    })?;
+    build::build(&robot, &extensions, base, warnings)
+}
+
+pub(super) fn xml_error(origin: &str, e: roxmltree::Error) -> ModelError {
+    ModelError::Xml {
+        origin: origin.to_string(),
+        message: e.to_string(),
+    }
+}
