@@ -235,7 +235,7 @@ fn check(file: &Path, set: &[String]) -> Result<u8, CliError> {
     pipeline::check_solver_options(&p)?;
     let s = &p.spec;
     let nlp = pipeline::build_nlp(s)?;
-    let size = pipeline::nlp_size(&nlp);
+    let size = nlp.size();
     let horizon = match s.time_steps {
         TimeSteps::Fixed(h) => format!(
             "{} knots, fixed h = {h} {t} (T = {} {t})",

@@ -5,10 +5,9 @@
 use std::path::{Path, PathBuf};
 
 use crate::ipopt;
-use crate::problem::{HessianMode, LoadedProblem, OptionValue, ProblemError, ProblemSpec};
+use crate::problem::{LoadedProblem, OptionValue, ProblemError, ProblemSpec};
 use crate::transcription::{
-    self, BenchRow, MechanicsDerivatives, ModelMechanics, NlpSize, Solution, SolveOptions,
-    Transcription, TranscriptionError,
+    self, BenchRow, ModelMechanics, Solution, SolveOptions, Transcription, TranscriptionError,
 };
 
 /// The robot of `spec` as the transcription sees it (URDF model, gravity, contacts).
@@ -19,20 +18,6 @@ pub fn mechanics(spec: &ProblemSpec) -> Result<ModelMechanics, TranscriptionErro
 /// The solver's NLP for `spec`, built as [`solve`] builds it.
 pub fn build_nlp(spec: &ProblemSpec) -> Result<Transcription<ModelMechanics>, TranscriptionError> {
     Transcription::new(mechanics(spec)?, spec)
-}
-
-/// The NLP's size as Ipopt sees it: variables, rows, Jacobian and lower-Hessian nonzeros
-/// (none with an L-BFGS Hessian, which Ipopt then never asks for).
-pub fn nlp_size<M: MechanicsDerivatives>(nlp: &Transcription<M>) -> NlpSize {
-    NlpSize {
-        n_variables: nlp.layout().num_variables(),
-        n_constraints: nlp.layout().num_constraints(),
-        nnz_jacobian: nlp.jacobian_pattern().nnz(),
-        nnz_hessian: match nlp.hessian_mode() {
-            HessianMode::Exact => nlp.hessian_pattern().nnz(),
-            HessianMode::Lbfgs => 0,
-        },
-    }
 }
 
 /// Solves `spec` with the robot from its URDF.

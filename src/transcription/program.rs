@@ -2,12 +2,12 @@
 //! blocks; `structure`: sparsity; `start`: bounds and initial guess; `evaluate`: values and
 //! derivatives), with its accessors and evaluation settings.
 
-use super::TranscriptionError;
 use super::blocks::{Block, Context, ScalarKind, VectorKind};
 use super::costs::{CostSizes, length_mismatch};
 use super::evaluate::ContactDerivatives;
 use super::layout::{Dims, Layout};
 use super::pattern::Pattern;
+use super::{NlpSize, TranscriptionError};
 use crate::contact::FrictionBasis;
 use crate::discrete::MechanicsDerivatives;
 use crate::problem::{HessianMode, ProblemSpec, TimeSteps};
@@ -221,6 +221,20 @@ impl<M: MechanicsDerivatives> Transcription<M> {
     /// How the Hessian is obtained.
     pub fn hessian_mode(&self) -> HessianMode {
         self.hessian_mode
+    }
+
+    /// The sizes Ipopt is given: variables, constraints and nonzeros (no Hessian entries
+    /// under L-BFGS). The one definition `check`, `solve` and `bench` report.
+    pub fn size(&self) -> NlpSize {
+        NlpSize {
+            n_variables: self.layout().num_variables(),
+            n_constraints: self.layout().num_constraints(),
+            nnz_jacobian: self.jacobian.nnz(),
+            nnz_hessian: match self.hessian_mode {
+                HessianMode::Exact => self.hessian.nnz(),
+                HessianMode::Lbfgs => 0,
+            },
+        }
     }
 
     /// Problem constants of the blocks.

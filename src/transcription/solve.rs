@@ -248,18 +248,6 @@ fn converged(status: ipopt::Status) -> bool {
     )
 }
 
-fn size_of<M: MechanicsDerivatives>(t: &Transcription<M>) -> NlpSize {
-    NlpSize {
-        n_variables: t.layout().num_variables(),
-        n_constraints: t.layout().num_constraints(),
-        nnz_jacobian: t.jacobian_pattern().nnz(),
-        nnz_hessian: match t.hessian_mode() {
-            HessianMode::Exact => t.hessian_pattern().nnz(),
-            HessianMode::Lbfgs => 0,
-        },
-    }
-}
-
 /// Signed distance φ_i(q) of every contact at q.
 fn distances<M: MechanicsDerivatives>(t: &Transcription<M>, q: &[f64]) -> Vec<f64> {
     (0..t.layout().nc)
@@ -331,7 +319,7 @@ fn fill_solution<M: MechanicsDerivatives>(
         wall_time_s: report.wall_time_s,
         callback_time_s: report.callback_time_s,
         ipopt_time_s: report.ipopt_time_s,
-        size: size_of(t),
+        size: t.size(),
         coordinate_names: t.mechanics().coordinate_names(),
         input_names: t.mechanics().input_names(),
         contact_names: spec.contacts.iter().map(|c| c.name.clone()).collect(),
