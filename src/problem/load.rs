@@ -98,6 +98,7 @@ pub fn load(path: &Path, overrides: &[Override]) -> Result<LoadedProblem, Proble
 mod tests {
     use super::*;
     use crate::contact::Step;
+    use crate::problem::costs::{Input, StateTracking};
     use crate::problem::{CostTerm, InitialGuess, Interval, TimeSteps};
 
     fn problems_dir() -> PathBuf {
@@ -137,17 +138,17 @@ mod tests {
         assert_eq!(
             s.costs,
             vec![
-                CostTerm::StateTracking {
+                CostTerm::StateTracking(StateTracking {
                     q_target: goal.to_vec(),
                     v_target: vec![0.0; 4],
                     q_weights: vec![1.0; 4],
                     v_weights: vec![0.0; 4],
                     time_weighted: true,
-                },
-                CostTerm::Input {
+                }),
+                CostTerm::Input(Input {
                     weights: vec![0.1, 0.01],
                     time_weighted: true,
-                },
+                }),
             ]
         );
         assert_eq!(
@@ -176,11 +177,11 @@ mod tests {
         assert_eq!(s.q_final[0], Interval::fixed(-0.9));
         assert_eq!(s.q_final[1], Interval::fixed(0.875));
         match &s.costs[0] {
-            CostTerm::StateTracking {
+            CostTerm::StateTracking(StateTracking {
                 q_weights,
                 v_weights,
                 ..
-            } => {
+            }) => {
                 assert_eq!(q_weights, &vec![0.2; 9]);
                 assert_eq!(v_weights, &vec![0.2; 9]);
             }
@@ -188,10 +189,10 @@ mod tests {
         }
         assert_eq!(
             s.costs[1],
-            CostTerm::Input {
+            CostTerm::Input(Input {
                 weights: vec![2.0; 4],
                 time_weighted: true
-            }
+            })
         );
         assert_eq!(
             s.input_bounds,
@@ -223,11 +224,11 @@ mod tests {
             }]
         );
         match &s.costs[0] {
-            CostTerm::StateTracking {
+            CostTerm::StateTracking(StateTracking {
                 q_weights,
                 q_target,
                 ..
-            } => {
+            }) => {
                 assert_eq!(&q_weights[..7], &[0.0, 0.0, 0.0, 10.0, 10.0, 10.0, 5.0]);
                 assert_eq!(q_weights[7], 1.0);
                 assert_eq!(q_target[0], 0.45);

@@ -3,6 +3,7 @@
 //! `load(path, overrides)` reads a problem file, applies `--set` overrides, resolves every
 //! name against the robot and returns a [`LoadedProblem`] holding the [`ProblemSpec`].
 
+pub mod costs;
 mod error;
 mod load;
 mod overrides;
@@ -15,6 +16,7 @@ mod units;
 mod validate;
 
 pub use crate::model::CoordinateKind;
+pub use costs::CostTerm;
 pub use error::{Location, ProblemError};
 pub use load::{LoadedProblem, load};
 pub use overrides::Override;

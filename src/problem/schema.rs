@@ -13,6 +13,8 @@ use std::fmt;
 use serde::de::{self, MapAccess, SeqAccess, Visitor};
 use serde::{Deserialize, Deserializer};
 
+pub use super::costs::CostEntry;
+
 /// A whole problem file.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -355,55 +357,6 @@ pub struct InputsSection {
     /// Explicit bounds by input name, `name = [lower, upper]`, replacing the effort limit.
     #[serde(default)]
     pub bounds: BTreeMap<String, [f64; 2]>,
-}
-
-/// `[[cost]]`: one term. Every quadratic term carries ½: ½ (a − b)ᵀ diag(w) (a − b).
-#[derive(Debug, Clone, Deserialize)]
-#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
-pub enum CostEntry {
-    /// Σ_k [h_k] ½ (x̄_k − x_g)ᵀ diag(w_q, w_v) (x̄_k − x_g), midpoint state x̄_k.
-    StateTracking {
-        /// Target configuration: default the final goal (`final.q`); coordinates not
-        /// named keep the goal's value.
-        q_target: Option<NamedVector>,
-        /// Target velocity (default zero).
-        v_target: Option<NamedVector>,
-        /// Weights on the configuration error, per coordinate.
-        q_weights: NamedVector,
-        /// Weights on the velocity error, per coordinate (default 0).
-        v_weights: Option<NamedVector>,
-        /// Multiply each interval's term by h_k (default true).
-        time_weighted: Option<bool>,
-    },
-    /// Σ_k [h_k] ½ u_kᵀ diag(w) u_k.
-    Input {
-        /// Weights per input.
-        weights: NamedVector,
-        /// Multiply by h_k (default true).
-        time_weighted: Option<bool>,
-    },
-    /// Σ_k ½ (u_k − u_{k−1})ᵀ diag(w) (u_k − u_{k−1}).
-    InputRate {
-        /// Weights per input.
-        weights: NamedVector,
-    },
-    /// Σ_k ½ (q_{k+1} − q_k)ᵀ diag(w) (q_{k+1} − q_k).
-    ConfigurationDifference {
-        /// Weights per coordinate.
-        weights: NamedVector,
-    },
-    /// ½ (q_N − q_target)ᵀ diag(w) (q_N − q_target).
-    FinalState {
-        /// Target (default: the final goal).
-        q_target: Option<NamedVector>,
-        /// Weights per coordinate.
-        weights: NamedVector,
-    },
-    /// w · total time.
-    Time {
-        /// Weight per unit of time.
-        weight: f64,
-    },
 }
 
 /// `[slack]`: the complementarity relaxation.

@@ -8,6 +8,7 @@
 
 use std::path::PathBuf;
 
+use super::costs::CostTerm;
 use crate::contact::Terrain;
 pub use crate::discrete::Integrator;
 use crate::model::BaseType;
@@ -105,39 +106,6 @@ pub struct CoordinateBound {
     pub coordinate: usize,
     pub knots: KnotSet,
     pub bound: Interval,
-}
-
-/// One cost term. Running terms are summed over intervals k = 1..N−1 and weighted by h_k
-/// when `time_weighted` is set. Every quadratic term carries the factor ½:
-/// ½ (a − b)ᵀ diag(w) (a − b). Weight vectors have full length (n, or m for inputs).
-/// Each term's variables and value: `src/transcription/costs/<term>.rs`.
-#[derive(Debug, Clone, PartialEq)]
-pub enum CostTerm {
-    /// Σ_k [h_k] ½ (x̄_k − x_g)ᵀ diag(w_q, w_v) (x̄_k − x_g), with the midpoint state
-    /// x̄_k = [(q_k+q_{k+1})/2 ; (q_{k+1}−q_k)/h_k] and target x_g = [q_target; v_target].
-    StateTracking {
-        q_target: Vec<f64>,
-        v_target: Vec<f64>,
-        q_weights: Vec<f64>,
-        v_weights: Vec<f64>,
-        time_weighted: bool,
-    },
-    /// Σ_k [h_k] ½ u_kᵀ diag(w) u_k.
-    Input {
-        weights: Vec<f64>,
-        time_weighted: bool,
-    },
-    /// Σ_{k=2}^{N−1} ½ (u_k − u_{k−1})ᵀ diag(w) (u_k − u_{k−1}).
-    InputRate { weights: Vec<f64> },
-    /// Σ_{k=1}^{N−1} ½ (q_{k+1} − q_k)ᵀ diag(w) (q_{k+1} − q_k).
-    ConfigurationDifference { weights: Vec<f64> },
-    /// ½ (q_N − q_target)ᵀ diag(w) (q_N − q_target).
-    FinalState {
-        q_target: Vec<f64>,
-        weights: Vec<f64>,
-    },
-    /// w · Σ_k h_k (total time).
-    Time { weight: f64 },
 }
 
 /// Periodicity between the first and last knot for one coordinate.

@@ -68,7 +68,7 @@ impl<M: MechanicsDerivatives> Transcription<M> {
             let ScalarKind::Cost { term } = b.kind else {
                 continue;
             };
-            let name = super::costs::term_name(&self.ctx.costs[term]);
+            let name = crate::problem::costs::term_name(&self.ctx.costs[term]);
             let z = gather(x, &b.vars);
             let value = crate::autodiff::ScalarFunction::eval(&self.scalar_fn(b), &z);
             match terms.iter_mut().find(|(n, _)| n == name) {

@@ -5,15 +5,13 @@
 //! sparse derivatives from per-block derivatives.
 //!
 //! Where things are: `layout` (variable and row indices), `blocks` (what each block computes:
-//! dynamics pieces from `discrete::del`, contact rows), `costs` (one file per cost term: add
-//! a term there), `placement` (which
-//! blocks exist and what they read and write), `structure` (sparsity patterns), `start`
+//! dynamics pieces from `discrete::del`, contact rows; cost terms, one file each, are
+//! `crate::problem::costs`), `placement` (which blocks exist and what they read and write), `structure` (sparsity patterns), `start`
 //! (bounds, initial guess, warm start), `evaluate` (values and derivatives), `program` (the
 //! [`Transcription`] itself), `nlp` (the Ipopt callbacks' adapter), `solve` (solving a problem
 //! file's NLP, slack continuation), `robot` (a problem's URDF mechanics).
 
 mod blocks;
-mod costs;
 mod error;
 mod evaluate;
 mod layout;

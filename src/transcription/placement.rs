@@ -3,9 +3,9 @@
 
 use super::Transcription;
 use super::blocks::{Block, ScalarKind, VectorKind};
-use super::costs::{self, CostInputs};
 use super::layout::Layout;
 use crate::discrete::{Integrator, MechanicsDerivatives};
+use crate::problem::costs::{self, CostInputs};
 
 pub(super) fn range_vec(r: std::ops::Range<usize>) -> Vec<usize> {
     r.collect()

@@ -3,13 +3,13 @@
 //! derivatives), with its accessors and evaluation settings.
 
 use super::blocks::{Block, Context, ScalarKind, VectorKind};
-use super::costs::{CostSizes, length_mismatch};
 use super::evaluate::ContactDerivatives;
 use super::layout::{Dims, Layout};
 use super::pattern::Pattern;
 use super::{NlpSize, TranscriptionError};
 use crate::contact::FrictionBasis;
 use crate::discrete::MechanicsDerivatives;
+use crate::problem::costs::{CostSizes, length_mismatch};
 use crate::problem::{HessianMode, ProblemSpec, TimeSteps};
 
 /// SPEC.md's values at the initial guess (no solver involved).

@@ -16,6 +16,9 @@ use common::analytic::{Brick, Hopper};
 use common::reference::{brick_3d, hopper_2d, spring_flamingo_walk};
 use vito::contact::Step;
 use vito::discrete::{Mechanics, MechanicsDerivatives, ModelMechanics};
+use vito::problem::costs::{
+    ConfigurationDifference, FinalState, Input, InputRate, StateTracking, Time,
+};
 use vito::problem::{
     CostTerm, Integrator, Interval, Periodicity, ProblemSpec, SlackMode, TimeSteps,
 };
@@ -87,28 +90,29 @@ fn hopper_everything(integrator: Integrator, slack_mode: SlackMode) -> ProblemSp
         width: 0.05,
     });
     spec.q_final = vec![Interval::FREE; 4];
-    spec.costs.push(CostTerm::StateTracking {
+    spec.costs.push(CostTerm::StateTracking(StateTracking {
         q_target: vec![0.5, 0.5, 0.1, 0.5],
         v_target: vec![0.3, 0.0, 0.0, 0.1],
         q_weights: vec![1.0, 2.0, 0.5, 1.0],
         v_weights: vec![0.5, 1.0, 0.2, 0.3],
         time_weighted: false,
-    });
-    spec.costs.push(CostTerm::Input {
+    }));
+    spec.costs.push(CostTerm::Input(Input {
         weights: vec![0.3, 0.2],
         time_weighted: false,
-    });
-    spec.costs.push(CostTerm::InputRate {
+    }));
+    spec.costs.push(CostTerm::InputRate(InputRate {
         weights: vec![1.0, 0.5],
-    });
-    spec.costs.push(CostTerm::ConfigurationDifference {
-        weights: vec![1.0, 0.5, 2.0, 1.0],
-    });
-    spec.costs.push(CostTerm::FinalState {
+    }));
+    spec.costs
+        .push(CostTerm::ConfigurationDifference(ConfigurationDifference {
+            weights: vec![1.0, 0.5, 2.0, 1.0],
+        }));
+    spec.costs.push(CostTerm::FinalState(FinalState {
         q_target: vec![0.5, 0.6, 0.0, 0.5],
         weights: vec![3.0, 1.0, 1.0, 2.0],
-    });
-    spec.costs.push(CostTerm::Time { weight: 2.0 });
+    }));
+    spec.costs.push(CostTerm::Time(Time { weight: 2.0 }));
     spec.periodic = vec![
         Periodicity {
             coordinate: 1,

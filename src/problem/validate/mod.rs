@@ -7,7 +7,6 @@
 mod bounds;
 mod contacts;
 mod context;
-mod costs;
 mod endpoints;
 mod horizon;
 mod initial_guess;
@@ -22,6 +21,7 @@ mod values;
 use std::path::PathBuf;
 
 pub(crate) use context::Context;
+pub(crate) use values::{nonnegative, resolve};
 
 use crate::problem::schema::ProblemFile;
 use crate::problem::{LoadedProblem, ProblemError, ProblemSpec, RobotSpec};
@@ -49,7 +49,7 @@ pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, Pr
     let bounds = bounds::check_bounds(ctx, &raw, &robot, knots)?;
     let joint_limits = raw.robot.joint_limits.unwrap_or(true);
     let input_bounds = inputs::check_inputs(ctx, &raw, &robot)?;
-    let costs = costs::check_costs(ctx, &raw, &robot, &endpoints.goal)?;
+    let costs = crate::problem::costs::check_costs(ctx, &raw, &robot, &endpoints.goal)?;
     let (slack_weight, slack_mode) = slack::check_slack_penalty(ctx, &raw)?;
     let max_slip_speed = contacts::check_max_slip_speed(ctx, &raw)?;
     let slack_continuation = slack::check_slack_continuation(ctx, &raw)?;

@@ -21,7 +21,7 @@ pub(super) fn positive(ctx: &Context, field: &str, v: f64) -> Result<f64, Proble
     }
 }
 
-pub(super) fn nonnegative(ctx: &Context, field: &str, v: f64) -> Result<f64, ProblemError> {
+pub(crate) fn nonnegative(ctx: &Context, field: &str, v: f64) -> Result<f64, ProblemError> {
     if v.is_finite() && v >= 0.0 {
         Ok(v)
     } else {
@@ -31,7 +31,7 @@ pub(super) fn nonnegative(ctx: &Context, field: &str, v: f64) -> Result<f64, Pro
 
 /// Resolves a vector over `names`: an array must have the full length; a table names
 /// entries (plus `default`), and missing entries come from `fallback`, else it is an error.
-pub(super) fn resolve(
+pub(crate) fn resolve(
     ctx: &Context,
     field: &str,
     kind: &'static str,

@@ -18,12 +18,12 @@ pub(crate) use contact::{
 
 use num_dual::Dual;
 
-use super::costs::{CostSizes, cost_value};
 use crate::autodiff::{ScalarFunction, VectorFunction};
 use crate::contact::{FrictionBasis, Terrain, tangential_coordinates};
 use crate::discrete::{
     Mechanics, SegmentLagrangian, euler_knot, half_force, initial_momentum, loop_work,
 };
+use crate::problem::costs::{CostSizes, cost_value};
 use crate::problem::{CostTerm, Integrator};
 use crate::scalar::Scalar;
 

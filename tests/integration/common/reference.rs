@@ -4,6 +4,7 @@ use std::path::PathBuf;
 
 use vito::contact::Terrain;
 use vito::model::BaseType;
+use vito::problem::costs::{Input, StateTracking};
 use vito::problem::{
     ContactSpec, CoordinateBound, CostTerm, HessianMode, InitialGuess, Integrator, Interval,
     KnotSet, OptionValue, ProblemSpec, RobotSpec, SlackMode, TimeSteps,
@@ -83,17 +84,17 @@ pub fn hopper_2d() -> ProblemSpec {
             },
         ],
         costs: vec![
-            CostTerm::StateTracking {
+            CostTerm::StateTracking(StateTracking {
                 q_target: goal.clone(),
                 v_target: vec![0.0; 4],
                 q_weights: vec![1.0; 4],
                 v_weights: vec![0.0; 4],
                 time_weighted: true,
-            },
-            CostTerm::Input {
+            }),
+            CostTerm::Input(Input {
                 weights: vec![0.1, 0.01],
                 time_weighted: true,
-            },
+            }),
         ],
         periodic: vec![],
         initial_guess: InitialGuess::Linear {
@@ -213,17 +214,17 @@ pub fn spring_flamingo_walk() -> ProblemSpec {
         input_bounds: vec![box_bound(-300.0, 300.0); 4],
         // SPEC's 0.1·|x̄ − x_g|² + |u|² in the ½-weighted form of CostTerm.
         costs: vec![
-            CostTerm::StateTracking {
+            CostTerm::StateTracking(StateTracking {
                 q_target: goal.clone(),
                 v_target: vec![0.0; 9],
                 q_weights: vec![0.2; 9],
                 v_weights: vec![0.2; 9],
                 time_weighted: true,
-            },
-            CostTerm::Input {
+            }),
+            CostTerm::Input(Input {
                 weights: vec![2.0; 4],
                 time_weighted: true,
-            },
+            }),
         ],
         periodic: vec![],
         initial_guess: InitialGuess::Linear {
@@ -294,17 +295,17 @@ pub fn littledog_step() -> ProblemSpec {
         joint_limits: true,
         input_bounds: vec![Interval::FREE; 12],
         costs: vec![
-            CostTerm::StateTracking {
+            CostTerm::StateTracking(StateTracking {
                 q_target: goal.clone(),
                 v_target: vec![0.0; 18],
                 q_weights,
                 v_weights: vec![1.0; 18],
                 time_weighted: true,
-            },
-            CostTerm::Input {
+            }),
+            CostTerm::Input(Input {
                 weights: vec![10.0; 12],
                 time_weighted: true,
-            },
+            }),
         ],
         periodic: vec![],
         initial_guess: InitialGuess::Linear {

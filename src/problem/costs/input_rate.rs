@@ -1,0 +1,46 @@
+//! Smoothness: the change of the inputs between adjacent intervals.
+
+use serde::Deserialize;
+
+use super::{
+    CheckCost, CostCheck, CostFunction, CostInputs, CostSizes, LengthMismatch,
+    half_weighted_change, mismatch,
+};
+use crate::problem::ProblemError;
+use crate::problem::schema::NamedVector;
+use crate::scalar::Scalar;
+
+/// `type = "input_rate"`: Σ_k ½ (u_k − u_{k−1})ᵀ diag(w) (u_k − u_{k−1}).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Entry {
+    /// Weights per input.
+    pub weights: NamedVector,
+}
+
+/// Σ_{k=2}^{N−1} ½ (u_k − u_{k−1})ᵀ diag(w) (u_k − u_{k−1}).
+#[derive(Debug, Clone, PartialEq)]
+pub struct InputRate {
+    /// w, per input.
+    pub weights: Vec<f64>,
+}
+
+impl CheckCost for InputRate {
+    type Entry = Entry;
+    fn check(entry: &Entry, at: &CostCheck) -> Result<Self, ProblemError> {
+        Ok(InputRate {
+            weights: at.input_weights("weights", &entry.weights)?,
+        })
+    }
+}
+
+impl CostFunction for InputRate {
+    const NAME: &'static str = "input_rate";
+    const INPUTS: CostInputs = CostInputs::AdjacentInputs;
+    fn value<D: Scalar>(&self, z: &[D], sizes: CostSizes) -> D {
+        half_weighted_change(&self.weights, z, sizes.m)
+    }
+    fn length_mismatch(&self, sizes: CostSizes) -> Option<LengthMismatch> {
+        mismatch("weights", sizes.m, self.weights.len())
+    }
+}

@@ -1,0 +1,347 @@
+//! Cost terms, one file per term. A term's file holds all of it: its `[[cost]]` entry as the
+//! problem file spells it (`Entry`, names and all), the check that turns the entry into the
+//! checked term (names resolved to full-length vectors), and the checked term's
+//! [`CostFunction`]: the knot-local variables it reads ([`CostInputs`]) and its value on them.
+//! The transcription places each term from that declaration, so a term's variables are
+//! written once.
+//!
+//! To add a term: a file here with its `Entry` (serde, `deny_unknown_fields`), its checked
+//! type implementing [`CostFunction`] and [`CheckCost`], and its line in the
+//! `cost_terms!` list below. The list generates the `[[cost]]` schema enum ([`CostEntry`],
+//! tagged by `type`), the checked enum ([`CostTerm`]) and the dispatch between them.
+
+mod configuration_difference;
+mod final_state;
+mod input;
+mod input_rate;
+mod state_tracking;
+mod time;
+
+pub use configuration_difference::ConfigurationDifference;
+pub use final_state::FinalState;
+pub use input::Input;
+pub use input_rate::InputRate;
+pub use state_tracking::StateTracking;
+pub use time::Time;
+
+use serde::Deserialize;
+
+use super::schema::{NamedVector, ProblemFile};
+use super::validate::{Context, nonnegative, resolve};
+use super::{ProblemError, RobotInfo};
+use crate::scalar::Scalar;
+
+/// The list of cost terms: `Variant in module`. The variant's `snake_case` name is the
+/// `type` of its `[[cost]]` entry; `module::Entry` is that entry.
+macro_rules! cost_terms {
+    ($($variant:ident in $module:ident),* $(,)?) => {
+        /// `[[cost]]`: one term, chosen by `type`. Every quadratic term carries ½:
+        /// ½ (a − b)ᵀ diag(w) (a − b). The fields of each are its `Entry`.
+        #[derive(Debug, Clone, Deserialize)]
+        #[serde(tag = "type", rename_all = "snake_case")]
+        pub enum CostEntry {
+            $(
+                #[allow(missing_docs)]
+                $variant($module::Entry),
+            )*
+        }
+
+        /// One checked cost term. Running terms are summed over intervals k = 1..N−1 (and
+        /// weighted by h_k where the term says so); weight vectors have full length (n, or
+        /// m for inputs).
+        #[derive(Debug, Clone, PartialEq)]
+        pub enum CostTerm {
+            $(
+                #[allow(missing_docs)]
+                $variant($variant),
+            )*
+        }
+
+        impl CostEntry {
+            fn check(&self, at: &CostCheck) -> Result<CostTerm, ProblemError> {
+                match self {
+                    $(CostEntry::$variant(entry) => {
+                        <$variant as CheckCost>::check(entry, at).map(CostTerm::$variant)
+                    })*
+                }
+            }
+        }
+
+        /// Calls `visitor` with the [`CostFunction`] of `term`: the one place where the
+        /// problem's cost terms meet their types.
+        pub fn with_cost_function<V: CostVisitor>(term: &CostTerm, visitor: V) -> V::Output {
+            match term {
+                $(CostTerm::$variant(cost) => visitor.visit(cost),)*
+            }
+        }
+    };
+}
+
+cost_terms! {
+    StateTracking in state_tracking,
+    Input in input,
+    InputRate in input_rate,
+    ConfigurationDifference in configuration_difference,
+    FinalState in final_state,
+    Time in time,
+}
+
+/// The knot-local variables a cost term reads, in the order of its input z, and where.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CostInputs {
+    /// z = [q_j; q_{j+1}; h_j] on every interval j.
+    IntervalWithStep,
+    /// z = [q_j; q_{j+1}] on every interval j.
+    IntervalConfigurations,
+    /// z = [u_j; h_j] on every interval j.
+    InputWithStep,
+    /// z = [u_{j−1}; u_j] on every pair of adjacent intervals.
+    AdjacentInputs,
+    /// z = [q_N], the last knot, once.
+    LastConfiguration,
+    /// z = [h_j] on every interval j.
+    Step,
+}
+
+/// Sizes a term's input z is split by.
+#[derive(Debug, Clone, Copy)]
+pub struct CostSizes {
+    /// Coordinates n.
+    pub n: usize,
+    /// Inputs m.
+    pub m: usize,
+}
+
+/// A vector of a cost term whose length does not match the robot: (field, expected, found).
+pub type LengthMismatch = (&'static str, usize, usize);
+
+/// One cost term: which variables it reads and its value on one placement of them.
+pub trait CostFunction {
+    /// Its name in `Solution::objective_terms`.
+    const NAME: &'static str;
+    /// The variables it reads.
+    const INPUTS: CostInputs;
+    /// Whether it is linear in all its inputs (no Hessian entries).
+    const LINEAR: bool = false;
+    /// Its value on z (layout from [`CostFunction::INPUTS`]).
+    fn value<D: Scalar>(&self, z: &[D], sizes: CostSizes) -> D;
+    /// The first vector of the term whose length does not fit n coordinates and m inputs.
+    fn length_mismatch(&self, sizes: CostSizes) -> Option<LengthMismatch>;
+}
+
+/// How a term is checked from its `[[cost]]` entry.
+pub trait CheckCost: Sized {
+    /// The entry as the problem file spells it.
+    type Entry;
+    /// The checked term, or the error naming the file, line and field.
+    fn check(entry: &Self::Entry, at: &CostCheck) -> Result<Self, ProblemError>;
+}
+
+/// What a term's check needs: where its entry is, the robot's names and the goal.
+pub struct CostCheck<'a> {
+    ctx: &'a Context,
+    index: usize,
+    robot: &'a RobotInfo,
+    goal: &'a [f64],
+}
+
+impl CostCheck<'_> {
+    /// `cost[i].key`, the field named in errors.
+    fn field(&self, key: &str) -> String {
+        format!("cost[{}].{key}", self.index)
+    }
+
+    /// A target configuration by coordinate; coordinates not named (and an absent target)
+    /// keep the final goal's value.
+    pub fn configuration_target(
+        &self,
+        key: &str,
+        target: Option<&NamedVector>,
+    ) -> Result<Vec<f64>, ProblemError> {
+        self.coordinate_vector(key, target, self.goal)
+    }
+
+    /// A target velocity by coordinate; coordinates not named (and an absent target) are 0.
+    pub fn velocity_target(
+        &self,
+        key: &str,
+        target: Option<&NamedVector>,
+    ) -> Result<Vec<f64>, ProblemError> {
+        self.coordinate_vector(key, target, &vec![0.0; self.robot.coordinates.len()])
+    }
+
+    /// A vector by coordinate, `fallback` where not named.
+    fn coordinate_vector(
+        &self,
+        key: &str,
+        vector: Option<&NamedVector>,
+        fallback: &[f64],
+    ) -> Result<Vec<f64>, ProblemError> {
+        let coordinates = &self.robot.coordinates;
+        match vector {
+            Some(v) => resolve(
+                self.ctx,
+                &self.field(key),
+                "coordinate",
+                coordinates,
+                v,
+                Some(fallback),
+            ),
+            None => Ok(fallback.to_vec()),
+        }
+    }
+
+    /// Weights ≥ 0 by coordinate; an absent vector is all zeros.
+    pub fn coordinate_weights(
+        &self,
+        key: &str,
+        weights: Option<&NamedVector>,
+    ) -> Result<Vec<f64>, ProblemError> {
+        match weights {
+            Some(w) => self.weights(key, &self.robot.coordinates, "coordinate", w),
+            None => Ok(vec![0.0; self.robot.coordinates.len()]),
+        }
+    }
+
+    /// Weights ≥ 0 by input.
+    pub fn input_weights(
+        &self,
+        key: &str,
+        weights: &NamedVector,
+    ) -> Result<Vec<f64>, ProblemError> {
+        self.weights(key, &self.robot.inputs, "input", weights)
+    }
+
+    /// A finite number ≥ 0.
+    pub fn nonnegative(&self, key: &str, value: f64) -> Result<f64, ProblemError> {
+        nonnegative(self.ctx, &self.field(key), value)
+    }
+
+    fn weights(
+        &self,
+        key: &str,
+        names: &[String],
+        kind: &'static str,
+        w: &NamedVector,
+    ) -> Result<Vec<f64>, ProblemError> {
+        let field = self.field(key);
+        let values = resolve(self.ctx, &field, kind, names, w, None)?;
+        if let Some((i, v)) = values.iter().enumerate().find(|(_, v)| **v < 0.0) {
+            return Err(self.ctx.invalid(
+                &field,
+                format!("weight of `{}` is {v}; weights must be ≥ 0", names[i]),
+            ));
+        }
+        Ok(values)
+    }
+}
+
+/// `[[cost]]`: every entry checked against the robot, in file order.
+pub(super) fn check_costs(
+    ctx: &Context,
+    raw: &ProblemFile,
+    robot: &RobotInfo,
+    goal: &[f64],
+) -> Result<Vec<CostTerm>, ProblemError> {
+    raw.cost
+        .iter()
+        .enumerate()
+        .map(|(index, entry)| {
+            entry.check(&CostCheck {
+                ctx,
+                index,
+                robot,
+                goal,
+            })
+        })
+        .collect()
+}
+
+/// What [`with_cost_function`] hands each term to.
+pub trait CostVisitor {
+    /// The result.
+    type Output;
+    /// Called with the term's type.
+    fn visit<C: CostFunction>(self, cost: &C) -> Self::Output;
+}
+
+/// The value of one placement of `term` on z.
+pub fn cost_value<D: Scalar>(term: &CostTerm, sizes: CostSizes, z: &[D]) -> D {
+    struct Value<'a, D> {
+        z: &'a [D],
+        sizes: CostSizes,
+    }
+    impl<D: Scalar> CostVisitor for Value<'_, D> {
+        type Output = D;
+        fn visit<C: CostFunction>(self, cost: &C) -> D {
+            cost.value(self.z, self.sizes)
+        }
+    }
+    with_cost_function(term, Value { z, sizes })
+}
+
+/// What placement needs of a term: its name, its inputs and whether it is linear.
+#[derive(Debug, Clone, Copy)]
+pub struct CostDeclaration {
+    /// See [`CostFunction::NAME`].
+    pub name: &'static str,
+    /// See [`CostFunction::INPUTS`].
+    pub inputs: CostInputs,
+    /// See [`CostFunction::LINEAR`].
+    pub linear: bool,
+}
+
+/// The declaration of `term`.
+pub fn declaration(term: &CostTerm) -> CostDeclaration {
+    struct Declare;
+    impl CostVisitor for Declare {
+        type Output = CostDeclaration;
+        fn visit<C: CostFunction>(self, _: &C) -> CostDeclaration {
+            CostDeclaration {
+                name: C::NAME,
+                inputs: C::INPUTS,
+                linear: C::LINEAR,
+            }
+        }
+    }
+    with_cost_function(term, Declare)
+}
+
+/// The first vector of `term` whose length does not fit the robot.
+pub fn length_mismatch(term: &CostTerm, sizes: CostSizes) -> Option<LengthMismatch> {
+    struct Check(CostSizes);
+    impl CostVisitor for Check {
+        type Output = Option<LengthMismatch>;
+        fn visit<C: CostFunction>(self, cost: &C) -> Option<LengthMismatch> {
+            cost.length_mismatch(self.0)
+        }
+    }
+    with_cost_function(term, Check(sizes))
+}
+
+/// The name of a cost term in `Solution::objective_terms`.
+pub fn term_name(term: &CostTerm) -> &'static str {
+    declaration(term).name
+}
+
+/// ½ Σ w_i (a_i − b_i)² over paired slices.
+fn half_weighted_square<D: Scalar>(w: &[f64], a: impl Iterator<Item = D>, b: &[f64]) -> D {
+    a.zip(w.iter().zip(b))
+        .fold(D::from(0.0), |acc, (ai, (&wi, &bi))| {
+            let d = ai - D::from(bi);
+            acc + d * d * D::from(0.5 * wi)
+        })
+}
+
+/// ½ Σ w_i (b_i − a_i)² of z = [a; b], both halves of length `len`: the change of a
+/// vector between two knots or intervals.
+fn half_weighted_change<D: Scalar>(w: &[f64], z: &[D], len: usize) -> D {
+    let zeros = vec![0.0; len];
+    let diff = z[..len].iter().zip(&z[len..2 * len]).map(|(&a, &b)| b - a);
+    half_weighted_square(w, diff, &zeros)
+}
+
+/// `Some` mismatch when `found` differs from `expected`.
+fn mismatch(field: &'static str, expected: usize, found: usize) -> Option<LengthMismatch> {
+    (expected != found).then_some((field, expected, found))
+}
