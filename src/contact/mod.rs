@@ -11,4 +11,4 @@ mod terrain;
 
 pub use distance::signed_distance;
 pub use friction::{FrictionBasis, tangential_coordinates};
-pub use terrain::{Step, Terrain};
+pub use terrain::{Requirement, Step, Terrain, TerrainFeature};

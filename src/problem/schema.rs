@@ -176,19 +176,7 @@ pub struct TerrainSection {
     pub ground_height: Option<f64>,
     /// Smoothed steps H(x) = rise·½(1 + tanh((x − edge_x)/width)), heights add up.
     #[serde(default)]
-    pub step: Vec<StepEntry>,
-}
-
-/// `[[terrain.step]]`.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct StepEntry {
-    /// World x of the step's edge [length].
-    pub edge_x: f64,
-    /// Height gained across the edge [length].
-    pub rise: f64,
-    /// Smoothing width w of the tanh [length], > 0.
-    pub width: f64,
+    pub step: Vec<crate::contact::Step>,
 }
 
 /// `[horizon]`: knots and time steps.

@@ -1,29 +1,34 @@
-//! `[terrain]`: flat ground and smoothed steps.
+//! `[terrain]`: flat ground and the features on it, each checked by its own requirements.
 
 use super::context::Context;
 use super::values::{finite, positive};
-use crate::contact::{Step, Terrain};
+use crate::contact::{Requirement, Terrain, TerrainFeature};
 use crate::problem::ProblemError;
 use crate::problem::schema::ProblemFile;
 
 pub(super) fn check_terrain(ctx: &Context, raw: &ProblemFile) -> Result<Terrain, ProblemError> {
-    // Terrain.
-    let mut steps = Vec::new();
-    for (i, s) in raw.terrain.step.iter().enumerate() {
-        let f = |k: &str| format!("terrain.step[{i}].{k}");
-        steps.push(Step {
-            edge_x: finite(ctx, &f("edge_x"), s.edge_x)?,
-            rise: finite(ctx, &f("rise"), s.rise)?,
-            width: positive(ctx, &f("width"), s.width)?,
-        });
-    }
-    let terrain = Terrain {
+    let section = &raw.terrain;
+    check_features(ctx, &section.step)?;
+    Ok(Terrain {
         ground_height: finite(
             ctx,
             "terrain.ground_height",
-            raw.terrain.ground_height.unwrap_or(0.0),
+            section.ground_height.unwrap_or(0.0),
         )?,
-        steps,
-    };
-    Ok(terrain)
+        steps: section.step.clone(),
+    })
+}
+
+/// Checks every `[[terrain.<kind>]]` entry against its requirements, naming the field.
+fn check_features<F: TerrainFeature>(ctx: &Context, features: &[F]) -> Result<(), ProblemError> {
+    for (i, feature) in features.iter().enumerate() {
+        for (key, value, requirement) in feature.requirements() {
+            let field = format!("terrain.{}[{i}].{key}", F::NAME);
+            match requirement {
+                Requirement::Finite => finite(ctx, &field, value)?,
+                Requirement::Positive => positive(ctx, &field, value)?,
+            };
+        }
+    }
+    Ok(())
 }

@@ -223,3 +223,32 @@ fn bad_slack_target_and_slip_speed() {
         "{err}"
     );
 }
+
+#[test]
+fn terrain_and_cost_entries_name_their_field() {
+    // Each terrain kind and cost term checks its own entry (contact/terrain/, problem/costs/).
+    let step = hopper_text().replace(
+        "[horizon]",
+        "[[terrain.step]]\nedge_x = 0.5\nrise = 0.1\nwidth = -0.01\n\n[horizon]",
+    );
+    let err = solve_fails("terrain_step_width", &step);
+    assert!(
+        err.contains("field `terrain.step[0].width`: must be a finite number > 0, got -0.01"),
+        "{err}"
+    );
+    let time = hopper_text().replace(
+        "[horizon]",
+        "[[cost]]\ntype = \"time\"\nweight = -1.0\n\n[horizon]",
+    );
+    let err = solve_fails("cost_time_weight", &time);
+    assert!(
+        err.contains("cost[0].weight`: must be a finite number ≥ 0, got -1"),
+        "{err}"
+    );
+    let unknown = hopper_text().replace(
+        "[horizon]",
+        "[[cost]]\ntype = \"time\"\nwieght = 1.0\n\n[horizon]",
+    );
+    let err = solve_fails("cost_unknown_key", &unknown);
+    assert!(err.contains("unknown key `wieght`"), "{err}");
+}

@@ -1,30 +1,32 @@
 //! The terrain: a flat ground plus smoothed steps, as a height map z = H(x). Each kind of
-//! feature is a type with its own height (a new kind: its type here, a field of [`Terrain`],
-//! its `[terrain]` schema entry).
+//! feature is one file here: a type whose serde fields are its problem-file entry, with its
+//! height and its checks ([`TerrainFeature`]). A new kind: its file, a field of [`Terrain`]
+//! and of the `[terrain]` section (`problem/schema.rs`), one line in `problem/validate/terrain.rs`.
+
+mod step;
+
+pub use step::Step;
 
 use crate::scalar::Scalar;
 
-/// A smoothed step in the ground: the height rises by `rise` across x = `edge_x`,
-/// H(x) = rise · ½ (1 + tanh((x − edge_x)/width)). C∞, so Newton steps can cross it.
-///
-/// SPEC.md's LittleDog step is `Step { edge_x: 0.25, rise: 0.11, width: 0.005 }`
-/// (metres). A negative `rise` makes a step down.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Step {
-    /// World x of the edge (the height is half-way up here), in robot length units.
-    pub edge_x: f64,
-    /// Height gained across the edge, in length units.
-    pub rise: f64,
-    /// Smoothing length w > 0: 10–90 % of the rise lies within ±1.1·w of the edge.
-    pub width: f64,
+/// One kind of terrain feature: its height over the ground and the checks of its numbers.
+/// The type's serde fields are its problem-file entry (`[[terrain.<NAME>]]`).
+pub trait TerrainFeature {
+    /// Its key in `[terrain]`.
+    const NAME: &'static str;
+    /// The height it adds at world x (length units).
+    fn height<D: Scalar>(&self, x: D) -> D;
+    /// Each number of the entry with what it must satisfy, for validation to check and name.
+    fn requirements(&self) -> Vec<(&'static str, f64, Requirement)>;
 }
 
-impl Step {
-    /// The height this step adds at world x: rise · ½ (1 + tanh((x − edge_x)/width)).
-    pub fn height<D: Scalar>(&self, x: D) -> D {
-        let s = (x - D::from(self.edge_x)) / D::from(self.width);
-        (s.tanh() + D::from(1.0)) * D::from(0.5 * self.rise)
-    }
+/// What a number of a terrain entry must be.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Requirement {
+    /// Finite.
+    Finite,
+    /// Finite and > 0.
+    Positive,
 }
 
 /// The terrain: flat ground at `ground_height` plus smoothed steps (heights add up).
@@ -45,6 +47,7 @@ impl Terrain {
     /// Terrain height H(x) at world x (length units).
     pub fn height<D: Scalar>(&self, x: D) -> D {
         let mut height = D::from(self.ground_height);
+        // Each kind's features in turn.
         for step in &self.steps {
             height += step.height(x);
         }
