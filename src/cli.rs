@@ -263,9 +263,10 @@ fn check(file: &Path, set: &[String]) -> Result<u8, CliError> {
         p.robot.coordinates.join(", ")
     );
     out!(
-        "  inputs:      {} ({})",
+        "  inputs:      {} ({}), from {}",
         p.robot.inputs.len(),
-        p.robot.inputs.join(", ")
+        p.robot.inputs.join(", "),
+        p.robot.actuation
     );
     let contacts: Vec<String> = s
         .contacts
@@ -401,7 +402,8 @@ fn print_summary(problem: &LoadedProblem, s: &Solution, dir: &Path) {
 }
 
 fn init(urdf: &Path, base: BaseType, out: Option<&Path>) -> Result<u8, CliError> {
-    let robot = RobotInfo::read(urdf, base).map_err(|e| CliError::Input(e.to_string()))?;
+    let robot = RobotInfo::read(urdf, base, &vito::model::Actuation::Default)
+        .map_err(|e| CliError::Input(e.to_string()))?;
     let urdf_text = vito::paths::reference_from(urdf, out);
     let text = vito::problem::starter_problem(&robot, base, &urdf_text);
     match out {

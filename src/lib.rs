@@ -14,7 +14,7 @@
 //!   robot `ModelMechanics`), discrete Lagrangians (midpoint, first-order Euler) and forces, the
 //!   DEL equations (`discrete/del.rs`), forward stepping. A new integrator goes here.
 //! - `contact`: terrain (`contact/terrain.rs`), signed distance, the friction basis and its one
-//!   rule (`FrictionBasis::detect`).
+//!   rule (`FrictionBasis::for_robot`, from `Model::moves_in_xz_plane`).
 //! - `transcription`: variable layout, constraint blocks (contact complementarity rows in
 //!   `transcription/blocks/contact.rs`), cost terms (one file each in `transcription/costs/`),
 //!   placement, sparsity, start, evaluation, the NLP adapter for Ipopt.

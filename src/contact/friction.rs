@@ -1,8 +1,5 @@
 //! Friction directions: which world tangential coordinates the friction impulses act along.
 
-use num_dual::Dual64;
-
-use crate::model::BaseType;
 use crate::scalar::Scalar;
 
 /// The polyhedral friction cone's directions, fixed in the world.
@@ -21,37 +18,17 @@ pub enum FrictionBasis {
 }
 
 impl FrictionBasis {
-    /// The one rule for the friction basis of a robot: planar when the base is planar, or when
-    /// no contact point can move along world y (a planar robot built from a fixed base and
-    /// sliders, like SPEC's hopper); spatial otherwise. The y-rates of every contact
-    /// (`contact_position(contact, q)`, length units) are checked along every coordinate at two
-    /// configurations near `q0`.
-    pub fn detect(
-        base: BaseType,
-        q0: &[f64],
-        num_contacts: usize,
-        contact_position: impl Fn(usize, &[Dual64]) -> [Dual64; 3],
-    ) -> FrictionBasis {
-        if base == BaseType::Planar {
-            return FrictionBasis::Planar;
+    /// The one rule for the friction basis of a robot: planar (friction along world x, 2
+    /// directions) for a model whose points all move in the x–z plane
+    /// ([`crate::model::Model::moves_in_xz_plane`]: a planar base, or a fixed base with
+    /// joints about y and slides within x–z, like SPEC's hopper); spatial (x and y, 4
+    /// directions) for every robot that moves in 3D, fixed base or not.
+    pub fn for_robot(moves_in_xz_plane: bool) -> FrictionBasis {
+        if moves_in_xz_plane {
+            FrictionBasis::Planar
+        } else {
+            FrictionBasis::Spatial
         }
-        let n = q0.len();
-        for shift in [0.0, 0.3] {
-            for c in 0..n {
-                let q: Vec<Dual64> = (0..n)
-                    .map(|k| {
-                        let value = q0[k] + shift * (1.0 + k as f64 * 0.37);
-                        Dual64::new(value, if k == c { 1.0 } else { 0.0 })
-                    })
-                    .collect();
-                for i in 0..num_contacts {
-                    if contact_position(i, &q)[1].eps.abs() > 1e-12 {
-                        return FrictionBasis::Spatial;
-                    }
-                }
-            }
-        }
-        FrictionBasis::Planar
     }
 
     /// Number of tangential coordinates (1 or 2).
@@ -81,32 +58,14 @@ pub fn tangential_coordinates<D: Scalar>(basis: FrictionBasis, p: &[D; 3], out: 
 mod tests {
     use super::*;
 
-    /// A point on a link swinging about world x moves along y; one sliding along x and z
-    /// does not.
-    fn swinging<D: Scalar>(q: &[D]) -> [D; 3] {
-        [D::from(0.0), q[0].sin(), -q[0].cos()]
-    }
-    fn sliding<D: Scalar>(q: &[D]) -> [D; 3] {
-        [q[0], D::from(0.0), q[1]]
-    }
-
     #[test]
-    fn detect_gives_planar_only_when_no_contact_moves_along_y() {
-        let q0 = [0.2, 0.5];
-        let planar = FrictionBasis::detect(BaseType::Fixed, &q0, 1, |_, q| sliding(q));
-        assert_eq!(planar.num_directions(), 2);
-        let spatial = FrictionBasis::detect(BaseType::Fixed, &q0, 1, |_, q| swinging(q));
-        assert_eq!(spatial.num_directions(), 4);
-        // Hanging straight down (q = 0) the y-rate is cos 0 = 1 already; at q0 = π/2 it
-        // vanishes, and the second configuration finds it.
-        let vertical = [std::f64::consts::FRAC_PI_2, 0.0];
-        let shifted = FrictionBasis::detect(BaseType::Floating, &vertical, 1, |_, q| swinging(q));
-        assert_eq!(shifted, FrictionBasis::Spatial);
-        // A planar base is planar whatever its contacts do.
-        let base = FrictionBasis::detect(BaseType::Planar, &q0, 1, |_, q| swinging(q));
-        assert_eq!(base, FrictionBasis::Planar);
+    fn planar_models_get_two_directions_and_every_other_robot_four() {
+        assert_eq!(FrictionBasis::for_robot(true).num_directions(), 2);
+        assert_eq!(FrictionBasis::for_robot(false).num_directions(), 4);
         let mut t = [0.0; 2];
         tangential_coordinates::<f64>(FrictionBasis::Spatial, &[1.0, 2.0, 3.0], &mut t);
         assert_eq!(t, [1.0, 2.0]);
+        tangential_coordinates::<f64>(FrictionBasis::Planar, &[4.0, 2.0, 3.0], &mut t);
+        assert_eq!(t[0], 4.0);
     }
 }

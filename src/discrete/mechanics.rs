@@ -39,6 +39,9 @@ pub trait Mechanics: Sync {
     }
     /// Whether the discrete force Fd can be nonzero (inputs or damping present).
     fn has_discrete_force(&self) -> bool;
+    /// Whether every contact point stays in a plane y = const for every q, from the
+    /// robot's structure (a planar model: friction along world x only).
+    fn moves_in_xz_plane(&self) -> bool;
 
     /// Midpoint discrete Lagrangian Ld(qa, qb, h) = h·L((qa + qb)/2, (qb − qa)/h) of one
     /// interval (qa, qb length n; h > 0).

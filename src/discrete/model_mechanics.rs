@@ -56,6 +56,9 @@ impl Mechanics for ModelMechanics {
     fn input_names(&self) -> Vec<String> {
         self.model.input_names().to_vec()
     }
+    fn moves_in_xz_plane(&self) -> bool {
+        self.model.moves_in_xz_plane()
+    }
     fn has_discrete_force(&self) -> bool {
         !self.model.input_names().is_empty() || self.model.damping().iter().any(|&d| d != 0.0)
     }
@@ -146,6 +149,9 @@ mod tests {
         }
         fn has_discrete_force(&self) -> bool {
             self.0.has_discrete_force()
+        }
+        fn moves_in_xz_plane(&self) -> bool {
+            self.0.moves_in_xz_plane()
         }
         fn discrete_lagrangian<D: Scalar>(&self, qa: &[D], qb: &[D], h: D) -> D {
             self.0.discrete_lagrangian(qa, qb, h)

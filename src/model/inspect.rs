@@ -60,6 +60,8 @@ pub struct Inspection {
     pub coordinate_details: Vec<CoordinateInfo>,
     /// Input names in order.
     pub inputs: Vec<String>,
+    /// The rule that chose them (e.g. "the URDF's transmissions").
+    pub actuation: String,
     /// Effort limit per input (`None` = unbounded).
     pub effort_limits: Vec<Option<f64>>,
     /// Total mass.
@@ -131,6 +133,7 @@ pub fn inspect(model: &Model) -> Inspection {
         coordinates: names.to_vec(),
         coordinate_details,
         inputs: model.input_names().to_vec(),
+        actuation: model.actuation().to_string(),
         effort_limits: model.effort_limits().iter().map(|&e| finite(e)).collect(),
         total_mass: model.total_mass(),
         n_springs: model.springs().len(),
@@ -175,7 +178,12 @@ impl fmt::Display for Inspection {
             }
             writeln!(f)?;
         }
-        writeln!(f, "inputs ({}):", self.inputs.len())?;
+        writeln!(
+            f,
+            "inputs ({}), from {}:",
+            self.inputs.len(),
+            self.actuation
+        )?;
         for (name, effort) in self.inputs.iter().zip(&self.effort_limits) {
             writeln!(f, "  {name:<28} |u| <= {}", bound(*effort, "inf"))?;
         }

@@ -6,6 +6,7 @@
 //! The [`Model`] is immutable and all `f64`; the algorithms are free functions generic over
 //! [`crate::scalar::Scalar`], so plain floats and (nested) dual numbers flow through the same formulas.
 
+mod actuation;
 pub(crate) mod dynamics;
 pub(crate) mod energy;
 mod energy_adjoint;
@@ -20,6 +21,7 @@ pub(crate) mod spatial;
 pub(crate) mod tree;
 mod urdf;
 
+pub use actuation::{Actuation, AppliedActuation, NotActuatable};
 pub use dynamics::{
     generalized_damping_force, generalized_input_force, generalized_point_force, inverse_dynamics,
 };

@@ -177,6 +177,9 @@ pub struct Model {
     pub(crate) input_names: Vec<String>,
     pub(crate) input_coordinates: Vec<usize>,
     pub(crate) effort_limits: Vec<f64>,
+    /// Every joint that can take an input; the inputs are those the actuation rule chose.
+    pub(crate) actuators: Vec<super::actuation::Actuator>,
+    pub(crate) actuation: super::actuation::AppliedActuation,
     pub(crate) contact_points: Vec<ContactPoint>,
     pub(crate) springs: Vec<Spring>,
     pub(crate) loop_closures: Vec<LoopClosure>,
@@ -188,6 +191,34 @@ pub struct Model {
 }
 
 impl Model {
+    /// Whether every point of the robot stays in a plane y = const for every q: each
+    /// revolute joint turns about world ±y and each prismatic joint (base coordinates
+    /// included) slides within x–z, read from the joint axes at q = 0. Rotations about y
+    /// keep y-axes and x–z directions as they are, so what holds at q = 0 holds at every q.
+    /// A rule on structure, never on sampled values (a point whose y-rate merely vanishes
+    /// at a sample is still spatial).
+    pub fn moves_in_xz_plane(&self) -> bool {
+        const TOLERANCE: f64 = 1e-9;
+        let mut world_rotation: Vec<[[f64; 3]; 3]> = Vec::with_capacity(self.frames.len());
+        for frame in &self.frames {
+            let rotation = match frame.parent {
+                Some(p) => super::spatial::mat_mul_const(&world_rotation[p], &frame.rotation),
+                None => frame.rotation,
+            };
+            let axis = super::spatial::mat_vec_const(&rotation, &frame.axis);
+            let in_plane = match frame.motion {
+                Motion::Revolute => axis[0].abs() < TOLERANCE && axis[2].abs() < TOLERANCE,
+                Motion::Prismatic => axis[1].abs() < TOLERANCE,
+                Motion::Fixed => true,
+            };
+            if !in_plane {
+                return false;
+            }
+            world_rotation.push(rotation);
+        }
+        true
+    }
+
     /// Loads a URDF file (Drake extensions included) with the given base.
     ///
     /// Repairs that are unambiguous (a `<limit>` without `velocity` or `effort`, which then

@@ -8,7 +8,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::model::{BaseType, CoordinateKind, Model};
+use crate::model::{Actuation, AppliedActuation, BaseType, CoordinateKind, Model};
 use crate::problem::Interval;
 
 /// A contact point declared in the URDF (a zero-radius collision sphere).
@@ -34,8 +34,12 @@ pub struct RobotInfo {
     pub coordinate_kinds: Vec<CoordinateKind>,
     /// Joint limits per coordinate (length n), ±∞ where the URDF has none.
     pub coordinate_limits: Vec<Interval>,
-    /// Input names (length m): the transmission joints.
+    /// Input names (length m): the actuated joints.
     pub inputs: Vec<String>,
+    /// The rule that chose the inputs.
+    pub actuation: AppliedActuation,
+    /// Every joint that could take an input (movable, not a base coordinate).
+    pub actuatable_joints: Vec<String>,
     /// Linear (force) or angular (torque) input, per input (length m).
     pub input_kinds: Vec<CoordinateKind>,
     /// Effort limit per input (length m), +∞ for none.
@@ -60,16 +64,35 @@ pub enum RobotError {
     /// The model loader rejected it.
     #[error(transparent)]
     Model(#[from] crate::model::ModelError),
+    /// A joint named to be actuated is not a movable joint.
+    #[error("joint `{joint}` cannot be actuated; the movable joints are: {}", actuatable.join(", "))]
+    NotActuatable {
+        /// The name given.
+        joint: String,
+        /// The movable joints.
+        actuatable: Vec<String>,
+    },
 }
 
 impl RobotInfo {
-    /// Reads a URDF and lists its coordinates for the given base.
-    pub fn read(path: &Path, base: BaseType) -> Result<RobotInfo, RobotError> {
+    /// Reads a URDF and lists its coordinates for the given base, and its inputs by the
+    /// actuation rule.
+    pub fn read(
+        path: &Path,
+        base: BaseType,
+        actuation: &Actuation,
+    ) -> Result<RobotInfo, RobotError> {
         let text = std::fs::read_to_string(path).map_err(|source| RobotError::Io {
             path: path.to_owned(),
             source,
         })?;
-        let model = Model::from_urdf_str(&text, base)?;
+        let mut model = Model::from_urdf_str(&text, base)?;
+        model
+            .actuate(actuation)
+            .map_err(|e| RobotError::NotActuatable {
+                joint: e.joint,
+                actuatable: model.actuatable_joints(),
+            })?;
         Ok(RobotInfo::from_model(path, &model))
     }
 
@@ -86,6 +109,8 @@ impl RobotInfo {
                 .map(|&(lower, upper)| Interval { lower, upper })
                 .collect(),
             inputs: model.input_names().to_vec(),
+            actuation: model.actuation(),
+            actuatable_joints: model.actuatable_joints(),
             input_kinds: model
                 .input_coordinates()
                 .iter()

@@ -202,6 +202,38 @@ pub struct InitialSection {
     pub v: Option<VelocitySpec>,
 }
 
+/// `[inputs] actuated`: a rule by name, or joints by name.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ActuatedEntry {
+    /// `"transmissions"` or `"all"` (checked at validation).
+    Rule(String),
+    /// Joint names.
+    Joints(Vec<String>),
+}
+
+impl<'de> Deserialize<'de> for ActuatedEntry {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct ActuatedVisitor;
+        impl<'de> Visitor<'de> for ActuatedVisitor {
+            type Value = ActuatedEntry;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("\"transmissions\", \"all\" or a list of joint names")
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<Self::Value, E> {
+                Ok(ActuatedEntry::Rule(v.to_owned()))
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Self::Value, A::Error> {
+                let mut joints = Vec::new();
+                while let Some(joint) = seq.next_element::<String>()? {
+                    joints.push(joint);
+                }
+                Ok(ActuatedEntry::Joints(joints))
+            }
+        }
+        deserializer.deserialize_any(ActuatedVisitor)
+    }
+}
+
 /// `"zero"`, `"free"` or a vector.
 #[derive(Debug, Clone, PartialEq)]
 pub enum VelocitySpec {
@@ -340,6 +372,10 @@ impl<'de> Deserialize<'de> for KnotsName {
 #[derive(Debug, Clone, Deserialize, Default)]
 #[serde(deny_unknown_fields)]
 pub struct InputsSection {
+    /// Which joints take an input: `"transmissions"` (the URDF's `<transmission>`
+    /// elements), `"all"` (every movable joint) or a list of joint names. Default: the
+    /// transmissions when the URDF has any, otherwise every movable joint.
+    pub actuated: Option<ActuatedEntry>,
     /// Bound |u_j| ≤ URDF effort (default true; an infinite effort means no bound).
     pub effort_limits: Option<bool>,
     /// Explicit bounds by input name, `name = [lower, upper]`, replacing the effort limit.

@@ -11,7 +11,7 @@ use std::path::PathBuf;
 use super::costs::CostTerm;
 use crate::contact::Terrain;
 pub use crate::discrete::Integrator;
-use crate::model::BaseType;
+use crate::model::{Actuation, BaseType};
 
 /// How the Lagrangian Hessian is obtained.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -42,6 +42,8 @@ pub struct RobotSpec {
     pub base: BaseType,
     /// Gravity vector in world coordinates (robot units), e.g. [0, 0, −9.81].
     pub gravity: [f64; 3],
+    /// Which joints take an input.
+    pub actuation: Actuation,
 }
 
 /// One point contact: a point fixed on a link, against the terrain.

@@ -85,7 +85,10 @@ pub fn starter_problem(robot: &RobotInfo, base: BaseType, urdf: &str) -> String 
         t.push_str(&format!("{first} = 0.0\n"));
     }
     t.push_str("\n# [[bounds]]   # extra bounds on one coordinate\n# coordinate = \"...\"\n# knots = \"all\"   # all | interior | first | last | [0, 5, 9]\n# lower = 0.0\n# upper = 1.0\n\n");
-    t.push_str("[inputs]\neffort_limits = true   # |u| ≤ URDF effort\n");
+    t.push_str(&format!(
+        "[inputs]\n# actuated = \"transmissions\" | \"all\" | [\"joint\", ...]; the inputs below are from {}\neffort_limits = true   # |u| ≤ URDF effort\n",
+        robot.actuation
+    ));
     if !robot.inputs.is_empty() {
         t.push_str(&format!(
             "# bounds = {{ {} = [-1.0, 1.0] }}\n",

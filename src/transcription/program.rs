@@ -82,12 +82,7 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                 message: format!("{} knots; a trajectory needs at least 2", spec.knots),
             });
         }
-        let basis = FrictionBasis::detect(
-            spec.robot.base,
-            &spec.q_initial,
-            mech.num_contacts(),
-            |contact, q| mech.contact_position(contact, q),
-        );
+        let basis = FrictionBasis::for_robot(mech.moves_in_xz_plane());
         let nd = basis.num_directions();
         let ctx = Context {
             n,

@@ -32,6 +32,12 @@ impl ModelMechanics {
     pub fn load(spec: &ProblemSpec) -> Result<Self, TranscriptionError> {
         let mut model = Model::from_urdf_file(&spec.robot.urdf, spec.robot.base)?;
         model.set_gravity(spec.robot.gravity);
+        model
+            .actuate(&spec.robot.actuation)
+            .map_err(|e| TranscriptionError::Invalid {
+                field: "inputs.actuated".into(),
+                message: e.to_string(),
+            })?;
         ModelMechanics::new(model, &spec.contacts)
     }
 }

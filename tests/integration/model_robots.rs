@@ -378,3 +378,54 @@ fn inspect_json_has_the_documented_keys() {
         "{text}"
     );
 }
+
+/// A fixed-base leg hanging from a hip joint about `hip_axis` (rotated by `hip_rpy`), with a
+/// knee about y and a foot sphere at the shank's end.
+fn fixed_leg(hip_axis: &str, hip_rpy: &str) -> Model {
+    let link = |name: &str| {
+        format!(
+            r#"<link name="{name}"><inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>"#
+        )
+    };
+    let xml = format!(
+        r#"<robot name="leg">{}{}{}
+  <joint name="hip" type="revolute"><parent link="stand"/><child link="thigh"/>
+    <origin rpy="{hip_rpy}"/><axis xyz="{hip_axis}"/><limit lower="-1" upper="1" effort="10" velocity="10"/></joint>
+  <joint name="knee" type="revolute"><parent link="thigh"/><child link="shank"/>
+    <origin xyz="0 0 -0.3"/><axis xyz="0 1 0"/><limit lower="-2" upper="2" effort="10" velocity="10"/></joint>
+  <link name="foot_holder"/>
+  <joint name="foot" type="fixed"><parent link="shank"/><child link="foot_holder"/><origin xyz="0 0 -0.3"/></joint>
+</robot>"#,
+        link("stand"),
+        link("thigh"),
+        link("shank")
+    );
+    Model::from_urdf_str(&xml, BaseType::Fixed).unwrap()
+}
+
+#[test]
+fn only_models_moving_in_the_xz_plane_are_planar() {
+    // SPEC's hopper (slides along x and z, a joint about −y) and a planar base are planar.
+    assert!(load("hopper_2d.urdf", BaseType::Fixed).moves_in_xz_plane());
+    let flamingo = robot("spring_flamingo")
+        .read_dir()
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| p.extension().is_some_and(|e| e == "urdf"))
+        .unwrap();
+    assert!(
+        Model::from_urdf_file(&flamingo, BaseType::Planar)
+            .unwrap()
+            .moves_in_xz_plane()
+    );
+    // Floating bases move in 3D.
+    assert!(!load("brick.urdf", BaseType::Floating).moves_in_xz_plane());
+    assert!(!load("littledog/LittleDog.normalized.urdf", BaseType::Floating).moves_in_xz_plane());
+    // A fixed-base leg: planar when its hip turns about y, even about a y reached through a
+    // rotated joint frame (−y after a half turn about z); spatial with a hip about x, though
+    // the foot's y-rate vanishes wherever the leg is folded onto the hip axis.
+    assert!(fixed_leg("0 1 0", "0 0 0").moves_in_xz_plane());
+    assert!(fixed_leg("0 1 0", "0 0 3.141592653589793").moves_in_xz_plane());
+    assert!(!fixed_leg("1 0 0", "0 0 0").moves_in_xz_plane());
+    assert!(!fixed_leg("0 1 0", "0.3 0 0").moves_in_xz_plane());
+}

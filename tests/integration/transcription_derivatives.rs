@@ -44,6 +44,9 @@ impl<M: Mechanics> Mechanics for WithLoop<M> {
     fn has_discrete_force(&self) -> bool {
         self.0.has_discrete_force()
     }
+    fn moves_in_xz_plane(&self) -> bool {
+        self.0.moves_in_xz_plane()
+    }
     fn discrete_lagrangian<D: Scalar>(&self, qa: &[D], qb: &[D], h: D) -> D {
         self.0.discrete_lagrangian(qa, qb, h)
     }

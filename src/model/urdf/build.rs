@@ -6,6 +6,7 @@ use std::collections::{HashMap, HashSet};
 
 use super::extensions::{Extensions, bad};
 use super::inertia::{MassPiece, link_inertia, lump};
+use crate::model::actuation::{Actuator, AppliedActuation};
 use crate::model::spatial::{mat_mul, normalized, perpendicular_pair, rpy_to_matrix, transpose};
 use crate::model::tree::{Frame, LinkPlacement, Motion};
 use crate::model::{BaseType, ContactPoint, LinkId, LoopClosure, Model, ModelError, Spring};
@@ -64,17 +65,19 @@ pub(super) fn build(
     let contact_points = contact_points(robot);
     let springs = springs(ext, &joints)?;
     let loop_closures = loop_closures(ext, &bodies.link_names)?;
-    let inputs = inputs(robot, ext, &joints, &mut warnings)?;
-    Ok(Model {
+    let actuators = actuators(robot, ext, &joints, &mut warnings)?;
+    let mut model = Model {
         frames: bodies.frames,
         link_frame: bodies.link_frame,
         link_names: bodies.link_names,
         coordinate_names: coordinates.names,
         coordinate_limits: coordinates.limits,
         damping: coordinates.damping,
-        input_names: inputs.names,
-        input_coordinates: inputs.coordinates,
-        effort_limits: inputs.effort_limits,
+        input_names: Vec::new(),
+        input_coordinates: Vec::new(),
+        effort_limits: Vec::new(),
+        actuators,
+        actuation: AppliedActuation::default(),
         contact_points,
         springs,
         loop_closures,
@@ -83,7 +86,9 @@ pub(super) fn build(
         base,
         name: robot.name.clone(),
         warnings,
-    })
+    };
+    model.actuate_by_default();
+    Ok(model)
 }
 
 /// Index of a link or joint by name.
@@ -504,43 +509,43 @@ fn loop_closures(ext: &Extensions, link_names: &[String]) -> Result<Vec<LoopClos
     Ok(loop_closures)
 }
 
-/// The inputs: one per `<transmission>`, with the joint's effort limit.
-struct Inputs {
-    names: Vec<String>,
-    coordinates: Vec<usize>,
-    effort_limits: Vec<f64>,
-}
-
-fn inputs(
+/// The joints that can take an input: every movable joint in coordinate order, with its
+/// effort limit (∞ without `<limit>`) and its `<transmission>`, if one drives it.
+fn actuators(
     robot: &urdf_rs::Robot,
     ext: &Extensions,
     joints: &JointCoordinates,
     warnings: &mut Vec<String>,
-) -> Result<Inputs, ModelError> {
-    let mut input_names = Vec::new();
-    let mut input_coordinates = Vec::new();
-    let mut effort_limits = Vec::new();
-    for (name, joint, reduction) in &ext.transmissions {
+) -> Result<Vec<Actuator>, ModelError> {
+    let mut transmission_of: HashMap<usize, usize> = HashMap::new();
+    for (t, (name, joint, reduction)) in ext.transmissions.iter().enumerate() {
         let coordinate = joints.of("transmission", name, joint)?;
         if *reduction != 1.0 {
             warnings.push(format!(
                 "transmission '{name}': mechanicalReduction {reduction} ignored (vito uses 1)"
             ));
         }
-        let j = joints.joint_of[joint.as_str()];
-        let has_limit = ext.limit_presence.get(joint).is_some_and(|p| p.0);
-        let effort = if has_limit {
-            robot.joints[j].limit.effort
-        } else {
-            f64::INFINITY
-        };
-        input_names.push(joint.clone());
-        input_coordinates.push(coordinate);
-        effort_limits.push(effort);
+        transmission_of.entry(coordinate).or_insert(t);
     }
-    Ok(Inputs {
-        names: input_names,
-        coordinates: input_coordinates,
-        effort_limits,
-    })
+    let mut actuators: Vec<Actuator> = robot
+        .joints
+        .iter()
+        .enumerate()
+        .filter_map(|(j, joint)| {
+            let coordinate = joints.joint_coordinate[j]?;
+            let has_limit = ext.limit_presence.get(&joint.name).is_some_and(|p| p.0);
+            Some(Actuator {
+                joint: joint.name.clone(),
+                coordinate,
+                effort: if has_limit {
+                    joint.limit.effort
+                } else {
+                    f64::INFINITY
+                },
+                transmission: transmission_of.get(&coordinate).copied(),
+            })
+        })
+        .collect();
+    actuators.sort_by_key(|a| a.coordinate);
+    Ok(actuators)
 }

@@ -41,6 +41,7 @@ pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, Pr
         urdf,
         robot,
         gravity,
+        actuation,
     } = robot::check_robot(ctx, &raw)?;
     let contacts = contacts::check_contacts(ctx, &raw.contacts, &robot)?;
     let terrain = terrain::check_terrain(ctx, &raw)?;
@@ -83,6 +84,7 @@ pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, Pr
             urdf,
             base,
             gravity,
+            actuation,
         },
         contacts,
         terrain,

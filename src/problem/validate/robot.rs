@@ -4,10 +4,10 @@ use std::path::{Path, PathBuf};
 
 use super::context::Context;
 use super::values::finite;
-use crate::model::BaseType;
-use crate::problem::schema::{BaseName, ProblemFile};
+use crate::model::{Actuation, BaseType};
+use crate::problem::schema::{ActuatedEntry, BaseName, ProblemFile};
 use crate::problem::units::si_units;
-use crate::problem::{ProblemError, RobotInfo, Units};
+use crate::problem::{ProblemError, RobotError, RobotInfo, Units};
 
 /// The checked `[robot]` section.
 pub(super) struct CheckedRobot {
@@ -16,6 +16,7 @@ pub(super) struct CheckedRobot {
     pub(super) urdf: PathBuf,
     pub(super) robot: RobotInfo,
     pub(super) gravity: [f64; 3],
+    pub(super) actuation: Actuation,
 }
 
 pub(super) fn check_robot(ctx: &Context, raw: &ProblemFile) -> Result<CheckedRobot, ProblemError> {
@@ -36,9 +37,15 @@ pub(super) fn check_robot(ctx: &Context, raw: &ProblemFile) -> Result<CheckedRob
             ),
         ));
     }
-    let robot = RobotInfo::read(&urdf, base).map_err(|source| ProblemError::Robot {
-        at: ctx.at("robot.urdf"),
-        source,
+    let actuation = check_actuation(ctx, raw.inputs.actuated.as_ref())?;
+    let robot = RobotInfo::read(&urdf, base, &actuation).map_err(|source| match source {
+        RobotError::NotActuatable { joint, actuatable } => {
+            ctx.unknown_name("inputs.actuated", "movable joint", &joint, &actuatable)
+        }
+        source => ProblemError::Robot {
+            at: ctx.at("robot.urdf"),
+            source,
+        },
     })?;
     let gravity = match raw.robot.gravity {
         Some(g) => {
@@ -71,7 +78,39 @@ pub(super) fn check_robot(ctx: &Context, raw: &ProblemFile) -> Result<CheckedRob
         urdf,
         robot,
         gravity,
+        actuation,
     })
+}
+
+/// `[inputs] actuated`: a rule by name, or joints by name (each once).
+fn check_actuation(
+    ctx: &Context,
+    actuated: Option<&ActuatedEntry>,
+) -> Result<Actuation, ProblemError> {
+    match actuated {
+        None => Ok(Actuation::Default),
+        Some(ActuatedEntry::Rule(rule)) => match rule.as_str() {
+            "transmissions" => Ok(Actuation::Transmissions),
+            "all" => Ok(Actuation::AllJoints),
+            other => Err(ctx.invalid(
+                "inputs.actuated",
+                format!(
+                    "unknown rule `{other}`; use \"transmissions\", \"all\" or a list of joint names"
+                ),
+            )),
+        },
+        Some(ActuatedEntry::Joints(joints)) => {
+            for (i, joint) in joints.iter().enumerate() {
+                if joints[..i].contains(joint) {
+                    return Err(ctx.invalid(
+                        &format!("inputs.actuated[{i}]"),
+                        format!("joint `{joint}` is listed twice; list each actuated joint once"),
+                    ));
+                }
+            }
+            Ok(Actuation::Joints(joints.clone()))
+        }
+    }
 }
 
 fn parse_units(ctx: &Context, units: Option<&str>) -> Result<Units, ProblemError> {

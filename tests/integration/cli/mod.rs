@@ -5,6 +5,7 @@ pub mod util;
 mod check;
 mod errors;
 mod init;
+mod inputs;
 mod output_dirs;
 mod regression;
 mod solve;

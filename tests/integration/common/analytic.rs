@@ -80,6 +80,10 @@ impl Mechanics for Hopper {
     fn has_discrete_force(&self) -> bool {
         true
     }
+    fn moves_in_xz_plane(&self) -> bool {
+        // Slides along x and z, a leg turning about y: SPEC's planar hopper.
+        true
+    }
     fn discrete_lagrangian<D: Scalar>(&self, qa: &[D], qb: &[D], h: D) -> D {
         discrete_lagrangian(Self::lagrangian, qa, qb, h)
     }
@@ -162,6 +166,9 @@ impl Mechanics for Brick {
         8
     }
     fn has_discrete_force(&self) -> bool {
+        false
+    }
+    fn moves_in_xz_plane(&self) -> bool {
         false
     }
     fn discrete_lagrangian<D: Scalar>(&self, qa: &[D], qb: &[D], h: D) -> D {

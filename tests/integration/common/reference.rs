@@ -17,6 +17,7 @@ fn robot(file: &str, base: BaseType) -> RobotSpec {
             .join(file),
         base,
         gravity: [0.0, 0.0, -9.81],
+        actuation: Default::default(),
     }
 }
 
