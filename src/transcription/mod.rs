@@ -14,6 +14,7 @@
 
 mod blocks;
 mod costs;
+mod derivative_check;
 mod error;
 mod evaluate;
 mod layout;
@@ -31,8 +32,9 @@ pub use crate::discrete::{
     Mechanics, MechanicsDerivatives, ModelMechanics, contact_jet_by_autodiff,
 };
 pub use blocks::{Context, ScalarKind, VectorKind};
+pub use derivative_check::{DerivativeCheck, DerivativeKind, EntryCheck};
 pub use error::TranscriptionError;
-pub use layout::{Dims, Layout};
+pub use layout::{Dims, EntryNames, Layout};
 pub use nlp::{Progress, ProgressFn, TranscriptionNlp};
 pub use pattern::{Pattern, PatternBuilder};
 pub use program::{InitialGuessReport, Transcription};
