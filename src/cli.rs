@@ -89,6 +89,17 @@ pub enum Command {
         /// Overrides as for `solve`.
         #[arg(long = "set", value_name = "KEY.PATH=VALUE")]
         set: Vec<String>,
+        /// Compare the gradient, Jacobian and Lagrangian Hessian with central finite
+        /// differences (exit 1 when an entry exceeds its tolerance).
+        #[arg(long)]
+        derivatives: bool,
+        /// With `--derivatives`: check at this trajectory CSV (one row per knot) instead of
+        /// the initial guess.
+        #[arg(long, value_name = "TRAJECTORY_CSV", requires = "derivatives")]
+        at: Option<PathBuf>,
+        /// With `--derivatives`: seed of the random multipliers of the Hessian check.
+        #[arg(long, default_value_t = 1, requires = "derivatives")]
+        seed: u64,
     },
     /// Write a commented starter problem for a URDF (to stdout, or to `--out`).
     Init {
@@ -197,7 +208,19 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
             out,
             quiet,
         } => solve(&file, &set, out.as_deref(), quiet),
-        Command::Check { file, set } => check(&file, &set),
+        Command::Check {
+            file,
+            set,
+            derivatives,
+            at,
+            seed,
+        } => {
+            if derivatives {
+                check_derivatives(&file, &set, at.as_deref(), seed)
+            } else {
+                check(&file, &set)
+            }
+        }
         Command::Init { urdf, base, out } => init(&urdf, base.into(), out.as_deref()),
         Command::Inspect { urdf, base, json } => inspect(&urdf, base.into(), json),
         Command::Bench { files, set } => bench(&files, &set),
@@ -294,6 +317,78 @@ fn check(file: &Path, set: &[String]) -> Result<u8, CliError> {
         nlp.layout().nl
     );
     Ok(0)
+}
+
+/// `vito check --derivatives`: the derivative check of the solver's NLP at the initial guess
+/// or at a trajectory; prints the worst entries of each kind and every failure (up to 40).
+fn check_derivatives(
+    file: &Path,
+    set: &[String],
+    at: Option<&Path>,
+    seed: u64,
+) -> Result<u8, CliError> {
+    use vito::transcription::{DerivativeKind, EntryNames};
+    let overrides = parse_overrides(set)?;
+    let p = load(file, &overrides)?;
+    let nlp = pipeline::build_nlp(&p.spec)?;
+    let contacts: Vec<String> = p.spec.contacts.iter().map(|c| c.name.clone()).collect();
+    let x = match at {
+        None => nlp.initial_point().to_vec(),
+        Some(path) => {
+            let text = std::fs::read_to_string(path)
+                .map_err(|e| CliError::Input(format!("{}: {e}", path.display())))?;
+            pipeline::point_from_trajectory(&nlp, &p.robot, &contacts, &text)
+                .map_err(|e| CliError::Input(format!("{}: {e}", path.display())))?
+        }
+    };
+    if let Some(i) = x.iter().position(|v| !v.is_finite()) {
+        return Err(CliError::Input(format!(
+            "the point to check has a non-finite value at variable {i}"
+        )));
+    }
+    let names = EntryNames {
+        coordinates: &p.robot.coordinates,
+        inputs: &p.robot.inputs,
+        contacts: &contacts,
+    };
+    let check = nlp.check_derivatives(&x, seed);
+    let point = at.map_or("the initial guess".to_string(), |a| a.display().to_string());
+    out!(
+        "{}: derivative check at {point} ({} entries compared, {} fixed variables left out, {} evaluations, multiplier seed {seed})",
+        file.display(),
+        check.entries.len(),
+        check.fixed_variables,
+        check.evaluations
+    );
+    out!(
+        "  tolerance: |analytic - fd| <= 1e-4 max(|analytic|, |fd|) + 1e-6 max(1, |F(x)|), steps 1e-6 max(1, |x_j|)"
+    );
+    for (kind, label) in [
+        (DerivativeKind::Gradient, "gradient"),
+        (DerivativeKind::Jacobian, "jacobian"),
+        (DerivativeKind::Hessian, "hessian"),
+    ] {
+        let entries: Vec<_> = check.entries.iter().filter(|e| e.kind == kind).collect();
+        let failed = entries.iter().filter(|e| e.fails()).count();
+        let outside = entries.iter().filter(|e| !e.declared && e.fails()).count();
+        out!(
+            "  {label}: {} nonzero entries, {failed} exceed tolerance ({outside} outside the declared structure); worst:",
+            entries.len()
+        );
+        for e in entries.iter().take(3) {
+            out!("    {}", nlp.describe_entry(e, names));
+        }
+    }
+    let failures: Vec<_> = check.failures().collect();
+    if failures.is_empty() {
+        out!("  passed");
+        return Ok(0);
+    }
+    out!("  FAILED: {} entries exceed tolerance:", failures.len());
+    for e in failures.iter().take(40) {
+        out!("    {}", nlp.describe_entry(e, names));
+    }
+    Ok(1)
 }
 
 /// Progress line printed on stderr at each Ipopt iteration.

@@ -9,6 +9,7 @@
 //! Module map:
 //! - `ipopt`: the only place with `unsafe`: FFI bindings and the safe solver wrapper.
 //! - `model`: URDF → kinematic tree, energies, springs, dampers, loop closures (generic scalar).
+//! - `dependency`: a scalar that tracks which inputs a value depends on (sparsity by construction).
 //! - `autodiff`: dense local Jacobians and Hessians of small functions by forward-mode duals.
 //! - `discrete`: the robot's mechanics traits (`Mechanics`, `MechanicsDerivatives`, for a URDF
 //!   robot `ModelMechanics`), discrete Lagrangians (midpoint, first-order Euler) and forces, the
@@ -32,6 +33,7 @@
 
 pub mod autodiff;
 pub mod contact;
+pub mod dependency;
 pub mod discrete;
 #[allow(unsafe_code)]
 pub mod ipopt;

@@ -4,8 +4,10 @@ use std::process::ExitCode;
 
 use clap::Parser;
 
+mod blas_kernels;
 mod cli;
 
 fn main() -> ExitCode {
+    blas_kernels::pin();
     cli::run(cli::Args::parse())
 }

@@ -7,7 +7,8 @@ use std::path::{Path, PathBuf};
 use crate::ipopt;
 use crate::problem::{LoadedProblem, OptionValue, ProblemError, ProblemSpec};
 use crate::transcription::{
-    self, BenchRow, ModelMechanics, Solution, SolveOptions, Transcription, TranscriptionError,
+    self, BenchRow, MechanicsDerivatives, ModelMechanics, Solution, SolveOptions, Transcription,
+    TranscriptionError,
 };
 
 /// The robot of `spec` as the transcription sees it (URDF model, gravity, contacts).
@@ -74,4 +75,65 @@ pub fn checked_output_dir(
 ) -> Result<crate::report::OutputTarget, crate::report::OutputDirError> {
     let target = output_dir(problem, out);
     crate::report::OutputTarget::check(&target, &[&problem.file, &problem.spec.robot.urdf])
+}
+
+/// The NLP point a trajectory CSV (as `vito solve` writes it, with one row per knot of this
+/// problem) describes: q, h from the times, u, the normal and friction impulses and the
+/// slacks from their columns where present; ψ, η and anything absent keep the NLP's initial
+/// guess. The message names the column or the row count at fault.
+pub fn point_from_trajectory<M: MechanicsDerivatives>(
+    nlp: &Transcription<M>,
+    robot: &crate::problem::RobotInfo,
+    contacts: &[String],
+    text: &str,
+) -> Result<Vec<f64>, String> {
+    use crate::trajectory_csv::{friction_direction_names, read_csv, read_trajectory};
+    let l = nlp.layout();
+    let recorded = read_trajectory(text, &robot.coordinates, &robot.inputs)?;
+    if recorded.times.len() != l.knots {
+        return Err(format!(
+            "it has {} rows, the problem has {} knots (run the problem with `--set knots={}`, or solve it first)",
+            recorded.times.len(),
+            l.knots,
+            recorded.times.len()
+        ));
+    }
+    let table = read_csv(text)?;
+    let mut x = nlp.initial_point().to_vec();
+    for (k, q) in recorded.q.iter().enumerate() {
+        for (i, v) in l.q(k).zip(q) {
+            x[i] = *v;
+        }
+    }
+    for j in 0..l.intervals() {
+        x[l.h(j)] = recorded.times[j + 1] - recorded.times[j];
+        if let Some(u) = recorded.u.get(j) {
+            for (i, v) in l.u(j).zip(u) {
+                x[i] = *v;
+            }
+        }
+    }
+    let set = |x: &mut Vec<f64>, column: &str, index: &dyn Fn(usize) -> usize| {
+        if let Some(values) = table.column(column) {
+            for (j, v) in values.iter().take(l.intervals()).enumerate() {
+                if v.is_finite() {
+                    x[index(j)] = *v;
+                }
+            }
+        }
+    };
+    let directions = friction_direction_names(l.nd);
+    for (i, name) in contacts.iter().enumerate() {
+        set(&mut x, &format!("{name}_normal"), &|j| l.c(j, i));
+        for (d, dir) in directions.iter().enumerate() {
+            set(&mut x, &format!("{name}_friction_{dir}"), &|j| {
+                l.beta(j, i).start + d
+            });
+        }
+    }
+    set(&mut x, "slack", &|j| l.slack(j).start);
+    for s in 0..l.slacks_per_interval() {
+        set(&mut x, &format!("slack_{s}"), &|j| l.slack(j).start + s);
+    }
+    Ok(x)
 }

@@ -27,7 +27,7 @@ pub enum ContactDerivatives {
     /// rows in closed form (fast; the default for evaluation).
     ChainRule,
     /// By generic forward AD over the whole block: structural zeros are exact, where the
-    /// chain rule can leave round-off (1e-17), so the sparsity probe uses it.
+    /// chain rule can leave round-off (1e-17) on them (for comparison).
     GenericAd,
 }
 

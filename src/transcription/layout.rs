@@ -265,6 +265,167 @@ impl Layout {
     }
 }
 
+/// The names a layout's entries are printed with: coordinates, inputs and contacts of the
+/// robot, in NLP order.
+#[derive(Debug, Clone, Copy)]
+pub struct EntryNames<'a> {
+    /// Coordinate names (length n).
+    pub coordinates: &'a [String],
+    /// Input names (length m).
+    pub inputs: &'a [String],
+    /// Contact names (length nc).
+    pub contacts: &'a [String],
+}
+
+impl EntryNames<'_> {
+    fn coordinate(&self, i: usize) -> String {
+        self.coordinates
+            .get(i)
+            .cloned()
+            .unwrap_or_else(|| format!("q{i}"))
+    }
+    fn input(&self, i: usize) -> String {
+        self.inputs
+            .get(i)
+            .cloned()
+            .unwrap_or_else(|| format!("u{i}"))
+    }
+    fn contact(&self, i: usize) -> String {
+        self.contacts
+            .get(i)
+            .cloned()
+            .unwrap_or_else(|| format!("contact {i}"))
+    }
+}
+
+/// Names of the per-contact slacks and complementarity rows, in their layout order.
+const COMPLEMENTARITY_NAMES: [&str; 3] = ["eta·beta", "c·phi", "psi·(mu c - e'beta)"];
+
+impl Layout {
+    /// What variable `v` is, e.g. "q base_x, knot 19" or "c front_left_foot, interval 19"
+    /// (knots and intervals counted from 0).
+    pub fn variable_name(&self, v: usize, names: EntryNames) -> String {
+        let (n, nc, nd) = (self.n, self.nc, self.nd);
+        if v < self.v0_offset() {
+            return format!("q {}, knot {}", names.coordinate(v % n), v / n);
+        }
+        if v < self.h_offset() {
+            return format!("v0 {}", names.coordinate(v - self.v0_offset()));
+        }
+        if v < self.u_offset() {
+            return format!("h, interval {}", v - self.h_offset());
+        }
+        if v < self.contact_offset() {
+            let local = v - self.u_offset();
+            return format!(
+                "u {}, interval {}",
+                names.input(local % self.m),
+                local / self.m
+            );
+        }
+        if v < self.gamma_offset() {
+            let local = v - self.contact_offset();
+            let (j, r) = (local / self.contact_block(), local % self.contact_block());
+            let (what, i, d) = if r < nc {
+                ("c", r, None)
+            } else if r < nc * (1 + nd) {
+                ("beta", (r - nc) / nd, Some((r - nc) % nd))
+            } else if r < nc * (2 + nd) {
+                ("psi", r - nc * (1 + nd), None)
+            } else {
+                let e = r - nc * (2 + nd);
+                ("eta", e / nd, Some(e % nd))
+            };
+            let dir = d.map_or(String::new(), |d| format!(" direction {d}"));
+            return format!("{what} {}{dir}, interval {j}", names.contact(i));
+        }
+        if v < self.slack_offset() {
+            let local = v - self.gamma_offset();
+            return format!("gamma {}, interval {}", local % self.nl, local / self.nl);
+        }
+        let local = v - self.slack_offset();
+        let per = self.slacks_per_interval();
+        let j = local / per;
+        match self.slack_mode {
+            SlackMode::PerInterval => format!("s, interval {j}"),
+            SlackMode::PerContact => {
+                let r = local % per;
+                format!(
+                    "s {} {}, interval {j}",
+                    COMPLEMENTARITY_NAMES[r % 3],
+                    names.contact(r / 3)
+                )
+            }
+        }
+    }
+
+    /// What constraint row `r` is, e.g. "DEL base_x, knot 19" (knots and intervals counted
+    /// from 0; the dynamics rows of interval j > 0 hold the DEL equation at knot j).
+    pub fn row_name(&self, r: usize, names: EntryNames) -> String {
+        let per = self.intervals() * self.rows_per_interval();
+        if r < per {
+            let (j, local) = (r / self.rows_per_interval(), r % self.rows_per_interval());
+            let (n, nl, nc, nd) = (self.n, self.nl, self.nc, self.nd);
+            if local < n {
+                let c = names.coordinate(local);
+                return if j == 0 {
+                    format!("first step {c}")
+                } else {
+                    format!("DEL {c}, knot {j}")
+                };
+            }
+            let local = local - n;
+            if local < nl {
+                return format!("loop closure {local}, knot {}", j + 1);
+            }
+            let local = local - nl;
+            if local < nc * nd {
+                return format!(
+                    "tangential velocity {} direction {}, interval {j}",
+                    names.contact(local / nd),
+                    local % nd
+                );
+            }
+            let local = local - nc * nd;
+            if local < nc {
+                return format!("phi {}, knot {}", names.contact(local), j + 1);
+            }
+            let local = local - nc;
+            if local < nc {
+                return format!("friction cone {}, interval {j}", names.contact(local));
+            }
+            let local = local - nc;
+            return match self.slack_mode {
+                SlackMode::PerInterval => {
+                    format!("s - sum {}, interval {j}", COMPLEMENTARITY_NAMES[local % 3])
+                }
+                SlackMode::PerContact => format!(
+                    "s - {} {}, interval {j}",
+                    COMPLEMENTARITY_NAMES[local % 3],
+                    names.contact(local / 3)
+                ),
+            };
+        }
+        let local = r - per;
+        if local < self.num_equal_step_rows() {
+            return format!("equal steps h{local} = h{}", local + 1);
+        }
+        let local = local - self.num_equal_step_rows();
+        if local < self.nl {
+            return format!("loop closure {local}, knot 0");
+        }
+        let p = local - self.nl;
+        match self.periodic_rows.get(p) {
+            Some(&(coord, velocity, _)) => format!(
+                "periodic {} {}",
+                names.coordinate(coord),
+                if velocity { "velocity" } else { "position" }
+            ),
+            None => format!("row {r}"),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

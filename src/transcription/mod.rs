@@ -12,6 +12,7 @@
 //! file's NLP, slack continuation), `robot` (a problem's URDF mechanics).
 
 mod blocks;
+mod derivative_check;
 mod error;
 mod evaluate;
 mod layout;
@@ -29,8 +30,9 @@ pub use crate::discrete::{
     Mechanics, MechanicsDerivatives, ModelMechanics, contact_jet_by_autodiff,
 };
 pub use blocks::{Context, ScalarKind, VectorKind};
+pub use derivative_check::{DerivativeCheck, DerivativeKind, EntryCheck};
 pub use error::TranscriptionError;
-pub use layout::{Dims, Layout};
+pub use layout::{Dims, EntryNames, Layout};
 pub use nlp::{Progress, ProgressFn, TranscriptionNlp};
 pub use pattern::{Pattern, PatternBuilder};
 pub use program::{InitialGuessReport, Transcription};

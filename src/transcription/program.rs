@@ -161,7 +161,7 @@ impl<M: MechanicsDerivatives> Transcription<M> {
     /// Differentiate the contact blocks (tangential rate, contact work, signed distance, c·φ)
     /// by the chain rule through the contact point's jet, and the bilinear complementarity rows
     /// in closed form (the default), or all of them by generic forward AD over the whole block
-    /// (for comparison; the sparsity pattern, probed with generic AD, is the same).
+    /// (for comparison; the sparsity pattern, from dependencies, is the same).
     pub fn set_contact_chain_rule(&mut self, enabled: bool) {
         self.contact_derivatives = if enabled {
             ContactDerivatives::ChainRule

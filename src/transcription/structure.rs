@@ -1,18 +1,29 @@
 //! Sparsity structure: which local Jacobian and Hessian entries of each block can be nonzero,
 //! and their slots in the global patterns.
 //!
-//! The structure comes from one function, [`Transcription::probe_structure`], which today
-//! evaluates every block's derivatives at seeded points around the initial guess; the slot
-//! assignment ([`Transcription::assign_slots`]) reads only its masks, so a structure derived
-//! from dependencies can replace the probing without touching the rest.
+//! The structure is built by construction, never from values: every block's function runs
+//! once over [`DependencyScalar`] inputs (through the same generic code that `f64` and the
+//! duals run), which records which inputs each output depends on and which input pairs can
+//! meet in its second derivative, anywhere in the domain. A gradient block (the DEL pieces)
+//! runs over `Dual<DependencyScalar>` seeded along each input, whose ε part is that gradient
+//! component. Blocks of one kind compute the same function of their local inputs, so each
+//! kind is traced once. A function that branches on an input-dependent value (none does
+//! today) is taken as dense, since the trace sees one side of the branch only.
+//!
+//! The fast derivative paths (the mechanics' segment derivatives, the contact chain rule)
+//! compute the same functions' derivatives, so their nonzeros lie inside this structure;
+//! what they write outside it is round-off on a structural zero, and is dropped.
 
-use nalgebra::DMatrix;
+use std::collections::HashMap;
+
+use num_dual::Dual;
 
 use super::Transcription;
 use super::blocks::Block;
-use super::evaluate::{ContactDerivatives, gather};
+use super::evaluate::gather;
 use super::pattern::PatternBuilder;
-use crate::autodiff::{gradient_hessian, jacobian, weighted_hessian};
+use crate::autodiff::{ScalarFunction, VectorFunction};
+use crate::dependency::{DependencyScalar, Trace};
 use crate::discrete::MechanicsDerivatives;
 
 /// Slot marker of a local entry that is structurally zero (not in the pattern).
@@ -29,120 +40,139 @@ struct Structure {
     vector: Vec<BlockMask>,
 }
 
-impl<M: MechanicsDerivatives> Transcription<M> {
-    /// Points to probe structural zeros at: the initial point moved by seeded noise
-    /// (steps scaled so they stay positive).
-    fn probe_points(&self) -> Vec<Vec<f64>> {
-        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
-        let mut uniform = move || {
-            state = state
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
-        (0..2)
-            .map(|_| {
-                let mut x: Vec<f64> = self
-                    .x_initial
-                    .iter()
-                    .map(|&v| v + 0.6 * uniform())
-                    .collect();
-                for j in 0..self.layout.intervals() {
-                    let h = self.layout.h(j);
-                    x[h] = self.x_initial[h] * (1.0 + 0.6 * uniform());
-                }
-                x
-            })
-            .collect()
-    }
+/// Which outputs of a block add into some row (the others' second derivatives carry no
+/// multiplier and stay out of the Hessian).
+fn live_outputs<K>(b: &Block<K>) -> Vec<bool> {
+    b.targets.iter().map(|rows| !rows.is_empty()).collect()
+}
 
-    /// Which local Jacobian rows × inputs and lower Hessian pairs of a block are nonzero at
-    /// any probe point (with random multipliers): entries zero at every probe are
-    /// structural zeros (e.g. a leg's joint in another leg's DEL row) and stay out of the
-    /// patterns.
-    fn probe<K>(
-        &self,
-        b: &Block<K>,
-        points: &[Vec<f64>],
-        local: impl Fn(&[f64], &[f64]) -> (Option<DMatrix<f64>>, Option<DMatrix<f64>>),
-    ) -> BlockMask {
-        let nv = b.vars.len();
-        let mut jac = vec![false; b.targets.len() * nv];
-        let mut hess = vec![false; nv * nv];
-        for (p, x) in points.iter().enumerate() {
-            let z = gather(x, &b.vars);
-            let weights: Vec<f64> = (0..b.targets.len())
-                .map(|o| {
-                    if b.targets[o].is_empty() {
-                        0.0
-                    } else {
-                        1.0 + 0.37 * ((o * 7 + p * 3) % 5) as f64
-                    }
-                })
-                .collect();
-            let (j, h) = local(&z, &weights);
-            if let Some(j) = j {
-                for o in 0..b.targets.len() {
-                    for a in 0..nv {
-                        jac[o * nv + a] |= j[(o, a)] != 0.0;
-                    }
-                }
-            }
-            if let Some(h) = h {
-                for a in 0..b.nonlinear {
-                    for c in 0..=a {
-                        hess[a * nv + c] |= h[(a, c)] != 0.0;
-                    }
-                }
-            }
+/// Key of a block's traced structure: its kind, its size and which outputs are live.
+fn trace_key<K: std::fmt::Debug>(b: &Block<K>) -> (String, usize, Vec<bool>) {
+    (format!("{:?}", b.kind), b.vars.len(), live_outputs(b))
+}
+
+/// A dense mask: every Jacobian entry and lower Hessian pair (for a function that branched).
+fn dense_mask(outputs: usize, nv: usize) -> BlockMask {
+    let mut hess = vec![false; nv * nv];
+    for a in 0..nv {
+        for c in 0..=a {
+            hess[a * nv + c] = true;
         }
-        (jac, hess)
     }
+    (vec![true; outputs * nv], hess)
+}
 
+/// The lower triangle of a symmetric pair mask.
+fn lower(mut pairs: Vec<bool>, nv: usize) -> Vec<bool> {
+    for a in 0..nv {
+        for c in a + 1..nv {
+            pairs[a * nv + c] = false;
+        }
+    }
+    pairs
+}
+
+/// Structure of a vector function: output o's dependencies, and the pairs of the live outputs.
+fn vector_mask(f: &impl VectorFunction, z: &[f64], live: &[bool]) -> BlockMask {
+    let nv = z.len();
+    let trace = Trace::begin(nv);
+    let input = trace.inputs(z);
+    let mut out = vec![DependencyScalar::from(0.0); f.dim_out()];
+    f.eval(&input, &mut out);
+    if trace.branched() {
+        return dense_mask(out.len(), nv);
+    }
+    let mut jac = Vec::with_capacity(out.len() * nv);
+    let mut pairs = vec![false; nv * nv];
+    for (o, y) in out.iter().enumerate() {
+        jac.extend(trace.dependencies(y));
+        if live[o] {
+            trace.add_pairs(y, &mut pairs);
+        }
+    }
+    (jac, lower(pairs, nv))
+}
+
+/// Structure of a cost: the pairs of its second derivative (its gradient is dense).
+fn cost_mask(f: &impl ScalarFunction, z: &[f64], outputs: usize) -> BlockMask {
+    let nv = z.len();
+    let trace = Trace::begin(nv);
+    let input = trace.inputs(z);
+    let y = f.eval(&input);
+    if trace.branched() {
+        return dense_mask(outputs, nv);
+    }
+    let mut pairs = vec![false; nv * nv];
+    trace.add_pairs(&y, &mut pairs);
+    (vec![false; outputs * nv], lower(pairs, nv))
+}
+
+/// Structure of a gradient block (rows ∂f/∂z_a for a < outputs): row a's dependencies are the
+/// nonzeros of ∂²f/∂z_a∂z, its pairs those of ∂³f/∂z_a∂z∂z, from forward duals over the
+/// dependency scalar seeded along z_a.
+fn gradient_mask(f: &impl ScalarFunction, z: &[f64], live: &[bool]) -> BlockMask {
+    let nv = z.len();
+    let outputs = live.len();
+    let mut jac = Vec::with_capacity(outputs * nv);
+    let mut pairs = vec![false; nv * nv];
+    for (a, &row_live) in live.iter().enumerate() {
+        let trace = Trace::begin(nv);
+        let input: Vec<Dual<DependencyScalar>> = z
+            .iter()
+            .enumerate()
+            .map(|(c, &v)| {
+                let seed = if c == a { 1.0 } else { 0.0 };
+                Dual::new(trace.input(c, v), DependencyScalar::from(seed))
+            })
+            .collect();
+        let y = f.eval(&input);
+        if trace.branched() {
+            return dense_mask(outputs, nv);
+        }
+        jac.extend(trace.dependencies(&y.eps));
+        if row_live {
+            trace.add_pairs(&y.eps, &mut pairs);
+        }
+    }
+    (jac, lower(pairs, nv))
+}
+
+impl<M: MechanicsDerivatives> Transcription<M> {
     /// Sparsity patterns of the whole NLP: the structure of every block, placed.
     pub(super) fn build_patterns(&mut self) {
-        let structure = self.probe_structure();
+        let structure = self.dependency_structure();
         self.assign_slots(&structure);
     }
 
-    /// Which local entries of every block can be nonzero, by probing values (see
-    /// [`Transcription::probe`]). The one place that decides structure.
-    fn probe_structure(&self) -> Structure {
-        let points = self.probe_points();
-        let cost_masks: Vec<_> = self
-            .cost_blocks
-            .iter()
-            .map(|b| {
-                self.probe(b, &points, |z, _| {
-                    (None, Some(gradient_hessian(&self.scalar_fn(b), z).2))
+    /// Which local entries of every block can be nonzero anywhere, from the dependencies of
+    /// its function (see the module documentation). The one place that decides structure.
+    fn dependency_structure(&self) -> Structure {
+        fn traced<K: std::fmt::Debug>(
+            blocks: &[Block<K>],
+            mut trace: impl FnMut(&Block<K>) -> BlockMask,
+        ) -> Vec<BlockMask> {
+            let mut cache: HashMap<(String, usize, Vec<bool>), BlockMask> = HashMap::new();
+            blocks
+                .iter()
+                .map(|b| {
+                    cache
+                        .entry(trace_key(b))
+                        .or_insert_with(|| trace(b))
+                        .clone()
                 })
-            })
-            .collect();
-        let gradient_masks: Vec<_> = self
-            .gradient_blocks
-            .iter()
-            .map(|b| {
-                self.probe(b, &points, |z, w| {
-                    let third = self.gradient_block_third(b, z, w, ContactDerivatives::GenericAd);
-                    (Some(third.hessian), Some(third.contracted))
-                })
-            })
-            .collect();
-        let vector_masks: Vec<_> = self
-            .vector_blocks
-            .iter()
-            .map(|b| {
-                self.probe(b, &points, |z, w| {
-                    let f = self.vector_fn(b);
-                    let h = (b.nonlinear > 0).then(|| weighted_hessian(&f, z, w));
-                    (Some(jacobian(&f, z).1), h)
-                })
-            })
-            .collect();
+                .collect()
+        }
+        let x = &self.x_initial;
         Structure {
-            cost: cost_masks,
-            gradient: gradient_masks,
-            vector: vector_masks,
+            cost: traced(&self.cost_blocks, |b| {
+                cost_mask(&self.scalar_fn(b), &gather(x, &b.vars), b.targets.len())
+            }),
+            gradient: traced(&self.gradient_blocks, |b| {
+                gradient_mask(&self.scalar_fn(b), &gather(x, &b.vars), &live_outputs(b))
+            }),
+            vector: traced(&self.vector_blocks, |b| {
+                vector_mask(&self.vector_fn(b), &gather(x, &b.vars), &live_outputs(b))
+            }),
         }
     }
 

@@ -117,7 +117,8 @@ fn midpoint_energy_error_is_bounded_and_below_first_order() {
     // Euler at the same h over its first 2,000 steps (20 s; it is O(h) off from the first step
     // on, and over 10,000 steps its energy grows until a Newton step fails near step 6,500),
     // stopping early if a step fails.
-    let u: [f64; 0] = [];
+    // Unforced: the sample pendulum has no transmissions, so both joints take an input.
+    let u = vec![0.0; model.input_names().len()];
     let mut q_prev = q0.to_vec();
     let mut q_curr = first_step(&model, Integrator::Euler, &q0, &v0, &u, h).expect("first step");
     let mut euler_max = 0.0f64;

@@ -162,6 +162,63 @@ weight = 100.0
     assert_eq!((variables, constraints), (300, 202));
 }
 
+/// `vito check --derivatives` passes on every problem file at its initial guess, and names
+/// where it checked and its tolerance rule.
+#[test]
+fn every_problem_passes_the_derivative_check_at_its_initial_guess() {
+    let t = TestDir::new("derivative_check_initial_guess");
+    for file in problem_files() {
+        let run = t
+            .vito()
+            .args([std::ffi::OsStr::new("check"), "--derivatives".as_ref()])
+            .args([file.as_os_str()])
+            .assert_exit(0);
+        assert!(
+            run.stdout.contains("derivative check at the initial guess")
+                && run.stdout.contains("tolerance:")
+                && run.stdout.trim_end().ends_with("passed"),
+            "{}: {}",
+            file.display(),
+            run.stdout
+        );
+    }
+}
+
+/// `--at` checks at a solved trajectory (the hopper's own solution); a trajectory with
+/// another knot count is an input error naming the file and the fix.
+#[test]
+fn derivative_check_at_a_solved_trajectory() {
+    let t = TestDir::with_hopper("derivative_check_at");
+    let problem = t.write("hopper.toml", &crate::cli::util::hopper_text());
+    t.vito()
+        .args(["solve", "hopper.toml", "--quiet", "--out", "solved"])
+        .assert_exit(0);
+    let trajectory = t.path().join("solved/trajectory.csv");
+    let run = t
+        .vito()
+        .args(["check", "--derivatives", "--at"])
+        .args([trajectory.as_os_str(), problem.as_os_str()])
+        .assert_exit(0);
+    assert!(run.stdout.contains("trajectory.csv ("), "{}", run.stdout);
+    let run = t
+        .vito()
+        .args([
+            "check",
+            "--derivatives",
+            "--set",
+            "horizon.knots=11",
+            "--at",
+        ])
+        .args([trajectory.as_os_str(), problem.as_os_str()])
+        .assert_exit(2);
+    assert!(
+        run.stderr
+            .contains("trajectory.csv: it has 21 rows, the problem has 11 knots"),
+        "{}",
+        run.stderr
+    );
+}
+
 impl crate::cli::util::VitoCmd {
     /// `vito <command> <path>`.
     pub fn arg_path(self, command: &str, path: &std::path::Path) -> crate::cli::util::VitoCmd {

@@ -95,6 +95,55 @@ fn brick_3d_solves() {
     solve_and_check("brick_3d_solves", "brick_3d.toml", 1e-4, "golden.toml");
 }
 
+/// `vito` pins OpenBLAS's kernels for itself (`blas_kernels`): the hopper and the brick give
+/// bit-identical objectives and iteration counts whatever `OPENBLAS_CORETYPE` the caller set,
+/// or none (unpinned, the brick took 268, 201, 193 and 275 iterations under these four).
+#[test]
+fn solves_are_the_same_under_any_openblas_coretype() {
+    let t = TestDir::new("solves_are_the_same_under_any_openblas_coretype");
+    for file in ["hopper_2d.toml", "brick_3d.toml"] {
+        let problem = problems_dir().join(file);
+        let mut results = Vec::new();
+        for coretype in [
+            None,
+            Some("Prescott"),
+            Some("SkylakeX"),
+            Some("Sandybridge"),
+        ] {
+            let out = t
+                .path()
+                .join(format!("{file}-{}", coretype.unwrap_or("unset")));
+            let mut cmd = t.vito();
+            cmd = match coretype {
+                Some(c) => cmd.env("OPENBLAS_CORETYPE", c),
+                None => cmd.env_remove("OPENBLAS_CORETYPE"),
+            };
+            cmd.args([std::ffi::OsStr::new("solve"), problem.as_os_str()])
+                .args(["--quiet".as_ref(), "--out".as_ref(), out.as_os_str()])
+                .assert_exit(0);
+            let s = summary(&out);
+            results.push((
+                coretype,
+                s["objective"].as_f64().unwrap().to_bits(),
+                s["iterations"].as_u64().unwrap(),
+                s["openblas_coretype"].clone(),
+            ));
+        }
+        let (_, objective, iterations, pinned) = results[0].clone();
+        for r in &results {
+            assert_eq!(
+                (r.1, r.2, &r.3),
+                (objective, iterations, &pinned),
+                "{file}: {results:?}"
+            );
+        }
+        assert!(
+            pinned.is_string(),
+            "{file}: no pinned core type in summary.json"
+        );
+    }
+}
+
 /// The paper's tolerance for Spring Flamingo: max slack below 1e-4. Minutes: `--ignored`.
 #[test]
 #[ignore = "slow: cargo test --release -- --ignored spring_flamingo"]

@@ -81,6 +81,18 @@ impl VitoCmd {
         self
     }
 
+    /// Sets an environment variable of the command.
+    pub fn env(mut self, key: &str, value: &str) -> VitoCmd {
+        self.cmd.env(key, value);
+        self
+    }
+
+    /// Removes an environment variable from the command's environment.
+    pub fn env_remove(mut self, key: &str) -> VitoCmd {
+        self.cmd.env_remove(key);
+        self
+    }
+
     pub fn run(mut self) -> Run {
         let Output {
             status,

@@ -1,0 +1,132 @@
+//! The derivative check (`Transcription::check_derivatives`, `vito check --derivatives`) of
+//! the problem files at hard points: LittleDog with each foot in turn on the step's edge,
+//! where the tanh step's slope is large and, a few widths away, exactly 0.0 (a structure
+//! probed from values lost these entries); hopper and brick at seeded random points.
+
+use std::path::{Path, PathBuf};
+
+use vito::discrete::Mechanics;
+use vito::pipeline::build_nlp;
+use vito::problem::{LoadedProblem, Override, load};
+use vito::testing::SeededRng;
+use vito::transcription::{
+    DerivativeCheck, DerivativeKind, EntryNames, ModelMechanics, Transcription,
+};
+
+fn problem(file: &str, overrides: &[&str]) -> LoadedProblem {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("problems")
+        .join(file);
+    let overrides: Vec<Override> = overrides
+        .iter()
+        .map(|o| Override::parse(o).unwrap())
+        .collect();
+    load(Path::new(&path), &overrides).unwrap()
+}
+
+/// Asserts the check passes at x, printing the failures (by name) when it does not.
+fn assert_passes(
+    p: &LoadedProblem,
+    nlp: &Transcription<ModelMechanics>,
+    x: &[f64],
+    what: &str,
+) -> DerivativeCheck {
+    let check = nlp.check_derivatives(x, 7);
+    let contacts: Vec<String> = p.spec.contacts.iter().map(|c| c.name.clone()).collect();
+    let names = EntryNames {
+        coordinates: &p.robot.coordinates,
+        inputs: &p.robot.inputs,
+        contacts: &contacts,
+    };
+    let failures: Vec<String> = check
+        .failures()
+        .take(20)
+        .map(|e| nlp.describe_entry(e, names))
+        .collect();
+    assert!(
+        failures.is_empty(),
+        "{what}: {} entries fail, the first:\n{}",
+        check.failures().count(),
+        failures.join("\n")
+    );
+    for kind in [DerivativeKind::Jacobian, DerivativeKind::Hessian] {
+        assert!(
+            check.worst(kind).is_some(),
+            "{what}: no {kind:?} entry compared"
+        );
+    }
+    check
+}
+
+/// LittleDog's initial guess with foot `foot` moved onto the step edge at every free knot:
+/// the base is shifted along x so that the foot's world x lies at edge + s·w, s running
+/// over [−0.9, 0.9] across the knots (w = 5 mm, the smoothing width).
+fn foot_on_edge(nlp: &Transcription<ModelMechanics>, foot: usize) -> Vec<f64> {
+    let l = nlp.layout();
+    let mut x = nlp.initial_point().to_vec();
+    let (edge, width) = (0.25, 0.005);
+    for k in 1..l.knots {
+        let q = x[l.q(k)].to_vec();
+        let foot_x = nlp.mechanics().contact_position::<f64>(foot, &q)[0];
+        let s = -0.9 + 1.8 * (k - 1) as f64 / (l.knots - 2) as f64;
+        x[l.q(k).start] += edge + s * width - foot_x;
+    }
+    x
+}
+
+#[test]
+fn littledog_passes_with_each_foot_on_the_step_edge() {
+    let p = problem("littledog_step.toml", &[]);
+    let nlp = build_nlp(&p.spec).unwrap();
+    let l = nlp.layout();
+    for foot in 0..4 {
+        let x = foot_on_edge(&nlp, foot);
+        let check = assert_passes(&p, &nlp, &x, &format!("foot {foot} on the edge"));
+        // The terrain slope is in play: ∂φ/∂base_x at a mid knot is −H'(x) ≈ −11 there.
+        let k = l.knots / 2;
+        let slope = check
+            .entries
+            .iter()
+            .find(|e| {
+                e.kind == DerivativeKind::Jacobian
+                    && e.row == l.distance_row(k - 1, foot)
+                    && e.col == l.q(k).start
+            })
+            .unwrap();
+        assert!(
+            slope.declared && slope.finite_difference < -1.0,
+            "{slope:?}"
+        );
+    }
+}
+
+/// The initial guess moved by seeded noise of size `a` (time steps scaled, kept positive).
+fn random_point(nlp: &Transcription<ModelMechanics>, seed: u64, a: f64) -> Vec<f64> {
+    let mut rng = SeededRng::new(seed);
+    let l = nlp.layout();
+    let mut x: Vec<f64> = nlp
+        .initial_point()
+        .iter()
+        .map(|&v| v + rng.symmetric(a))
+        .collect();
+    for j in 0..l.intervals() {
+        let h = l.h(j);
+        x[h] = nlp.initial_point()[h] * (1.0 + rng.symmetric(0.5));
+    }
+    x
+}
+
+#[test]
+fn hopper_and_brick_pass_at_random_points() {
+    for (file, overrides) in [
+        ("hopper_2d.toml", vec![]),
+        ("brick_3d.toml", vec!["horizon.knots=11"]),
+    ] {
+        let p = problem(file, &overrides);
+        let nlp = build_nlp(&p.spec).unwrap();
+        for seed in 1..=3 {
+            let x = random_point(&nlp, seed, 0.3);
+            assert_passes(&p, &nlp, &x, &format!("{file} seed {seed}"));
+        }
+    }
+}
