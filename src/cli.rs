@@ -13,7 +13,9 @@ use clap::{Parser, Subcommand, ValueEnum};
 
 use vito::model::BaseType;
 use vito::pipeline;
-use vito::problem::{LoadedProblem, Override, ProblemError, RobotInfo, TimeSteps, load};
+use vito::problem::{
+    LoadedProblem, OptionValue, Override, ProblemError, RobotInfo, TimeSteps, load,
+};
 use vito::report::{self, is_solved, status_name};
 use vito::transcription::Solution;
 
@@ -80,6 +82,10 @@ pub enum Command {
         /// No live progress lines.
         #[arg(long, short)]
         quiet: bool,
+        /// Also write Ipopt's own log (`file_print_level 5`) as `ipopt.log` in the output
+        /// directory (with a slack continuation, the last solve's).
+        #[arg(long)]
+        ipopt_log: bool,
     },
     /// Check a problem file without solving and print its size.
     #[command(after_help = EXIT_CODES)]
@@ -196,7 +202,8 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
             set,
             out,
             quiet,
-        } => solve(&file, &set, out.as_deref(), quiet),
+            ipopt_log,
+        } => solve(&file, &set, out.as_deref(), quiet, ipopt_log),
         Command::Check { file, set } => check(&file, &set),
         Command::Init { urdf, base, out } => init(&urdf, base.into(), out.as_deref()),
         Command::Inspect { urdf, base, json } => inspect(&urdf, base.into(), json),
@@ -306,11 +313,32 @@ pub fn progress_line(
     format!("{iteration:>5}  {objective:>14.7e}  {inf_pr:>9.2e}  {inf_du:>9.2e}  {max_slack:>9.2e}")
 }
 
-fn solve(file: &Path, set: &[String], out: Option<&Path>, quiet: bool) -> Result<u8, CliError> {
+fn solve(
+    file: &Path,
+    set: &[String],
+    out: Option<&Path>,
+    quiet: bool,
+    ipopt_log: bool,
+) -> Result<u8, CliError> {
     let overrides = parse_overrides(set)?;
     let problem = load(file, &overrides)?;
     pipeline::check_solver_options(&problem)?;
     let target = pipeline::checked_output_dir(&problem, out).map_err(report::ReportError::from)?;
+    // Staged before solving so that Ipopt's log goes straight into the directory that
+    // replaces the target atomically (and is removed with it if the run fails).
+    let staged = target.stage().map_err(report::ReportError::from)?;
+    let mut ipopt_options = Vec::new();
+    if ipopt_log {
+        let log = staged.path().join("ipopt.log");
+        let log = log.to_str().ok_or_else(|| {
+            CliError::Input(format!(
+                "--ipopt-log: the output path {} is not UTF-8, which Ipopt cannot take",
+                log.display()
+            ))
+        })?;
+        ipopt_options.push(("output_file".to_owned(), OptionValue::Str(log.to_owned())));
+        ipopt_options.push(("file_print_level".to_owned(), OptionValue::Int(5)));
+    }
     let cancel = Arc::new(AtomicBool::new(false));
     {
         let cancel = cancel.clone();
@@ -333,8 +361,8 @@ fn solve(file: &Path, set: &[String], out: Option<&Path>, quiet: bool) -> Result
         );
         eprintln!(" iter       objective     inf_pr     inf_du  max_slack");
     }
-    let solution = run_solver(&problem, cancel.clone(), quiet)?;
-    let written = report::write_outputs(&target, &problem, &solution)?;
+    let solution = run_solver(&problem, cancel.clone(), quiet, ipopt_options)?;
+    let written = report::write_outputs(staged, &problem, &solution)?;
     print_summary(&problem, &solution, &written);
     Ok(if is_solved(solution.status) { 0 } else { 1 })
 }
@@ -344,6 +372,7 @@ fn run_solver(
     problem: &LoadedProblem,
     cancel: Arc<AtomicBool>,
     quiet: bool,
+    ipopt_options: Vec<(String, OptionValue)>,
 ) -> Result<Solution, CliError> {
     let progress = move |p: &vito::transcription::Progress| {
         if !quiet {
@@ -356,7 +385,7 @@ fn run_solver(
     let options = vito::transcription::SolveOptions {
         progress: Some(Box::new(progress)),
         cancel: Some(cancel),
-        ipopt_options: Vec::new(),
+        ipopt_options,
     };
     pipeline::solve(&problem.spec, &options).map_err(CliError::Transcription)
 }

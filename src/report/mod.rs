@@ -70,10 +70,11 @@ pub fn column_units(robot: &RobotInfo, units: &Units) -> ColumnUnits {
     }
 }
 
-/// Writes `trajectory.csv`, `summary.json` and the three plots into `target`, atomically:
-/// an existing `target` is replaced only once everything is written.
+/// Writes `trajectory.csv`, `summary.json` and the three plots into `staged` (which may
+/// already hold Ipopt's log), then commits it: an existing target is replaced only once
+/// everything is written.
 pub fn write_outputs(
-    target: &OutputTarget,
+    staged: StagedDir,
     problem: &LoadedProblem,
     solution: &Solution,
 ) -> Result<PathBuf, ReportError> {
@@ -81,8 +82,7 @@ pub fn write_outputs(
         let path = path.to_owned();
         move |source| ReportError::Io { path, source }
     };
-    let staged = target.stage()?;
-    let target = target.path();
+    let target = staged.target().to_owned();
     let dir = staged.path().to_owned();
     let units = column_units(&problem.robot, &problem.units);
     let csv_path = dir.join("trajectory.csv");
@@ -244,7 +244,7 @@ mod output_tests {
         assert!(target.join("stale.txt").exists());
         std::fs::write(target.join(MARKER), "").unwrap();
         let checked = OutputTarget::check(&target, &[]).unwrap();
-        let written = write_outputs(&checked, &problem, &s).unwrap();
+        let written = write_outputs(checked.stage().unwrap(), &problem, &s).unwrap();
         assert_eq!(written, target);
         assert!(!target.join("stale.txt").exists());
         for svg in ["coordinates.svg", "inputs.svg", "contact_modes.svg"] {

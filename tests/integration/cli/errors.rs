@@ -5,7 +5,7 @@ use crate::cli::util::{TestDir, hopper_text};
 
 /// Writes `text` as `bad.toml`, runs `vito solve bad.toml --out out` over an existing `out/`
 /// and returns stderr after checking exit 2, a single error line and the untouched directory.
-fn solve_fails(name: &str, text: &str) -> String {
+pub(crate) fn solve_fails(name: &str, text: &str) -> String {
     let t = TestDir::with_hopper(name);
     t.write("bad.toml", text);
     std::fs::create_dir(t.path().join("out")).unwrap();
