@@ -230,6 +230,25 @@ mod output_tests {
         s
     }
 
+    /// Non-finite and huge values (an overflowing horizon, a diverged iterate) are left out
+    /// of the plots or clamped, so drawing ends (plotters loops on an infinite axis).
+    #[test]
+    fn plots_of_non_finite_data_finish() {
+        let mut s = hopper_like();
+        s.times = vec![0.0, 1e307, f64::INFINITY, f64::NAN];
+        s.q[1][0] = f64::NAN;
+        s.q[2][1] = -1e308;
+        s.q[3][2] = 1e308;
+        s.u[0][0] = f64::NEG_INFINITY;
+        let modes = contact_modes(&s, &[0.8]);
+        let dir = tempfile::tempdir().unwrap();
+        coordinates_svg(&dir.path().join("q.svg"), &s, "s").unwrap();
+        inputs_svg(&dir.path().join("u.svg"), &s, "s").unwrap();
+        contact_modes_svg(&dir.path().join("m.svg"), &s, &modes, "s").unwrap();
+        let text = std::fs::read_to_string(dir.path().join("q.svg")).unwrap();
+        assert!(text.contains("<svg") && !text.contains("NaN"), "{text}");
+    }
+
     #[test]
     fn outputs_are_complete_and_agree() {
         let problem_file = Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/hopper_2d.toml");

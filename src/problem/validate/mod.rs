@@ -14,6 +14,7 @@ mod initial_guess;
 mod inputs;
 mod periodic;
 mod robot;
+mod size;
 mod slack;
 mod solver;
 mod terrain;
@@ -44,7 +45,9 @@ pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, Pr
     } = robot::check_robot(ctx, &raw)?;
     let contacts = contacts::check_contacts(ctx, &raw.contacts, &robot)?;
     let terrain = terrain::check_terrain(ctx, &raw)?;
-    let (knots, time_steps) = horizon::check_horizon(ctx, &raw)?;
+    let knots = horizon::check_knots(ctx, &raw)?;
+    size::check_nlp_fits(ctx, &robot, contacts.len(), knots)?;
+    let time_steps = horizon::check_time_steps(ctx, &raw, knots)?;
     let endpoints = endpoints::check_endpoints(ctx, &raw, &robot)?;
     let bounds = bounds::check_bounds(ctx, &raw, &robot, knots)?;
     let joint_limits = raw.robot.joint_limits.unwrap_or(true);

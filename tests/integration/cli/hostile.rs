@@ -98,3 +98,120 @@ fn non_finite_ipopt_options_are_input_errors() {
         assert!(err.contains("finite"), "{err}");
     }
 }
+
+/// Item 7: a horizon whose NLP cannot fit in memory is refused by `check` and `solve`
+/// before anything per knot is allocated, saying how much it would need.
+#[test]
+fn huge_horizons_are_refused_with_the_memory_they_need() {
+    for knots in ["10000000", "1000000000", "9223372036854775807"] {
+        let set = format!("horizon.knots={knots}");
+        let err = check_fails(
+            &format!("huge_knots_{}", knots.len()),
+            &hopper_text(),
+            &["--set", &set],
+        );
+        assert!(err.contains("field `horizon.knots`"), "{err}");
+        assert!(err.contains("GiB of memory"), "{err}");
+        let text = hopper_text().replace("knots = 21", &format!("knots = {knots}"));
+        let err = solve_fails(&format!("huge_knots_solve_{}", knots.len()), &text);
+        assert!(err.contains("bad.toml:18: field `horizon.knots`"), "{err}");
+    }
+}
+
+/// Item 8: a horizon T = time_step·(knots − 1) that overflows is found at validation.
+#[test]
+fn overflowing_horizon_is_an_input_error() {
+    let err = check_fails(
+        "overflowing_horizon",
+        &hopper_text(),
+        &["--set", "horizon.time_step=1e307"],
+    );
+    assert!(err.contains("field `horizon.time_step`"), "{err}");
+    let err = check_fails(
+        "overflowing_horizon_2",
+        &hopper_text(),
+        &[
+            "--set",
+            "horizon.time_step=1e11",
+            "--set",
+            "horizon.knots=1000",
+        ],
+    );
+    assert!(
+        err.contains("field `horizon.time_step`") && err.contains("horizon T"),
+        "{err}"
+    );
+}
+
+/// Item 12: extreme finite values are refused against the README's sane ranges, naming the
+/// field.
+#[test]
+fn extreme_finite_values_are_refused_by_range() {
+    for (name, set, field) in [
+        ("tiny_step", "horizon.time_step=5e-324", "horizon.time_step"),
+        ("huge_slack", "slack.weight=1e308", "slack.weight"),
+        (
+            "huge_gravity",
+            "robot.gravity=[0, 0, -1e308]",
+            "robot.gravity[2]",
+        ),
+        (
+            "tiny_total",
+            "horizon.total_time=[5e-324, 1]",
+            "horizon.total_time[0]",
+        ),
+        (
+            "huge_friction",
+            "contacts.friction=1e300",
+            "contacts.friction",
+        ),
+        (
+            "tiny_width",
+            "terrain.step=[{edge_x = 0.2, rise = 0.1, width = 1e-320}]",
+            "terrain.step[0].width",
+        ),
+    ] {
+        // total_time replaces time_step, so it is written into the file.
+        let (text, args) = match set.strip_prefix("horizon.total_time=") {
+            Some(window) => (
+                hopper_text().replace("time_step = 0.05 ", &format!("total_time = {window}")),
+                vec![],
+            ),
+            None => (hopper_text(), vec!["--set", set]),
+        };
+        let err = check_fails(&format!("extreme_{name}"), &text, &args);
+        assert!(err.contains(&format!("field `{field}`")), "{name}: {err}");
+        assert!(!err.contains("time_steps"), "{err}");
+    }
+}
+
+/// Items 12, 14, 15: bound ends that are not a range are blamed on the bound itself, not on
+/// `initial.q`; `knots = []` applies nowhere and is an error.
+#[test]
+fn bad_bounds_name_the_bound() {
+    let text = hopper_text().replace("lower = 0.0\n", "lower = inf\n");
+    let err = solve_fails("bound_lower_inf", &text);
+    assert!(err.contains("field `bounds[0].lower`"), "{err}");
+    assert!(!err.contains("initial.q"), "{err}");
+    let text = hopper_text().replace("lower = 0.3\n", "lower = 1e300\n");
+    let err = solve_fails("bound_lower_huge", &text);
+    assert!(
+        err.contains("field `bounds[1]`") && err.contains("1e12"),
+        "{err}"
+    );
+    let text = hopper_text().replace("theta = [-10.0, 10.0]", "theta = [nan, 10.0]");
+    let err = solve_fails("input_bound_nan", &text);
+    assert!(err.contains("field `inputs.bounds.theta`"), "{err}");
+    let text = hopper_text().replace("knots = \"all\"\nlower = 0.0", "knots = []\nlower = 0.0");
+    let err = solve_fails("bound_no_knots", &text);
+    assert!(
+        err.contains("field `bounds[0].knots`") && err.contains("no knot"),
+        "{err}"
+    );
+    let text = hopper_text().replace("tolerance = 0.0", "tolerance = inf");
+    let err = solve_fails("final_tolerance_inf", &text);
+    assert!(
+        err.contains("field `final.tolerance`") && err.contains("[0, 1e12]"),
+        "{err}"
+    );
+}
