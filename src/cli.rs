@@ -456,7 +456,7 @@ fn init(urdf: &Path, base: BaseType, out: Option<&Path>) -> Result<u8, CliError>
 
 fn inspect(urdf: &Path, base: BaseType, json: bool) -> Result<u8, CliError> {
     let model = vito::model::Model::from_urdf_file(urdf, base)
-        .map_err(|e| CliError::Input(e.to_string()))?;
+        .map_err(|e| CliError::Input(vito::model::describe(urdf, &e)))?;
     let inspection = vito::model::inspect(&model);
     if json {
         let text = serde_json::to_string_pretty(&inspection)

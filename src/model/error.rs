@@ -135,6 +135,28 @@ pub enum ModelError {
         /// The joint.
         joint: String,
     },
+    /// The document is nested deeper, or has more links or joints, than vito reads.
+    #[error("{origin}: {what}; vito reads URDFs up to {limit} ({fix})")]
+    TooLarge {
+        /// File path or `<string>`.
+        origin: String,
+        /// What was found (e.g. `elements nested 100000 deep`).
+        what: String,
+        /// The limit, as words.
+        limit: String,
+        /// How to fix it.
+        fix: &'static str,
+    },
+    /// A number in the URDF that vito cannot use (NaN, infinite, or out of its range).
+    #[error("{element} '{name}': {problem}")]
+    BadValue {
+        /// The element kind (`joint`, `collision`, `limit`, ...).
+        element: &'static str,
+        /// Its name attribute (or its link's).
+        name: String,
+        /// What is wrong and how to fix it.
+        problem: String,
+    },
     /// A Drake extension element is malformed.
     #[error("{element} '{name}': {problem}")]
     BadExtension {
@@ -145,4 +167,16 @@ pub enum ModelError {
         /// What is wrong and how to fix it.
         problem: String,
     },
+}
+
+/// `error` as a message that names the URDF `path` (errors about links and joints do not
+/// carry the file; those about the text already start with it).
+pub fn describe(path: &std::path::Path, error: &ModelError) -> String {
+    let text = error.to_string();
+    let shown = path.display().to_string();
+    if text.contains(&shown) {
+        text
+    } else {
+        format!("URDF {shown}: {text}")
+    }
 }

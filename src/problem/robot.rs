@@ -58,18 +58,37 @@ pub enum RobotError {
         source: std::io::Error,
     },
     /// The model loader rejected it.
-    #[error(transparent)]
-    Model(#[from] crate::model::ModelError),
+    #[error("{}", crate::model::describe(path, source))]
+    Model {
+        /// The URDF.
+        path: PathBuf,
+        /// Why.
+        source: crate::model::ModelError,
+    },
 }
 
 impl RobotInfo {
     /// Reads a URDF and lists its coordinates for the given base.
     pub fn read(path: &Path, base: BaseType) -> Result<RobotInfo, RobotError> {
-        let text = std::fs::read_to_string(path).map_err(|source| RobotError::Io {
-            path: path.to_owned(),
-            source,
+        let model = Model::from_urdf_file(path, base).map_err(|source| match source {
+            crate::model::ModelError::Io { path, source } => RobotError::Io { path, source },
+            source => RobotError::Model {
+                path: path.to_owned(),
+                source,
+            },
         })?;
-        let model = Model::from_urdf_str(&text, base)?;
+        Ok(RobotInfo::from_model(path, &model))
+    }
+
+    /// [`RobotInfo::read`] for a URDF's text in memory (`path` names it in messages).
+    pub fn from_text(path: &Path, text: &str, base: BaseType) -> Result<RobotInfo, RobotError> {
+        let model =
+            Model::from_urdf_named(text, &path.display().to_string(), base).map_err(|source| {
+                RobotError::Model {
+                    path: path.to_owned(),
+                    source,
+                }
+            })?;
         Ok(RobotInfo::from_model(path, &model))
     }
 

@@ -66,7 +66,10 @@ pub(super) fn check_bounds(
         }
         let end_field = if b.lower.is_some_and(|l| l.is_nan() || l == f64::INFINITY) {
             format!("{field}.lower")
-        } else if b.upper.is_some_and(|u| u.is_nan() || u == f64::NEG_INFINITY) {
+        } else if b
+            .upper
+            .is_some_and(|u| u.is_nan() || u == f64::NEG_INFINITY)
+        {
             format!("{field}.upper")
         } else {
             field.clone()

@@ -7,7 +7,7 @@ use super::values::finite;
 use crate::model::BaseType;
 use crate::problem::schema::{BaseName, ProblemFile};
 use crate::problem::units::si_units;
-use crate::problem::{ProblemError, RobotInfo, Units};
+use crate::problem::{ProblemError, RobotError, RobotInfo, Units};
 
 /// The checked `[robot]` section.
 pub(super) struct CheckedRobot {
@@ -27,18 +27,23 @@ pub(super) fn check_robot(ctx: &Context, raw: &ProblemFile) -> Result<CheckedRob
     };
     let dir = ctx.file.parent().unwrap_or(Path::new(""));
     let urdf = dir.join(&raw.robot.urdf);
-    if !urdf.is_file() {
-        return Err(ctx.invalid(
-            "robot.urdf",
-            format!(
-                "URDF file {} does not exist (paths are relative to the problem file)",
-                urdf.display()
+    let robot = match &ctx.urdf_text {
+        Some(text) => RobotInfo::from_text(&urdf, text, base),
+        None => RobotInfo::read(&urdf, base),
+    };
+    let robot = robot.map_err(|source| match source {
+        RobotError::Io { source, .. } if source.kind() == std::io::ErrorKind::NotFound => ctx
+            .invalid(
+                "robot.urdf",
+                format!(
+                    "URDF file {} does not exist (paths are relative to the problem file)",
+                    urdf.display()
+                ),
             ),
-        ));
-    }
-    let robot = RobotInfo::read(&urdf, base).map_err(|source| ProblemError::Robot {
-        at: ctx.at("robot.urdf"),
-        source,
+        source => ProblemError::Robot {
+            at: ctx.at("robot.urdf"),
+            source,
+        },
     })?;
     let gravity = match raw.robot.gravity {
         Some(g) => {

@@ -215,3 +215,109 @@ fn bad_bounds_name_the_bound() {
         "{err}"
     );
 }
+
+/// Item 10: a URDF nested 100,000 deep is an error naming the file and line in `inspect`,
+/// `init` and `check`/`solve` (it overflowed the stack); more than 10,000 links is refused;
+/// a 10,000-link chain loads.
+#[test]
+fn deep_or_huge_urdfs_are_clear_errors() {
+    let t = TestDir::with_hopper("deep_urdf");
+    let deep = format!(
+        "<robot name=\"d\">\n{}{}</robot>\n",
+        "<a>".repeat(100_000),
+        "</a>".repeat(100_000)
+    );
+    t.write("deep.urdf", &deep);
+    for args in [vec!["inspect", "deep.urdf"], vec!["init", "deep.urdf"]] {
+        let run = t.vito().args(&args).assert_exit(2);
+        assert!(
+            run.stderr
+                .contains("deep.urdf: elements nest more than 64 deep at line 2"),
+            "{}",
+            run.stderr
+        );
+    }
+    t.write("robots/hopper_2d.urdf", &deep);
+    t.write("p.toml", &hopper_text());
+    let run = t.vito().args(["check", "p.toml"]).assert_exit(2);
+    assert!(
+        run.stderr.contains("field `robot.urdf`") && run.stderr.contains("nest more than 64"),
+        "{}",
+        run.stderr
+    );
+
+    let inertial = "<inertial><mass value=\"1\"/><inertia ixx=\"1\" iyy=\"1\" izz=\"1\" ixy=\"0\" ixz=\"0\" iyz=\"0\"/></inertial>";
+    let chain = |n: usize| {
+        let mut s = String::from("<robot name=\"chain\">\n");
+        for i in 0..n {
+            s.push_str(&format!("<link name=\"l{i}\">{inertial}</link>\n"));
+        }
+        for i in 1..n {
+            s.push_str(&format!(
+                "<joint name=\"j{i}\" type=\"revolute\"><parent link=\"l{}\"/><child link=\"l{i}\"/><axis xyz=\"0 1 0\"/></joint>\n",
+                i - 1
+            ));
+        }
+        s + "</robot>\n"
+    };
+    t.write("chain.urdf", &chain(10_000));
+    let run = t
+        .vito()
+        .args(["inspect", "chain.urdf", "--json"])
+        .assert_exit(0);
+    assert!(run.stdout.contains("\"j9999\""));
+    t.write("chain.urdf", &chain(10_001));
+    let run = t.vito().args(["inspect", "chain.urdf"]).assert_exit(2);
+    assert!(
+        run.stderr
+            .contains("chain.urdf: it has 10001 <link> elements"),
+        "{}",
+        run.stderr
+    );
+}
+
+/// Item 11 and 14: a FIFO or a device as the problem file or the URDF is refused at once
+/// (it blocked forever), saying what it is; a directory is not "does not exist".
+#[test]
+fn fifos_devices_and_directories_are_not_read() {
+    let t = TestDir::with_hopper("fifo_inputs");
+    let fifo = t.path().join("fifo");
+    assert!(
+        std::process::Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .unwrap()
+            .success()
+    );
+    let run = t.vito().args(["check", "fifo"]).assert_exit(2);
+    assert!(run.stderr.contains("fifo: it is a FIFO"), "{}", run.stderr);
+    let run = t
+        .vito()
+        .args(["solve", "/dev/zero", "--out", "o"])
+        .assert_exit(2);
+    assert!(
+        run.stderr.contains("/dev/zero: it is a character device"),
+        "{}",
+        run.stderr
+    );
+    for args in [["inspect", "fifo"], ["init", "fifo"], ["inspect", "robots"]] {
+        let run = t.vito().args(args).assert_exit(2);
+        assert!(run.stderr.contains("not a regular file"), "{}", run.stderr);
+    }
+    for (urdf, what) in [
+        ("fifo", "a FIFO"),
+        ("/dev/null", "a character device"),
+        ("robots", "a directory"),
+    ] {
+        let text = hopper_text().replace("robots/hopper_2d.urdf", urdf);
+        t.write("p.toml", &text);
+        let run = t.vito().args(["check", "p.toml"]).assert_exit(2);
+        assert!(
+            run.stderr.contains("field `robot.urdf`") && run.stderr.contains(what),
+            "{}",
+            run.stderr
+        );
+        assert!(!run.stderr.contains("does not exist"), "{}", run.stderr);
+    }
+    assert!(!t.path().join("o").exists());
+}
