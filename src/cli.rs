@@ -27,13 +27,24 @@ fn exit_quietly_on_broken_pipe(e: &std::io::Error) {
     }
 }
 
-/// `println!` that treats a broken pipe as the end of the output.
+/// `println!` that escapes control characters (names from a URDF reach it) and treats a
+/// broken pipe as the end of the output; any other write error (a full disk, `> /dev/full`)
+/// ends the command with an error.
 macro_rules! out {
     ($($arg:tt)*) => {
-        if let Err(e) = writeln!(std::io::stdout(), $($arg)*) {
-            exit_quietly_on_broken_pipe(&e);
-        }
+        write_stdout(&format!($($arg)*))?
     };
+}
+
+/// Writes one line to stdout (see [`out!`]).
+fn write_stdout(line: &str) -> Result<(), CliError> {
+    let mut stdout = std::io::stdout().lock();
+    let result =
+        writeln!(stdout, "{}", vito::names::escape_controls(line)).and_then(|()| stdout.flush());
+    result.map_err(|e| {
+        exit_quietly_on_broken_pipe(&e);
+        CliError::Output(e.to_string())
+    })
 }
 
 const EXIT_CODES: &str = "Exit codes:\n  0  solved (check, inspect, regress: passed)\n  1  finished but not optimal (or stopped with Ctrl-C; regress: a result differs)\n  2  input or usage error (the message names the file, line and field)\n  3  internal error";
@@ -153,6 +164,8 @@ pub enum CliError {
     Golden(#[from] report::GoldenError),
     #[error("internal error: {0}")]
     Internal(String),
+    #[error("cannot write to standard output: {0}")]
+    Output(String),
     #[error(transparent)]
     Transcription(#[from] vito::transcription::TranscriptionError),
 }
@@ -161,7 +174,11 @@ impl CliError {
     /// Exit code: 2 for input errors, 3 for internal ones.
     pub fn exit_code(&self) -> u8 {
         match self {
-            CliError::Problem(_) | CliError::Input(_) | CliError::Golden(_) => 2,
+            // Like an output directory that cannot be written: the user's redirection.
+            CliError::Problem(_)
+            | CliError::Input(_)
+            | CliError::Golden(_)
+            | CliError::Output(_) => 2,
             CliError::Transcription(e) => match e {
                 vito::transcription::TranscriptionError::Solver(_) => 3,
                 _ => 2,
@@ -226,7 +243,11 @@ fn print_error(e: &CliError) {
         }
         source = s.source();
     }
-    let _ = writeln!(std::io::stderr(), "{message}");
+    let _ = writeln!(
+        std::io::stderr(),
+        "{}",
+        vito::names::escape_controls(&message)
+    );
 }
 
 fn parse_overrides(set: &[String]) -> Result<Vec<Override>, CliError> {
@@ -236,9 +257,20 @@ fn parse_overrides(set: &[String]) -> Result<Vec<Override>, CliError> {
         .collect::<Result<_, _>>()?)
 }
 
+/// The URDF reader's warnings (repairs, ignored elements), on stderr.
+fn print_model_warnings(robot: &RobotInfo) {
+    for w in &robot.warnings {
+        eprintln!(
+            "{}",
+            vito::names::escape_controls(&format!("warning: {}: {w}", robot.urdf.display()))
+        );
+    }
+}
+
 fn check(file: &Path, set: &[String]) -> Result<u8, CliError> {
     let overrides = parse_overrides(set)?;
     let p = load(file, &overrides)?;
+    print_model_warnings(&p.robot);
     pipeline::check_solver_options(&p)?;
     let s = &p.spec;
     let nlp = pipeline::build_nlp(s)?;
@@ -322,6 +354,7 @@ fn solve(
 ) -> Result<u8, CliError> {
     let overrides = parse_overrides(set)?;
     let problem = load(file, &overrides)?;
+    print_model_warnings(&problem.robot);
     pipeline::check_solver_options(&problem)?;
     let target = pipeline::checked_output_dir(&problem, out).map_err(report::ReportError::from)?;
     // Staged before solving so that Ipopt's log goes straight into the directory that
@@ -363,7 +396,7 @@ fn solve(
     }
     let solution = run_solver(&problem, cancel.clone(), quiet, ipopt_options)?;
     let written = report::write_outputs(staged, &problem, &solution)?;
-    print_summary(&problem, &solution, &written);
+    print_summary(&problem, &solution, &written)?;
     Ok(if is_solved(solution.status) { 0 } else { 1 })
 }
 
@@ -390,7 +423,7 @@ fn run_solver(
     pipeline::solve(&problem.spec, &options).map_err(CliError::Transcription)
 }
 
-fn print_summary(problem: &LoadedProblem, s: &Solution, dir: &Path) {
+fn print_summary(problem: &LoadedProblem, s: &Solution, dir: &Path) -> Result<(), CliError> {
     out!("problem      {}", problem.spec.name);
     out!("status       {}", status_name(s.status));
     out!("objective    {:.10e}", s.objective);
@@ -427,6 +460,7 @@ fn print_summary(problem: &LoadedProblem, s: &Solution, dir: &Path) {
         out!("horizon      T = {t:.6} {}", problem.units.time);
     }
     out!("written to   {}", dir.display());
+    Ok(())
 }
 
 fn init(urdf: &Path, base: BaseType, out: Option<&Path>) -> Result<u8, CliError> {
@@ -435,8 +469,13 @@ fn init(urdf: &Path, base: BaseType, out: Option<&Path>) -> Result<u8, CliError>
     let text = vito::problem::starter_problem(&robot, base, &urdf_text);
     match out {
         None => {
-            if let Err(e) = std::io::stdout().write_all(text.as_bytes()) {
+            let mut stdout = std::io::stdout().lock();
+            let written = stdout
+                .write_all(vito::names::escape_controls(&text).as_bytes())
+                .and_then(|()| stdout.flush());
+            if let Err(e) = written {
                 exit_quietly_on_broken_pipe(&e);
+                return Err(CliError::Output(e.to_string()));
             }
         }
         Some(path) => {

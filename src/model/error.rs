@@ -147,20 +147,11 @@ pub enum ModelError {
         /// How to fix it.
         fix: &'static str,
     },
-    /// A number in the URDF that vito cannot use (NaN, infinite, or out of its range).
-    #[error("{element} '{name}': {problem}")]
-    BadValue {
-        /// The element kind (`joint`, `collision`, `limit`, ...).
-        element: &'static str,
-        /// Its name attribute (or its link's).
-        name: String,
-        /// What is wrong and how to fix it.
-        problem: String,
-    },
-    /// A Drake extension element is malformed.
+    /// An element is malformed: a Drake extension, or a value vito cannot use (a NaN
+    /// origin, limits in the wrong order, a second transmission on a joint...).
     #[error("{element} '{name}': {problem}")]
     BadExtension {
-        /// The element kind (`force_element`, `loop_joint`, `transmission`).
+        /// The element kind (`force_element`, `loop_joint`, `transmission`, `joint`, ...).
         element: &'static str,
         /// Its name attribute (or the joint it refers to).
         name: String,

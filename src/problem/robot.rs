@@ -44,6 +44,9 @@ pub struct RobotInfo {
     pub links: Vec<String>,
     /// Contact points the URDF declares.
     pub contacts: Vec<UrdfContact>,
+    /// What the URDF reader repaired or ignored (`Model::warnings`), for `check` and
+    /// `solve` to show.
+    pub warnings: Vec<String>,
 }
 
 /// Why a URDF could not be read.
@@ -122,6 +125,7 @@ impl RobotInfo {
                 })
                 .collect(),
             coordinate_kinds,
+            warnings: model.warnings().to_vec(),
         }
     }
 

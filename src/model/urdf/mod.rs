@@ -22,6 +22,7 @@ mod extensions;
 mod inertia;
 mod limits;
 mod repair;
+mod values;
 
 use roxmltree::Document;
 
@@ -39,6 +40,7 @@ pub(crate) fn load(xml: &str, origin: &str, base: BaseType) -> Result<Model, Mod
         origin: origin.to_string(),
         message: e.to_string(),
     })?;
+    values::check_values(&robot, &extensions)?;
     build::build(&robot, &extensions, base, warnings)
 }
 

@@ -20,7 +20,7 @@ mod solver;
 mod terrain;
 mod values;
 
-use std::path::PathBuf;
+use std::path::Path;
 
 pub(crate) use context::Context;
 
@@ -30,12 +30,14 @@ use crate::problem::{LoadedProblem, ProblemError, ProblemSpec, RobotSpec};
 /// Checks a parsed problem file, section by section, into a [`LoadedProblem`] (whose hash
 /// and overrides the caller fills in).
 pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, ProblemError> {
-    let name = raw.name.clone().unwrap_or_else(|| {
-        ctx.file
+    let name = match &raw.name {
+        Some(name) => values::file_name_component(ctx, "name", name)?.to_owned(),
+        None => ctx
+            .file
             .file_stem()
             .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_else(|| "problem".into())
-    });
+            .unwrap_or_else(|| "problem".into()),
+    };
     let robot::CheckedRobot {
         units,
         base,
@@ -114,7 +116,12 @@ pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, Pr
         file: ctx.file.clone(),
         sha256: String::new(),
         parameters: Vec::new(),
-        output_dir: raw.output.dir.map(PathBuf::from),
+        // Relative to the problem file, like every path in it (`--out` is relative to the
+        // working directory).
+        output_dir: raw
+            .output
+            .dir
+            .map(|d| ctx.file.parent().unwrap_or(Path::new("")).join(d)),
         units,
         description: raw.description,
         goal,

@@ -83,6 +83,7 @@ mod tests {
             effort_limits: vec![f64::INFINITY; 2],
             links: Vec::new(),
             contacts: Vec::new(),
+            warnings: Vec::new(),
         }
     }
 

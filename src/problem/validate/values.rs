@@ -84,6 +84,49 @@ pub(super) fn bound(
     Ok(crate::problem::Interval { lower, upper })
 }
 
+/// A name the problem file defines (a contact's): not empty, at most 200 bytes, no control
+/// characters (they would reach the terminal and the CSV header).
+pub(super) fn plain_name<'a>(
+    ctx: &Context,
+    field: &str,
+    name: &'a str,
+) -> Result<&'a str, ProblemError> {
+    let shown = crate::names::escape_controls(name);
+    if name.is_empty() || name.len() > 200 {
+        return Err(ctx.invalid(
+            field,
+            format!("must be 1 to 200 bytes long, got {} bytes", name.len()),
+        ));
+    }
+    if name.chars().any(char::is_control) {
+        return Err(ctx.invalid(
+            field,
+            format!("\"{shown}\" holds control characters; use printable text"),
+        ));
+    }
+    Ok(name)
+}
+
+/// The problem's `name`, which names its output directory `out/<name>`: a plain file-name
+/// component ([`plain_name`], and no `/`, not `.` or `..`).
+pub(super) fn file_name_component<'a>(
+    ctx: &Context,
+    field: &str,
+    name: &'a str,
+) -> Result<&'a str, ProblemError> {
+    plain_name(ctx, field, name)?;
+    if name.contains('/') || name == "." || name == ".." {
+        return Err(ctx.invalid(
+            field,
+            format!(
+                "\"{name}\" is not a plain file name (it names the output directory \
+                 out/<name>): no `/`, not `.` or `..`"
+            ),
+        ));
+    }
+    Ok(name)
+}
+
 /// Resolves a vector over `names`: an array must have the full length; a table names
 /// entries (plus `default`), and missing entries come from `fallback`, else it is an error.
 pub(super) fn resolve(

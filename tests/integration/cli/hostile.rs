@@ -321,3 +321,269 @@ fn fifos_devices_and_directories_are_not_read() {
     }
     assert!(!t.path().join("o").exists());
 }
+
+/// The hopper's URDF text, edited into bad inputs.
+fn hopper_urdf() -> String {
+    std::fs::read_to_string(crate::cli::util::problems_dir().join("robots/hopper_2d.urdf")).unwrap()
+}
+
+/// `vito check` of the hopper problem with `urdf` as its robot: exit 2, one error, returned.
+fn check_with_urdf(name: &str, urdf: &str) -> String {
+    let t = TestDir::with_hopper(name);
+    t.write("robots/hopper_2d.urdf", urdf);
+    t.write("p.toml", &hopper_text());
+    let run = t.vito().args(["check", "p.toml"]).assert_exit(2);
+    assert_eq!(
+        run.stderr
+            .lines()
+            .filter(|l| l.starts_with("error:"))
+            .count(),
+        1,
+        "{}",
+        run.stderr
+    );
+    assert!(
+        run.stderr.contains("field `robot.urdf`") && run.stderr.contains("hopper_2d.urdf"),
+        "{}",
+        run.stderr
+    );
+    run.stderr
+}
+
+/// Items 12 and 14: NaN or crossed URDF values are errors naming the URDF element (not
+/// `initial.q`, not Ipopt's "invalid number" after solving).
+#[test]
+fn bad_urdf_numbers_name_the_element() {
+    let u = hopper_urdf();
+    for (name, from, to, expect) in [
+        (
+            "effort_negative",
+            "effort=\"10\"",
+            "effort=\"-10\"",
+            "joint 'theta': <limit effort=\"-10\">",
+        ),
+        (
+            "effort_nan",
+            "effort=\"100\"",
+            "effort=\"nan\"",
+            "joint 'r': <limit effort=\"NaN\">",
+        ),
+        (
+            "limit_nan",
+            "lower=\"0.3\"",
+            "lower=\"nan\"",
+            "joint 'r': <limit lower=\"NaN\"",
+        ),
+        (
+            "limit_crossed",
+            "lower=\"0.3\" upper=\"0.7\"",
+            "lower=\"0.7\" upper=\"0.3\"",
+            "lower exceeds upper",
+        ),
+        (
+            "origin_nan",
+            "<axis xyz=\"0 0 -1\"/>",
+            "<origin xyz=\"0 nan 0\"/><axis xyz=\"0 0 -1\"/>",
+            "joint 'r': <origin",
+        ),
+        (
+            "damping",
+            "<axis xyz=\"0 0 -1\"/>",
+            "<axis xyz=\"0 0 -1\"/><dynamics damping=\"-1\"/>",
+            "damping",
+        ),
+    ] {
+        assert!(u.contains(from), "{from}");
+        let err = check_with_urdf(&format!("urdf_{name}"), &u.replacen(from, to, 1));
+        assert!(err.contains(expect), "{name}: {err}");
+        assert!(!err.contains("initial.q"), "{err}");
+    }
+    let collision = u.replacen(
+        "<origin xyz=\"0 0 0\" rpy=\"0 0 0\"/>\n      <geometry>",
+        "<origin xyz=\"inf 0 0\" rpy=\"0 0 0\"/>\n      <geometry>",
+        1,
+    );
+    assert_ne!(collision, u);
+    let err = check_with_urdf("urdf_collision_origin", &collision);
+    assert!(err.contains("<origin"), "{err}");
+}
+
+/// Item 15: what was accepted silently is an error naming the element.
+#[test]
+fn silently_accepted_urdf_mistakes_are_errors() {
+    let u = hopper_urdf();
+    let second = u.replacen(
+        "</robot>",
+        "<transmission name=\"again\"><joint name=\"r\"/></transmission>\n</robot>",
+        1,
+    );
+    let err = check_with_urdf("urdf_two_transmissions", &second);
+    assert!(
+        err.contains("transmission 'again': acts on joint 'r' like transmission 'r_drive'"),
+        "{err}"
+    );
+    let spring = u.replacen(
+        "</robot>",
+        "<force_element name=\"s\"><prismatic_spring stiffness=\"1\" rest_length=\"0\"><joint name=\"theta\"/></prismatic_spring></force_element>\n</robot>",
+        1,
+    );
+    let err = check_with_urdf("urdf_spring_kind", &spring);
+    assert!(
+        err.contains("force_element 's': a prismatic spring on the revolute joint 'theta'"),
+        "{err}"
+    );
+    let self_loop = u.replacen(
+        "</robot>",
+        "<loop_joint name=\"l\" type=\"continuous\"><axis xyz=\"0 1 0\"/><link1 link=\"body\" xyz=\"0 0 0\"/><link2 link=\"body\" xyz=\"0 0 0.1\"/></loop_joint>\n</robot>",
+        1,
+    );
+    let err = check_with_urdf("urdf_self_loop", &self_loop);
+    assert!(
+        err.contains("loop_joint 'l'") && err.contains("to itself"),
+        "{err}"
+    );
+}
+
+/// Item 15: the URDF reader's warnings are shown by `check` (and `solve`), not only `inspect`.
+#[test]
+fn model_warnings_are_shown_by_check() {
+    let t = TestDir::with_hopper("model_warnings");
+    let u = hopper_urdf().replacen(" effort=\"10\" velocity=\"inf\"", " effort=\"10\"", 1);
+    t.write("robots/hopper_2d.urdf", &u);
+    t.write("p.toml", &hopper_text());
+    let run = t.vito().args(["check", "p.toml"]).assert_exit(0);
+    assert!(
+        run.stderr.contains("warning: ") && run.stderr.contains("hopper_2d.urdf"),
+        "{}",
+        run.stderr
+    );
+    assert!(run.stderr.contains("velocity"), "{}", run.stderr);
+}
+
+/// Item 6: control characters in names the problem defines are refused; names from a URDF
+/// are printed escaped.
+#[test]
+fn control_characters_never_reach_the_terminal() {
+    let text = hopper_text().replace("name = \"hopper-2d\"", "name = \"hop\\u001b[31mper\"");
+    let err = check_fails("control_in_name", &text, &[]);
+    assert!(
+        err.contains("field `name`") && err.contains("control characters"),
+        "{err}"
+    );
+    assert!(!err.contains('\u{1b}'), "{err:?}");
+    let text = hopper_text().replace("from_urdf = \"all\"", "from_urdf = \"none\"").replace(
+        "friction = 0.8",
+        "friction = 0.8\n[[contacts.point]]\nname = \"toe\\u0007\"\nlink = \"foot\"\npoint = [0, 0, 0]",
+    );
+    let err = check_fails("control_in_contact", &text, &[]);
+    assert!(err.contains("field `contacts.point[0].name`"), "{err}");
+    let t = TestDir::with_hopper("control_in_urdf");
+    // XML has no ESC; C1 controls such as CSI (U+009B, an escape to many terminals) it has.
+    let u = hopper_urdf().replace("\"theta\"", "\"th\u{9b}2Jeta\"");
+    t.write("r.urdf", &u);
+    let run = t.vito().args(["inspect", "r.urdf"]).assert_exit(0);
+    assert!(
+        run.stdout.contains("th\\u{9b}2Jeta") && !run.stdout.contains('\u{9b}'),
+        "{}",
+        run.stdout
+    );
+}
+
+/// Items 1–4 (open part): `name` names `out/<name>`, so it is a plain file-name component.
+#[test]
+fn problem_name_is_a_plain_file_name() {
+    for bad in ["", ".", "..", "../../x", "/abs/path", "a/b"] {
+        let text = hopper_text().replace("name = \"hopper-2d\"", &format!("name = \"{bad}\""));
+        let err = solve_fails(&format!("name_{}", bad.len()), &text);
+        assert!(err.contains("field `name`"), "{bad}: {err}");
+    }
+}
+
+/// `output.dir` is relative to the problem file's directory (as every path in it); `--out`
+/// to the working directory.
+#[test]
+fn output_dir_is_relative_to_the_problem_file() {
+    let t = TestDir::with_hopper("output_dir_relative");
+    std::fs::create_dir(t.path().join("cwd")).unwrap();
+    let text = hopper_text().replace("max_iter = 3000", "max_iter = 2")
+        + "\n[output]\ndir = \"results\"\n";
+    t.write("p.toml", &text);
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_vito"))
+        .current_dir(t.path().join("cwd"))
+        .args(["solve", "../p.toml", "--quiet"])
+        .output()
+        .unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(t.path().join("results/summary.json").exists());
+    assert!(!t.path().join("cwd/results").exists());
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_vito"))
+        .current_dir(t.path().join("cwd"))
+        .args(["solve", "../p.toml", "--quiet", "--out", "here"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert!(t.path().join("cwd/here/summary.json").exists());
+}
+
+/// Item 13: output paths that cannot work are exit 2 before solving, the solver never runs.
+#[test]
+fn bad_output_paths_are_found_before_solving() {
+    let t = TestDir::with_hopper("bad_output_paths");
+    t.write("p.toml", &hopper_text());
+    t.write("afile", "x");
+    std::os::unix::fs::symlink("nowhere", t.path().join("dangling")).unwrap();
+    let long = "n".repeat(300);
+    for (out, expect) in [
+        ("dangling", "symbolic link"),
+        (long.as_str(), "bytes long"),
+        ("afile/sub", "not a directory"),
+        ("missing/../x", "`..`"),
+        (".", "names no directory"),
+    ] {
+        let run = t
+            .vito()
+            .args(["solve", "p.toml", "--out", out])
+            .assert_exit(2);
+        assert!(run.stderr.contains(expect), "{out}: {}", run.stderr);
+        assert!(!run.stderr.contains("iter"), "{}", run.stderr);
+    }
+    assert_eq!(
+        std::fs::read_to_string(t.path().join("afile")).unwrap(),
+        "x"
+    );
+}
+
+/// Item 17: `inspect`, `init` and `check` fail (exit 2, a message) when stdout cannot be
+/// written.
+#[test]
+fn unwritable_stdout_is_an_error() {
+    let t = TestDir::with_hopper("dev_full");
+    t.write("p.toml", &hopper_text());
+    for args in [
+        vec!["inspect", "robots/hopper_2d.urdf"],
+        vec!["init", "robots/hopper_2d.urdf"],
+        vec!["check", "p.toml"],
+    ] {
+        let full = std::fs::OpenOptions::new()
+            .write(true)
+            .open("/dev/full")
+            .unwrap();
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_vito"))
+            .current_dir(t.path())
+            .args(&args)
+            .stdout(full)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(
+            stderr.contains("cannot write to standard output"),
+            "{stderr}"
+        );
+    }
+}
