@@ -4,6 +4,7 @@
 #   make test-slow  the slow tests (#[ignore]d by default)
 #   make lint       rustfmt and clippy, as CI checks them
 #   make bench      the timing harnesses in benches/ (print figures)
+#   make fuzz       1,000,000 mutated problem files and URDFs through loading (FUZZ_COUNT, FUZZ_SEED)
 #   make test-debian13  `make demo` and `make test` in a fresh Debian 13 chroot (Ipopt 3.14; root)
 
 CARGO ?= cargo
@@ -14,7 +15,7 @@ OUT ?= out/hopper_2d
 # solve lock already gives one solve per process); parallel work uses processes.
 export OPENBLAS_NUM_THREADS ?= 1
 
-.PHONY: deps build demo test test-slow lint bench test-debian13
+.PHONY: deps build demo test test-slow lint bench fuzz test-debian13
 
 deps:
 	bash vendor-config/install-deps.sh
@@ -38,6 +39,11 @@ lint:
 
 bench: deps
 	$(CARGO) bench
+
+FUZZ_COUNT ?= 1000000
+FUZZ_SEED ?= 1
+fuzz: deps
+	$(CARGO) run --release --example fuzz -- $(FUZZ_COUNT) $(FUZZ_SEED)
 
 # The two commands above on Debian 13 (trixie, Ipopt 3.14), in a debootstrapped chroot that is
 # removed afterwards; needs root and Debian's archive. See tools/test-debian13.sh.

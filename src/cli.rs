@@ -13,7 +13,9 @@ use clap::{Parser, Subcommand, ValueEnum};
 
 use vito::model::BaseType;
 use vito::pipeline;
-use vito::problem::{LoadedProblem, Override, ProblemError, RobotInfo, TimeSteps, load};
+use vito::problem::{
+    LoadedProblem, OptionValue, Override, ProblemError, RobotInfo, TimeSteps, load,
+};
 use vito::report::{self, is_solved, status_name};
 use vito::transcription::Solution;
 
@@ -25,13 +27,24 @@ fn exit_quietly_on_broken_pipe(e: &std::io::Error) {
     }
 }
 
-/// `println!` that treats a broken pipe as the end of the output.
+/// `println!` that escapes control characters (names from a URDF reach it) and treats a
+/// broken pipe as the end of the output; any other write error (a full disk, `> /dev/full`)
+/// ends the command with an error.
 macro_rules! out {
     ($($arg:tt)*) => {
-        if let Err(e) = writeln!(std::io::stdout(), $($arg)*) {
-            exit_quietly_on_broken_pipe(&e);
-        }
+        write_stdout(&format!($($arg)*))?
     };
+}
+
+/// Writes one line to stdout (see [`out!`]).
+fn write_stdout(line: &str) -> Result<(), CliError> {
+    let mut stdout = std::io::stdout().lock();
+    let result =
+        writeln!(stdout, "{}", vito::names::escape_controls(line)).and_then(|()| stdout.flush());
+    result.map_err(|e| {
+        exit_quietly_on_broken_pipe(&e);
+        CliError::Output(e.to_string())
+    })
 }
 
 const EXIT_CODES: &str = "Exit codes:\n  0  solved (check, inspect, regress: passed)\n  1  finished but not optimal (or stopped with Ctrl-C; regress: a result differs)\n  2  input or usage error (the message names the file, line and field)\n  3  internal error";
@@ -80,6 +93,10 @@ pub enum Command {
         /// No live progress lines.
         #[arg(long, short)]
         quiet: bool,
+        /// Also write Ipopt's own log (`file_print_level 5`) as `ipopt.log` in the output
+        /// directory (with a slack continuation, the last solve's).
+        #[arg(long)]
+        ipopt_log: bool,
     },
     /// Check a problem file without solving and print its size.
     #[command(after_help = EXIT_CODES)]
@@ -158,6 +175,8 @@ pub enum CliError {
     Golden(#[from] report::GoldenError),
     #[error("internal error: {0}")]
     Internal(String),
+    #[error("cannot write to standard output: {0}")]
+    Output(String),
     #[error(transparent)]
     Transcription(#[from] vito::transcription::TranscriptionError),
 }
@@ -166,7 +185,11 @@ impl CliError {
     /// Exit code: 2 for input errors, 3 for internal ones.
     pub fn exit_code(&self) -> u8 {
         match self {
-            CliError::Problem(_) | CliError::Input(_) | CliError::Golden(_) => 2,
+            // Like an output directory that cannot be written: the user's redirection.
+            CliError::Problem(_)
+            | CliError::Input(_)
+            | CliError::Golden(_)
+            | CliError::Output(_) => 2,
             CliError::Transcription(e) => match e {
                 vito::transcription::TranscriptionError::Solver(_) => 3,
                 _ => 2,
@@ -207,7 +230,8 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
             set,
             out,
             quiet,
-        } => solve(&file, &set, out.as_deref(), quiet),
+            ipopt_log,
+        } => solve(&file, &set, out.as_deref(), quiet, ipopt_log),
         Command::Check {
             file,
             set,
@@ -242,7 +266,11 @@ fn print_error(e: &CliError) {
         }
         source = s.source();
     }
-    let _ = writeln!(std::io::stderr(), "{message}");
+    let _ = writeln!(
+        std::io::stderr(),
+        "{}",
+        vito::names::escape_controls(&message)
+    );
 }
 
 fn parse_overrides(set: &[String]) -> Result<Vec<Override>, CliError> {
@@ -252,9 +280,20 @@ fn parse_overrides(set: &[String]) -> Result<Vec<Override>, CliError> {
         .collect::<Result<_, _>>()?)
 }
 
+/// The URDF reader's warnings (repairs, ignored elements), on stderr.
+fn print_model_warnings(robot: &RobotInfo) {
+    for w in &robot.warnings {
+        eprintln!(
+            "{}",
+            vito::names::escape_controls(&format!("warning: {}: {w}", robot.urdf.display()))
+        );
+    }
+}
+
 fn check(file: &Path, set: &[String]) -> Result<u8, CliError> {
     let overrides = parse_overrides(set)?;
     let p = load(file, &overrides)?;
+    print_model_warnings(&p.robot);
     pipeline::check_solver_options(&p)?;
     let s = &p.spec;
     let nlp = pipeline::build_nlp(s)?;
@@ -402,11 +441,33 @@ pub fn progress_line(
     format!("{iteration:>5}  {objective:>14.7e}  {inf_pr:>9.2e}  {inf_du:>9.2e}  {max_slack:>9.2e}")
 }
 
-fn solve(file: &Path, set: &[String], out: Option<&Path>, quiet: bool) -> Result<u8, CliError> {
+fn solve(
+    file: &Path,
+    set: &[String],
+    out: Option<&Path>,
+    quiet: bool,
+    ipopt_log: bool,
+) -> Result<u8, CliError> {
     let overrides = parse_overrides(set)?;
     let problem = load(file, &overrides)?;
+    print_model_warnings(&problem.robot);
     pipeline::check_solver_options(&problem)?;
     let target = pipeline::checked_output_dir(&problem, out).map_err(report::ReportError::from)?;
+    // Staged before solving so that Ipopt's log goes straight into the directory that
+    // replaces the target atomically (and is removed with it if the run fails).
+    let staged = target.stage().map_err(report::ReportError::from)?;
+    let mut ipopt_options = Vec::new();
+    if ipopt_log {
+        let log = staged.path().join("ipopt.log");
+        let log = log.to_str().ok_or_else(|| {
+            CliError::Input(format!(
+                "--ipopt-log: the output path {} is not UTF-8, which Ipopt cannot take",
+                log.display()
+            ))
+        })?;
+        ipopt_options.push(("output_file".to_owned(), OptionValue::Str(log.to_owned())));
+        ipopt_options.push(("file_print_level".to_owned(), OptionValue::Int(5)));
+    }
     let cancel = Arc::new(AtomicBool::new(false));
     {
         let cancel = cancel.clone();
@@ -429,9 +490,9 @@ fn solve(file: &Path, set: &[String], out: Option<&Path>, quiet: bool) -> Result
         );
         eprintln!(" iter       objective     inf_pr     inf_du  max_slack");
     }
-    let solution = run_solver(&problem, cancel.clone(), quiet)?;
-    let written = report::write_outputs(&target, &problem, &solution)?;
-    print_summary(&problem, &solution, &written);
+    let solution = run_solver(&problem, cancel.clone(), quiet, ipopt_options)?;
+    let written = report::write_outputs(staged, &problem, &solution)?;
+    print_summary(&problem, &solution, &written)?;
     Ok(if is_solved(solution.status) { 0 } else { 1 })
 }
 
@@ -440,6 +501,7 @@ fn run_solver(
     problem: &LoadedProblem,
     cancel: Arc<AtomicBool>,
     quiet: bool,
+    ipopt_options: Vec<(String, OptionValue)>,
 ) -> Result<Solution, CliError> {
     let progress = move |p: &vito::transcription::Progress| {
         if !quiet {
@@ -452,12 +514,12 @@ fn run_solver(
     let options = vito::transcription::SolveOptions {
         progress: Some(Box::new(progress)),
         cancel: Some(cancel),
-        ipopt_options: Vec::new(),
+        ipopt_options,
     };
     pipeline::solve(&problem.spec, &options).map_err(CliError::Transcription)
 }
 
-fn print_summary(problem: &LoadedProblem, s: &Solution, dir: &Path) {
+fn print_summary(problem: &LoadedProblem, s: &Solution, dir: &Path) -> Result<(), CliError> {
     out!("problem      {}", problem.spec.name);
     out!("status       {}", status_name(s.status));
     out!("objective    {:.10e}", s.objective);
@@ -494,6 +556,7 @@ fn print_summary(problem: &LoadedProblem, s: &Solution, dir: &Path) {
         out!("horizon      T = {t:.6} {}", problem.units.time);
     }
     out!("written to   {}", dir.display());
+    Ok(())
 }
 
 fn init(urdf: &Path, base: BaseType, out: Option<&Path>) -> Result<u8, CliError> {
@@ -503,8 +566,13 @@ fn init(urdf: &Path, base: BaseType, out: Option<&Path>) -> Result<u8, CliError>
     let text = vito::problem::starter_problem(&robot, base, &urdf_text);
     match out {
         None => {
-            if let Err(e) = std::io::stdout().write_all(text.as_bytes()) {
+            let mut stdout = std::io::stdout().lock();
+            let written = stdout
+                .write_all(vito::names::escape_controls(&text).as_bytes())
+                .and_then(|()| stdout.flush());
+            if let Err(e) = written {
                 exit_quietly_on_broken_pipe(&e);
+                return Err(CliError::Output(e.to_string()));
             }
         }
         Some(path) => {
@@ -524,7 +592,7 @@ fn init(urdf: &Path, base: BaseType, out: Option<&Path>) -> Result<u8, CliError>
 
 fn inspect(urdf: &Path, base: BaseType, json: bool) -> Result<u8, CliError> {
     let model = vito::model::Model::from_urdf_file(urdf, base)
-        .map_err(|e| CliError::Input(e.to_string()))?;
+        .map_err(|e| CliError::Input(vito::model::describe(urdf, &e)))?;
     let inspection = vito::model::inspect(&model);
     if json {
         let text = serde_json::to_string_pretty(&inspection)

@@ -29,12 +29,14 @@
 //! - `trajectory_csv`: the trajectory CSV format (columns, units, numbers, parsing), written
 //!   by `report` and read by `problem` for warm starts.
 //! - `names`: how messages list names.
+//! - `input`: reading the files a user names: regular files only, of bounded size.
 #![deny(unsafe_code)]
 
 pub mod autodiff;
 pub mod contact;
 pub mod dependency;
 pub mod discrete;
+pub mod input;
 #[allow(unsafe_code)]
 pub mod ipopt;
 pub mod model;

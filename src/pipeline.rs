@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use crate::ipopt;
-use crate::problem::{LoadedProblem, OptionValue, ProblemError, ProblemSpec};
+use crate::problem::{LoadedProblem, ProblemError, ProblemSpec};
 use crate::transcription::{
     self, BenchRow, MechanicsDerivatives, ModelMechanics, Solution, SolveOptions, Transcription,
     TranscriptionError,
@@ -44,11 +44,7 @@ pub fn bench(spec: &ProblemSpec) -> Result<BenchRow, TranscriptionError> {
 /// typo in `[solver.ipopt]` is an input error naming its line, before any solve.
 pub fn check_solver_options(problem: &LoadedProblem) -> Result<(), ProblemError> {
     for (name, value) in &problem.spec.solver_options {
-        let value = match value {
-            OptionValue::Str(s) => ipopt::OptionValue::Str(s.clone()),
-            OptionValue::Num(x) => ipopt::OptionValue::Num(*x),
-            OptionValue::Int(i) => ipopt::OptionValue::Int(*i),
-        };
+        let value = ipopt::OptionValue::from(value);
         ipopt::Solver::new()
             .set_option(name, value)
             .map_err(|e| problem.field_error(&format!("solver.ipopt.{name}"), e.to_string()))?;

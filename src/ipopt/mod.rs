@@ -40,6 +40,9 @@ mod sys;
 pub use compat::{LONG_VERSION, MpiState, VERSION, mpi_state};
 pub use error::IpoptError;
 pub use nlp::{IterationInfo, Nlp};
-pub use options::{DEFAULTS_FILE, OptionValue, check_allowed, default_options, parse_option_file};
+pub use options::{
+    DEFAULTS_FILE, OptionValue, PROBLEM_FILE_OPTIONS, check_allowed, check_problem_option,
+    default_options, parse_option_file,
+};
 pub use solver::{SolveReport, Solver};
 pub use status::Status;

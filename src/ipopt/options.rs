@@ -137,6 +137,228 @@ pub fn check_allowed(name: &str, value: &OptionValue) -> Result<(), IpoptError> 
     Ok(())
 }
 
+/// The Ipopt options a problem file may set: those that steer the algorithm (termination,
+/// barrier, line search, restoration, initialisation, scaling, Hessian approximation,
+/// derivative test, MUMPS) and `print_level` (Ipopt's table on standard output). Anything
+/// else, in particular `output_file`, `option_file_name` and `file_print_level` (which read
+/// or write files named by the problem) is refused: a problem file is input, not code. The
+/// README lists them (a unit test keeps the two in step).
+pub const PROBLEM_FILE_OPTIONS: &[&str] = &[
+    // Termination.
+    "tol",
+    "max_iter",
+    "max_cpu_time",
+    "max_wall_time",
+    "dual_inf_tol",
+    "constr_viol_tol",
+    "compl_inf_tol",
+    "acceptable_tol",
+    "acceptable_iter",
+    "acceptable_dual_inf_tol",
+    "acceptable_constr_viol_tol",
+    "acceptable_compl_inf_tol",
+    "acceptable_obj_change_tol",
+    "diverging_iterates_tol",
+    "mu_target",
+    // Output on standard output (vito's own progress is on stderr).
+    "print_level",
+    // NLP treatment.
+    "bound_relax_factor",
+    "honor_original_bounds",
+    "check_derivatives_for_naninf",
+    "fixed_variable_treatment",
+    "kappa_d",
+    "jac_c_constant",
+    "jac_d_constant",
+    "hessian_constant",
+    // Scaling.
+    "nlp_scaling_method",
+    "obj_scaling_factor",
+    "nlp_scaling_max_gradient",
+    "nlp_scaling_obj_target_gradient",
+    "nlp_scaling_constr_target_gradient",
+    "nlp_scaling_min_value",
+    // Barrier parameter.
+    "mu_strategy",
+    "mu_oracle",
+    "fixed_mu_oracle",
+    "mu_init",
+    "mu_max_fact",
+    "mu_max",
+    "mu_min",
+    "barrier_tol_factor",
+    "mu_linear_decrease_factor",
+    "mu_superlinear_decrease_power",
+    "mu_allow_fast_monotone_decrease",
+    "adaptive_mu_globalization",
+    "adaptive_mu_monotone_init_factor",
+    "adaptive_mu_kkterror_red_iters",
+    "adaptive_mu_kkterror_red_fact",
+    "adaptive_mu_safeguard_factor",
+    "adaptive_mu_restore_previous_iterate",
+    "quality_function_max_section_steps",
+    "tau_min",
+    "sigma_max",
+    "sigma_min",
+    // Initialisation and warm start.
+    "bound_push",
+    "bound_frac",
+    "slack_bound_push",
+    "slack_bound_frac",
+    "constr_mult_init_max",
+    "bound_mult_init_val",
+    "bound_mult_init_method",
+    "least_square_init_primal",
+    "least_square_init_duals",
+    "warm_start_init_point",
+    "warm_start_bound_push",
+    "warm_start_bound_frac",
+    "warm_start_slack_bound_push",
+    "warm_start_slack_bound_frac",
+    "warm_start_mult_bound_push",
+    "warm_start_mult_init_max",
+    // Line search.
+    "line_search_method",
+    "alpha_red_factor",
+    "accept_every_trial_step",
+    "accept_after_max_steps",
+    "alpha_for_y",
+    "alpha_for_y_tol",
+    "tiny_step_tol",
+    "tiny_step_y_tol",
+    "watchdog_shortened_iter_trigger",
+    "watchdog_trial_iter_max",
+    "theta_max_fact",
+    "theta_min_fact",
+    "eta_phi",
+    "delta",
+    "s_phi",
+    "s_theta",
+    "gamma_phi",
+    "gamma_theta",
+    "alpha_min_frac",
+    "max_soc",
+    "kappa_soc",
+    "obj_max_inc",
+    "max_filter_resets",
+    "filter_reset_trigger",
+    "corrector_type",
+    "skip_corr_if_neg_curv",
+    "skip_corr_in_monotone_mode",
+    "corrector_compl_avrg_red_fact",
+    "nu_init",
+    "nu_inc",
+    "rho",
+    // Restoration phase.
+    "expect_infeasible_problem",
+    "expect_infeasible_problem_ctol",
+    "expect_infeasible_problem_ytol",
+    "start_with_resto",
+    "soft_resto_pderror_reduction_factor",
+    "max_soft_resto_iters",
+    "required_infeasibility_reduction",
+    "max_resto_iter",
+    "evaluate_orig_obj_at_resto_trial",
+    "resto_penalty_parameter",
+    "resto_proximity_weight",
+    "bound_mult_reset_threshold",
+    "constr_mult_reset_threshold",
+    "resto_failure_feasibility_threshold",
+    // Linear solver (MUMPS only) and the step computation.
+    "linear_solver",
+    "linear_system_scaling",
+    "linear_scaling_on_demand",
+    "max_refinement_steps",
+    "min_refinement_steps",
+    "residual_ratio_max",
+    "residual_ratio_singular",
+    "residual_improvement_factor",
+    "neg_curv_test_tol",
+    "perturb_always_cd",
+    "max_hessian_perturbation",
+    "min_hessian_perturbation",
+    "perturb_inc_fact_first",
+    "perturb_inc_fact",
+    "perturb_dec_fact",
+    "first_hessian_perturbation",
+    "jacobian_regularization_value",
+    "jacobian_regularization_exponent",
+    "mumps_pivtol",
+    "mumps_pivtolmax",
+    "mumps_mem_percent",
+    "mumps_permuting_scaling",
+    "mumps_pivot_order",
+    "mumps_scaling",
+    "mumps_dep_tol",
+    // Hessian approximation.
+    "hessian_approximation",
+    "hessian_approximation_space",
+    "limited_memory_update_type",
+    "limited_memory_max_history",
+    "limited_memory_max_skipping",
+    "limited_memory_initialization",
+    "limited_memory_init_val",
+    "limited_memory_init_val_max",
+    "limited_memory_init_val_min",
+    "limited_memory_special_for_resto",
+    // Derivative checker (prints on standard output).
+    "derivative_test",
+    "derivative_test_perturbation",
+    "derivative_test_tol",
+    "derivative_test_print_all",
+    "derivative_test_first_index",
+    "point_perturbation_radius",
+];
+
+/// String options of [`PROBLEM_FILE_OPTIONS`] with only some values allowed: the others need
+/// HSL routines Debian's Ipopt does not have (and `ma97` ends the process).
+const RESTRICTED_VALUES: &[(&str, &[&str])] = &[
+    ("linear_solver", &["mumps"]),
+    (
+        "nlp_scaling_method",
+        &["none", "user-scaling", "gradient-based"],
+    ),
+    ("linear_system_scaling", &["none"]),
+];
+
+/// Whether a problem file may set Ipopt option `name` to `value`: the name must be in
+/// [`PROBLEM_FILE_OPTIONS`], a number must be finite (Ipopt takes `tol = nan` and then hangs
+/// in MUMPS), and a restricted string option must have one of its allowed values. On top of
+/// this, [`check_allowed`] and Ipopt's own check apply.
+pub fn check_problem_option(name: &str, value: &OptionValue) -> Result<(), IpoptError> {
+    let refused = |reason: String| IpoptError::Refused {
+        name: name.to_string(),
+        value: value.to_string(),
+        reason,
+    };
+    if !PROBLEM_FILE_OPTIONS.contains(&name) {
+        return Err(refused(
+            "a problem file may set only the options that steer the algorithm (the README              lists them); Ipopt's files (`output_file`, `option_file_name`,              `file_print_level`) are not among them: for Ipopt's log use              `vito solve --ipopt-log`, which writes `ipopt.log` into the output directory"
+                .to_string(),
+        ));
+    }
+    if let OptionValue::Num(x) = value
+        && !x.is_finite()
+    {
+        return Err(refused("must be a finite number".to_string()));
+    }
+    if let Some((_, allowed)) = RESTRICTED_VALUES.iter().find(|(n, _)| *n == name) {
+        let ok = matches!(value, OptionValue::Str(s)
+            if allowed.iter().any(|a| s.trim().eq_ignore_ascii_case(a)));
+        if !ok {
+            return Err(refused(format!(
+                "Debian's Ipopt has no HSL routines; allowed values: {}",
+                allowed
+                    .iter()
+                    .map(|a| format!("\"{a}\""))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )));
+        }
+    }
+    check_allowed(name, value)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -196,5 +418,43 @@ mod tests {
         }
         assert!(check_allowed("linear_solver", &OptionValue::Int(27)).is_err());
         assert!(check_allowed("tol", &OptionValue::Num(1e-3)).is_ok());
+    }
+
+    #[test]
+    fn problem_files_set_only_algorithm_options_with_finite_values() {
+        for name in [
+            "output_file",
+            "option_file_name",
+            "file_print_level",
+            "sb",
+            "Tol",
+        ] {
+            let err = check_problem_option(name, &OptionValue::from("x")).unwrap_err();
+            assert!(err.to_string().contains(&format!("`{name}`")), "{err}");
+        }
+        for x in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            let err = check_problem_option("tol", &OptionValue::Num(x)).unwrap_err();
+            assert!(err.to_string().contains("finite"), "{err}");
+        }
+        assert!(check_problem_option("tol", &OptionValue::Num(1e-8)).is_ok());
+        assert!(check_problem_option("nlp_scaling_method", &"gradient-based".into()).is_ok());
+        assert!(check_problem_option("nlp_scaling_method", &"equilibration-based".into()).is_err());
+        assert!(check_problem_option("linear_solver", &"ma97".into()).is_err());
+    }
+
+    /// Every allowed option is one Ipopt knows (3.11 to 3.14) and the README lists it.
+    #[test]
+    fn allowed_options_are_ipopts_and_documented() {
+        let readme = include_str!("../../README.md");
+        for name in PROBLEM_FILE_OPTIONS {
+            assert!(
+                readme.contains(&format!("`{name}`")),
+                "README does not list `{name}`"
+            );
+        }
+        let mut names = PROBLEM_FILE_OPTIONS.to_vec();
+        names.sort_unstable();
+        names.dedup();
+        assert_eq!(names.len(), PROBLEM_FILE_OPTIONS.len(), "a duplicate entry");
     }
 }

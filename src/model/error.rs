@@ -135,14 +135,39 @@ pub enum ModelError {
         /// The joint.
         joint: String,
     },
-    /// A Drake extension element is malformed.
+    /// The document is nested deeper, or has more links or joints, than vito reads.
+    #[error("{origin}: {what}; vito reads URDFs up to {limit} ({fix})")]
+    TooLarge {
+        /// File path or `<string>`.
+        origin: String,
+        /// What was found (e.g. `elements nested 100000 deep`).
+        what: String,
+        /// The limit, as words.
+        limit: String,
+        /// How to fix it.
+        fix: &'static str,
+    },
+    /// An element is malformed: a Drake extension, or a value vito cannot use (a NaN
+    /// origin, limits in the wrong order, a second transmission on a joint...).
     #[error("{element} '{name}': {problem}")]
     BadExtension {
-        /// The element kind (`force_element`, `loop_joint`, `transmission`).
+        /// The element kind (`force_element`, `loop_joint`, `transmission`, `joint`, ...).
         element: &'static str,
         /// Its name attribute (or the joint it refers to).
         name: String,
         /// What is wrong and how to fix it.
         problem: String,
     },
+}
+
+/// `error` as a message that names the URDF `path` (errors about links and joints do not
+/// carry the file; those about the text already start with it).
+pub fn describe(path: &std::path::Path, error: &ModelError) -> String {
+    let text = error.to_string();
+    let shown = path.display().to_string();
+    if text.contains(&shown) {
+        text
+    } else {
+        format!("URDF {shown}: {text}")
+    }
 }

@@ -27,7 +27,7 @@ pub use dynamics::{
 };
 pub use energy::{generalized_momentum, kinetic_energy, mass_matrix, potential_energy};
 pub use energy_adjoint::{kinetic_energy_gradient, lagrangian_gradient, potential_energy_gradient};
-pub use error::ModelError;
+pub use error::{ModelError, describe};
 pub use inspect::{CoordinateInfo, Inspection, LoopInfo, SpringInfo, inspect};
 pub use kinematics::{link_pose, point_position};
 pub use loops::loop_residual;

@@ -224,10 +224,12 @@ impl Model {
     /// Repairs that are unambiguous (a `<limit>` without `velocity` or `effort`, which then
     /// mean "no limit") are made and listed in [`Model::warnings`].
     pub fn from_urdf_file(path: &Path, base: BaseType) -> Result<Model, ModelError> {
-        let xml = std::fs::read_to_string(path).map_err(|source| ModelError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let xml = crate::input::read_regular_text(path, crate::input::MAX_URDF_BYTES).map_err(
+            |source| ModelError::Io {
+                path: path.to_path_buf(),
+                source,
+            },
+        )?;
         super::urdf::load(&xml, &path.display().to_string(), base)
     }
 
@@ -243,6 +245,11 @@ impl Model {
     /// ```
     pub fn from_urdf_str(xml: &str, base: BaseType) -> Result<Model, ModelError> {
         super::urdf::load(xml, "<string>", base)
+    }
+
+    /// Loads a URDF from a string that messages call `origin` (its file's path).
+    pub fn from_urdf_named(xml: &str, origin: &str, base: BaseType) -> Result<Model, ModelError> {
+        super::urdf::load(xml, origin, base)
     }
 
     /// The robot's name (URDF `<robot name>`).

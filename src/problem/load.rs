@@ -7,6 +7,8 @@ use std::path::{Path, PathBuf};
 
 use sha2::{Digest, Sha256};
 
+use crate::input::{MAX_TEXT_BYTES, read_regular_file, read_regular_text};
+
 use crate::problem::schema::ProblemFile;
 use crate::problem::validate::{Context, check};
 use crate::problem::{Location, Override, ProblemError, ProblemSpec, RobotInfo, Units};
@@ -40,23 +42,20 @@ impl LoadedProblem {
     pub fn field_error(&self, field: &str, message: impl Into<String>) -> ProblemError {
         let ctx = Context {
             file: self.file.clone(),
-            text: std::fs::read_to_string(&self.file).unwrap_or_default(),
+            text: read_regular_text(&self.file, MAX_TEXT_BYTES).unwrap_or_default(),
             overridden: self.parameters.iter().map(|(p, _)| p.clone()).collect(),
+            urdf_text: None,
         };
         ctx.invalid(field, message)
     }
 }
 
-/// Reads, overrides and checks a problem file.
+/// Reads, overrides and checks a problem file (a regular file; see [`crate::input`]).
 pub fn load(path: &Path, overrides: &[Override]) -> Result<LoadedProblem, ProblemError> {
-    let bytes = std::fs::read(path).map_err(|source| ProblemError::Io {
+    let bytes = read_regular_file(path, MAX_TEXT_BYTES).map_err(|source| ProblemError::Io {
         path: path.to_owned(),
         source,
     })?;
-    let sha256: String = Sha256::digest(&bytes)
-        .iter()
-        .map(|b| format!("{b:02x}"))
-        .collect();
     let text = String::from_utf8(bytes).map_err(|_| ProblemError::Invalid {
         at: Box::new(Location {
             file: path.to_owned(),
@@ -66,10 +65,36 @@ pub fn load(path: &Path, overrides: &[Override]) -> Result<LoadedProblem, Proble
         }),
         message: "the file is not UTF-8 text".into(),
     })?;
+    check_text(path, text, None, overrides)
+}
+
+/// [`load`] for a problem file's text in memory, with its robot's URDF text (whatever
+/// `robot.urdf` names): what the fuzzer checks without touching the disk. `path` names the
+/// file in messages.
+pub fn load_from_str(
+    path: &Path,
+    text: &str,
+    urdf: &str,
+    overrides: &[Override],
+) -> Result<LoadedProblem, ProblemError> {
+    check_text(path, text.to_owned(), Some(urdf.to_owned()), overrides)
+}
+
+fn check_text(
+    path: &Path,
+    text: String,
+    urdf_text: Option<String>,
+    overrides: &[Override],
+) -> Result<LoadedProblem, ProblemError> {
+    let sha256: String = Sha256::digest(text.as_bytes())
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect();
     let ctx = Context {
         file: path.to_owned(),
         text: text.clone(),
         overridden: overrides.iter().map(|o| o.path.clone()).collect(),
+        urdf_text,
     };
     let raw: ProblemFile = if overrides.is_empty() {
         toml::from_str(&text).map_err(|e| ctx.serde_error(&e, &text))?

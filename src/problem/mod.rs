@@ -18,7 +18,7 @@ mod validate;
 pub use crate::model::CoordinateKind;
 pub use costs::CostTerm;
 pub use error::{Location, ProblemError};
-pub use load::{LoadedProblem, load};
+pub use load::{LoadedProblem, load, load_from_str};
 pub use overrides::Override;
 pub use robot::{RobotError, RobotInfo, UrdfContact};
 pub use source::{edit_distance, nearest};

@@ -48,6 +48,9 @@ pub struct RobotInfo {
     pub links: Vec<String>,
     /// Contact points the URDF declares.
     pub contacts: Vec<UrdfContact>,
+    /// What the URDF reader repaired or ignored (`Model::warnings`), for `check` and
+    /// `solve` to show.
+    pub warnings: Vec<String>,
 }
 
 /// Why a URDF could not be read.
@@ -62,8 +65,13 @@ pub enum RobotError {
         source: std::io::Error,
     },
     /// The model loader rejected it.
-    #[error(transparent)]
-    Model(#[from] crate::model::ModelError),
+    #[error("{}", crate::model::describe(path, source))]
+    Model {
+        /// The URDF.
+        path: PathBuf,
+        /// Why.
+        source: crate::model::ModelError,
+    },
     /// A joint named to be actuated is not a movable joint.
     #[error("joint `{joint}` cannot be actuated; the movable joints are: {}", actuatable.join(", "))]
     NotActuatable {
@@ -82,11 +90,39 @@ impl RobotInfo {
         base: BaseType,
         actuation: &Actuation,
     ) -> Result<RobotInfo, RobotError> {
-        let text = std::fs::read_to_string(path).map_err(|source| RobotError::Io {
-            path: path.to_owned(),
-            source,
+        let model = Model::from_urdf_file(path, base).map_err(|source| match source {
+            crate::model::ModelError::Io { path, source } => RobotError::Io { path, source },
+            source => RobotError::Model {
+                path: path.to_owned(),
+                source,
+            },
         })?;
-        let mut model = Model::from_urdf_str(&text, base)?;
+        RobotInfo::actuated(path, model, actuation)
+    }
+
+    /// [`RobotInfo::read`] for a URDF's text in memory (`path` names it in messages).
+    pub fn from_text(
+        path: &Path,
+        text: &str,
+        base: BaseType,
+        actuation: &Actuation,
+    ) -> Result<RobotInfo, RobotError> {
+        let model =
+            Model::from_urdf_named(text, &path.display().to_string(), base).map_err(|source| {
+                RobotError::Model {
+                    path: path.to_owned(),
+                    source,
+                }
+            })?;
+        RobotInfo::actuated(path, model, actuation)
+    }
+
+    /// The robot's info once `actuation` chose its inputs.
+    fn actuated(
+        path: &Path,
+        mut model: Model,
+        actuation: &Actuation,
+    ) -> Result<RobotInfo, RobotError> {
         model
             .actuate(actuation)
             .map_err(|e| RobotError::NotActuatable {
@@ -128,6 +164,7 @@ impl RobotInfo {
                 })
                 .collect(),
             coordinate_kinds,
+            warnings: model.warnings().to_vec(),
         }
     }
 

@@ -479,6 +479,7 @@ pub struct SolverSection {
 #[derive(Debug, Clone, Deserialize, Default)]
 #[serde(deny_unknown_fields)]
 pub struct OutputSection {
-    /// Output directory, relative to the working directory (default `out/<name>`).
+    /// Output directory, relative to the problem file (default `out/<name>` in the working
+    /// directory).
     pub dir: Option<String>,
 }

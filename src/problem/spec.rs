@@ -166,6 +166,16 @@ pub enum OptionValue {
     Int(i64),
 }
 
+impl From<&OptionValue> for crate::ipopt::OptionValue {
+    fn from(value: &OptionValue) -> Self {
+        match value {
+            OptionValue::Str(s) => crate::ipopt::OptionValue::Str(s.clone()),
+            OptionValue::Num(x) => crate::ipopt::OptionValue::Num(*x),
+            OptionValue::Int(i) => crate::ipopt::OptionValue::Int(*i),
+        }
+    }
+}
+
 /// A complete, checked trajectory-optimisation problem.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ProblemSpec {

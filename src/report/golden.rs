@@ -66,7 +66,7 @@ pub enum GoldenError {
 impl GoldenRecord {
     /// Reads a record; a missing file is an empty record.
     pub fn read(path: &Path) -> Result<GoldenRecord, GoldenError> {
-        match std::fs::read_to_string(path) {
+        match crate::input::read_regular_text(path, crate::input::MAX_TEXT_BYTES) {
             Ok(text) => toml::from_str(&text).map_err(|e| GoldenError::Parse {
                 path: path.to_owned(),
                 message: e.to_string(),

@@ -70,10 +70,11 @@ pub fn column_units(robot: &RobotInfo, units: &Units) -> ColumnUnits {
     }
 }
 
-/// Writes `trajectory.csv`, `summary.json` and the three plots into `target`, atomically:
-/// an existing `target` is replaced only once everything is written.
+/// Writes `trajectory.csv`, `summary.json` and the three plots into `staged` (which may
+/// already hold Ipopt's log), then commits it: an existing target is replaced only once
+/// everything is written.
 pub fn write_outputs(
-    target: &OutputTarget,
+    staged: StagedDir,
     problem: &LoadedProblem,
     solution: &Solution,
 ) -> Result<PathBuf, ReportError> {
@@ -81,8 +82,7 @@ pub fn write_outputs(
         let path = path.to_owned();
         move |source| ReportError::Io { path, source }
     };
-    let staged = target.stage()?;
-    let target = target.path();
+    let target = staged.target().to_owned();
     let dir = staged.path().to_owned();
     let units = column_units(&problem.robot, &problem.units);
     let csv_path = dir.join("trajectory.csv");
@@ -230,6 +230,25 @@ mod output_tests {
         s
     }
 
+    /// Non-finite and huge values (an overflowing horizon, a diverged iterate) are left out
+    /// of the plots or clamped, so drawing ends (plotters loops on an infinite axis).
+    #[test]
+    fn plots_of_non_finite_data_finish() {
+        let mut s = hopper_like();
+        s.times = vec![0.0, 1e307, f64::INFINITY, f64::NAN];
+        s.q[1][0] = f64::NAN;
+        s.q[2][1] = -1e308;
+        s.q[3][2] = 1e308;
+        s.u[0][0] = f64::NEG_INFINITY;
+        let modes = contact_modes(&s, &[0.8]);
+        let dir = tempfile::tempdir().unwrap();
+        coordinates_svg(&dir.path().join("q.svg"), &s, "s").unwrap();
+        inputs_svg(&dir.path().join("u.svg"), &s, "s").unwrap();
+        contact_modes_svg(&dir.path().join("m.svg"), &s, &modes, "s").unwrap();
+        let text = std::fs::read_to_string(dir.path().join("q.svg")).unwrap();
+        assert!(text.contains("<svg") && !text.contains("NaN"), "{text}");
+    }
+
     #[test]
     fn outputs_are_complete_and_agree() {
         let problem_file = Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/hopper_2d.toml");
@@ -244,7 +263,7 @@ mod output_tests {
         assert!(target.join("stale.txt").exists());
         std::fs::write(target.join(MARKER), "").unwrap();
         let checked = OutputTarget::check(&target, &[]).unwrap();
-        let written = write_outputs(&checked, &problem, &s).unwrap();
+        let written = write_outputs(checked.stage().unwrap(), &problem, &s).unwrap();
         assert_eq!(written, target);
         assert!(!target.join("stale.txt").exists());
         for svg in ["coordinates.svg", "inputs.svg", "contact_modes.svg"] {

@@ -198,6 +198,12 @@ fn resolve_existing_prefix(absolute: &Path, given: &Path) -> Result<PathBuf, Out
                 rest.push(name.to_owned());
                 existing = parent.to_owned();
             }
+            (None, Some(_)) => {
+                return Err(OutputDirError::Invalid {
+                    path: given.to_owned(),
+                    message: "has `.` or `..` after a directory that does not exist".into(),
+                });
+            }
             _ => break,
         }
     }

@@ -23,16 +23,28 @@ const PALETTE: [RGBColor; 10] = [
     RGBColor(23, 190, 207),
 ];
 
+/// Largest magnitude drawn: plotters computes tick marks from the axis range, and an
+/// infinite range (or one too wide to subtract) makes it loop forever.
+const PLOT_LIMIT: f64 = 1e100;
+
+/// `v` as drawn: a finite value clamped to ±[`PLOT_LIMIT`]; none for NaN or ±∞.
+fn plottable(v: f64) -> Option<f64> {
+    v.is_finite().then(|| v.clamp(-PLOT_LIMIT, PLOT_LIMIT))
+}
+
+/// The padded axis range of the plottable `values` (never empty, always finite).
 fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     let (lo, hi) = values
-        .filter(|v| v.is_finite())
+        .filter_map(plottable)
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
             (a.min(v), b.max(v))
         });
     if !lo.is_finite() {
         return (-1.0, 1.0);
     }
-    let pad = ((hi - lo) * 0.05).max(1e-6);
+    let pad = ((hi - lo) * 0.05)
+        .max(1e-6)
+        .max(lo.abs().max(hi.abs()) * 1e-9);
     (lo - pad, hi + pad)
 }
 
@@ -67,7 +79,9 @@ fn line_plot(
         let color = PALETTE[i % PALETTE.len()];
         chart
             .draw_series(LineSeries::new(
-                points.iter().copied(),
+                points
+                    .iter()
+                    .filter_map(|&(x, y)| Some((plottable(x)?, plottable(y)?))),
                 color.stroke_width(2),
             ))
             .map_err(|x| e(&x))?
@@ -156,7 +170,12 @@ pub fn contact_modes_svg(
     let height = 140 + 40 * nc.max(1) as u32;
     let root = SVGBackend::new(path, (900, height)).into_drawing_area();
     root.fill(&WHITE).map_err(|x| e(&x))?;
-    let t_end = s.times.last().copied().unwrap_or(1.0).max(1e-9);
+    let t_end = s
+        .times
+        .last()
+        .and_then(|&t| plottable(t))
+        .unwrap_or(1.0)
+        .max(1e-9);
     let mut chart = ChartBuilder::on(&root)
         .caption(
             "contact modes (grey: flight, blue: stick, orange: slide)",
@@ -185,7 +204,10 @@ pub fn contact_modes_svg(
         .draw()
         .map_err(|x| e(&x))?;
     for (k, row) in modes.iter().enumerate() {
-        let (Some(&t0), Some(&t1)) = (s.times.get(k), s.times.get(k + 1)) else {
+        let (Some(t0), Some(t1)) = (
+            s.times.get(k).and_then(|&t| plottable(t)),
+            s.times.get(k + 1).and_then(|&t| plottable(t)),
+        ) else {
             continue;
         };
         for (i, &mode) in row.iter().enumerate() {

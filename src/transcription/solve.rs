@@ -79,11 +79,7 @@ pub fn bench(spec: &ProblemSpec) -> Result<BenchRow, TranscriptionError> {
 fn configure(spec: &ProblemSpec, options: &SolveOptions) -> Result<Solver, TranscriptionError> {
     let mut solver = Solver::new();
     for (name, value) in spec.solver_options.iter().chain(&options.ipopt_options) {
-        let value = match value {
-            OptionValue::Str(s) => ipopt::OptionValue::Str(s.clone()),
-            OptionValue::Num(x) => ipopt::OptionValue::Num(*x),
-            OptionValue::Int(i) => ipopt::OptionValue::Int(*i),
-        };
+        let value = ipopt::OptionValue::from(value);
         solver.set_option(name, value)?;
     }
     if spec.hessian == HessianMode::Lbfgs {

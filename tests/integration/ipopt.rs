@@ -786,3 +786,45 @@ fn fresh_process_solves_repeatedly_and_exits_cleanly() {
         assert!(usable, "{line}");
     }
 }
+
+/// Every option a problem file may set is one this Ipopt knows (`max_wall_time` is new in
+/// 3.14): some value of the right type is accepted.
+#[test]
+fn problem_file_options_are_known_to_ipopt() {
+    let candidates = [
+        OptionValue::Num(0.5),
+        OptionValue::Num(0.25),
+        OptionValue::Num(1.5),
+        OptionValue::from("exact"),
+        OptionValue::Int(1),
+        OptionValue::from("yes"),
+        OptionValue::from("none"),
+        OptionValue::from("mumps"),
+        OptionValue::from("adaptive"),
+        OptionValue::from("filter"),
+        OptionValue::from("bfgs"),
+        OptionValue::from("scalar1"),
+        OptionValue::from("first-order"),
+        OptionValue::from("nonlinear-variables"),
+        OptionValue::from("make_parameter"),
+        OptionValue::from("quality-function"),
+        OptionValue::from("obj-constr-filter"),
+        OptionValue::from("constant"),
+        OptionValue::from("primal-and-full"),
+    ];
+    let unknown: Vec<&str> = vito::ipopt::PROBLEM_FILE_OPTIONS
+        .iter()
+        .copied()
+        .filter(|name| !(vito::ipopt::VERSION.starts_with("3.11") && *name == "max_wall_time"))
+        .filter(|name| {
+            !candidates
+                .iter()
+                .any(|v| Solver::new().set_option(name, v.clone()).is_ok())
+        })
+        .collect();
+    assert!(
+        unknown.is_empty(),
+        "unknown to Ipopt {}: {unknown:?}",
+        vito::ipopt::VERSION
+    );
+}

@@ -7,6 +7,7 @@ mod common;
 
 mod cli;
 mod discrete;
+mod fuzz;
 mod ipopt;
 mod model_adjoint;
 mod model_errors;

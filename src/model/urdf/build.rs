@@ -9,7 +9,9 @@ use super::inertia::{MassPiece, link_inertia, lump};
 use crate::model::actuation::{Actuator, AppliedActuation};
 use crate::model::spatial::{mat_mul, normalized, perpendicular_pair, rpy_to_matrix, transpose};
 use crate::model::tree::{Frame, LinkPlacement, Motion};
-use crate::model::{BaseType, ContactPoint, LinkId, LoopClosure, Model, ModelError, Spring};
+use crate::model::{
+    BaseType, ContactPoint, LinkId, LoopClosure, Model, ModelError, Spring, SpringKind,
+};
 
 fn rpy(v: &[f64; 3]) -> [[f64; 3]; 3] {
     rpy_to_matrix(v[0], v[1], v[2])
@@ -63,7 +65,7 @@ pub(super) fn build(
     };
     let bodies = bodies(robot, ext, base, &link_of, &tree, &coordinates)?;
     let contact_points = contact_points(robot);
-    let springs = springs(ext, &joints)?;
+    let springs = springs(robot, ext, &joints)?;
     let loop_closures = loop_closures(ext, &bodies.link_names)?;
     let actuators = actuators(robot, ext, &joints, &mut warnings)?;
     let mut model = Model {
@@ -456,10 +458,39 @@ impl JointCoordinates<'_> {
     }
 }
 
-fn springs(ext: &Extensions, joints: &JointCoordinates) -> Result<Vec<Spring>, ModelError> {
+fn springs(
+    robot: &urdf_rs::Robot,
+    ext: &Extensions,
+    joints: &JointCoordinates,
+) -> Result<Vec<Spring>, ModelError> {
     let mut springs = Vec::with_capacity(ext.springs.len());
     for raw in &ext.springs {
         let coordinate = joints.of("force_element", &raw.name, &raw.joint)?;
+        let prismatic = robot.joints[joints.joint_of[raw.joint.as_str()]].joint_type
+            == urdf_rs::JointType::Prismatic;
+        if prismatic != (raw.kind == SpringKind::Prismatic) {
+            let (spring, joint) = if prismatic {
+                ("torsional", "prismatic")
+            } else {
+                ("prismatic", "revolute")
+            };
+            return Err(bad(
+                "force_element",
+                &raw.name,
+                format!(
+                    "a {spring} spring on the {joint} joint '{}'; use <{}_spring> there",
+                    raw.joint,
+                    if prismatic { "prismatic" } else { "torsional" }
+                ),
+            ));
+        }
+        if !raw.rest.is_finite() {
+            return Err(bad(
+                "force_element",
+                &raw.name,
+                format!("rest value {} must be a finite number", raw.rest),
+            ));
+        }
         if !(raw.stiffness.is_finite() && raw.stiffness >= 0.0) {
             return Err(bad(
                 "force_element",
@@ -491,6 +522,23 @@ fn loop_closures(ext: &Extensions, link_names: &[String]) -> Result<Vec<LoopClos
                 )
             })
         };
+        if raw.link1 == raw.link2 {
+            return Err(bad(
+                "loop_joint",
+                &raw.name,
+                format!(
+                    "joins link '{}' to itself, which closes no loop; name two links",
+                    raw.link1
+                ),
+            ));
+        }
+        if !(raw.xyz1.iter().chain(&raw.xyz2).chain(&raw.rpy2)).all(|v| v.is_finite()) {
+            return Err(bad(
+                "loop_joint",
+                &raw.name,
+                "its link frames' xyz and rpy must hold finite numbers".to_string(),
+            ));
+        }
         let axis = normalized(raw.axis).ok_or(ModelError::BadAxis {
             joint: raw.name.clone(),
             axis: raw.axis,
@@ -523,6 +571,23 @@ fn actuators(
         if *reduction != 1.0 {
             warnings.push(format!(
                 "transmission '{name}': mechanicalReduction {reduction} ignored (vito uses 1)"
+            ));
+        }
+        let j = joints.joint_of[joint.as_str()];
+        let has_limit = ext.limit_presence.get(joint).is_some_and(|p| p.0);
+        let effort = if has_limit {
+            robot.joints[j].limit.effort
+        } else {
+            f64::INFINITY
+        };
+        if effort.is_nan() || effort < 0.0 {
+            return Err(bad(
+                "joint",
+                joint,
+                format!(
+                    "<limit effort=\"{effort}\"> on an actuated joint must be ≥ 0 (leave it \
+                     out, or write inf, for no limit)"
+                ),
             ));
         }
         transmission_of.entry(coordinate).or_insert(t);

@@ -20,7 +20,9 @@
 mod build;
 mod extensions;
 mod inertia;
+mod limits;
 mod repair;
+mod values;
 
 use roxmltree::Document;
 
@@ -28,14 +30,17 @@ use super::{BaseType, Model, ModelError};
 
 /// Parses, repairs, checks and converts a URDF document.
 pub(crate) fn load(xml: &str, origin: &str, base: BaseType) -> Result<Model, ModelError> {
+    limits::check_nesting(xml, origin)?;
     let mut warnings = Vec::new();
     let repaired = repair::repair(xml, origin, &mut warnings)?;
     let doc = Document::parse(&repaired).map_err(|e| xml_error(origin, e))?;
+    limits::check_counts(&doc, origin)?;
     let extensions = extensions::read_extensions(&doc, &mut warnings)?;
     let robot = urdf_rs::read_from_string(&repaired).map_err(|e| ModelError::Urdf {
         origin: origin.to_string(),
         message: e.to_string(),
     })?;
+    values::check_values(&robot, &extensions)?;
     build::build(&robot, &extensions, base, warnings)
 }
 

@@ -1,6 +1,7 @@
 //! `[[bounds]]` and whether every knot of every coordinate keeps a non-empty box.
 
 use super::context::Context;
+use super::values::bound;
 use crate::problem::schema::{KnotsName, ProblemFile};
 use crate::problem::{CoordinateBound, Interval, KnotSet, ProblemError, RobotInfo};
 
@@ -40,6 +41,13 @@ pub(super) fn check_bounds(
                 }
             },
             Some(KnotsName::List(list)) => {
+                if list.is_empty() {
+                    return Err(ctx.invalid(
+                        &format!("{field}.knots"),
+                        "lists no knot, so the bound would apply nowhere: list 0-based knots, \
+                         or use \"all\", \"interior\", \"first\" or \"last\"",
+                    ));
+                }
                 let mut out = Vec::new();
                 for &k in list {
                     if k < 0 || k as usize >= knots {
@@ -53,14 +61,25 @@ pub(super) fn check_bounds(
                 KnotSet::List(out)
             }
         };
-        let lower = b.lower.unwrap_or(f64::NEG_INFINITY);
-        let upper = b.upper.unwrap_or(f64::INFINITY);
-        if lower.is_nan() || upper.is_nan() || lower > upper {
-            return Err(ctx.invalid(&field, format!("empty bound [{lower}, {upper}]")));
-        }
         if b.lower.is_none() && b.upper.is_none() {
             return Err(ctx.invalid(&field, "give `lower`, `upper` or both"));
         }
+        let end_field = if b.lower.is_some_and(|l| l.is_nan() || l == f64::INFINITY) {
+            format!("{field}.lower")
+        } else if b
+            .upper
+            .is_some_and(|u| u.is_nan() || u == f64::NEG_INFINITY)
+        {
+            format!("{field}.upper")
+        } else {
+            field.clone()
+        };
+        let Interval { lower, upper } = bound(
+            ctx,
+            &end_field,
+            b.lower.unwrap_or(f64::NEG_INFINITY),
+            b.upper.unwrap_or(f64::INFINITY),
+        )?;
         bounds.push(CoordinateBound {
             coordinate,
             knots: knots_set,

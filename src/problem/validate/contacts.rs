@@ -1,7 +1,7 @@
 //! `[contacts]`: the URDF's contact points and explicit ones, friction, the slip-speed bound.
 
 use super::context::Context;
-use super::values::{finite, nonnegative, positive};
+use super::values::{finite, nonnegative, plain_name, positive};
 use crate::problem::schema::{ContactSelection, ContactsSection, ProblemFile};
 use crate::problem::{ContactSpec, ProblemError, RobotInfo};
 
@@ -56,6 +56,7 @@ pub(super) fn check_contacts(
         for (j, v) in p.point.iter().enumerate() {
             finite(ctx, &format!("{}[{j}]", f("point")), *v)?;
         }
+        plain_name(ctx, &f("name"), &p.name)?;
         contacts.push(ContactSpec {
             name: p.name.clone(),
             link: p.link.clone(),

@@ -15,6 +15,9 @@ pub(crate) struct Context {
     pub(crate) text: String,
     /// The TOML paths that `--set` overrides.
     pub(crate) overridden: Vec<String>,
+    /// The robot's URDF text when it comes from memory rather than from `robot.urdf`'s file
+    /// (the fuzzer's [`crate::problem::load_from_str`]).
+    pub(crate) urdf_text: Option<String>,
 }
 
 impl Context {

@@ -1,7 +1,7 @@
 //! `[initial]` and `[final]`: q_1, v_0, the goal pose and the q_N box.
 
 use super::context::Context;
-use super::values::resolve;
+use super::values::{nonnegative, resolve};
 use crate::problem::schema::{ProblemFile, VelocitySpec};
 use crate::problem::{Interval, ProblemError, RobotInfo};
 
@@ -38,10 +38,7 @@ pub(super) fn check_endpoints(
         Some(q) => resolve(ctx, "final.q", "coordinate", coords, q, Some(&q_initial))?,
         None => q_initial.clone(),
     };
-    let tolerance = raw.final_.tolerance.unwrap_or(0.0);
-    if !(tolerance.is_finite() && tolerance >= 0.0) {
-        return Err(ctx.invalid("final.tolerance", format!("must be ≥ 0, got {tolerance}")));
-    }
+    let tolerance = nonnegative(ctx, "final.tolerance", raw.final_.tolerance.unwrap_or(0.0))?;
     let q_final_free = raw.final_.free.unwrap_or(false) || raw.final_.q.is_none();
     if q_final_free && raw.final_.tolerance.is_some() {
         return Err(ctx.invalid(

@@ -4,7 +4,7 @@ use std::path::Path;
 
 use super::context::Context;
 use super::endpoints::Endpoints;
-use super::values::resolve;
+use super::values::{MAX_MAGNITUDE, resolve};
 use crate::problem::schema::{GuessTarget, ProblemFile};
 use crate::problem::{InitialGuess, ProblemError, RobotInfo, WarmStart};
 
@@ -57,9 +57,28 @@ fn read_warm_start(
         path: path.to_owned(),
         message,
     };
-    let text = std::fs::read_to_string(path).map_err(|e| err(format!("cannot read it: {e}")))?;
+    let text = crate::input::read_regular_text(path, crate::input::MAX_TEXT_BYTES)
+        .map_err(|e| err(format!("cannot read it: {e}")))?;
     let recorded = crate::trajectory_csv::read_trajectory(&text, &robot.coordinates, &robot.inputs)
         .map_err(err)?;
+    fn named<'a>(names: &'a [String], values: &'a [f64]) -> impl Iterator<Item = (&'a str, f64)> {
+        names.iter().map(String::as_str).zip(values.iter().copied())
+    }
+    let rows = recorded.q.iter().zip(&recorded.times).enumerate();
+    for (k, (q, t)) in rows {
+        let u = recorded.u.get(k).map_or(&[][..], Vec::as_slice);
+        let bad = std::iter::once(("time", *t))
+            .chain(named(&robot.coordinates, q))
+            .chain(named(&robot.inputs, u))
+            .find(|(_, v)| !(v.is_finite() && v.abs() <= MAX_MAGNITUDE));
+        if let Some((column, v)) = bad {
+            return Err(err(format!(
+                "data row {} has {column} = {v}; every cell must be a finite number of \
+                 magnitude at most {MAX_MAGNITUDE:e}",
+                k + 1
+            )));
+        }
+    }
     Ok(WarmStart {
         source: path.to_owned(),
         times: recorded.times,

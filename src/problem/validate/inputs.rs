@@ -1,6 +1,7 @@
 //! `[inputs]`: effort limits and explicit bounds per input.
 
 use super::context::Context;
+use super::values::bound;
 use crate::problem::schema::ProblemFile;
 use crate::problem::{Interval, ProblemError, RobotInfo};
 
@@ -27,13 +28,7 @@ pub(super) fn check_inputs(
         let j = robot
             .input_index(input)
             .ok_or_else(|| ctx.unknown_name(&field, "input", input, &robot.inputs))?;
-        if lower.is_nan() || upper.is_nan() || lower > upper {
-            return Err(ctx.invalid(&field, format!("empty bound [{lower}, {upper}]")));
-        }
-        input_bounds[j] = Interval {
-            lower: *lower,
-            upper: *upper,
-        };
+        input_bounds[j] = bound(ctx, &field, *lower, *upper)?;
     }
     Ok(input_bounds)
 }

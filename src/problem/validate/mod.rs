@@ -13,12 +13,13 @@ mod initial_guess;
 mod inputs;
 mod periodic;
 mod robot;
+mod size;
 mod slack;
 mod solver;
 mod terrain;
 mod values;
 
-use std::path::PathBuf;
+use std::path::Path;
 
 pub(crate) use context::Context;
 pub(crate) use values::{nonnegative, resolve};
@@ -29,12 +30,14 @@ use crate::problem::{LoadedProblem, ProblemError, ProblemSpec, RobotSpec};
 /// Checks a parsed problem file, section by section, into a [`LoadedProblem`] (whose hash
 /// and overrides the caller fills in).
 pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, ProblemError> {
-    let name = raw.name.clone().unwrap_or_else(|| {
-        ctx.file
+    let name = match &raw.name {
+        Some(name) => values::file_name_component(ctx, "name", name)?.to_owned(),
+        None => ctx
+            .file
             .file_stem()
             .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_else(|| "problem".into())
-    });
+            .unwrap_or_else(|| "problem".into()),
+    };
     let robot::CheckedRobot {
         units,
         base,
@@ -45,7 +48,9 @@ pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, Pr
     } = robot::check_robot(ctx, &raw)?;
     let contacts = contacts::check_contacts(ctx, &raw.contacts, &robot)?;
     let terrain = terrain::check_terrain(ctx, &raw)?;
-    let (knots, time_steps) = horizon::check_horizon(ctx, &raw)?;
+    let knots = horizon::check_knots(ctx, &raw)?;
+    size::check_nlp_fits(ctx, &robot, contacts.len(), knots)?;
+    let time_steps = horizon::check_time_steps(ctx, &raw, knots)?;
     let endpoints = endpoints::check_endpoints(ctx, &raw, &robot)?;
     let bounds = bounds::check_bounds(ctx, &raw, &robot, knots)?;
     let joint_limits = raw.robot.joint_limits.unwrap_or(true);
@@ -113,7 +118,12 @@ pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, Pr
         file: ctx.file.clone(),
         sha256: String::new(),
         parameters: Vec::new(),
-        output_dir: raw.output.dir.map(PathBuf::from),
+        // Relative to the problem file, like every path in it (`--out` is relative to the
+        // working directory).
+        output_dir: raw
+            .output
+            .dir
+            .map(|d| ctx.file.parent().unwrap_or(Path::new("")).join(d)),
         units,
         description: raw.description,
         goal,

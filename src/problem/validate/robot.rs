@@ -28,17 +28,20 @@ pub(super) fn check_robot(ctx: &Context, raw: &ProblemFile) -> Result<CheckedRob
     };
     let dir = ctx.file.parent().unwrap_or(Path::new(""));
     let urdf = dir.join(&raw.robot.urdf);
-    if !urdf.is_file() {
-        return Err(ctx.invalid(
-            "robot.urdf",
-            format!(
-                "URDF file {} does not exist (paths are relative to the problem file)",
-                urdf.display()
-            ),
-        ));
-    }
     let actuation = check_actuation(ctx, raw.inputs.actuated.as_ref())?;
-    let robot = RobotInfo::read(&urdf, base, &actuation).map_err(|source| match source {
+    let robot = match &ctx.urdf_text {
+        Some(text) => RobotInfo::from_text(&urdf, text, base, &actuation),
+        None => RobotInfo::read(&urdf, base, &actuation),
+    };
+    let robot = robot.map_err(|source| match source {
+        RobotError::Io { source, .. } if source.kind() == std::io::ErrorKind::NotFound => ctx
+            .invalid(
+                "robot.urdf",
+                format!(
+                    "URDF file {} does not exist (paths are relative to the problem file)",
+                    urdf.display()
+                ),
+            ),
         RobotError::NotActuatable { joint, actuatable } => {
             ctx.unknown_name("inputs.actuated", "movable joint", &joint, &actuatable)
         }

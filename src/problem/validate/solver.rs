@@ -1,6 +1,7 @@
 //! `[solver]`: integrator, Hessian mode and the Ipopt options.
 
 use super::context::Context;
+use crate::ipopt;
 use crate::problem::schema::ProblemFile;
 use crate::problem::{HessianMode, Integrator, OptionValue, ProblemError};
 
@@ -45,12 +46,9 @@ pub(super) fn check_solver(
                 ));
             }
         };
-        if key == "linear_solver" && matches!(&v, OptionValue::Str(s) if s != "mumps") {
-            return Err(ctx.invalid(
-                &field,
-                "only `mumps` is available in Debian's Ipopt (HSL solvers make it exit or fail)",
-            ));
-        }
+        let as_ipopt = ipopt::OptionValue::from(&v);
+        ipopt::check_problem_option(key, &as_ipopt)
+            .map_err(|e| ctx.invalid(&field, e.to_string()))?;
         solver_options.push((key.clone(), v));
     }
     Ok(CheckedSolver {

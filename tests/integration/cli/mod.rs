@@ -3,7 +3,8 @@
 pub mod util;
 
 mod check;
-mod errors;
+pub mod errors;
+mod hostile;
 mod init;
 mod inputs;
 mod output_dirs;

@@ -1,0 +1,116 @@
+//! How deep and how large a URDF vito reads, checked before any parser sees the text: the
+//! parsers recurse per nesting level (100,000 levels overflowed the stack), and the model's
+//! memory and loading time grow with the links.
+
+use roxmltree::Document;
+
+use crate::model::ModelError;
+
+/// Deepest element nesting read (a URDF needs about 6: robot, link, collision, geometry...).
+pub(super) const MAX_DEPTH: usize = 64;
+
+/// Most links, and most joints, read.
+pub(super) const MAX_LINKS: usize = 10_000;
+
+/// The byte offset just past the first `end` at or after `from` (the text's end if none).
+fn skip_past(bytes: &[u8], from: usize, end: &[u8]) -> usize {
+    bytes[from.min(bytes.len())..]
+        .windows(end.len())
+        .position(|w| w == end)
+        .map_or(bytes.len(), |p| from + p + end.len())
+}
+
+/// Refuses text whose elements nest deeper than [`MAX_DEPTH`], naming the line, by a scan
+/// that keeps no stack (comments, CDATA, declarations and quoted attributes are skipped).
+pub(super) fn check_nesting(xml: &str, origin: &str) -> Result<(), ModelError> {
+    let bytes = xml.as_bytes();
+    let mut depth = 0usize;
+    let mut i = 0;
+    while let Some(p) = bytes[i..].iter().position(|&b| b == b'<') {
+        let start = i + p;
+        let rest = &bytes[start..];
+        i = if rest.starts_with(b"<!--") {
+            skip_past(bytes, start + 4, b"-->")
+        } else if rest.starts_with(b"<![CDATA[") {
+            skip_past(bytes, start + 9, b"]]>")
+        } else if rest.starts_with(b"<?") {
+            skip_past(bytes, start + 2, b"?>")
+        } else if rest.starts_with(b"<!") || rest.starts_with(b"</") {
+            if rest.starts_with(b"</") {
+                depth = depth.saturating_sub(1);
+            }
+            skip_past(bytes, start + 2, b">")
+        } else {
+            // An opening tag: find its `>` outside quoted attribute values.
+            let mut j = start + 1;
+            let mut quote = None;
+            while j < bytes.len() {
+                match (quote, bytes[j]) {
+                    (None, b'"' | b'\'') => quote = Some(bytes[j]),
+                    (Some(q), b) if b == q => quote = None,
+                    (None, b'>') => break,
+                    _ => {}
+                }
+                j += 1;
+            }
+            if j > start + 1 && bytes.get(j - 1) != Some(&b'/') {
+                depth += 1;
+                if depth > MAX_DEPTH {
+                    let line = bytes[..start].iter().filter(|&&b| b == b'\n').count() + 1;
+                    return Err(ModelError::TooLarge {
+                        origin: origin.to_owned(),
+                        what: format!("elements nest more than {MAX_DEPTH} deep at line {line}"),
+                        limit: format!("{MAX_DEPTH} levels deep"),
+                        fix: "a URDF's elements sit a few levels below <robot>; close the open elements",
+                    });
+                }
+            }
+            j + 1
+        };
+        if i >= bytes.len() {
+            break;
+        }
+    }
+    Ok(())
+}
+
+/// Refuses a document with more than [`MAX_LINKS`] links or joints.
+pub(super) fn check_counts(doc: &Document, origin: &str) -> Result<(), ModelError> {
+    for kind in ["link", "joint"] {
+        let count = doc
+            .root_element()
+            .children()
+            .filter(|n| n.has_tag_name(kind))
+            .count();
+        if count > MAX_LINKS {
+            return Err(ModelError::TooLarge {
+                origin: origin.to_owned(),
+                what: format!("it has {count} <{kind}> elements"),
+                limit: format!("{MAX_LINKS} links and {MAX_LINKS} joints"),
+                fix: "merge rigidly connected links, or split the model",
+            });
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn nesting_is_measured_without_recursion() {
+        let ok = "<?xml version=\"1.0\"?><!-- <a><a><a> --><robot name=\"a>b\"><link name=\"x\"/>\
+                  <link name=\"y\"><![CDATA[<a><a>]]></link></robot>";
+        assert!(check_nesting(ok, "t").is_ok());
+        let deep = format!(
+            "<robot>\n{}{}</robot>",
+            "<a>".repeat(100_000),
+            "</a>".repeat(100_000)
+        );
+        let err = check_nesting(&deep, "t.urdf").unwrap_err().to_string();
+        assert!(err.contains("t.urdf") && err.contains("line 2"), "{err}");
+        let flat = format!("<robot>{}</robot>", "<a></a>".repeat(100_000));
+        assert!(check_nesting(&flat, "t").is_ok());
+    }
+}

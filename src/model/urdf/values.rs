@@ -1,0 +1,86 @@
+//! The numbers and references of a parsed URDF that vito cannot use, refused by element and
+//! name before the model is built: non-finite origins (joints, collisions, inertials), NaN
+//! or crossed joint limits, negative damping, two transmissions on one joint.
+
+use super::extensions::{Extensions, bad};
+use crate::model::ModelError;
+
+/// Whether every entry is a finite number.
+fn finite(values: &[f64]) -> bool {
+    values.iter().all(|v| v.is_finite())
+}
+
+/// `<origin>` of `element` `name` must have finite `xyz` and `rpy`.
+fn origin(element: &'static str, name: &str, pose: &urdf_rs::Pose) -> Result<(), ModelError> {
+    if finite(&pose.xyz[..]) && finite(&pose.rpy[..]) {
+        return Ok(());
+    }
+    Err(bad(
+        element,
+        name,
+        format!(
+            "<origin xyz=\"{:?}\" rpy=\"{:?}\"> must hold finite numbers",
+            *pose.xyz, *pose.rpy
+        ),
+    ))
+}
+
+pub(super) fn check_values(robot: &urdf_rs::Robot, ext: &Extensions) -> Result<(), ModelError> {
+    for link in &robot.links {
+        origin("link", &link.name, &link.inertial.origin)?;
+        for collision in &link.collision {
+            origin("link", &link.name, &collision.origin)?;
+        }
+    }
+    for joint in &robot.joints {
+        origin("joint", &joint.name, &joint.origin)?;
+        let (_, has_lower, has_upper) = ext
+            .limit_presence
+            .get(&joint.name)
+            .copied()
+            .unwrap_or_default();
+        let (lower, upper) = (joint.limit.lower, joint.limit.upper);
+        if (has_lower && lower.is_nan()) || (has_upper && upper.is_nan()) {
+            return Err(bad(
+                "joint",
+                &joint.name,
+                format!(
+                    "<limit lower=\"{lower}\" upper=\"{upper}\">: a limit is not a number; give numbers or leave the attribute out"
+                ),
+            ));
+        }
+        if has_lower && has_upper && lower > upper {
+            return Err(bad(
+                "joint",
+                &joint.name,
+                format!(
+                    "<limit lower=\"{lower}\" upper=\"{upper}\">: lower exceeds upper; swap them"
+                ),
+            ));
+        }
+        if let Some(d) = &joint.dynamics
+            && !(d.damping.is_finite() && d.damping >= 0.0)
+        {
+            return Err(bad(
+                "joint",
+                &joint.name,
+                format!(
+                    "<dynamics damping=\"{}\"> must be a finite number ≥ 0",
+                    d.damping
+                ),
+            ));
+        }
+    }
+    for (i, (name, joint, _)) in ext.transmissions.iter().enumerate() {
+        if let Some((first, _, _)) = ext.transmissions[..i].iter().find(|t| &t.1 == joint) {
+            return Err(bad(
+                "transmission",
+                name,
+                format!(
+                    "acts on joint '{joint}' like transmission '{first}'; give each joint one transmission"
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
