@@ -68,6 +68,7 @@ pub fn load(path: &Path, overrides: &[Override]) -> Result<LoadedProblem, Proble
         message: "the file is not UTF-8 text".into(),
     })?;
     // Overrides of declared parameters may name them bare (`--set stride_hz=10`).
+    let given = overrides;
     let overrides = family_overrides(path, &text, overrides)?;
     let ctx = Context {
         file: path.to_owned(),
@@ -84,6 +85,7 @@ pub fn load(path: &Path, overrides: &[Override]) -> Result<LoadedProblem, Proble
     } else {
         for o in &overrides {
             o.apply(&mut table)?;
+            remove_alternative(&mut table, &o.path);
         }
         let family_error = |e: family::FamilyError| ctx.invalid(&e.field, e.message);
         let parameters = family::take_parameters(&mut table).map_err(family_error)?;
@@ -96,11 +98,33 @@ pub fn load(path: &Path, overrides: &[Override]) -> Result<LoadedProblem, Proble
     };
     let mut loaded = check(&ctx, raw)?;
     loaded.sha256 = sha256;
-    loaded.parameters = overrides
+    loaded.parameters = given
         .iter()
         .map(|o| (o.path.clone(), o.value.to_string()))
         .collect();
     Ok(loaded)
+}
+
+/// Keys of which a file gives one or the other: overriding one removes the other from the
+/// file's table, so `--set initial_guess.warm_start=prev.csv` works on a file with `to`.
+const ALTERNATIVES: [(&str, &str, &str); 2] = [
+    ("initial_guess", "warm_start", "to"),
+    ("horizon", "time_step", "total_time"),
+];
+
+fn remove_alternative(table: &mut toml::Table, path: &str) {
+    for (section, a, b) in ALTERNATIVES {
+        let other = if path == format!("{section}.{a}") {
+            b
+        } else if path == format!("{section}.{b}") {
+            a
+        } else {
+            continue;
+        };
+        if let Some(t) = table.get_mut(section).and_then(|s| s.as_table_mut()) {
+            t.remove(other);
+        }
+    }
 }
 
 /// The overrides with bare names of declared parameters spelled `parameters.<name>`; a
@@ -359,7 +383,8 @@ mod tests {
         assert_eq!(p.spec.contacts[0].friction, 0.3);
         assert_eq!(p.spec.knots, 41);
         assert_eq!(p.spec.time_steps, TimeSteps::Fixed(1.0 / 40.0));
-        assert_eq!(p.parameters[0], ("parameters.mu".into(), "0.3".into()));
+        assert_eq!(p.parameters[0], ("mu".into(), "0.3".into()));
+        assert_eq!(p.parameters[1], ("parameters.hops".into(), "2".into()));
 
         // An undeclared parameter, a non-number and a division by zero name what and where.
         let err = load(&file, &[Override::parse("parameters.muu=1").unwrap()])

@@ -14,7 +14,7 @@ pub use csv::*;
 pub use golden::*;
 pub use modes::*;
 pub use outdir::*;
-pub use plot::{contact_modes_svg, coordinates_svg, inputs_svg};
+pub use plot::{contact_modes_svg, coordinates_svg, inputs_svg, line_plot};
 pub use summary::*;
 
 use std::path::{Path, PathBuf};

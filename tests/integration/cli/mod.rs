@@ -8,3 +8,4 @@ mod init;
 mod output_dirs;
 mod regression;
 mod solve;
+pub mod sweep;
