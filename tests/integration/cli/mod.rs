@@ -9,3 +9,4 @@ mod output_dirs;
 mod regression;
 mod solve;
 pub mod sweep;
+mod sweep_slurm;
