@@ -80,6 +80,13 @@ pub enum Command {
         /// No live progress lines.
         #[arg(long, short)]
         quiet: bool,
+        /// Solve from K starts (the file's guess, then K−1 seeded perturbations of it) and
+        /// keep the best feasible; summary.json lists all under `starts`.
+        #[arg(long, value_name = "K", default_value_t = 1)]
+        starts: usize,
+        /// Seed of the multi-start perturbations.
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
     },
     /// Check a problem file without solving and print its size.
     #[command(after_help = EXIT_CODES)]
@@ -276,7 +283,15 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
             set,
             out,
             quiet,
-        } => solve(&file, &set, out.as_deref(), quiet),
+            starts,
+            seed,
+        } => {
+            if starts == 0 {
+                return Err(CliError::Input("--starts 0: give at least 1".into()));
+            }
+            let multi_start = vito::transcription::MultiStart { starts, seed };
+            solve(&file, &set, out.as_deref(), quiet, multi_start)
+        }
         Command::Check { file, set } => check(&file, &set),
         Command::Init { urdf, base, out } => init(&urdf, base.into(), out.as_deref()),
         Command::Inspect { urdf, base, json } => inspect(&urdf, base.into(), json),
@@ -391,7 +406,13 @@ pub fn progress_line(
     format!("{iteration:>5}  {objective:>14.7e}  {inf_pr:>9.2e}  {inf_du:>9.2e}  {max_slack:>9.2e}")
 }
 
-fn solve(file: &Path, set: &[String], out: Option<&Path>, quiet: bool) -> Result<u8, CliError> {
+fn solve(
+    file: &Path,
+    set: &[String],
+    out: Option<&Path>,
+    quiet: bool,
+    multi_start: vito::transcription::MultiStart,
+) -> Result<u8, CliError> {
     vito::sweep::die_with_sweep();
     let overrides = parse_overrides(set)?;
     let problem = load(file, &overrides)?;
@@ -419,7 +440,7 @@ fn solve(file: &Path, set: &[String], out: Option<&Path>, quiet: bool) -> Result
         );
         eprintln!(" iter       objective     inf_pr     inf_du  max_slack");
     }
-    let solution = run_solver(&problem, cancel.clone(), quiet)?;
+    let solution = run_solver(&problem, cancel.clone(), quiet, multi_start)?;
     let written = report::write_outputs(&target, &problem, &solution)?;
     print_summary(&problem, &solution, &written);
     Ok(if is_solved(solution.status) { 0 } else { 1 })
@@ -430,6 +451,7 @@ fn run_solver(
     problem: &LoadedProblem,
     cancel: Arc<AtomicBool>,
     quiet: bool,
+    multi_start: vito::transcription::MultiStart,
 ) -> Result<Solution, CliError> {
     let progress = move |p: &vito::transcription::Progress| {
         if !quiet {
@@ -443,6 +465,7 @@ fn run_solver(
         progress: Some(Box::new(progress)),
         cancel: Some(cancel),
         ipopt_options: Vec::new(),
+        multi_start: Some(multi_start),
     };
     pipeline::solve(&problem.spec, &options).map_err(CliError::Transcription)
 }
@@ -470,6 +493,16 @@ fn print_summary(problem: &LoadedProblem, s: &Solution, dir: &Path) {
         );
     } else {
         out!("max slack    {:.3e}", s.max_slack);
+    }
+    for (k, r) in s.starts.iter().enumerate() {
+        out!(
+            "  start {k:<3} {:<28} objective {:.10e}  max slack {:.3e}  {} iterations{}",
+            status_name(r.status),
+            r.objective,
+            r.max_slack,
+            r.iterations,
+            if k == s.best_start { "  (best)" } else { "" }
+        );
     }
     out!("max compl.   {:.3e}", s.max_complementarity);
     out!("max viol.    {:.3e}", s.max_constraint_violation);

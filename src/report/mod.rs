@@ -168,6 +168,8 @@ mod tests {
             max_constraint_violation: 1e-10,
             slack_weight: 100.0,
             solves: 1,
+            starts: Vec::new(),
+            best_start: 0,
         }
     }
 

@@ -5,7 +5,7 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant, SystemTime};
 
-use crate::cli::util::{Run, TestDir, hopper_text};
+use crate::cli::util::{TestDir, hopper_text, says};
 
 /// The hopper as a family over its number of knots `n` (T = 1 s whatever n): n = 1 divides
 /// by zero (the run fails with an input error), n = 2000 takes far longer than a few seconds.
@@ -35,18 +35,6 @@ fn statuses(dir: &Path) -> Vec<String> {
         .iter()
         .map(|r| r["status"].as_str().unwrap().to_owned())
         .collect()
-}
-
-/// Runs `vito ARGS` in `t`, checks the exit code and that stdout or stderr says `text`.
-fn says(t: &TestDir, args: &[&str], code: i32, text: &str) -> Run {
-    let run = t.vito().args(args).assert_exit(code);
-    assert!(
-        run.stdout.contains(text) || run.stderr.contains(text),
-        "{args:?} should say {text:?}\n--- stdout\n{}\n--- stderr\n{}",
-        run.stdout,
-        run.stderr
-    );
-    run
 }
 
 fn modified(path: &Path) -> SystemTime {
