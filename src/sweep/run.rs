@@ -89,10 +89,6 @@ pub fn prepare_dir(dir: &Path) -> Result<(), SweepError> {
         }
         Err(_) => std::fs::create_dir_all(dir).map_err(io)?,
     }
-    for sub in [RUNS, LOGS] {
-        let path = dir.join(sub);
-        std::fs::create_dir_all(&path).map_err(|source| SweepError::Io { path, source })?;
-    }
     let marker = dir.join(SWEEP_MARKER);
     if !marker.is_file() {
         std::fs::write(
@@ -123,6 +119,10 @@ pub fn run_sweep(
 ) -> Result<(Table, Progress), SweepError> {
     let out = &options.out;
     prepare_dir(out)?;
+    for sub in [RUNS, LOGS] {
+        let path = out.join(sub);
+        std::fs::create_dir_all(&path).map_err(|source| SweepError::Io { path, source })?;
+    }
     let points: Vec<Point> = options
         .grid
         .points()

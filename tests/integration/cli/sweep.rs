@@ -162,6 +162,12 @@ fn sweep_shards_collect_into_one_table_and_report_plots_it() {
         "4 points from 2 directories: 4 finished",
     );
     let all = t.path().join("all");
+    let mut entries: Vec<String> = std::fs::read_dir(&all)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .collect();
+    entries.sort();
+    assert_eq!(entries, [".vito-sweep", "sweep.csv", "sweep.json"]);
     let rows = table(&all)["rows"].as_array().unwrap().clone();
     let points: Vec<(String, String)> = rows
         .iter()
