@@ -271,6 +271,11 @@ fn spawn(options: &SweepOptions, point: &Point, warm: Option<&Point>) -> Result<
         let value = toml::Value::String(csv.display().to_string());
         cmd.arg("--set").arg(format!("{WARM_START_KEY}={value}"));
     }
+    // Parallelism comes from the runs (processes); BLAS threads would only compete with
+    // them, and one thread gives the same numbers on every run.
+    if std::env::var_os("OPENBLAS_NUM_THREADS").is_none() {
+        cmd.env("OPENBLAS_NUM_THREADS", "1");
+    }
     cmd.arg("--out")
         .arg(out.join(RUNS).join(&name))
         .env(PARENT_ENV, std::process::id().to_string())
