@@ -3,6 +3,7 @@
 #   make test       install missing Debian packages, run the test suite (optimised build)
 #   make test-slow  the slow tests (#[ignore]d by default)
 #   make lint       rustfmt and clippy, as CI checks them
+#   make test-slurm a sweep through `sbatch --array` on a private single-node Slurm (root, apt)
 #   make bench      the timing harnesses in benches/ (print figures)
 #   make fuzz       1,000,000 mutated problem files and URDFs through loading (FUZZ_COUNT, FUZZ_SEED)
 #   make test-debian13  `make demo` and `make test` in a fresh Debian 13 chroot (Ipopt 3.14; root)
@@ -15,7 +16,7 @@ OUT ?= out/hopper_2d
 # solve lock already gives one solve per process); parallel work uses processes.
 export OPENBLAS_NUM_THREADS ?= 1
 
-.PHONY: deps build demo test test-slow lint bench fuzz test-debian13
+.PHONY: deps build demo test test-slow test-slurm lint bench fuzz test-debian13
 
 deps:
 	bash vendor-config/install-deps.sh
@@ -31,7 +32,12 @@ test: deps
 	$(CARGO) test --release
 
 test-slow: deps
-	$(CARGO) test --release -- --ignored
+	$(CARGO) test --release -- --ignored --skip cli::sweep_slurm
+
+# Installs Slurm if missing (root, apt), starts it under /tmp/vito-slurm-ci, stops it after;
+# skips with a message where it cannot be installed. See tools/slurm-ci.sh.
+test-slurm: deps
+	$(CARGO) test --release --test integration cli::sweep_slurm -- --ignored --nocapture
 
 lint:
 	$(CARGO) fmt --check

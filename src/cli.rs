@@ -97,6 +97,13 @@ pub enum Command {
         /// directory (with a slack continuation, the last solve's).
         #[arg(long)]
         ipopt_log: bool,
+        /// Solve from K starts (the file's guess, then K−1 seeded perturbations of it) and
+        /// keep the best feasible; summary.json lists all under `starts`.
+        #[arg(long, value_name = "K", default_value_t = 1)]
+        starts: usize,
+        /// Seed of the multi-start perturbations.
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
     },
     /// Check a problem file without solving and print its size.
     #[command(after_help = EXIT_CODES)]
@@ -148,6 +155,18 @@ pub enum Command {
         #[arg(long = "set", value_name = "KEY.PATH=VALUE")]
         set: Vec<String>,
     },
+    /// Solve a problem over a grid of values, each run in its own process; resumable.
+    #[command(
+        after_help = "Examples:\n  vito sweep problems/hopper_2d.toml --grid contacts.friction=0.3,0.8 --grid slack.weight=10,100 --out out/sweep\n  vito sweep report out/sweep --metric objective\n  vito sweep collect out/shard-0 out/shard-1 --out out/all\n\nExit codes: 0 every run finished and solved, 1 some run failed, timed out or did not solve, 2 input or usage error, 3 internal error",
+        args_conflicts_with_subcommands = true,
+        subcommand_negates_reqs = true
+    )]
+    Sweep {
+        #[command(subcommand)]
+        action: Option<SweepAction>,
+        #[command(flatten)]
+        run: SweepRunArgs,
+    },
     /// Solve every problem of the regression record and compare objectives; `--bless` rewrites it.
     #[command(after_help = EXIT_CODES)]
     Regress {
@@ -159,6 +178,66 @@ pub enum Command {
         record: PathBuf,
         /// Problems to check or add (relative to the working directory); default: the record's.
         files: Vec<PathBuf>,
+    },
+}
+
+/// `vito sweep FILE --grid ...`.
+#[derive(Debug, clap::Args)]
+pub struct SweepRunArgs {
+    /// Problem file (TOML).
+    #[arg(required = true)]
+    file: Option<PathBuf>,
+    /// A swept key and its values: any `--set` key or family parameter (repeatable; the
+    /// grid is the product, the last --grid varying fastest).
+    #[arg(long, value_name = "KEY=V1,V2,...", required = true)]
+    grid: Vec<String>,
+    /// Overrides for every run, as for `solve` (repeatable).
+    #[arg(long = "set", value_name = "KEY.PATH=VALUE")]
+    set: Vec<String>,
+    /// Runs at a time (default: the number of cores).
+    #[arg(long)]
+    jobs: Option<usize>,
+    /// Sweep directory: the table and each run's own directory (default: out/sweep-<file stem>).
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Per-run wall-time limit in seconds; a run still going then is killed (status timeout).
+    #[arg(long, value_name = "S")]
+    time_limit: Option<f64>,
+    /// Run a deterministic part of the grid: the points whose index is I mod N
+    /// (Slurm: --shard $SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT).
+    #[arg(long, value_name = "I/N")]
+    shard: Option<String>,
+    /// `neighbour`: start each run from the trajectory of its nearest finished grid point.
+    #[arg(long, value_enum, default_value = "none")]
+    warm_start: WarmStartArg,
+}
+
+/// `--warm-start` of a sweep.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum WarmStartArg {
+    None,
+    Neighbour,
+}
+
+/// `vito sweep report` and `vito sweep collect`.
+#[derive(Debug, Subcommand)]
+pub enum SweepAction {
+    /// Print a sweep's table and write an SVG of one metric over the grid.
+    Report {
+        /// The sweep directory (holding sweep.json).
+        dir: PathBuf,
+        /// The column to plot: objective, iterations, wall_time_s, max_slack or a metric.
+        #[arg(long, default_value = "objective")]
+        metric: String,
+    },
+    /// Merge the tables of sweep shards into one table (sweep.json, sweep.csv) in --out.
+    Collect {
+        /// The shards' sweep directories.
+        #[arg(required = true)]
+        dirs: Vec<PathBuf>,
+        /// Directory for the merged table.
+        #[arg(long)]
+        out: PathBuf,
     },
 }
 
@@ -177,6 +256,8 @@ pub enum CliError {
     Internal(String),
     #[error("cannot write to standard output: {0}")]
     Output(String),
+    #[error(transparent)]
+    Sweep(#[from] vito::sweep::SweepError),
     #[error(transparent)]
     Transcription(#[from] vito::transcription::TranscriptionError),
 }
@@ -200,6 +281,12 @@ impl CliError {
                 | report::OutputDirError::Protected { .. }
                 | report::OutputDirError::Invalid { .. },
             )) => 2,
+            CliError::Sweep(e) => match e {
+                vito::sweep::SweepError::Usage(_)
+                | vito::sweep::SweepError::NotOurs { .. }
+                | vito::sweep::SweepError::Table { .. } => 2,
+                _ => 3,
+            },
             CliError::Report(_) | CliError::Internal(_) => 3,
         }
     }
@@ -231,7 +318,15 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
             out,
             quiet,
             ipopt_log,
-        } => solve(&file, &set, out.as_deref(), quiet, ipopt_log),
+            starts,
+            seed,
+        } => {
+            if starts == 0 {
+                return Err(CliError::Input("--starts 0: give at least 1".into()));
+            }
+            let multi_start = vito::transcription::MultiStart { starts, seed };
+            solve(&file, &set, out.as_deref(), quiet, ipopt_log, multi_start)
+        }
         Command::Check {
             file,
             set,
@@ -253,6 +348,11 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
             record,
             files,
         } => regress(&record, &files, bless),
+        Command::Sweep { action, run } => match action {
+            Some(SweepAction::Report { dir, metric }) => sweep_report(&dir, &metric),
+            Some(SweepAction::Collect { dirs, out }) => sweep_collect(&dirs, &out),
+            None => sweep(run),
+        },
     }
 }
 
@@ -447,7 +547,9 @@ fn solve(
     out: Option<&Path>,
     quiet: bool,
     ipopt_log: bool,
+    multi_start: vito::transcription::MultiStart,
 ) -> Result<u8, CliError> {
+    vito::sweep::die_with_sweep();
     let overrides = parse_overrides(set)?;
     let problem = load(file, &overrides)?;
     print_model_warnings(&problem.robot);
@@ -490,7 +592,7 @@ fn solve(
         );
         eprintln!(" iter       objective     inf_pr     inf_du  max_slack");
     }
-    let solution = run_solver(&problem, cancel.clone(), quiet, ipopt_options)?;
+    let solution = run_solver(&problem, cancel.clone(), quiet, ipopt_options, multi_start)?;
     let written = report::write_outputs(staged, &problem, &solution)?;
     print_summary(&problem, &solution, &written)?;
     Ok(if is_solved(solution.status) { 0 } else { 1 })
@@ -502,6 +604,7 @@ fn run_solver(
     cancel: Arc<AtomicBool>,
     quiet: bool,
     ipopt_options: Vec<(String, OptionValue)>,
+    multi_start: vito::transcription::MultiStart,
 ) -> Result<Solution, CliError> {
     let progress = move |p: &vito::transcription::Progress| {
         if !quiet {
@@ -515,6 +618,7 @@ fn run_solver(
         progress: Some(Box::new(progress)),
         cancel: Some(cancel),
         ipopt_options,
+        multi_start: Some(multi_start),
     };
     pipeline::solve(&problem.spec, &options).map_err(CliError::Transcription)
 }
@@ -542,6 +646,16 @@ fn print_summary(problem: &LoadedProblem, s: &Solution, dir: &Path) -> Result<()
         );
     } else {
         out!("max slack    {:.3e}", s.max_slack);
+    }
+    for (k, r) in s.starts.iter().enumerate() {
+        out!(
+            "  start {k:<3} {:<28} objective {:.10e}  max slack {:.3e}  {} iterations{}",
+            status_name(r.status),
+            r.objective,
+            r.max_slack,
+            r.iterations,
+            if k == s.best_start { "  (best)" } else { "" }
+        );
     }
     out!("max compl.   {:.3e}", s.max_complementarity);
     out!("max viol.    {:.3e}", s.max_constraint_violation);
@@ -705,4 +819,198 @@ fn regress(record_path: &Path, files: &[PathBuf], bless: bool) -> Result<u8, Cli
     } else {
         1
     })
+}
+
+fn sweep(args: SweepRunArgs) -> Result<u8, CliError> {
+    use vito::sweep::{Axis, Grid, Shard, SweepOptions, WarmStart};
+    let file = args
+        .file
+        .ok_or_else(|| CliError::Input("give a problem file".into()))?;
+    let grid = Grid::new(
+        args.grid
+            .iter()
+            .map(|g| Axis::parse(g))
+            .collect::<Result<_, _>>()?,
+    )?;
+    let shard = args
+        .shard
+        .as_deref()
+        .map(Shard::parse)
+        .transpose()?
+        .unwrap_or(Shard::ALL);
+    let time_limit = match args.time_limit {
+        Some(t) if !(t.is_finite() && t > 0.0) => {
+            return Err(CliError::Input(format!(
+                "--time-limit {t}: give a positive number of seconds"
+            )));
+        }
+        t => t.map(std::time::Duration::from_secs_f64),
+    };
+    if args.jobs == Some(0) {
+        return Err(CliError::Input("--jobs 0: give at least 1".into()));
+    }
+    // Every point is checked before any run: a typo in a key or value fails here, once.
+    let overrides = parse_overrides(&args.set)?;
+    let problem = load(&file, &overrides)?;
+    for point in grid.points() {
+        let mut all = overrides.clone();
+        all.extend(parse_overrides(&point.set_args())?);
+        if let Err(e) = load(&file, &all) {
+            // Values the checks reject are results of the sweep (a failed run), but keys
+            // that do not exist are usage errors.
+            if matches!(
+                e,
+                ProblemError::UnknownKey { .. } | ProblemError::Override { .. }
+            ) {
+                return Err(e.into());
+            }
+        }
+    }
+    let out = args.out.unwrap_or_else(|| {
+        let stem = file
+            .file_stem()
+            .map_or("problem".into(), |s| s.to_string_lossy());
+        PathBuf::from(format!("out/sweep-{stem}"))
+    });
+    let options = SweepOptions {
+        exe: std::env::current_exe().map_err(|e| CliError::Internal(e.to_string()))?,
+        problem: std::path::absolute(&file).map_err(|e| CliError::Internal(e.to_string()))?,
+        sets: args.set.clone(),
+        grid,
+        shard,
+        jobs: args.jobs.unwrap_or_else(|| {
+            std::thread::available_parallelism().map_or(1, std::num::NonZero::get)
+        }),
+        time_limit,
+        out: out.clone(),
+        warm_start: match args.warm_start {
+            WarmStartArg::None => WarmStart::None,
+            WarmStartArg::Neighbour => WarmStart::Neighbour,
+        },
+    };
+    let bar = indicatif::ProgressBar::new(0);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{bar:30} {pos}/{len} runs  {msg}  elapsed {elapsed}, ETA {eta}",
+        )
+        .map_err(|e| CliError::Internal(e.to_string()))?,
+    );
+    let started = std::time::Instant::now();
+    let (table, counts) = vito::sweep::run_sweep(&options, &problem.sha256, |p| {
+        bar.set_length(p.total as u64);
+        bar.set_position((p.done + p.failed) as u64);
+        bar.set_message(format!(
+            "done {}, failed {}, running {}{}",
+            p.done,
+            p.failed,
+            p.running,
+            if p.skipped > 0 {
+                format!(" ({} finished before)", p.skipped)
+            } else {
+                String::new()
+            }
+        ));
+    })?;
+    bar.finish_and_clear();
+    print_sweep_table(&table)?;
+    let solved = table.rows.iter().all(|r| {
+        r.solver_status
+            .as_deref()
+            .is_some_and(|s| s == "solve_succeeded" || s == "solved_to_acceptable_level")
+    });
+    out!(
+        "{} runs: {} finished ({} of them before this sweep), {} failed, {} timed out, in {:.1} s; table in {}",
+        table.rows.len(),
+        table.count(vito::sweep::RunStatus::Finished),
+        counts.skipped,
+        table.count(vito::sweep::RunStatus::Failed),
+        table.count(vito::sweep::RunStatus::Timeout),
+        started.elapsed().as_secs_f64(),
+        out.join(vito::sweep::TABLE_CSV).display()
+    );
+    Ok(if solved { 0 } else { 1 })
+}
+
+/// Prints a sweep table with aligned columns (the CSV's columns).
+fn print_sweep_table(table: &vito::sweep::Table) -> Result<(), CliError> {
+    let columns = table.columns();
+    let cells = table.cells();
+    let widths: Vec<usize> = columns
+        .iter()
+        .enumerate()
+        .map(|(j, c)| {
+            cells
+                .iter()
+                .map(|r| r[j].chars().count())
+                .chain([c.chars().count()])
+                .max()
+                .unwrap_or(0)
+        })
+        .collect();
+    let line = |row: &[String]| {
+        row.iter()
+            .zip(&widths)
+            .map(|(c, w)| format!("{c:<w$}"))
+            .collect::<Vec<_>>()
+            .join("  ")
+            .trim_end()
+            .to_owned()
+    };
+    out!("{}", line(&columns));
+    for r in &cells {
+        out!("{}", line(r));
+    }
+    Ok(())
+}
+
+fn sweep_report(dir: &Path, metric: &str) -> Result<u8, CliError> {
+    let table = vito::sweep::Table::read(dir)?;
+    print_sweep_table(&table)?;
+    let known = ["objective", "iterations", "wall_time_s", "max_slack"];
+    let metrics = table.metric_names();
+    let bare = metric.strip_prefix("metrics.").unwrap_or(metric);
+    if !known.contains(&metric) && !metrics.iter().any(|m| m == bare) {
+        return Err(CliError::Input(format!(
+            "--metric {metric}: not a column of {}; choose one of: {}",
+            dir.join(vito::sweep::TABLE_JSON).display(),
+            known
+                .iter()
+                .map(|s| s.to_string())
+                .chain(metrics)
+                .collect::<Vec<_>>()
+                .join(", ")
+        )));
+    }
+    let file_name: String = bare
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    let path = dir.join(format!("sweep-{file_name}.svg"));
+    let plotted = vito::sweep::metric_svg(&table, metric, &path)?;
+    out!("{metric} of {plotted} runs plotted in {}", path.display());
+    Ok(0)
+}
+
+fn sweep_collect(dirs: &[PathBuf], out: &Path) -> Result<u8, CliError> {
+    vito::sweep::prepare_dir(out)?;
+    let table = vito::sweep::collect(dirs, out)?;
+    table.write(out)?;
+    print_sweep_table(&table)?;
+    out!(
+        "{} points from {} directories: {} finished, {} failed, {} timed out, {} missing; table in {}",
+        table.rows.len(),
+        dirs.len(),
+        table.count(vito::sweep::RunStatus::Finished),
+        table.count(vito::sweep::RunStatus::Failed),
+        table.count(vito::sweep::RunStatus::Timeout),
+        table.count(vito::sweep::RunStatus::Pending),
+        out.join(vito::sweep::TABLE_CSV).display()
+    );
+    Ok(0)
 }

@@ -47,6 +47,7 @@ pub mod problem;
 pub mod regress;
 pub mod report;
 pub mod scalar;
+pub mod sweep;
 pub mod testing;
 pub mod trajectory_csv;
 pub mod transcription;

@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 use sha2::{Digest, Sha256};
 
 use crate::input::{MAX_TEXT_BYTES, read_regular_file, read_regular_text};
+use crate::problem::family;
 
 use crate::problem::schema::ProblemFile;
 use crate::problem::validate::{Context, check};
@@ -90,20 +91,30 @@ fn check_text(
         .iter()
         .map(|b| format!("{b:02x}"))
         .collect();
+    // Overrides of declared parameters may name them bare (`--set stride_hz=10`).
+    let given = overrides;
+    let overrides = family_overrides(path, &text, overrides)?;
     let ctx = Context {
         file: path.to_owned(),
         text: text.clone(),
         overridden: overrides.iter().map(|o| o.path.clone()).collect(),
         urdf_text,
     };
-    let raw: ProblemFile = if overrides.is_empty() {
+    let mut table: toml::Table = toml::from_str(&text).map_err(|e| ctx.serde_error(&e, &text))?;
+    let raw: ProblemFile = if overrides.is_empty()
+        && !table.contains_key(family::PARAMETERS)
+        && !family::has_expressions(&table)
+    {
+        // The file as written: errors point at its own lines and spans.
         toml::from_str(&text).map_err(|e| ctx.serde_error(&e, &text))?
     } else {
-        let mut table: toml::Table =
-            toml::from_str(&text).map_err(|e| ctx.serde_error(&e, &text))?;
-        for o in overrides {
+        for o in &overrides {
             o.apply(&mut table)?;
+            remove_alternative(&mut table, &o.path);
         }
+        let family_error = |e: family::FamilyError| ctx.invalid(&e.field, e.message);
+        let parameters = family::take_parameters(&mut table).map_err(family_error)?;
+        family::evaluate_expressions(&mut table, &parameters).map_err(family_error)?;
         let rewritten = toml::to_string(&table).map_err(|e| ProblemError::Override {
             arg: String::new(),
             message: e.to_string(),
@@ -112,11 +123,83 @@ fn check_text(
     };
     let mut loaded = check(&ctx, raw)?;
     loaded.sha256 = sha256;
-    loaded.parameters = overrides
+    loaded.parameters = given
         .iter()
         .map(|o| (o.path.clone(), o.value.to_string()))
         .collect();
     Ok(loaded)
+}
+
+/// Keys of which a file gives one or the other: overriding one removes the other from the
+/// file's table, so `--set initial_guess.warm_start=prev.csv` works on a file with `to`.
+const ALTERNATIVES: [(&str, &str, &str); 2] = [
+    ("initial_guess", "warm_start", "to"),
+    ("horizon", "time_step", "total_time"),
+];
+
+fn remove_alternative(table: &mut toml::Table, path: &str) {
+    for (section, a, b) in ALTERNATIVES {
+        let other = if path == format!("{section}.{a}") {
+            b
+        } else if path == format!("{section}.{b}") {
+            a
+        } else {
+            continue;
+        };
+        if let Some(t) = table.get_mut(section).and_then(|s| s.as_table_mut()) {
+            t.remove(other);
+        }
+    }
+}
+
+/// The overrides with bare names of declared parameters spelled `parameters.<name>`; a
+/// `parameters.<name>` the file does not declare is an error (a typo would otherwise add a
+/// parameter nothing reads).
+fn family_overrides(
+    path: &Path,
+    text: &str,
+    overrides: &[Override],
+) -> Result<Vec<Override>, ProblemError> {
+    let declared: Vec<String> = toml::from_str::<toml::Table>(text)
+        .ok()
+        .and_then(|t| {
+            t.get(family::PARAMETERS)
+                .and_then(|p| p.as_table())
+                .cloned()
+        })
+        .map(|p| p.keys().cloned().collect())
+        .unwrap_or_default();
+    overrides
+        .iter()
+        .map(|o| {
+            let prefix = format!("{}.", family::PARAMETERS);
+            if declared.contains(&o.path) {
+                Ok(Override {
+                    path: format!("{prefix}{}", o.path),
+                    value: o.value.clone(),
+                })
+            } else if let Some(name) = o.path.strip_prefix(&prefix) {
+                if declared.iter().any(|d| d == name) {
+                    Ok(o.clone())
+                } else {
+                    Err(ProblemError::Override {
+                        arg: format!("{}={}", o.path, o.value),
+                        message: format!(
+                            "{} declares no parameter `{name}`{}",
+                            path.display(),
+                            if declared.is_empty() {
+                                String::new()
+                            } else {
+                                format!(" (it declares: {})", declared.join(", "))
+                            }
+                        ),
+                    })
+                }
+            } else {
+                Ok(o.clone())
+            }
+        })
+        .collect()
 }
 
 #[cfg(test)]
@@ -128,6 +211,22 @@ mod tests {
 
     fn problems_dir() -> PathBuf {
         Path::new(env!("CARGO_MANIFEST_DIR")).join("problems")
+    }
+
+    /// A temp directory holding `robots/hopper_2d.urdf`, for edited copies of the hopper.
+    fn dir_with_hopper_urdf() -> tempfile::TempDir {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::create_dir(dir.path().join("robots")).unwrap();
+        std::fs::copy(
+            problems_dir().join("robots/hopper_2d.urdf"),
+            dir.path().join("robots/hopper_2d.urdf"),
+        )
+        .unwrap();
+        dir
+    }
+
+    fn hopper_text() -> String {
+        std::fs::read_to_string(problems_dir().join("hopper_2d.toml")).unwrap()
     }
 
     #[test]
@@ -287,14 +386,56 @@ mod tests {
     }
 
     #[test]
+    fn family_parameters_derive_fields_and_are_overridden() {
+        let dir = dir_with_hopper_urdf();
+        let text = hopper_text()
+            .replace("friction = 0.8", "friction = \"= mu\"")
+            .replace("knots = 21", "knots = \"= 2 * hops * 10 + 1\"")
+            .replace("time_step = 0.05", "time_step = \"= 1 / (20 * hops)\"")
+            + "\n[parameters]\nmu = 0.8\nhops = 1\n";
+        let file = dir.path().join("p.toml");
+        std::fs::write(&file, text).unwrap();
+        let p = load(&file, &[]).unwrap();
+        assert_eq!(p.spec.contacts[0].friction, 0.8);
+        assert_eq!(p.spec.knots, 21);
+        assert_eq!(p.spec.time_steps, TimeSteps::Fixed(0.05));
+
+        let o = [
+            Override::parse("mu=0.3").unwrap(),
+            Override::parse("parameters.hops=2").unwrap(),
+        ];
+        let p = load(&file, &o).unwrap();
+        assert_eq!(p.spec.contacts[0].friction, 0.3);
+        assert_eq!(p.spec.knots, 41);
+        assert_eq!(p.spec.time_steps, TimeSteps::Fixed(1.0 / 40.0));
+        assert_eq!(p.parameters[0], ("mu".into(), "0.3".into()));
+        assert_eq!(p.parameters[1], ("parameters.hops".into(), "2".into()));
+
+        // An undeclared parameter, a non-number and a division by zero name what and where.
+        let err = load(&file, &[Override::parse("parameters.muu=1").unwrap()])
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("declares no parameter `muu`"), "{err}");
+        let err = load(&file, &[Override::parse("mu=slippery").unwrap()])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("field `parameters.mu` (set with --set)") && err.contains("a number"),
+            "{err}"
+        );
+        let err = load(&file, &[Override::parse("hops=0").unwrap()])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("p.toml:") && err.contains("field `horizon.time_step`"),
+            "{err}"
+        );
+        assert!(err.contains("inf"), "{err}");
+    }
+
+    #[test]
     fn warm_start_reads_a_trajectory_csv_by_name() {
-        let dir = tempfile::tempdir().unwrap();
-        std::fs::create_dir(dir.path().join("robots")).unwrap();
-        std::fs::copy(
-            problems_dir().join("robots/hopper_2d.urdf"),
-            dir.path().join("robots/hopper_2d.urdf"),
-        )
-        .unwrap();
+        let dir = dir_with_hopper_urdf();
         // Columns in another order than the model's, with units, and an empty last input cell.
         std::fs::write(
             dir.path().join("prev.csv"),
@@ -327,16 +468,8 @@ mod tests {
 
     #[test]
     fn other_units_need_explicit_gravity() {
-        let dir = tempfile::tempdir().unwrap();
-        std::fs::create_dir(dir.path().join("robots")).unwrap();
-        std::fs::copy(
-            problems_dir().join("robots/hopper_2d.urdf"),
-            dir.path().join("robots/hopper_2d.urdf"),
-        )
-        .unwrap();
-        let text = std::fs::read_to_string(problems_dir().join("hopper_2d.toml"))
-            .unwrap()
-            .replace("gravity = [0.0, 0.0, -9.81]", "units = \"mm g ms\"");
+        let dir = dir_with_hopper_urdf();
+        let text = hopper_text().replace("gravity = [0.0, 0.0, -9.81]", "units = \"mm g ms\"");
         std::fs::write(dir.path().join("p.toml"), text).unwrap();
         let err = load(&dir.path().join("p.toml"), &[])
             .unwrap_err()

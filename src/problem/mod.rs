@@ -5,6 +5,7 @@
 
 pub mod costs;
 mod error;
+pub mod family;
 mod load;
 mod overrides;
 mod robot;

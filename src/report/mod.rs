@@ -14,7 +14,7 @@ pub use csv::*;
 pub use golden::*;
 pub use modes::*;
 pub use outdir::*;
-pub use plot::{contact_modes_svg, coordinates_svg, inputs_svg};
+pub use plot::{contact_modes_svg, coordinates_svg, inputs_svg, line_plot};
 pub use summary::*;
 
 use std::path::{Path, PathBuf};
@@ -168,6 +168,8 @@ mod tests {
             max_constraint_violation: 1e-10,
             slack_weight: 100.0,
             solves: 1,
+            starts: Vec::new(),
+            best_start: 0,
         }
     }
 

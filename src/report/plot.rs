@@ -49,7 +49,7 @@ fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
 }
 
 /// Draws named series `(label, points)` as lines into an SVG file.
-fn line_plot(
+pub fn line_plot(
     path: &Path,
     title: &str,
     x_label: &str,

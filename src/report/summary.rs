@@ -47,7 +47,7 @@ pub fn summary_json(problem: &LoadedProblem, solution: &Solution) -> Value {
             final_q.insert(name.clone(), num(*v));
         }
     }
-    json!({
+    let mut summary = json!({
         "status": status_name(s.status),
         "objective": num(s.objective),
         "objective_terms": terms,
@@ -84,5 +84,26 @@ pub fn summary_json(problem: &LoadedProblem, solution: &Solution) -> Value {
             "flight_below_fraction_of_max_normal_impulse": FLIGHT_RELATIVE,
             "slide_at_fraction_of_friction_cone": SLIDE_CONE_FRACTION,
         },
-    })
+    });
+    if !s.starts.is_empty() {
+        // A multi-start solve: every start, and which one this summary describes.
+        let starts: Vec<Value> = s
+            .starts
+            .iter()
+            .map(|r| {
+                json!({
+                    "seed": r.seed,
+                    "status": status_name(r.status),
+                    "objective": num(r.objective),
+                    "max_slack": num(r.max_slack),
+                    "max_constraint_violation": num(r.max_constraint_violation),
+                    "iterations": r.iterations,
+                    "wall_time_s": num(r.wall_time_s),
+                })
+            })
+            .collect();
+        summary["starts"] = Value::Array(starts);
+        summary["best_start"] = json!(s.best_start);
+    }
+    summary
 }

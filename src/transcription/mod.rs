@@ -38,7 +38,8 @@ pub use pattern::{Pattern, PatternBuilder};
 pub use program::{InitialGuessReport, Transcription};
 pub use solution::{NlpSize, Solution};
 pub use solve::{
-    BenchRow, SolveOptions, bench, bench_with, evaluate_initial_guess, solve, solve_with,
+    BenchRow, MultiStart, PERTURBATION, SolveOptions, StartRecord, bench, bench_with,
+    evaluate_initial_guess, solve, solve_with,
 };
 
 #[allow(unused_imports)]

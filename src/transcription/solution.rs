@@ -63,4 +63,8 @@ pub struct Solution {
     /// Ipopt solves made (more than 1 with `[slack] target`); iterations and times are their
     /// sums.
     pub solves: usize,
+    /// Every start of a multi-start solve (empty for one start); this solution is the best.
+    pub starts: Vec<super::StartRecord>,
+    /// Which of `starts` this solution is.
+    pub best_start: usize,
 }

@@ -25,6 +25,42 @@ pub struct SolveOptions {
     pub cancel: Option<Arc<AtomicBool>>,
     /// Ipopt options applied after the problem's own (so they win).
     pub ipopt_options: Vec<(String, OptionValue)>,
+    /// Solve from several starts and keep the best (None: one start, the problem's guess).
+    pub multi_start: Option<MultiStart>,
+}
+
+/// Multi-start: start 0 is the problem's initial guess; start k ≥ 1 perturbs every knot's
+/// configuration of it by a seeded uniform amount within ±[`PERTURBATION`] of that
+/// coordinate's scale (its range over the guess, or its initial magnitude, at least 1 % of
+/// the largest such scale), clamped to the bounds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MultiStart {
+    /// Number of starts (≥ 1).
+    pub starts: usize,
+    /// Seed of the perturbations (start k uses `seed + k`).
+    pub seed: u64,
+}
+
+/// Relative size of a multi-start perturbation.
+pub const PERTURBATION: f64 = 0.1;
+
+/// One start of a multi-start solve, as `summary.json` lists it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StartRecord {
+    /// 0 for the problem's own guess, else the perturbation's seed.
+    pub seed: Option<u64>,
+    /// Ipopt's status.
+    pub status: ipopt::Status,
+    /// Objective at the end of the start.
+    pub objective: f64,
+    /// Largest slack.
+    pub max_slack: f64,
+    /// Largest constraint violation.
+    pub max_constraint_violation: f64,
+    /// Ipopt iterations.
+    pub iterations: usize,
+    /// Wall time [s].
+    pub wall_time_s: f64,
 }
 
 /// One row of `vito bench`: sizes, iterations and where the time went.
@@ -98,7 +134,107 @@ pub fn solve_with<M: MechanicsDerivatives>(
     options: &SolveOptions,
 ) -> Result<Solution, TranscriptionError> {
     let mut transcription = Transcription::new(mech, spec)?;
-    solve_transcription(&mut transcription, spec, options)
+    let Some(multi) = options.multi_start.filter(|m| m.starts > 1) else {
+        return solve_transcription(&mut transcription, spec, options);
+    };
+    let guess = transcription.initial_point().to_vec();
+    let cancelled = || {
+        options
+            .cancel
+            .as_ref()
+            .is_some_and(|c| c.load(std::sync::atomic::Ordering::Relaxed))
+    };
+    let mut records = Vec::new();
+    let mut best = solve_from(
+        &mut transcription,
+        spec,
+        options,
+        &guess,
+        None,
+        &mut records,
+    )?;
+    let mut best_index = 0;
+    for k in 1..multi.starts {
+        if cancelled() {
+            break;
+        }
+        let seed = multi.seed.wrapping_add(k as u64);
+        let start = perturbed(&transcription, &guess, seed);
+        let solution = solve_from(
+            &mut transcription,
+            spec,
+            options,
+            &start,
+            Some(seed),
+            &mut records,
+        )?;
+        if better(&solution, &best) {
+            best = solution;
+            best_index = k;
+        }
+    }
+    best.starts = records;
+    best.best_start = best_index;
+    Ok(best)
+}
+
+/// One start of a multi-start solve, recorded.
+fn solve_from<M: MechanicsDerivatives>(
+    transcription: &mut Transcription<M>,
+    spec: &ProblemSpec,
+    options: &SolveOptions,
+    start: &[f64],
+    seed: Option<u64>,
+    records: &mut Vec<StartRecord>,
+) -> Result<Solution, TranscriptionError> {
+    transcription.set_initial_point(start)?;
+    transcription.set_slack_weight(spec.slack_weight);
+    let solution = solve_transcription(transcription, spec, options)?;
+    records.push(StartRecord {
+        seed,
+        status: solution.status,
+        objective: solution.objective,
+        max_slack: solution.max_slack,
+        max_constraint_violation: solution.max_constraint_violation,
+        iterations: solution.iterations,
+        wall_time_s: solution.wall_time_s,
+    });
+    Ok(solution)
+}
+
+/// Feasible (a converged status) beats infeasible; then the lower objective; among
+/// infeasible ones, the smaller constraint violation.
+fn better(a: &Solution, b: &Solution) -> bool {
+    match (converged(a.status), converged(b.status)) {
+        (true, false) => true,
+        (false, true) => false,
+        (true, true) => a.objective < b.objective,
+        (false, false) => a.max_constraint_violation < b.max_constraint_violation,
+    }
+}
+
+/// The guess with every knot's configuration moved by a seeded uniform amount (see
+/// [`MultiStart`]); fixed and bounded variables are clamped by `set_initial_point`.
+fn perturbed<M: MechanicsDerivatives>(t: &Transcription<M>, guess: &[f64], seed: u64) -> Vec<f64> {
+    let l = t.layout();
+    let first = &guess[l.q(0)];
+    let n = first.len();
+    let mut scale: Vec<f64> = first.iter().map(|v| v.abs()).collect();
+    for k in 0..l.knots {
+        for (j, v) in guess[l.q(k)].iter().enumerate() {
+            scale[j] = scale[j].max((v - first[j]).abs());
+        }
+    }
+    let floor = 0.01 * scale.iter().fold(0.0_f64, |a, &b| a.max(b));
+    let mut rng = crate::testing::SeededRng::new(seed);
+    let mut x = guess.to_vec();
+    for k in 0..l.knots {
+        let range = l.q(k);
+        for j in 0..n {
+            x[range.start + j] += rng.symmetric(PERTURBATION * scale[j].max(floor));
+        }
+    }
+    x
 }
 
 /// Solve, then continue with a growing slack weight while `[slack] target` asks for it.
@@ -334,5 +470,7 @@ fn fill_solution<M: MechanicsDerivatives>(
         max_constraint_violation: t.violation(x).0,
         slack_weight: t.slack_weight(),
         solves: 1,
+        starts: Vec::new(),
+        best_start: 0,
     }
 }

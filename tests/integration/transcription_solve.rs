@@ -251,6 +251,7 @@ fn progress_is_reported_and_cancel_stops() {
         })),
         cancel: Some(cancel.clone()),
         ipopt_options: vec![("print_level".into(), OptionValue::Int(0))],
+        multi_start: None,
     };
     let s = solve_with(Hopper, &hopper_2d(), &options).unwrap();
     println!(

@@ -252,3 +252,35 @@ fn terrain_and_cost_entries_name_their_field() {
     let err = solve_fails("cost_unknown_key", &unknown);
     assert!(err.contains("unknown key `wieght`"), "{err}");
 }
+
+#[test]
+fn family_expression_errors_name_file_and_field() {
+    let family = hopper_text().replace("friction = 0.8", "friction = \"= mu / scale\"")
+        + "\n[parameters]\nmu = 0.8\nscale = 1\n";
+    let err = solve_fails(
+        "family_expression_errors_unknown",
+        &family.replace("= mu / scale", "= mu / sclae"),
+    );
+    assert!(
+        err.contains("bad.toml:15: field `contacts.friction`")
+            && err.contains("unknown parameter `sclae`, did you mean `scale`?"),
+        "{err}"
+    );
+    let t = TestDir::with_hopper("family_expression_errors_name_file_and_field");
+    t.write("p.toml", &family);
+    t.vito().args(["check", "p.toml"]).assert_exit(0);
+    let run = t
+        .vito()
+        .args(["check", "p.toml", "--set", "scale=0"])
+        .assert_exit(2);
+    assert!(
+        run.stderr.contains("field `contacts.friction`") && run.stderr.contains("inf"),
+        "{}",
+        run.stderr
+    );
+    let run = t
+        .vito()
+        .args(["check", "p.toml", "--set", "scale=1", "--set", "mu=0.25"])
+        .assert_exit(0);
+    assert!(run.stdout.contains("(mu 0.25)"), "{}", run.stdout);
+}

@@ -10,3 +10,5 @@ mod inputs;
 mod output_dirs;
 mod regression;
 mod solve;
+pub mod sweep;
+mod sweep_slurm;

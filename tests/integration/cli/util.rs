@@ -123,3 +123,15 @@ pub fn summary(dir: &Path) -> serde_json::Value {
     let text = std::fs::read_to_string(dir.join("summary.json")).expect("summary.json");
     serde_json::from_str(&text).expect("summary.json is JSON")
 }
+
+/// Runs `vito ARGS` in `t`, checks the exit code and that stdout or stderr says `text`.
+pub fn says(t: &TestDir, args: &[&str], code: i32, text: &str) -> Run {
+    let run = t.vito().args(args).assert_exit(code);
+    assert!(
+        run.stdout.contains(text) || run.stderr.contains(text),
+        "{args:?} should say {text:?}\n--- stdout\n{}\n--- stderr\n{}",
+        run.stdout,
+        run.stderr
+    );
+    run
+}

@@ -1,0 +1,427 @@
+//! Problem families: a `[parameters]` table of named numbers with defaults, and derived
+//! fields written as string expressions that start with `=`:
+//!
+//! ```toml
+//! [parameters]
+//! stride_hz = 10
+//!
+//! [horizon]
+//! total_time = ["= 0.9 / stride_hz", "= 1.1 / stride_hz"]
+//! ```
+//!
+//! An expression holds numbers, parameter names, `+ - * /`, unary minus and parentheses,
+//! nothing else; it is evaluated once, before the file is checked, and replaced by its
+//! number. `--set stride_hz=30` (or `--set parameters.stride_hz=30`) changes a parameter.
+
+#![warn(missing_docs)]
+
+use std::collections::BTreeMap;
+
+use crate::problem::source::nearest;
+
+/// The table of a problem file that declares its parameters.
+pub const PARAMETERS: &str = "parameters";
+
+/// Why a parameter or an expression cannot be used; `field` is the TOML path.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FamilyError {
+    /// TOML path of the parameter or of the field holding the expression.
+    pub field: String,
+    /// What is wrong and how to fix it.
+    pub message: String,
+}
+
+/// The declared parameters (name → value, defaults with `--set` applied).
+pub type Parameters = BTreeMap<String, f64>;
+
+/// Takes `[parameters]` out of `root` (so the schema never sees it) and checks it: each a
+/// finite number named like an identifier that is not also a top-level key of the file.
+pub fn take_parameters(root: &mut toml::Table) -> Result<Parameters, FamilyError> {
+    let Some(value) = root.remove(PARAMETERS) else {
+        return Ok(Parameters::new());
+    };
+    let table = value.as_table().ok_or_else(|| FamilyError {
+        field: PARAMETERS.into(),
+        message: "must be a table of numbers, e.g. `[parameters]` then `stride_hz = 10`".into(),
+    })?;
+    let mut parameters = Parameters::new();
+    for (name, value) in table {
+        let field = format!("{PARAMETERS}.{name}");
+        if !is_identifier(name) {
+            return Err(FamilyError {
+                field,
+                message: "a parameter name must be letters, digits and `_`, starting with a \
+                          letter or `_`"
+                    .into(),
+            });
+        }
+        if root.contains_key(name) {
+            return Err(FamilyError {
+                field,
+                message: format!(
+                    "`{name}` is also a top-level key of the file, so `--set {name}=…` would be \
+                     ambiguous: rename the parameter"
+                ),
+            });
+        }
+        let number = match value {
+            toml::Value::Integer(i) => *i as f64,
+            toml::Value::Float(x) => *x,
+            other => {
+                return Err(FamilyError {
+                    field,
+                    message: format!(
+                        "a parameter's default must be a number, not {}",
+                        other.type_str()
+                    ),
+                });
+            }
+        };
+        if !number.is_finite() {
+            return Err(FamilyError {
+                field,
+                message: format!("the default {number} is not a finite number"),
+            });
+        }
+        parameters.insert(name.clone(), number);
+    }
+    Ok(parameters)
+}
+
+/// Replaces every string value starting with `=` in `root` by the number its expression
+/// evaluates to (an integer when the result is a whole number that fits, else a float).
+pub fn evaluate_expressions(
+    root: &mut toml::Table,
+    parameters: &Parameters,
+) -> Result<(), FamilyError> {
+    for (key, value) in root.iter_mut() {
+        evaluate_value(value, key, parameters)?;
+    }
+    Ok(())
+}
+
+/// Whether any string in `value` is an expression.
+pub fn has_expressions(root: &toml::Table) -> bool {
+    fn any(value: &toml::Value) -> bool {
+        match value {
+            toml::Value::String(s) => expression_of(s).is_some(),
+            toml::Value::Array(a) => a.iter().any(any),
+            toml::Value::Table(t) => t.values().any(any),
+            _ => false,
+        }
+    }
+    root.values().any(any)
+}
+
+fn expression_of(s: &str) -> Option<&str> {
+    s.trim_start().strip_prefix('=')
+}
+
+fn evaluate_value(
+    value: &mut toml::Value,
+    field: &str,
+    parameters: &Parameters,
+) -> Result<(), FamilyError> {
+    match value {
+        toml::Value::String(s) => {
+            if let Some(expression) = expression_of(s) {
+                let x = evaluate(expression, parameters).map_err(|message| FamilyError {
+                    field: field.to_owned(),
+                    message: format!("expression `{s}`: {message}"),
+                })?;
+                *value = number_value(x);
+            }
+        }
+        toml::Value::Array(items) => {
+            for (i, item) in items.iter_mut().enumerate() {
+                evaluate_value(item, &format!("{field}[{i}]"), parameters)?;
+            }
+        }
+        toml::Value::Table(table) => {
+            for (key, item) in table.iter_mut() {
+                evaluate_value(item, &format!("{field}.{key}"), parameters)?;
+            }
+        }
+        _ => {}
+    }
+    Ok(())
+}
+
+/// Whole numbers become TOML integers (so `knots = "= 5 * cycles"` works), others floats.
+fn number_value(x: f64) -> toml::Value {
+    if x.fract() == 0.0 && x.abs() < 2f64.powi(53) {
+        toml::Value::Integer(x as i64)
+    } else {
+        toml::Value::Float(x)
+    }
+}
+
+fn is_identifier(s: &str) -> bool {
+    let mut chars = s.chars();
+    matches!(chars.next(), Some(c) if c.is_ascii_alphabetic() || c == '_')
+        && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
+}
+
+/// Evaluates an arithmetic expression over `parameters`; the error says what and where.
+pub fn evaluate(expression: &str, parameters: &Parameters) -> Result<f64, String> {
+    let tokens = tokenize(expression)?;
+    let mut parser = Parser {
+        tokens: &tokens,
+        at: 0,
+        parameters,
+    };
+    let x = parser.sum()?;
+    if let Some(t) = parser.tokens.get(parser.at) {
+        return Err(format!("unexpected `{}`", t.text()));
+    }
+    if !x.is_finite() {
+        return Err(format!(
+            "the result is {x} (division by zero?); the values were {}",
+            describe(parameters)
+        ));
+    }
+    Ok(x)
+}
+
+fn describe(parameters: &Parameters) -> String {
+    if parameters.is_empty() {
+        return "no parameters".into();
+    }
+    parameters
+        .iter()
+        .map(|(k, v)| format!("{k} = {v}"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+#[derive(Debug, Clone, PartialEq)]
+enum Token {
+    Number(f64),
+    Name(String),
+    Op(char),
+}
+
+impl Token {
+    fn text(&self) -> String {
+        match self {
+            Token::Number(x) => x.to_string(),
+            Token::Name(n) => n.clone(),
+            Token::Op(c) => c.to_string(),
+        }
+    }
+}
+
+fn tokenize(s: &str) -> Result<Vec<Token>, String> {
+    let chars: Vec<char> = s.chars().collect();
+    let mut tokens = Vec::new();
+    let mut i = 0;
+    while i < chars.len() {
+        let c = chars[i];
+        if c.is_whitespace() {
+            i += 1;
+        } else if "+-*/()".contains(c) {
+            tokens.push(Token::Op(c));
+            i += 1;
+        } else if c.is_ascii_digit() || c == '.' {
+            let start = i;
+            while i < chars.len() && (chars[i].is_ascii_digit() || chars[i] == '.') {
+                i += 1;
+            }
+            // An exponent: e or E, an optional sign, digits.
+            if i < chars.len() && (chars[i] == 'e' || chars[i] == 'E') {
+                let mut j = i + 1;
+                if j < chars.len() && (chars[j] == '+' || chars[j] == '-') {
+                    j += 1;
+                }
+                if j < chars.len() && chars[j].is_ascii_digit() {
+                    while j < chars.len() && chars[j].is_ascii_digit() {
+                        j += 1;
+                    }
+                    i = j;
+                }
+            }
+            let text: String = chars[start..i].iter().collect();
+            let x = text
+                .parse::<f64>()
+                .map_err(|_| format!("`{text}` is not a number"))?;
+            tokens.push(Token::Number(x));
+        } else if c.is_ascii_alphabetic() || c == '_' {
+            let start = i;
+            while i < chars.len() && (chars[i].is_ascii_alphanumeric() || chars[i] == '_') {
+                i += 1;
+            }
+            tokens.push(Token::Name(chars[start..i].iter().collect()));
+        } else {
+            return Err(format!(
+                "unexpected character `{c}`; an expression holds numbers, parameter names, \
+                 + - * / and parentheses"
+            ));
+        }
+    }
+    if tokens.is_empty() {
+        return Err("the expression after `=` is empty".into());
+    }
+    Ok(tokens)
+}
+
+/// Recursive descent: sum := product (('+'|'-') product)*, product := unary (('*'|'/')
+/// unary)*, unary := '-' unary | atom, atom := number | name | '(' sum ')'.
+struct Parser<'a> {
+    tokens: &'a [Token],
+    at: usize,
+    parameters: &'a Parameters,
+}
+
+impl Parser<'_> {
+    fn peek_op(&self) -> Option<char> {
+        match self.tokens.get(self.at) {
+            Some(Token::Op(c)) => Some(*c),
+            _ => None,
+        }
+    }
+
+    fn sum(&mut self) -> Result<f64, String> {
+        let mut x = self.product()?;
+        while let Some(op @ ('+' | '-')) = self.peek_op() {
+            self.at += 1;
+            let y = self.product()?;
+            x = if op == '+' { x + y } else { x - y };
+        }
+        Ok(x)
+    }
+
+    fn product(&mut self) -> Result<f64, String> {
+        let mut x = self.unary()?;
+        while let Some(op @ ('*' | '/')) = self.peek_op() {
+            self.at += 1;
+            let y = self.unary()?;
+            x = if op == '*' { x * y } else { x / y };
+        }
+        Ok(x)
+    }
+
+    fn unary(&mut self) -> Result<f64, String> {
+        match self.peek_op() {
+            Some('-') => {
+                self.at += 1;
+                Ok(-self.unary()?)
+            }
+            Some('+') => {
+                self.at += 1;
+                self.unary()
+            }
+            _ => self.atom(),
+        }
+    }
+
+    fn atom(&mut self) -> Result<f64, String> {
+        let token = self
+            .tokens
+            .get(self.at)
+            .ok_or("the expression ends early")?;
+        self.at += 1;
+        match token {
+            Token::Number(x) => Ok(*x),
+            Token::Name(name) => self.parameters.get(name).copied().ok_or_else(|| {
+                let hint = nearest(name, self.parameters.keys().map(String::as_str))
+                    .map(|s| format!(", did you mean `{s}`?"))
+                    .unwrap_or_default();
+                let declared = if self.parameters.is_empty() {
+                    "the file declares none (add a [parameters] table)".to_owned()
+                } else {
+                    format!(
+                        "declared: {}",
+                        self.parameters
+                            .keys()
+                            .cloned()
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    )
+                };
+                format!("unknown parameter `{name}`{hint}; {declared}")
+            }),
+            Token::Op('(') => {
+                let x = self.sum()?;
+                match self.tokens.get(self.at) {
+                    Some(Token::Op(')')) => {
+                        self.at += 1;
+                        Ok(x)
+                    }
+                    _ => Err("a `(` is not closed".into()),
+                }
+            }
+            Token::Op(c) => Err(format!("unexpected `{c}`")),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn params() -> Parameters {
+        [("stride_hz".to_owned(), 10.0), ("mu".to_owned(), 0.5)]
+            .into_iter()
+            .collect()
+    }
+
+    #[test]
+    fn expressions_follow_arithmetic_precedence() {
+        let p = params();
+        assert_eq!(evaluate("1/stride_hz * 0.9", &p).unwrap(), 1.0 / 10.0 * 0.9);
+        assert_eq!(evaluate("2 + 3 * 4", &p).unwrap(), 14.0);
+        assert_eq!(evaluate("(2 + 3) * 4", &p).unwrap(), 20.0);
+        assert_eq!(evaluate("-mu - -1", &p).unwrap(), 0.5);
+        assert_eq!(evaluate("8 / 4 / 2", &p).unwrap(), 1.0);
+        assert_eq!(evaluate("1e-3 * 2.5E2", &p).unwrap(), 0.25);
+    }
+
+    #[test]
+    fn bad_expressions_say_why() {
+        let p = params();
+        let e = evaluate("1/strid_hz", &p).unwrap_err();
+        assert!(e.contains("unknown parameter `strid_hz`"), "{e}");
+        assert!(e.contains("did you mean `stride_hz`"), "{e}");
+        let e = evaluate("1/(stride_hz - 10)", &p).unwrap_err();
+        assert!(e.contains("inf") && e.contains("stride_hz = 10"), "{e}");
+        assert!(evaluate("2 ^ 3", &p).unwrap_err().contains("character `^`"));
+        assert!(evaluate("(1 + 2", &p).unwrap_err().contains("not closed"));
+        assert!(evaluate("1 2", &p).unwrap_err().contains("unexpected `2`"));
+        assert!(evaluate("  ", &p).unwrap_err().contains("empty"));
+        assert!(evaluate("1 +", &p).unwrap_err().contains("ends early"));
+    }
+
+    #[test]
+    fn tables_are_rewritten_and_named_on_error() {
+        let mut root: toml::Table = toml::from_str(
+            "[parameters]\nhz = 4\n[horizon]\nknots = \"= 2 * hz + 1\"\n\
+             total_time = [\"= 0.9 / hz\", \"= 1.1/hz\"]\nname = \"plain\"\n",
+        )
+        .unwrap();
+        let p = take_parameters(&mut root).unwrap();
+        assert!(has_expressions(&root));
+        evaluate_expressions(&mut root, &p).unwrap();
+        let h = root["horizon"].as_table().unwrap();
+        assert_eq!(h["knots"], toml::Value::Integer(9));
+        assert_eq!(h["total_time"][0], toml::Value::Float(0.9 / 4.0));
+        assert_eq!(h["name"], toml::Value::String("plain".into()));
+        assert!(!root.contains_key(PARAMETERS));
+
+        let mut root: toml::Table =
+            toml::from_str("[horizon]\ntotal_time = [1, \"= 1/hz\"]\n").unwrap();
+        let e = evaluate_expressions(&mut root, &Parameters::new()).unwrap_err();
+        assert_eq!(e.field, "horizon.total_time[1]");
+        assert!(e.message.contains("declares none"), "{}", e.message);
+
+        for (text, fragment) in [
+            ("[parameters]\nhz = \"ten\"\n", "must be a number"),
+            ("[parameters]\nhz = nan\n", "not a finite number"),
+            ("slack = 1\n[parameters]\nslack = 1\n", "ambiguous"),
+            ("parameters = 3\n", "table of numbers"),
+        ] {
+            let mut root: toml::Table = toml::from_str(text).unwrap();
+            let e = take_parameters(&mut root).unwrap_err();
+            assert!(e.message.contains(fragment), "{text}: {}", e.message);
+        }
+    }
+}

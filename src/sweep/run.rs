@@ -1,0 +1,361 @@
+//! Running a sweep: one `vito solve` process per grid point, at most `jobs` at a time, each
+//! killed at the per-run time limit; the table is rewritten (atomically) after every run.
+
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+use crate::sweep::table::{
+    RUNS, Row, RunStatus, Table, WARM_START_KEY, expected_parameters, read_finished,
+};
+use crate::sweep::{Grid, Point, Shard, SweepError};
+
+/// The directory of the runs' logs (stdout and stderr of each `vito solve`).
+pub const LOGS: &str = "logs";
+/// Marks a directory as a sweep's (vito adds to it and rewrites its tables).
+pub const SWEEP_MARKER: &str = ".vito-sweep";
+/// Set in each run's environment to the sweep's process id: the run dies with the sweep.
+pub const PARENT_ENV: &str = "VITO_SWEEP_PARENT";
+
+/// Where a run starts from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum WarmStart {
+    /// The problem file's own initial guess.
+    None,
+    /// The trajectory of the nearest finished point of the grid, if any.
+    Neighbour,
+}
+
+/// What a sweep runs.
+#[derive(Debug, Clone)]
+pub struct SweepOptions {
+    /// The `vito` executable (`std::env::current_exe()`).
+    pub exe: PathBuf,
+    /// The problem file.
+    pub problem: PathBuf,
+    /// Fixed `--set` overrides for every run.
+    pub sets: Vec<String>,
+    /// The swept axes.
+    pub grid: Grid,
+    /// The part of the grid this process runs.
+    pub shard: Shard,
+    /// Runs at a time (≥ 1).
+    pub jobs: usize,
+    /// Per-run wall-time limit; a run still going then is killed.
+    pub time_limit: Option<Duration>,
+    /// The sweep directory.
+    pub out: PathBuf,
+    /// Warm starts across the grid.
+    pub warm_start: WarmStart,
+}
+
+/// Counts for a progress display.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Progress {
+    /// Runs of this shard that are finished (including earlier sweeps').
+    pub done: usize,
+    /// Runs that failed or timed out in this sweep.
+    pub failed: usize,
+    /// Runs going now.
+    pub running: usize,
+    /// Runs of this shard.
+    pub total: usize,
+    /// Finished before this sweep started (skipped).
+    pub skipped: usize,
+}
+
+/// Prepares `dir` as a sweep directory: creates it, or accepts it when empty or already a
+/// sweep's (it holds [`SWEEP_MARKER`]); anything else is refused, so vito never mixes its
+/// files into a directory it did not make.
+pub fn prepare_dir(dir: &Path) -> Result<(), SweepError> {
+    let io = |source| SweepError::Io {
+        path: dir.to_owned(),
+        source,
+    };
+    match std::fs::symlink_metadata(dir) {
+        Ok(m) if m.is_dir() => {
+            let marked = dir.join(SWEEP_MARKER).is_file();
+            let empty = std::fs::read_dir(dir).map_err(io)?.next().is_none();
+            if !marked && !empty {
+                return Err(SweepError::NotOurs {
+                    path: dir.to_owned(),
+                });
+            }
+        }
+        Ok(_) => {
+            return Err(SweepError::NotOurs {
+                path: dir.to_owned(),
+            });
+        }
+        Err(_) => std::fs::create_dir_all(dir).map_err(io)?,
+    }
+    let marker = dir.join(SWEEP_MARKER);
+    if !marker.is_file() {
+        std::fs::write(
+            &marker,
+            "This directory holds a vito sweep; vito adds runs to it and rewrites its tables.\n",
+        )
+        .map_err(|source| SweepError::Io {
+            path: marker,
+            source,
+        })?;
+    }
+    Ok(())
+}
+
+struct Running {
+    point: Point,
+    child: Child,
+    started: Instant,
+}
+
+/// Runs the shard's points that have no finished result yet and returns the table (also
+/// written to `out` after each run) with the final counts. `progress` is called whenever a
+/// count changes.
+pub fn run_sweep(
+    options: &SweepOptions,
+    sha256: &str,
+    mut progress: impl FnMut(&Progress),
+) -> Result<(Table, Progress), SweepError> {
+    let out = &options.out;
+    prepare_dir(out)?;
+    for sub in [RUNS, LOGS] {
+        let path = out.join(sub);
+        std::fs::create_dir_all(&path).map_err(|source| SweepError::Io { path, source })?;
+    }
+    let points: Vec<Point> = options
+        .grid
+        .points()
+        .filter(|p| options.shard.contains(p.index))
+        .collect();
+    let mut table = Table {
+        problem: options.problem.display().to_string(),
+        problem_sha256: sha256.to_owned(),
+        sets: options.sets.clone(),
+        grid: options.grid.clone(),
+        shard: options.shard,
+        rows: Vec::new(),
+    };
+    // The table is rebuilt from the run directories: what is on disk is what counts.
+    let mut queue = Vec::new();
+    for p in &points {
+        let name = p.run_name();
+        let mut row = Row::pending(p, format!("{RUNS}/{name}"));
+        let parameters = expected_parameters(&options.sets, p)?;
+        if !read_finished(&mut row, &out.join(RUNS).join(&name), sha256, &parameters) {
+            queue.push(p.clone());
+        }
+        table.rows.push(row);
+    }
+    table.write(out)?;
+    let mut counts = Progress {
+        done: points.len() - queue.len(),
+        total: points.len(),
+        skipped: points.len() - queue.len(),
+        ..Progress::default()
+    };
+    progress(&counts);
+    queue.reverse(); // pop() takes them in grid order
+    let mut running: Vec<Running> = Vec::new();
+    let jobs = options.jobs.max(1);
+    while !queue.is_empty() || !running.is_empty() {
+        while running.len() < jobs {
+            let Some(point) = queue.pop() else { break };
+            let warm = match options.warm_start {
+                WarmStart::None => None,
+                WarmStart::Neighbour => nearest_finished(&point, &points, &table_rows(&table)),
+            };
+            let row = table
+                .rows
+                .iter_mut()
+                .find(|r| r.index == point.index)
+                .ok_or_else(|| SweepError::Internal("a point without a row".into()))?;
+            row.note = warm
+                .as_ref()
+                .map(|n| format!("warm start from {}", n.run_name()))
+                .unwrap_or_default();
+            let child = spawn(options, &point, warm.as_ref())?;
+            running.push(Running {
+                point,
+                child,
+                started: Instant::now(),
+            });
+            counts.running = running.len();
+            progress(&counts);
+        }
+        std::thread::sleep(Duration::from_millis(20));
+        let mut i = 0;
+        while i < running.len() {
+            let r = &mut running[i];
+            let timed_out = options
+                .time_limit
+                .is_some_and(|limit| r.started.elapsed() > limit);
+            let exit = match r.child.try_wait() {
+                Ok(Some(status)) => Some((status.code(), false)),
+                Ok(None) if timed_out => {
+                    let _ = r.child.kill();
+                    let _ = r.child.wait();
+                    Some((None, true))
+                }
+                Ok(None) => None,
+                Err(e) => {
+                    let _ = r.child.kill();
+                    let _ = r.child.wait();
+                    return Err(SweepError::Internal(format!("waiting for a run: {e}")));
+                }
+            };
+            let Some((code, killed)) = exit else {
+                i += 1;
+                continue;
+            };
+            let r = running.swap_remove(i);
+            let finished = record(options, &mut table, &r.point, code, killed, sha256)?;
+            if finished {
+                counts.done += 1;
+            } else {
+                counts.failed += 1;
+            }
+            counts.running = running.len();
+            table.write(out)?;
+            progress(&counts);
+        }
+    }
+    Ok((table, counts))
+}
+
+fn table_rows(table: &Table) -> Vec<(usize, RunStatus)> {
+    table.rows.iter().map(|r| (r.index, r.status)).collect()
+}
+
+/// The finished point nearest to `point` in the grid (ties: the lower index).
+fn nearest_finished(
+    point: &Point,
+    points: &[Point],
+    status: &[(usize, RunStatus)],
+) -> Option<Point> {
+    points
+        .iter()
+        .filter(|p| {
+            p.index != point.index
+                && status
+                    .iter()
+                    .any(|(i, s)| *i == p.index && *s == RunStatus::Finished)
+        })
+        .min_by_key(|p| (p.distance(point), p.index))
+        .cloned()
+}
+
+fn spawn(options: &SweepOptions, point: &Point, warm: Option<&Point>) -> Result<Child, SweepError> {
+    let out = &options.out;
+    let name = point.run_name();
+    let log_path = out.join(LOGS).join(format!("{name}.log"));
+    let log = std::fs::File::create(&log_path).map_err(|source| SweepError::Io {
+        path: log_path.clone(),
+        source,
+    })?;
+    let log_err = log.try_clone().map_err(|source| SweepError::Io {
+        path: log_path.clone(),
+        source,
+    })?;
+    let mut cmd = Command::new(&options.exe);
+    cmd.arg("solve").arg(&options.problem).arg("--quiet");
+    for s in options.sets.iter().cloned().chain(point.set_args()) {
+        cmd.arg("--set").arg(s);
+    }
+    if let Some(n) = warm {
+        let csv = std::path::absolute(out.join(RUNS).join(n.run_name()).join("trajectory.csv"))
+            .map_err(|source| SweepError::Io {
+                path: out.to_owned(),
+                source,
+            })?;
+        let value = toml::Value::String(csv.display().to_string());
+        cmd.arg("--set").arg(format!("{WARM_START_KEY}={value}"));
+    }
+    // Parallelism comes from the runs (processes); BLAS threads would only compete with
+    // them, and one thread gives the same numbers on every run.
+    if std::env::var_os("OPENBLAS_NUM_THREADS").is_none() {
+        cmd.env("OPENBLAS_NUM_THREADS", "1");
+    }
+    cmd.arg("--out")
+        .arg(out.join(RUNS).join(&name))
+        .env(PARENT_ENV, std::process::id().to_string())
+        .stdin(Stdio::null())
+        .stdout(log)
+        .stderr(log_err);
+    cmd.spawn().map_err(|source| SweepError::Spawn {
+        exe: options.exe.clone(),
+        source,
+    })
+}
+
+/// Records a run that ended; returns whether it finished (complete summary on disk).
+fn record(
+    options: &SweepOptions,
+    table: &mut Table,
+    point: &Point,
+    code: Option<i32>,
+    killed: bool,
+    sha256: &str,
+) -> Result<bool, SweepError> {
+    let name = point.run_name();
+    let parameters = expected_parameters(&options.sets, point)?;
+    let row = table
+        .rows
+        .iter_mut()
+        .find(|r| r.index == point.index)
+        .ok_or_else(|| SweepError::Internal("a point without a row".into()))?;
+    let warm_note = std::mem::take(&mut row.note);
+    if !killed
+        && read_finished(
+            row,
+            &options.out.join(RUNS).join(&name),
+            sha256,
+            &parameters,
+        )
+    {
+        row.note = warm_note;
+        return Ok(true);
+    }
+    let log = std::fs::read_to_string(options.out.join(LOGS).join(format!("{name}.log")))
+        .unwrap_or_default();
+    let error = log
+        .lines()
+        .rev()
+        .find(|l| l.starts_with("error:"))
+        .map(str::to_owned);
+    row.status = if killed {
+        RunStatus::Timeout
+    } else {
+        RunStatus::Failed
+    };
+    row.note = if killed {
+        format!(
+            "killed after the time limit of {} s",
+            options.time_limit.map_or(0.0, |t| t.as_secs_f64())
+        )
+    } else {
+        let exit = code.map_or("killed by a signal".to_owned(), |c| format!("exit {c}"));
+        match error {
+            Some(e) => format!("{exit}: {e}"),
+            None => format!("{exit} without a complete summary.json (see {LOGS}/{name}.log)"),
+        }
+    };
+    Ok(false)
+}
+
+/// In a run started by a sweep: ask the kernel to kill this process when the sweep dies, so
+/// that killing a sweep leaves no solve running (a rerun then starts from what is on disk).
+pub fn die_with_sweep() {
+    let Some(parent) = std::env::var(PARENT_ENV)
+        .ok()
+        .and_then(|p| p.parse::<i32>().ok())
+    else {
+        return;
+    };
+    let _ = rustix::process::set_parent_process_death_signal(Some(rustix::process::Signal::KILL));
+    // The sweep may have died before the request above took effect.
+    let alive = rustix::process::getppid().is_some_and(|p| p.as_raw_nonzero().get() == parent);
+    if !alive {
+        std::process::exit(1);
+    }
+}

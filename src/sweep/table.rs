@@ -1,0 +1,401 @@
+//! The sweep's table of results (`sweep.json`, `sweep.csv`): one row per grid point, built
+//! from the run directories' `summary.json` files, so a killed sweep loses no finished run.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+use serde_json::Value;
+
+use crate::problem::Override;
+use crate::report::write_file_atomic;
+use crate::sweep::{Grid, Point, Shard, SweepError};
+
+/// The table's JSON file.
+pub const TABLE_JSON: &str = "sweep.json";
+/// The table's CSV file.
+pub const TABLE_CSV: &str = "sweep.csv";
+/// The override a warm-started run is given (ignored when matching summaries).
+pub const WARM_START_KEY: &str = "initial_guess.warm_start";
+/// Where the run directories live, under the sweep directory.
+pub const RUNS: &str = "runs";
+
+/// Where a run stands.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RunStatus {
+    /// Its complete `summary.json` is on disk (the solver's own status is a column).
+    Finished,
+    /// The process ended without a summary (an input error, a crash, exit 0 without one).
+    Failed,
+    /// Killed at the per-run time limit.
+    Timeout,
+    /// Not run yet (in this shard: not started; in a collected table: no shard has it).
+    Pending,
+}
+
+impl RunStatus {
+    /// The name in the tables.
+    pub fn name(self) -> &'static str {
+        match self {
+            RunStatus::Finished => "finished",
+            RunStatus::Failed => "failed",
+            RunStatus::Timeout => "timeout",
+            RunStatus::Pending => "pending",
+        }
+    }
+}
+
+/// One grid point's result.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Row {
+    /// Position in the grid's order.
+    pub index: usize,
+    /// `(key, value)` per axis.
+    pub values: Vec<(String, String)>,
+    /// Where the run stands.
+    pub status: RunStatus,
+    /// Ipopt's status from the summary (`solve_succeeded`, …).
+    pub solver_status: Option<String>,
+    /// Objective value.
+    pub objective: Option<f64>,
+    /// Ipopt iterations.
+    pub iterations: Option<u64>,
+    /// Wall time of the solve [s].
+    pub wall_time_s: Option<f64>,
+    /// Largest complementarity slack.
+    pub max_slack: Option<f64>,
+    /// The summary's `metrics` (numeric leaves, nested keys joined with `.`).
+    pub metrics: BTreeMap<String, f64>,
+    /// The run directory, relative to the table's directory.
+    pub dir: String,
+    /// Why it failed, or where its warm start came from.
+    pub note: String,
+}
+
+impl Row {
+    /// A row with no result yet.
+    pub fn pending(point: &Point, dir: String) -> Row {
+        Row {
+            index: point.index,
+            values: point.values.clone(),
+            status: RunStatus::Pending,
+            solver_status: None,
+            objective: None,
+            iterations: None,
+            wall_time_s: None,
+            max_slack: None,
+            metrics: BTreeMap::new(),
+            dir,
+            note: String::new(),
+        }
+    }
+
+    /// The value of a column by name: `objective`, `iterations`, `wall_time_s`, `max_slack`
+    /// or a metric (`metrics.x` or `x`).
+    pub fn metric(&self, name: &str) -> Option<f64> {
+        match name {
+            "objective" => self.objective,
+            "iterations" => self.iterations.map(|i| i as f64),
+            "wall_time_s" | "time" => self.wall_time_s,
+            "max_slack" => self.max_slack,
+            _ => self
+                .metrics
+                .get(name.strip_prefix("metrics.").unwrap_or(name))
+                .copied(),
+        }
+    }
+}
+
+/// The table of a sweep (or of several shards, collected).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Table {
+    /// The problem file, as given.
+    pub problem: String,
+    /// SHA-256 of the problem file (a run counts only if its summary has the same).
+    pub problem_sha256: String,
+    /// The fixed `--set` overrides given to every run.
+    pub sets: Vec<String>,
+    /// The swept axes.
+    pub grid: Grid,
+    /// The shard this table covers (`0/1` for the whole grid).
+    pub shard: Shard,
+    /// One row per point of the shard, in grid order.
+    pub rows: Vec<Row>,
+}
+
+/// The overrides a run's summary must list: the fixed ones, then the point's (as JSON, the
+/// way `summary.json` writes `parameters`).
+pub fn expected_parameters(
+    sets: &[String],
+    point: &Point,
+) -> Result<serde_json::Map<String, Value>, SweepError> {
+    let mut map = serde_json::Map::new();
+    for arg in sets.iter().cloned().chain(point.set_args()) {
+        let o = Override::parse(&arg).map_err(|e| SweepError::Usage(e.to_string()))?;
+        let value = serde_json::to_value(&o.value).unwrap_or(Value::Null);
+        map.insert(o.path, value);
+    }
+    Ok(map)
+}
+
+/// Solver statuses that mean the solve was stopped from outside, not finished: such a run
+/// is run again.
+const INTERRUPTED: &[&str] = &["user_requested_stop"];
+
+/// Fills `row` from `run_dir/summary.json` when that is complete, is of this problem
+/// (`sha256`) and lists exactly `parameters`; returns whether it did.
+pub fn read_finished(
+    row: &mut Row,
+    run_dir: &Path,
+    sha256: &str,
+    parameters: &serde_json::Map<String, Value>,
+) -> bool {
+    let Ok(text) = std::fs::read_to_string(run_dir.join("summary.json")) else {
+        return false;
+    };
+    let Ok(summary) = serde_json::from_str::<Value>(&text) else {
+        return false;
+    };
+    let same_problem = summary["problem_sha256"].as_str() == Some(sha256);
+    // How a run was started is not part of what it solved.
+    let mut listed = summary["parameters"]
+        .as_object()
+        .cloned()
+        .unwrap_or_default();
+    listed.remove(WARM_START_KEY);
+    let same_parameters = summary["parameters"].is_object() && &listed == parameters;
+    let status = summary["status"].as_str().map(str::to_owned);
+    let interrupted = status.as_deref().is_some_and(|s| INTERRUPTED.contains(&s));
+    if !same_problem || !same_parameters || status.is_none() || interrupted {
+        return false;
+    }
+    row.status = RunStatus::Finished;
+    row.solver_status = status;
+    row.objective = summary["objective"].as_f64();
+    row.iterations = summary["iterations"].as_u64();
+    row.wall_time_s = summary["wall_time_s"].as_f64();
+    row.max_slack = summary["max_slack"].as_f64();
+    row.metrics.clear();
+    flatten_numbers(&summary["metrics"], "", &mut row.metrics);
+    true
+}
+
+fn flatten_numbers(value: &Value, prefix: &str, out: &mut BTreeMap<String, f64>) {
+    match value {
+        Value::Number(n) => {
+            if let Some(x) = n.as_f64() {
+                out.insert(prefix.to_owned(), x);
+            }
+        }
+        Value::Object(map) => {
+            for (k, v) in map {
+                let key = if prefix.is_empty() {
+                    k.clone()
+                } else {
+                    format!("{prefix}.{k}")
+                };
+                flatten_numbers(v, &key, out);
+            }
+        }
+        _ => {}
+    }
+}
+
+impl Table {
+    /// The metric names that appear in any row.
+    pub fn metric_names(&self) -> Vec<String> {
+        let names: BTreeSet<&String> = self.rows.iter().flat_map(|r| r.metrics.keys()).collect();
+        names.into_iter().cloned().collect()
+    }
+
+    /// Counts of rows per status.
+    pub fn count(&self, status: RunStatus) -> usize {
+        self.rows.iter().filter(|r| r.status == status).count()
+    }
+
+    /// The column names of the CSV and of the printed table.
+    pub fn columns(&self) -> Vec<String> {
+        let mut c = vec!["index".to_owned()];
+        c.extend(self.grid.axes.iter().map(|a| a.key.clone()));
+        c.extend(
+            [
+                "status",
+                "solver_status",
+                "objective",
+                "iterations",
+                "wall_time_s",
+                "max_slack",
+            ]
+            .map(String::from),
+        );
+        c.extend(self.metric_names().iter().map(|m| format!("metrics.{m}")));
+        c.extend(["dir", "note"].map(String::from));
+        c
+    }
+
+    /// Each row's cells, in [`Table::columns`] order.
+    pub fn cells(&self) -> Vec<Vec<String>> {
+        let metrics = self.metric_names();
+        let opt = |x: Option<f64>| x.map_or(String::new(), |v| format!("{v:e}"));
+        self.rows
+            .iter()
+            .map(|r| {
+                let mut c = vec![r.index.to_string()];
+                c.extend(r.values.iter().map(|(_, v)| v.clone()));
+                c.push(r.status.name().to_owned());
+                c.push(r.solver_status.clone().unwrap_or_default());
+                c.push(opt(r.objective));
+                c.push(r.iterations.map_or(String::new(), |i| i.to_string()));
+                c.push(r.wall_time_s.map_or(String::new(), |t| format!("{t:.3}")));
+                c.push(opt(r.max_slack));
+                c.extend(metrics.iter().map(|m| opt(r.metrics.get(m).copied())));
+                c.push(r.dir.clone());
+                c.push(r.note.clone());
+                c
+            })
+            .collect()
+    }
+
+    /// The CSV text (RFC 4180 quoting).
+    pub fn to_csv(&self) -> String {
+        let line = |cells: &[String]| {
+            cells
+                .iter()
+                .map(|c| csv_cell(c))
+                .collect::<Vec<_>>()
+                .join(",")
+                + "\n"
+        };
+        let mut text = line(&self.columns());
+        for row in self.cells() {
+            text.push_str(&line(&row));
+        }
+        text
+    }
+
+    /// Writes `sweep.json` and `sweep.csv` into `dir`, each atomically.
+    pub fn write(&self, dir: &Path) -> Result<(), SweepError> {
+        let json =
+            serde_json::to_string_pretty(self).map_err(|e| SweepError::Internal(e.to_string()))?;
+        for (name, text) in [(TABLE_JSON, json + "\n"), (TABLE_CSV, self.to_csv())] {
+            let path = dir.join(name);
+            write_file_atomic(&path, text.as_bytes())
+                .map_err(|source| SweepError::Io { path, source })?;
+        }
+        Ok(())
+    }
+
+    /// Reads `dir/sweep.json`.
+    pub fn read(dir: &Path) -> Result<Table, SweepError> {
+        let path = dir.join(TABLE_JSON);
+        let text = std::fs::read_to_string(&path).map_err(|source| SweepError::Io {
+            path: path.clone(),
+            source,
+        })?;
+        serde_json::from_str(&text).map_err(|e| SweepError::Table {
+            path,
+            message: e.to_string(),
+        })
+    }
+}
+
+fn csv_cell(c: &str) -> String {
+    if c.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", c.replace('"', "\"\""))
+    } else {
+        c.to_owned()
+    }
+}
+
+/// Merges the tables of shard directories into one table over the whole grid: each point's
+/// row from the shard that has it finished (else the last shard that has it at all), its
+/// `dir` relative to `out`; points no shard has are `pending`.
+pub fn collect(dirs: &[PathBuf], out: &Path) -> Result<Table, SweepError> {
+    let mut tables = Vec::new();
+    for d in dirs {
+        tables.push((d, Table::read(d)?));
+    }
+    let Some((first_dir, first)) = tables.first() else {
+        return Err(SweepError::Usage(
+            "name at least one sweep directory".into(),
+        ));
+    };
+    for (d, t) in &tables[1..] {
+        if t.grid != first.grid || t.problem_sha256 != first.problem_sha256 || t.sets != first.sets
+        {
+            return Err(SweepError::Usage(format!(
+                "{} and {} are not shards of one sweep (problem file, --set or --grid differ)",
+                first_dir.display(),
+                d.display()
+            )));
+        }
+    }
+    let mut rows: Vec<Option<Row>> = vec![None; first.grid.len()];
+    for (d, t) in &tables {
+        for r in &t.rows {
+            let Some(slot) = rows.get_mut(r.index) else {
+                continue;
+            };
+            let better = match slot {
+                None => true,
+                Some(old) => old.status != RunStatus::Finished,
+            };
+            if better {
+                let mut r = r.clone();
+                r.dir = crate::paths::relative_path(&d.join(&r.dir), out);
+                *slot = Some(r);
+            }
+        }
+    }
+    let rows = rows
+        .into_iter()
+        .zip(first.grid.points())
+        .map(|(r, p)| r.unwrap_or_else(|| Row::pending(&p, String::new())))
+        .collect();
+    Ok(Table {
+        problem: first.problem.clone(),
+        problem_sha256: first.problem_sha256.clone(),
+        sets: first.sets.clone(),
+        grid: first.grid.clone(),
+        shard: Shard::ALL,
+        rows,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sweep::Axis;
+
+    #[test]
+    fn csv_quotes_what_needs_it_and_lists_metrics() {
+        let grid = Grid::new(vec![Axis::parse("k=1,2").unwrap()]).unwrap();
+        let mut rows: Vec<Row> = grid
+            .points()
+            .map(|p| Row::pending(&p, "x".into()))
+            .collect();
+        rows[0].status = RunStatus::Finished;
+        rows[0].objective = Some(2.5);
+        rows[0].metrics.insert("slip".into(), 0.25);
+        rows[1].note = "error: a, \"b\"".into();
+        let t = Table {
+            problem: "p.toml".into(),
+            problem_sha256: "00".into(),
+            sets: vec![],
+            grid,
+            shard: Shard::ALL,
+            rows,
+        };
+        let csv = t.to_csv();
+        let lines: Vec<&str> = csv.lines().collect();
+        assert_eq!(
+            lines[0],
+            "index,k,status,solver_status,objective,iterations,wall_time_s,max_slack,metrics.slip,dir,note"
+        );
+        assert_eq!(lines[1], "0,1,finished,,2.5e0,,,,2.5e-1,x,");
+        assert_eq!(lines[2], "1,2,pending,,,,,,,x,\"error: a, \"\"b\"\"\"");
+        assert_eq!(t.rows[0].metric("metrics.slip"), Some(0.25));
+        assert_eq!(t.rows[0].metric("objective"), Some(2.5));
+    }
+}
