@@ -5,10 +5,13 @@
 //! exact complementarity, by a smoothed Fischer–Burmeister Newton method with warm starts.
 //!
 //! Where things are: `step` (one step's complementarity problem and its solver), `run` (a
-//! horizon: inputs, warm starts, the per-step record, knot energies).
+//! horizon: warm starts, the per-step record, knot energies), `inputs` (zero, replayed or
+//! PD-tracking inputs).
 
+mod inputs;
 mod run;
 mod step;
 
+pub use inputs::{Gain, InputSource};
 pub use run::{Simulation, SimulationError, SimulationOptions, knot_energies, simulate};
 pub use step::{Before, ContactStep, Impulses, StepFailure, StepOptions, StepOutcome};

@@ -271,7 +271,14 @@ impl<M: MechanicsDerivatives> ContactStep<'_, M> {
 
     /// Residual at x with smoothing ε and contact scales `scale`; the Jacobian only when
     /// `with_jacobian` (zeros otherwise: line-search trials need values alone).
-    fn evaluate(&self, x: &[f64], eps: f64, scale: &[f64], with_jacobian: bool) -> Evaluation {
+    fn evaluate(
+        &self,
+        x: &[f64],
+        eps: f64,
+        scale: &[f64],
+        active: &[bool],
+        with_jacobian: bool,
+    ) -> Evaluation {
         let (n, nc, nd, stride) = (self.n(), self.nc(), self.ctx.nd(), self.stride());
         let nl = self.ctx.nl;
         let dim = n + nc * stride + nl;
@@ -293,7 +300,7 @@ impl<M: MechanicsDerivatives> ContactStep<'_, M> {
             let z: Vec<f64> = [q, &vars[..1 + nd]].concat();
             // Nᵀc + Pᵀβ into the knot rows, with its derivatives in q, c and β.
             let work = contact_work_gradient(self.mech, self.ctx, i, &z);
-            let work_hessian = if with_jacobian {
+            let work_hessian = if with_jacobian && active[i] {
                 contact_work_hessian(self.mech, self.ctx, i, &z)
             } else {
                 DMatrix::zeros(n + 1 + nd, n + 1 + nd)
@@ -307,6 +314,15 @@ impl<M: MechanicsDerivatives> ContactStep<'_, M> {
             }
             let phi = work[n];
             distance[i] = phi;
+            if !active[i] {
+                // Clear of the ground this step: no impulse (the caller checks φ afterwards).
+                for r in 0..stride {
+                    residual[base + r] = vars[r];
+                    jac[(base + r, base + r)] = 1.0;
+                    plain = plain.max(vars[r].abs());
+                }
+                continue;
+            }
             let (k_phi, k_v) = (scale[i] / self.h, scale[i]);
             let mu = self.ctx.friction[i];
             // 0 ≤ c ⊥ φ ≥ 0.
@@ -487,13 +503,73 @@ impl<M: MechanicsDerivatives> ContactStep<'_, M> {
             }
         }
 
+        // Contacts clear of the ground at the guess and at q_k (by more than twice the
+        // guess's approach) carry no impulse; one that ends up below the ground is added and
+        // the step solved again.
+        let mut active: Vec<bool> = (0..nc)
+            .map(|i| {
+                let base = n + i * stride;
+                let z_guess: Vec<f64> = [q_guess, &x[base..base + 1 + nd]].concat();
+                let z_curr: Vec<f64> = [self.q_curr, &x[base..base + 1 + nd]].concat();
+                let phi_guess = contact_work_gradient(self.mech, self.ctx, i, &z_guess)[n];
+                let phi_curr = contact_work_gradient(self.mech, self.ctx, i, &z_curr)[n];
+                let margin = 2.0 * (phi_guess - phi_curr).abs() + options.gravity * self.h * self.h;
+                phi_guess <= margin || phi_curr <= margin
+            })
+            .collect();
+        let mut total = 0;
+        loop {
+            for i in (0..nc).filter(|&i| !active[i]) {
+                let base = n + i * stride;
+                x[base..base + stride].iter_mut().for_each(|v| *v = 0.0);
+            }
+            let (solved, iterations) = self.newton(x, &active, &scale, tolerance, options)?;
+            total += iterations;
+            x = solved;
+            let e = self.evaluate(&x, 0.0, &scale, &active, false);
+            let missed: Vec<usize> = (0..nc)
+                .filter(|&i| !active[i] && e.distance[i] < 0.0)
+                .collect();
+            if missed.is_empty() {
+                return Ok(self.outcome(&x, e, total));
+            }
+            for i in missed {
+                active[i] = true;
+            }
+        }
+    }
+
+    /// Newton's method on the smoothed system from x with the contacts marked `active`;
+    /// returns the solution and the iterations.
+    fn newton(
+        &self,
+        mut x: Vec<f64>,
+        active: &[bool],
+        scale: &[f64],
+        tolerance: f64,
+        options: &StepOptions,
+    ) -> Result<(Vec<f64>, usize), StepFailure> {
+        // Smoothing continuation: ε starts at the size of the residual, and falls (by 10, or
+        // at once to the residual's size) whenever Newton is on the smoothed path, i.e. its
+        // residual is below √(2ε); a failed or tiny line-search step raises it again.
         let eps_floor = (0.01 * tolerance).powi(2);
-        let mut eps = f64::INFINITY;
-        // The unsmoothed residual at x sets the next smoothing.
-        let mut plain = self.evaluate(&x, 0.0, &scale, false).plain;
+        let mut current = self.evaluate(&x, 0.0, scale, active, false);
+        let mut eps = (0.1 * current.plain).powi(2).max(eps_floor);
+        current = self.evaluate(&x, eps, scale, active, false);
         for iteration in 0..=options.max_iterations {
-            eps = eps.min((0.05 * plain).powi(2)).max(eps_floor);
-            let e = self.evaluate(&x, eps, &scale, true);
+            if current.plain <= tolerance {
+                return Ok((x, iteration));
+            }
+            if iteration == options.max_iterations {
+                break;
+            }
+            if current.residual.amax() <= (2.0 * eps).sqrt() && eps > eps_floor {
+                eps = (0.1 * eps)
+                    .min((0.1 * current.plain).powi(2))
+                    .max(eps_floor);
+                current = self.evaluate(&x, eps, scale, active, false);
+            }
+            let e = self.evaluate(&x, eps, scale, active, true);
             let finite = e
                 .residual
                 .iter()
@@ -502,20 +578,13 @@ impl<M: MechanicsDerivatives> ContactStep<'_, M> {
             if !finite {
                 return Err(StepFailure::NonFinite { iteration });
             }
-            plain = e.plain;
-            if e.plain <= tolerance {
-                return Ok(self.outcome(&x, e, iteration));
-            }
-            if iteration == options.max_iterations {
-                break;
-            }
             let direction = e
                 .jacobian
                 .clone()
                 .lu()
                 .solve(&(-&e.residual))
                 .ok_or(StepFailure::Singular { iteration })?;
-            // Armijo backtracking on ½‖Φ_ε‖²; without decrease, a small step and re-smoothing.
+            // Armijo backtracking on ½‖Φ_ε‖².
             let merit = 0.5 * e.residual.norm_squared();
             let mut t = 1.0;
             let mut accepted = false;
@@ -525,25 +594,26 @@ impl<M: MechanicsDerivatives> ContactStep<'_, M> {
                     .zip(direction.iter())
                     .map(|(a, d)| a + t * d)
                     .collect();
-                let trial_eval = self.evaluate(&trial, eps, &scale, false);
+                let trial_eval = self.evaluate(&trial, eps, scale, active, false);
                 let value = 0.5 * trial_eval.residual.norm_squared();
                 if value.is_finite() && value <= (1.0 - 1e-4 * t) * merit {
                     x = trial;
-                    plain = trial_eval.plain;
+                    current = trial_eval;
                     accepted = true;
                     break;
                 }
                 t *= 0.5;
             }
-            if !accepted {
-                x.iter_mut()
-                    .zip(direction.iter())
-                    .for_each(|(a, d)| *a += t * d);
+            if !accepted || t < 1e-2 {
+                // Stalled on a nonsmooth valley (or jammed at an impulse's bound): smooth
+                // more and go on from here.
+                eps = (100.0 * eps).max((0.1 * e.plain).powi(2));
+                current = self.evaluate(&x, eps, scale, active, false);
             }
         }
         Err(StepFailure::NotConverged {
             iterations: options.max_iterations,
-            residual: plain,
+            residual: current.plain,
             tolerance,
         })
     }

@@ -7,4 +7,5 @@ mod errors;
 mod init;
 mod output_dirs;
 mod regression;
+mod simulate;
 mod solve;
