@@ -523,7 +523,19 @@ impl<M: MechanicsDerivatives> ContactStep<'_, M> {
                 let base = n + i * stride;
                 x[base..base + stride].iter_mut().for_each(|v| *v = 0.0);
             }
-            let (solved, iterations) = self.newton(x, &active, &scale, tolerance, options)?;
+            let (solved, iterations) =
+                match self.newton(x.clone(), &active, &scale, tolerance, options) {
+                    Ok(found) => found,
+                    // Once more from q_k at rest with no impulses: a long step's extrapolated
+                    // guess can start Newton in the wrong contact mode.
+                    Err(first) => {
+                        let mut cold = x.clone();
+                        cold[..n].copy_from_slice(self.q_curr);
+                        cold[n..].iter_mut().for_each(|v| *v = 0.0);
+                        self.newton(cold, &active, &scale, tolerance, options)
+                            .map_err(|_| first)?
+                    }
+                };
             total += iterations;
             x = solved;
             let e = self.evaluate(&x, 0.0, &scale, &active, false);
