@@ -75,6 +75,22 @@ impl From<BaseArg> for BaseType {
     }
 }
 
+/// Integrator choice on the command line.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum IntegratorArg {
+    Midpoint,
+    Euler,
+}
+
+impl From<IntegratorArg> for vito::discrete::Integrator {
+    fn from(i: IntegratorArg) -> Self {
+        match i {
+            IntegratorArg::Midpoint => vito::discrete::Integrator::Midpoint,
+            IntegratorArg::Euler => vito::discrete::Integrator::Euler,
+        }
+    }
+}
+
 /// The subcommands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
@@ -104,6 +120,39 @@ pub enum Command {
         /// Seed of the multi-start perturbations.
         #[arg(long, default_value_t = 0)]
         seed: u64,
+    },
+    /// Simulate a problem file's robot forward with the planner's mechanics and contact model.
+    #[command(after_help = EXIT_CODES)]
+    Simulate {
+        /// Problem file (TOML): robot, terrain, contacts, initial state.
+        file: PathBuf,
+        /// Overrides as for `solve`.
+        #[arg(long = "set", value_name = "KEY.PATH=VALUE")]
+        set: Vec<String>,
+        /// Replay the inputs of a trajectory CSV (zero-order hold); default: zero inputs.
+        #[arg(long, conflicts_with = "track")]
+        inputs: Option<PathBuf>,
+        /// Track a trajectory CSV with PD feedback (its inputs as feedforward).
+        #[arg(long, requires = "gains")]
+        track: Option<PathBuf>,
+        /// PD gains by input name, `NAME=KP,KD` or `all=KP,KD` (repeatable).
+        #[arg(long, value_name = "NAME=KP,KD", requires = "track")]
+        gains: Vec<String>,
+        /// Simulated time (default: the CSV's last time, else the problem's horizon).
+        #[arg(long)]
+        duration: Option<f64>,
+        /// Steps per time unit (default: 1/h of the problem).
+        #[arg(long)]
+        rate: Option<f64>,
+        /// Integrator (default: the problem's).
+        #[arg(long, value_enum)]
+        integrator: Option<IntegratorArg>,
+        /// Output directory (default: `out/<problem name>-simulate`).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// No progress bar.
+        #[arg(long, short)]
+        quiet: bool,
     },
     /// Check a problem file without solving and print its size.
     #[command(after_help = EXIT_CODES)]
@@ -258,6 +307,8 @@ pub enum CliError {
     Output(String),
     #[error(transparent)]
     Sweep(#[from] vito::sweep::SweepError),
+    #[error("simulation stopped: {0}")]
+    Simulation(#[from] vito::sim::SimulationError),
     #[error(transparent)]
     Transcription(#[from] vito::transcription::TranscriptionError),
 }
@@ -288,6 +339,7 @@ impl CliError {
                 _ => 3,
             },
             CliError::Report(_) | CliError::Internal(_) => 3,
+            CliError::Simulation(_) => 1,
         }
     }
 }
@@ -339,6 +391,28 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
             } else {
                 check(&file, &set)
             }
+        }
+        Command::Simulate {
+            file,
+            set,
+            inputs,
+            track,
+            gains,
+            duration,
+            rate,
+            integrator,
+            out,
+            quiet,
+        } => {
+            let request = pipeline::SimulateRequest {
+                inputs,
+                track,
+                gains,
+                duration,
+                rate,
+                integrator: integrator.map(Into::into),
+            };
+            simulate(&file, &set, &request, out.as_deref(), quiet)
         }
         Command::Init { urdf, base, out } => init(&urdf, base.into(), out.as_deref()),
         Command::Inspect { urdf, base, json } => inspect(&urdf, base.into(), json),
@@ -596,6 +670,80 @@ fn solve(
     let written = report::write_outputs(staged, &problem, &solution)?;
     print_summary(&problem, &solution, &written)?;
     Ok(if is_solved(solution.status) { 0 } else { 1 })
+}
+
+fn simulate(
+    file: &Path,
+    set: &[String],
+    request: &pipeline::SimulateRequest,
+    out: Option<&Path>,
+    quiet: bool,
+) -> Result<u8, CliError> {
+    let overrides = parse_overrides(set)?;
+    let problem = load(file, &overrides)?;
+    let prepared = pipeline::prepare_simulation(&problem, request)?;
+    let target = out.map_or_else(
+        || PathBuf::from("out").join(format!("{}-simulate", problem.spec.name)),
+        Path::to_owned,
+    );
+    let protected: Vec<&Path> = prepared.inputs.iter().map(PathBuf::as_path).collect();
+    let target =
+        report::OutputTarget::check(&target, &protected).map_err(report::ReportError::from)?;
+    let steps = prepared.options.steps;
+    let bar = if quiet {
+        indicatif::ProgressBar::hidden()
+    } else {
+        indicatif::ProgressBar::new(steps as u64)
+    };
+    if let Ok(style) = indicatif::ProgressStyle::with_template(
+        "simulating {bar:40} {pos}/{len} steps, {per_sec}, ETA {eta}",
+    ) {
+        bar.set_style(style);
+    }
+    let start = std::time::Instant::now();
+    let sim = pipeline::run_simulation(&prepared, |_| bar.inc(1));
+    bar.finish_and_clear();
+    let sim = sim?;
+    let wall = start.elapsed().as_secs_f64();
+    let energies = pipeline::conservative_energies(&prepared, &sim);
+    let summary = report::simulation_summary_json(
+        &problem,
+        &sim,
+        prepared.options.integrator,
+        energies.as_deref(),
+        wall,
+    );
+    let columns = report::SimulationColumns::new(&problem, &sim, prepared.ctx.nd());
+    let staged = target.stage().map_err(report::ReportError::from)?;
+    let written =
+        report::write_trajectory_outputs(staged, &problem, &columns.trajectory(&sim), &summary)?;
+    out!("problem        {}", problem.spec.name);
+    out!(
+        "steps          {steps} of h = {} {} ({:?})",
+        prepared.options.h,
+        problem.units.time,
+        prepared.options.integrator
+    );
+    let largest = |v: &[f64]| v.iter().cloned().fold(0.0_f64, f64::max);
+    out!("max residual   {:.3e}", largest(&sim.dynamics_residual));
+    out!("max compl.     {:.3e}", largest(&sim.complementarity));
+    out!(
+        "max penetr.    {:.3e} {}",
+        sim.max_penetration(),
+        problem.units.length
+    );
+    if let Some(e) = &energies {
+        let e0 = e.first().copied().unwrap_or(0.0);
+        let drift = e.iter().fold(0.0_f64, |a, x| a.max((x - e0).abs()));
+        out!("energy drift   {drift:.3e} (max |E − E0|)");
+    }
+    out!(
+        "time           {wall:.3} s wall ({:.1} µs per step, {:.2} Newton iterations per step)",
+        1e6 * wall / steps as f64,
+        summary["newton_iterations"]["mean"]
+    );
+    out!("written to     {}", written.display());
+    Ok(0)
 }
 
 /// Calls the transcription's solver with live progress (stderr) and the cancel flag.

@@ -4,8 +4,9 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::discrete::Mechanics;
 use crate::ipopt;
-use crate::problem::{LoadedProblem, ProblemError, ProblemSpec};
+use crate::problem::{LoadedProblem, ProblemError, ProblemSpec, TimeSteps};
 use crate::transcription::{
     self, BenchRow, MechanicsDerivatives, ModelMechanics, Solution, SolveOptions, Transcription,
     TranscriptionError,
@@ -132,4 +133,256 @@ pub fn point_from_trajectory<M: MechanicsDerivatives>(
         set(&mut x, &format!("slack_{s}"), &|j| l.slack(j).start + s);
     }
     Ok(x)
+}
+
+/// What `vito simulate` was asked for, before checking.
+#[derive(Debug, Clone, Default)]
+pub struct SimulateRequest {
+    /// A trajectory CSV whose inputs are replayed (zero-order hold).
+    pub inputs: Option<PathBuf>,
+    /// A trajectory CSV tracked with PD feedback (its inputs as feedforward).
+    pub track: Option<PathBuf>,
+    /// `NAME=KP,KD` per input (or `all=KP,KD`), for `track`.
+    pub gains: Vec<String>,
+    /// Simulated time (default: the inputs' or reference's last time, else the horizon).
+    pub duration: Option<f64>,
+    /// Steps per time unit (default: 1/h of the problem).
+    pub rate: Option<f64>,
+    /// Integrator (default: the problem's).
+    pub integrator: Option<crate::discrete::Integrator>,
+}
+
+/// A checked simulation: everything [`run_simulation`] needs, found valid before simulating.
+#[derive(Debug)]
+pub struct PreparedSimulation {
+    /// The robot.
+    pub mech: ModelMechanics,
+    /// The contact constants (the NLP's).
+    pub ctx: transcription::Context,
+    /// Initial configuration and velocity.
+    pub q0: Vec<f64>,
+    /// v_0 (the problem's, else zero).
+    pub v0: Vec<f64>,
+    /// Steps, step and integrator.
+    pub options: crate::sim::SimulationOptions,
+    /// The input policy.
+    pub source: crate::sim::InputSource,
+    /// Files the output directory must not hold (the problem, its robot, the CSV).
+    pub inputs: Vec<PathBuf>,
+}
+
+/// Checks a simulation request against the problem: one error naming the option or file at
+/// fault, before anything is simulated.
+pub fn prepare_simulation(
+    problem: &LoadedProblem,
+    request: &SimulateRequest,
+) -> Result<PreparedSimulation, TranscriptionError> {
+    use crate::sim::{InputSource, SimulationOptions, StepOptions};
+    let invalid = |field: &str, message: String| TranscriptionError::Invalid {
+        field: field.to_owned(),
+        message,
+    };
+    let spec = &problem.spec;
+    let positive = |field: &str, value: Option<f64>| -> Result<Option<f64>, TranscriptionError> {
+        match value {
+            Some(x) if !(x.is_finite() && x > 0.0) => Err(invalid(
+                field,
+                format!("{x} must be a positive finite number"),
+            )),
+            other => Ok(other),
+        }
+    };
+    let duration = positive("--duration", request.duration)?;
+    let rate = positive("--rate", request.rate)?;
+    let h = match (rate, spec.time_steps) {
+        (Some(r), _) => 1.0 / r,
+        (None, TimeSteps::Fixed(h)) => h,
+        (None, TimeSteps::FreeEqual { t_max, .. }) => t_max / (spec.knots - 1) as f64,
+    };
+    let robot = &problem.robot;
+    let read = |path: &Path| -> Result<_, TranscriptionError> {
+        let text = std::fs::read_to_string(path).map_err(|e| {
+            invalid(
+                "--inputs/--track",
+                format!("cannot read {}: {e}", path.display()),
+            )
+        })?;
+        crate::trajectory_csv::read_trajectory(&text, &robot.coordinates, &robot.inputs)
+            .map_err(|m| invalid("--inputs/--track", format!("{}: {m}", path.display())))
+    };
+    let mut inputs: Vec<PathBuf> = vec![problem.file.clone(), spec.robot.urdf.clone()];
+    let (source, recorded_end) = match (&request.inputs, &request.track) {
+        (Some(_), Some(_)) => {
+            return Err(invalid(
+                "--inputs",
+                "give --inputs or --track, not both".into(),
+            ));
+        }
+        (Some(path), None) => {
+            let r = read(path)?;
+            if r.u.is_empty() && !robot.inputs.is_empty() {
+                return Err(invalid(
+                    "--inputs",
+                    format!(
+                        "{} has no column for every input (u_<name> for {})",
+                        path.display(),
+                        crate::names::list_names(&robot.inputs, 12)
+                    ),
+                ));
+            }
+            inputs.push(path.clone());
+            let end = r.times.last().copied();
+            (InputSource::Replay(r), end)
+        }
+        (None, Some(path)) => {
+            let r = read(path)?;
+            inputs.push(path.clone());
+            let gains = parse_gains(&request.gains, robot)?;
+            let end = r.times.last().copied();
+            (
+                InputSource::Track {
+                    reference: r,
+                    gains,
+                },
+                end,
+            )
+        }
+        (None, None) => {
+            if !request.gains.is_empty() {
+                return Err(invalid("--gains", "--gains needs --track".into()));
+            }
+            (InputSource::Zero, None)
+        }
+    };
+    let duration = duration
+        .or(recorded_end)
+        .unwrap_or(h * (spec.knots - 1) as f64);
+    let steps = (duration / h).round();
+    if !(1.0..=1e8).contains(&steps) {
+        return Err(invalid(
+            "--duration",
+            format!("{duration} at a step of {h} gives {steps} steps; choose 1 to 10⁸"),
+        ));
+    }
+    let mech = mechanics(spec)?;
+    let ctx = transcription::Context::new(&mech, spec);
+    let gravity = spec.robot.gravity.iter().map(|g| g * g).sum::<f64>().sqrt();
+    Ok(PreparedSimulation {
+        q0: spec.q_initial.clone(),
+        v0: spec
+            .v_initial
+            .clone()
+            .unwrap_or_else(|| vec![0.0; spec.q_initial.len()]),
+        options: SimulationOptions {
+            integrator: request.integrator.unwrap_or(spec.integrator),
+            h,
+            steps: steps as usize,
+            step: StepOptions {
+                gravity,
+                ..StepOptions::default()
+            },
+        },
+        source,
+        inputs,
+        mech,
+        ctx,
+    })
+}
+
+/// `NAME=KP,KD` per input (`all=KP,KD` for every input; later entries win).
+fn parse_gains(
+    gains: &[String],
+    robot: &crate::problem::RobotInfo,
+) -> Result<Vec<crate::sim::Gain>, TranscriptionError> {
+    let invalid = |message: String| TranscriptionError::Invalid {
+        field: "--gains".into(),
+        message,
+    };
+    let mut out: Vec<crate::sim::Gain> = Vec::new();
+    for text in gains {
+        let parsed = text.split_once('=').and_then(|(name, values)| {
+            let (kp, kd) = values.split_once(',')?;
+            Some((
+                name.trim(),
+                kp.trim().parse::<f64>().ok()?,
+                kd.trim().parse::<f64>().ok()?,
+            ))
+        });
+        let Some((name, kp, kd)) = parsed else {
+            return Err(invalid(format!(
+                "`{text}`: write NAME=KP,KD, e.g. knee=50,2"
+            )));
+        };
+        if !(kp.is_finite() && kd.is_finite() && kp >= 0.0 && kd >= 0.0) {
+            return Err(invalid(format!("`{text}`: gains must be finite and ≥ 0")));
+        }
+        let selected: Vec<usize> = if name == "all" {
+            (0..robot.inputs.len()).collect()
+        } else {
+            let i = robot.inputs.iter().position(|n| n == name).ok_or_else(|| {
+                invalid(format!(
+                    "`{name}` is not an input of the robot (inputs: {})",
+                    crate::names::list_names(&robot.inputs, 24)
+                ))
+            })?;
+            vec![i]
+        };
+        for input in selected {
+            let name = &robot.inputs[input];
+            let coordinate = robot
+                .coordinates
+                .iter()
+                .position(|c| c == name)
+                .ok_or_else(|| {
+                    invalid(format!("input `{name}` acts on no coordinate of that name"))
+                })?;
+            out.retain(|g| g.input != input);
+            out.push(crate::sim::Gain {
+                input,
+                coordinate,
+                kp,
+                kd,
+            });
+        }
+    }
+    Ok(out)
+}
+
+/// Runs a prepared simulation; `progress(k)` after each step.
+pub fn run_simulation(
+    prepared: &PreparedSimulation,
+    progress: impl FnMut(usize),
+) -> Result<crate::sim::Simulation, crate::sim::SimulationError> {
+    let p = prepared;
+    let m = p.mech.nu();
+    crate::sim::simulate(
+        &p.mech,
+        &p.ctx,
+        &p.q0,
+        &p.v0,
+        &p.options,
+        |_, t, q, v| p.source.input(m, t, q, v),
+        progress,
+    )
+}
+
+/// The knot energies of a conservative run (no inputs, no damping, no contact impulse),
+/// for the summary's energy drift; None otherwise.
+pub fn conservative_energies(
+    prepared: &PreparedSimulation,
+    sim: &crate::sim::Simulation,
+) -> Option<Vec<f64>> {
+    let touched = sim
+        .impulses
+        .iter()
+        .any(|i| i.normal.iter().any(|&c| c > 1e-12));
+    if prepared.mech.has_discrete_force() || touched {
+        return None;
+    }
+    Some(crate::sim::knot_energies(
+        &prepared.mech,
+        sim,
+        prepared.options.integrator,
+        prepared.options.h,
+    ))
 }

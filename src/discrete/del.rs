@@ -96,44 +96,145 @@ fn force_input(qa: &[f64], qb: &[f64], u: &[f64], h: f64) -> Vec<f64> {
     z
 }
 
+/// The part of knot k's midpoint DEL row that q_{k+1} does not change (length n, impulse
+/// units): D2Ld(q_{k−1}, q_k, h_{k−1}) + ½Fd(q_{k−1}, q_k, u_{k−1}, h_{k−1}), the momentum
+/// p_k⁻ arriving at knot k. A forward step computes it once; the first knot's row has
+/// [`initial_momentum`] here instead.
+pub fn incoming_momentum<M: MechanicsDerivatives>(
+    mech: &M,
+    q_prev: &[f64],
+    q_curr: &[f64],
+    u_prev: &[f64],
+    h_prev: f64,
+) -> Vec<f64> {
+    let n = mech.nq();
+    let gradient = mech.segment_gradient(&segment(q_prev, q_curr, h_prev));
+    let mut out = gradient[n..2 * n].to_vec();
+    add_half_force(mech, q_prev, q_curr, u_prev, h_prev, &mut out);
+    out
+}
+
+/// D1Ld(q_k, q_{k+1}, h_k) + ½Fd(q_k, q_{k+1}, u_k, h_k) = −p_k⁺ (length n), the part of knot
+/// k's midpoint DEL row that depends on q_{k+1}; see [`outgoing_momentum_jacobian`].
+pub fn outgoing_momentum<M: MechanicsDerivatives>(
+    mech: &M,
+    q_curr: &[f64],
+    q_next: &[f64],
+    u_curr: &[f64],
+    h_curr: f64,
+) -> Vec<f64> {
+    let n = mech.nq();
+    let mut value = mech.segment_gradient(&segment(q_curr, q_next, h_curr));
+    value.truncate(n);
+    add_half_force(mech, q_curr, q_next, u_curr, h_curr, &mut value);
+    value
+}
+
+/// The part of knot k's midpoint DEL row that depends on q_{k+1} (length n):
+/// D1Ld(q_k, q_{k+1}, h_k) + ½Fd(q_k, q_{k+1}, u_k, h_k) = −p_k⁺, and its Jacobian in q_{k+1}
+/// (n × n): the qa–qb block of [`MechanicsDerivatives::segment_gradient_hessian`] plus
+/// ½∂Fd/∂qb.
+pub fn outgoing_momentum_jacobian<M: MechanicsDerivatives>(
+    mech: &M,
+    q_curr: &[f64],
+    q_next: &[f64],
+    u_curr: &[f64],
+    h_curr: f64,
+) -> (Vec<f64>, DMatrix<f64>) {
+    let n = mech.nq();
+    let (gradient, hessian) = mech.segment_gradient_hessian(&segment(q_curr, q_next, h_curr));
+    let mut value = gradient[..n].to_vec();
+    let mut jac = DMatrix::from_fn(n, n, |r, c| hessian[(r, n + c)]);
+    if mech.has_discrete_force() {
+        let force = force_input(q_curr, q_next, u_curr, h_curr);
+        let (half, force_jacobian) = jacobian(&HalfForce { mech }, &force);
+        value.iter_mut().zip(&half).for_each(|(v, f)| *v += f);
+        jac += force_jacobian.columns(n, n);
+    }
+    (value, jac)
+}
+
+/// Adds ½Fd(qa, qb, u, h) to `out` (skipped when the mechanics has no discrete force).
+fn add_half_force<M: Mechanics>(
+    mech: &M,
+    qa: &[f64],
+    qb: &[f64],
+    u: &[f64],
+    h: f64,
+    out: &mut [f64],
+) {
+    if !mech.has_discrete_force() {
+        return;
+    }
+    let mut force = vec![0.0; mech.nq()];
+    half_force(mech, &force_input(qa, qb, u, h), &mut force);
+    out.iter_mut().zip(&force).for_each(|(o, f)| *o += f);
+}
+
 /// Midpoint DEL residual at knot k (length n, impulse units) of any mechanics:
-/// D2Ld(q_{k−1}, q_k, h_{k−1}) + D1Ld(q_k, q_{k+1}, h_k) + ½Fd_{k−1} + ½Fd_k + `impulse`,
-/// where `impulse` (length n) is the caller's J(q_{k+1})ᵀλ_k + G(q_{k+1})ᵀν_k (zeros without
-/// contact or loops). The slot derivatives are [`MechanicsDerivatives::segment_gradient`],
-/// the numbers the NLP's DEL rows add up.
+/// [`incoming_momentum`] + D1Ld(q_k, q_{k+1}, h_k) + ½Fd_k + `impulse`, where `impulse`
+/// (length n) is the caller's J(q_{k+1})ᵀλ_k + G(q_{k+1})ᵀν_k (zeros without contact or
+/// loops). The slot derivatives are [`MechanicsDerivatives::segment_gradient`], the numbers
+/// the NLP's DEL rows add up.
 pub fn knot_residual<M: MechanicsDerivatives>(
     mech: &M,
     w: &KnotWindow<'_, f64>,
     impulse: &[f64],
 ) -> Vec<f64> {
-    let n = mech.nq();
-    let before = mech.segment_gradient(&segment(w.q_prev, w.q_curr, w.h_prev));
-    let after = mech.segment_gradient(&segment(w.q_curr, w.q_next, w.h_curr));
-    let mut residual: Vec<f64> = (0..n).map(|i| before[n + i] + after[i]).collect();
-    let mut force = vec![0.0; n];
-    for (qa, qb, u, h) in [
-        (w.q_prev, w.q_curr, w.u_prev, w.h_prev),
-        (w.q_curr, w.q_next, w.u_curr, w.h_curr),
-    ] {
-        half_force(mech, &force_input(qa, qb, u, h), &mut force);
-        residual.iter_mut().zip(&force).for_each(|(r, f)| *r += f);
-    }
+    let mut residual = incoming_momentum(mech, w.q_prev, w.q_curr, w.u_prev, w.h_prev);
+    let after = outgoing_momentum(mech, w.q_curr, w.q_next, w.u_curr, w.h_curr);
+    residual.iter_mut().zip(&after).for_each(|(r, a)| *r += a);
     residual.iter_mut().zip(impulse).for_each(|(r, p)| *r += p);
     residual
 }
 
-/// Jacobian of [`knot_residual`] in q_{k+1} without the impulse (n × n): ∂D1Ld/∂qb of segment
-/// k (a block of [`MechanicsDerivatives::segment_gradient_hessian`]) plus ½∂Fd_k/∂qb. The
-/// caller adds the derivative of its impulse term.
+/// Jacobian of [`knot_residual`] in q_{k+1} without the impulse (n × n): the Jacobian of
+/// [`outgoing_momentum_jacobian`]. The caller adds the derivative of its impulse term.
 pub fn knot_residual_jacobian_next<M: MechanicsDerivatives>(
     mech: &M,
     w: &KnotWindow<'_, f64>,
 ) -> DMatrix<f64> {
-    let n = mech.nq();
-    let (_, hessian) = mech.segment_gradient_hessian(&segment(w.q_curr, w.q_next, w.h_curr));
-    let force = force_input(w.q_curr, w.q_next, w.u_curr, w.h_curr);
-    let (_, force_jacobian) = jacobian(&HalfForce { mech }, &force);
-    DMatrix::from_fn(n, n, |r, c| {
-        hessian[(r, n + c)] + force_jacobian[(r, n + c)]
-    })
+    outgoing_momentum_jacobian(mech, w.q_curr, w.q_next, w.u_curr, w.h_curr).1
+}
+
+/// [`euler_knot`] as a function of q_{k+1} alone (the rest fixed), for the Jacobian a forward
+/// step needs: `before` is v_0 (`first_step`) or q_{k−1}, `h_prev` is ignored at the first
+/// step.
+#[derive(Debug, Clone, Copy)]
+pub struct EulerKnotInNext<'a, M> {
+    /// The robot.
+    pub mech: &'a M,
+    /// Whether `before` is v_0.
+    pub first_step: bool,
+    /// v_0 or q_{k−1} (length n).
+    pub before: &'a [f64],
+    /// q_k (length n).
+    pub q_curr: &'a [f64],
+    /// h_{k−1} (unused at the first step) and h_k, s.
+    pub h_prev: f64,
+    /// h_k, s.
+    pub h_curr: f64,
+    /// u_k (length m).
+    pub u_curr: &'a [f64],
+}
+
+impl<M: Mechanics> VectorFunction for EulerKnotInNext<'_, M> {
+    fn dim_in(&self) -> usize {
+        self.mech.nq()
+    }
+    fn dim_out(&self) -> usize {
+        self.mech.nq()
+    }
+    fn eval<D: Scalar>(&self, q_next: &[D], out: &mut [D]) {
+        let lift = |x: &[f64]| x.iter().map(|&v| D::from(v)).collect::<Vec<D>>();
+        let mut z = lift(self.before);
+        z.extend(lift(self.q_curr));
+        z.extend_from_slice(q_next);
+        if !self.first_step {
+            z.push(D::from(self.h_prev));
+        }
+        z.push(D::from(self.h_curr));
+        z.extend(lift(self.u_curr));
+        euler_knot(self.mech, self.first_step, &z, out);
+    }
 }

@@ -2,10 +2,10 @@
 //! derivatives, the discrete force, the DEL residual and the discrete Legendre transforms
 //! (benchmarks/SPEC.md, with joint damping from its addition 2).
 
+use super::midpoint_ld_gradient;
 use crate::autodiff::{ScalarFunction, VectorFunction};
 use crate::model::{self, Model};
 use crate::scalar::Scalar;
-use num_dual::Dual;
 
 /// The midpoint rule's state on an interval: configuration (qa+qb)/2 and velocity (qb−qa)/h
 /// (`qa`, `qb` length n, `h` in s). Every midpoint formula (Ld, Fd, their adjoint, the costs)
@@ -28,41 +28,23 @@ pub fn ld<D: Scalar>(model: &Model, qa: &[D], qb: &[D], h: D) -> D {
     h * (model::kinetic_energy(model, &q_mid, &v_mid) - model::potential_energy(model, &q_mid))
 }
 
-/// Which configuration slot of Ld a derivative is taken with respect to.
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum Slot {
-    First,
-    Second,
-}
-
-/// ∂Ld/∂(slot) by one forward pass of a nested [`Dual`] per coordinate, so that the result
-/// stays generic over `D` (and can itself be differentiated).
-fn slot_derivative<D: Scalar>(model: &Model, qa: &[D], qb: &[D], h: D, slot: Slot) -> Vec<D> {
-    let lift = |x: &[D]| -> Vec<Dual<D>> { x.iter().map(|&v| Dual::from_re(v)).collect() };
-    let mut a = lift(qa);
-    let mut b = lift(qb);
-    let h = Dual::from_re(h);
-    (0..qa.len())
-        .map(|i| {
-            let seeded = if slot == Slot::First { &mut a } else { &mut b };
-            seeded[i].eps = D::one();
-            let value = ld(model, &a, &b, h).eps;
-            let seeded = if slot == Slot::First { &mut a } else { &mut b };
-            seeded[i].eps = D::zero();
-            value
-        })
-        .collect()
+/// [D1Ld, D2Ld] at (qa, qb, h) by the adjoint sweep the NLP's DEL rows use
+/// ([`midpoint_ld_gradient`]), generic over `D` so that it can itself be differentiated.
+fn slot_derivatives<D: Scalar>(model: &Model, qa: &[D], qb: &[D], h: D) -> (Vec<D>, Vec<D>) {
+    let (mut d1, mut d2) = (vec![D::zero(); qa.len()], vec![D::zero(); qa.len()]);
+    midpoint_ld_gradient(model, qa, qb, h, &mut d1, &mut d2);
+    (d1, d2)
 }
 
 /// D1Ld(qa, qb, h) = ∂Ld/∂qa (length `nq`, N·m·s per coordinate; the negative of the momentum
 /// p⁺ at qa without forcing).
 pub fn d1_ld<D: Scalar>(model: &Model, qa: &[D], qb: &[D], h: D) -> Vec<D> {
-    slot_derivative(model, qa, qb, h, Slot::First)
+    slot_derivatives(model, qa, qb, h).0
 }
 
 /// D2Ld(qa, qb, h) = ∂Ld/∂qb (length `nq`; the momentum p⁻ at qb without forcing).
 pub fn d2_ld<D: Scalar>(model: &Model, qa: &[D], qb: &[D], h: D) -> Vec<D> {
-    slot_derivative(model, qa, qb, h, Slot::Second)
+    slot_derivatives(model, qa, qb, h).1
 }
 
 /// Discrete force Fd(qa, qb, u, h) = h·B((qa+qb)/2)·u − diag(d)·(qb − qa), an impulse
@@ -211,7 +193,8 @@ impl VectorFunction for InitialMomentum<'_> {
 /// z = [q_{k−1}; q_k; q_{k+1}; h_{k−1}; h_k; u_{k−1}; u_k] (dim 3n + 2 + 2m).
 ///
 /// The NLP assembles the same Jacobian from [`MidpointSegment`] and [`DiscreteForce`] blocks;
-/// this one-piece form (nested duals, slower) serves tests and the forward step.
+/// this one-piece form (forward duals through the same adjoint D1Ld, D2Ld) serves tests and
+/// the forward step.
 #[derive(Debug, Clone, Copy)]
 pub struct MidpointKnotResidual<'a> {
     /// The robot.

@@ -8,6 +8,7 @@ mod golden;
 mod modes;
 mod outdir;
 mod plot;
+mod simulation;
 mod summary;
 
 pub use csv::*;
@@ -15,6 +16,7 @@ pub use golden::*;
 pub use modes::*;
 pub use outdir::*;
 pub use plot::{contact_modes_svg, coordinates_svg, inputs_svg, line_plot};
+pub use simulation::{SimulationColumns, simulation_summary_json};
 pub use summary::*;
 
 use std::path::{Path, PathBuf};
@@ -78,6 +80,19 @@ pub fn write_outputs(
     problem: &LoadedProblem,
     solution: &Solution,
 ) -> Result<PathBuf, ReportError> {
+    let summary = summary_json(problem, solution);
+    write_trajectory_outputs(staged, problem, &solution_trajectory(solution), &summary)
+}
+
+/// Writes a trajectory (a solution's or a simulation's) as `trajectory.csv`, its `summary`
+/// as `summary.json` and the three plots into `staged`, then commits it: an existing target
+/// is replaced only once everything is written.
+pub fn write_trajectory_outputs(
+    staged: StagedDir,
+    problem: &LoadedProblem,
+    trajectory: &Trajectory<'_>,
+    summary: &serde_json::Value,
+) -> Result<PathBuf, ReportError> {
     let io = |path: &Path| {
         let path = path.to_owned();
         move |source| ReportError::Io { path, source }
@@ -86,23 +101,26 @@ pub fn write_outputs(
     let dir = staged.path().to_owned();
     let units = column_units(&problem.robot, &problem.units);
     let csv_path = dir.join("trajectory.csv");
-    std::fs::write(&csv_path, trajectory_csv(solution, &units)).map_err(io(&csv_path))?;
-    let summary = summary_json(problem, solution);
+    std::fs::write(
+        &csv_path,
+        crate::trajectory_csv::write_trajectory(trajectory, &units),
+    )
+    .map_err(io(&csv_path))?;
     let json_path = dir.join("summary.json");
-    let text = serde_json::to_string_pretty(&summary).unwrap_or_default();
+    let text = serde_json::to_string_pretty(summary).unwrap_or_default();
     std::fs::write(&json_path, text + "\n").map_err(io(&json_path))?;
     let plot_err = |name: &str| {
         let path = target.join(name);
         move |message| ReportError::Plot { path, message }
     };
-    coordinates_svg(&dir.join("coordinates.svg"), solution, &units.time)
+    coordinates_svg(&dir.join("coordinates.svg"), trajectory, &units.time)
         .map_err(plot_err("coordinates.svg"))?;
-    inputs_svg(&dir.join("inputs.svg"), solution, &units.time).map_err(plot_err("inputs.svg"))?;
+    inputs_svg(&dir.join("inputs.svg"), trajectory, &units.time).map_err(plot_err("inputs.svg"))?;
     let friction: Vec<f64> = problem.spec.contacts.iter().map(|c| c.friction).collect();
-    let modes = contact_modes(solution, &friction);
+    let modes = contact_modes(trajectory, &friction);
     contact_modes_svg(
         &dir.join("contact_modes.svg"),
-        solution,
+        trajectory,
         &modes,
         &units.time,
     )
@@ -175,7 +193,7 @@ mod tests {
 
     #[test]
     fn modes_follow_the_stated_thresholds() {
-        let modes = contact_modes(&sample_solution(), &[1.0, 1.0]);
+        let modes = contact_modes(&solution_trajectory(&sample_solution()), &[1.0, 1.0]);
         use ContactMode::*;
         assert_eq!(
             modes,
@@ -242,11 +260,12 @@ mod output_tests {
         s.q[2][1] = -1e308;
         s.q[3][2] = 1e308;
         s.u[0][0] = f64::NEG_INFINITY;
-        let modes = contact_modes(&s, &[0.8]);
+        let t = solution_trajectory(&s);
+        let modes = contact_modes(&t, &[0.8]);
         let dir = tempfile::tempdir().unwrap();
-        coordinates_svg(&dir.path().join("q.svg"), &s, "s").unwrap();
-        inputs_svg(&dir.path().join("u.svg"), &s, "s").unwrap();
-        contact_modes_svg(&dir.path().join("m.svg"), &s, &modes, "s").unwrap();
+        coordinates_svg(&dir.path().join("q.svg"), &t, "s").unwrap();
+        inputs_svg(&dir.path().join("u.svg"), &t, "s").unwrap();
+        contact_modes_svg(&dir.path().join("m.svg"), &t, &modes, "s").unwrap();
         let text = std::fs::read_to_string(dir.path().join("q.svg")).unwrap();
         assert!(text.contains("<svg") && !text.contains("NaN"), "{text}");
     }

@@ -7,7 +7,7 @@
 //!   (Coulomb friction at its limit is what sliding needs; stick rarely saturates it);
 //! - stick: in contact and not sliding.
 
-use crate::transcription::Solution;
+use crate::trajectory_csv::Trajectory;
 
 /// Flight when c ≤ this fraction of the trajectory's largest normal impulse.
 pub const FLIGHT_RELATIVE: f64 = 1e-3;
@@ -37,7 +37,7 @@ impl ContactMode {
 }
 
 /// Modes per interval and contact (N−1 × nc); `friction` holds μ per contact.
-pub fn contact_modes(solution: &Solution, friction: &[f64]) -> Vec<Vec<ContactMode>> {
+pub fn contact_modes(solution: &Trajectory<'_>, friction: &[f64]) -> Vec<Vec<ContactMode>> {
     let largest = solution
         .normal_impulse
         .iter()

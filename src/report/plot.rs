@@ -5,7 +5,7 @@ use std::path::Path;
 use plotters::prelude::*;
 
 use crate::report::modes::ContactMode;
-use crate::transcription::Solution;
+use crate::trajectory_csv::Trajectory;
 
 /// A plotting failure (plotters' error, as text).
 pub type PlotError = String;
@@ -102,7 +102,7 @@ pub fn line_plot(
 }
 
 /// Coordinates q_k over time, one line per coordinate.
-pub fn coordinates_svg(path: &Path, s: &Solution, time_unit: &str) -> Result<(), PlotError> {
+pub fn coordinates_svg(path: &Path, s: &Trajectory<'_>, time_unit: &str) -> Result<(), PlotError> {
     let series: Vec<(String, Vec<(f64, f64)>)> = s
         .coordinate_names
         .iter()
@@ -110,7 +110,7 @@ pub fn coordinates_svg(path: &Path, s: &Solution, time_unit: &str) -> Result<(),
         .map(|(j, name)| {
             (
                 name.clone(),
-                s.times.iter().zip(&s.q).map(|(&t, q)| (t, q[j])).collect(),
+                s.times.iter().zip(s.q).map(|(&t, q)| (t, q[j])).collect(),
             )
         })
         .collect();
@@ -124,7 +124,7 @@ pub fn coordinates_svg(path: &Path, s: &Solution, time_unit: &str) -> Result<(),
 }
 
 /// Inputs u_k over time, held constant over each interval (a staircase).
-pub fn inputs_svg(path: &Path, s: &Solution, time_unit: &str) -> Result<(), PlotError> {
+pub fn inputs_svg(path: &Path, s: &Trajectory<'_>, time_unit: &str) -> Result<(), PlotError> {
     let series: Vec<(String, Vec<(f64, f64)>)> = s
         .input_names
         .iter()
@@ -161,7 +161,7 @@ fn mode_color(mode: ContactMode) -> RGBColor {
 /// Contact-mode sequence: one row per contact, one bar per interval coloured by mode.
 pub fn contact_modes_svg(
     path: &Path,
-    s: &Solution,
+    s: &Trajectory<'_>,
     modes: &[Vec<ContactMode>],
     time_unit: &str,
 ) -> Result<(), PlotError> {
@@ -186,7 +186,7 @@ pub fn contact_modes_svg(
         .y_label_area_size(160)
         .build_cartesian_2d(0.0..t_end, 0.0..nc.max(1) as f64)
         .map_err(|x| e(&x))?;
-    let names = s.contact_names.clone();
+    let names = s.contact_names.to_vec();
     chart
         .configure_mesh()
         .disable_mesh()

@@ -30,6 +30,10 @@ pub use crate::discrete::{
     Mechanics, MechanicsDerivatives, ModelMechanics, contact_jet_by_autodiff,
 };
 pub use blocks::{Context, ScalarKind, VectorKind};
+/// The NLP's contact rows, which the forward simulator solves too (one definition).
+pub(crate) use blocks::{
+    contact_work_gradient, contact_work_hessian, tangential_rate, tangential_rate_jacobian,
+};
 pub use derivative_check::{DerivativeCheck, DerivativeKind, EntryCheck};
 pub use error::TranscriptionError;
 pub use layout::{Dims, EntryNames, Layout};

@@ -7,7 +7,6 @@ use super::evaluate::ContactDerivatives;
 use super::layout::{Dims, Layout};
 use super::pattern::Pattern;
 use super::{NlpSize, TranscriptionError};
-use crate::contact::FrictionBasis;
 use crate::discrete::MechanicsDerivatives;
 use crate::problem::costs::{CostSizes, length_mismatch};
 use crate::problem::{HessianMode, ProblemSpec, TimeSteps};
@@ -82,18 +81,8 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                 message: format!("{} knots; a trajectory needs at least 2", spec.knots),
             });
         }
-        let basis = FrictionBasis::for_robot(mech.moves_in_xz_plane());
-        let nd = basis.num_directions();
-        let ctx = Context {
-            n,
-            m,
-            nl,
-            basis,
-            friction: spec.contacts.iter().map(|c| c.friction).collect(),
-            terrain: spec.terrain.clone(),
-            integrator: spec.integrator,
-            costs: spec.costs.clone(),
-        };
+        let ctx = Context::new(&mech, spec);
+        let nd = ctx.nd();
         for (t, term) in spec.costs.iter().enumerate() {
             if let Some((field, expected, found)) = length_mismatch(term, CostSizes { n, m }) {
                 return Err(TranscriptionError::Length {

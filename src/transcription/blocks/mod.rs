@@ -12,8 +12,8 @@ mod contact_geometry;
 
 pub(crate) use contact::{
     complementarity_hessian, complementarity_jacobian, contact_work_gradient, contact_work_hessian,
-    contact_work_third, distance_hessian, distance_jacobian, tangential_rate_hessian,
-    tangential_rate_jacobian,
+    contact_work_third, distance_hessian, distance_jacobian, tangential_rate,
+    tangential_rate_hessian, tangential_rate_jacobian,
 };
 
 use num_dual::Dual;
@@ -24,7 +24,7 @@ use crate::discrete::{
     Mechanics, SegmentLagrangian, euler_knot, half_force, initial_momentum, loop_work,
 };
 use crate::problem::costs::{CostSizes, cost_value};
-use crate::problem::{CostTerm, Integrator};
+use crate::problem::{CostTerm, Integrator, ProblemSpec};
 use crate::scalar::Scalar;
 
 /// Problem constants the block functions need besides the mechanics.
@@ -49,6 +49,23 @@ pub struct Context {
 }
 
 impl Context {
+    /// The constants of `spec` for the robot `mech` (whose contacts are `spec.contacts`, in
+    /// order), the friction basis by its one rule ([`FrictionBasis::for_robot`]).
+    /// The NLP and the forward simulator build their contact conditions from this.
+    pub fn new<M: Mechanics>(mech: &M, spec: &ProblemSpec) -> Context {
+        let basis = FrictionBasis::for_robot(mech.moves_in_xz_plane());
+        Context {
+            n: mech.nq(),
+            m: mech.nu(),
+            nl: mech.num_loop_constraints(),
+            basis,
+            friction: spec.contacts.iter().map(|c| c.friction).collect(),
+            terrain: spec.terrain.clone(),
+            integrator: spec.integrator,
+            costs: spec.costs.clone(),
+        }
+    }
+
     /// Friction directions per contact.
     pub fn nd(&self) -> usize {
         self.basis.num_directions()

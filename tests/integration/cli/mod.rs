@@ -9,6 +9,7 @@ mod init;
 mod inputs;
 mod output_dirs;
 mod regression;
+mod simulate;
 mod solve;
 pub mod sweep;
 mod sweep_slurm;

@@ -1,0 +1,17 @@
+//! Forward simulation with the planner's own mechanics and contact model: each step solves
+//! the problem of eq. (32) of the paper, the knot's discrete equations (`crate::discrete::del`,
+//! midpoint or Euler) with the NLP's contact rows (`crate::transcription`'s contact blocks:
+//! impulses J(q)ᵀλ, signed distance, tangential velocity, polyhedral friction cone) held as
+//! exact complementarity, by a smoothed Fischer–Burmeister Newton method with warm starts.
+//!
+//! Where things are: `step` (one step's complementarity problem and its solver), `run` (a
+//! horizon: warm starts, the per-step record, knot energies), `inputs` (zero, replayed or
+//! PD-tracking inputs).
+
+mod inputs;
+mod run;
+mod step;
+
+pub use inputs::{Gain, InputSource};
+pub use run::{Simulation, SimulationError, SimulationOptions, knot_energies, simulate};
+pub use step::{Before, ContactStep, Impulses, StepFailure, StepOptions, StepOutcome};

@@ -1,0 +1,233 @@
+//! A simulation over a horizon: knots q_0..q_N at a fixed step h, inputs held over each
+//! interval (zero-order hold, as the NLP holds them), one contact step per interval, warm
+//! started from the previous one.
+
+use nalgebra::{DMatrix, DVector};
+
+use super::step::{Before, ContactStep, Impulses, StepFailure, StepOptions};
+use crate::discrete::{Integrator, MechanicsDerivatives, incoming_momentum, initial_momentum};
+use crate::transcription::Context;
+
+/// Settings of a simulation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SimulationOptions {
+    /// Discrete mechanics.
+    pub integrator: Integrator,
+    /// Time step h (the problem's time unit).
+    pub h: f64,
+    /// Number of steps N (knots 0..N).
+    pub steps: usize,
+    /// The per-step solver's settings.
+    pub step: StepOptions,
+}
+
+/// Why a simulation stopped.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum SimulationError {
+    /// A step's contact problem was not solved.
+    #[error("step {step} (t = {time}): {source}")]
+    Step {
+        /// Step index (0 = from the initial state).
+        step: usize,
+        /// Time at the start of the step.
+        time: f64,
+        /// What went wrong.
+        source: StepFailure,
+    },
+    /// The input policy returned the wrong number of inputs.
+    #[error("step {step}: {found} inputs given, the robot has {expected}")]
+    InputLength {
+        /// Step index.
+        step: usize,
+        /// Inputs the robot has.
+        expected: usize,
+        /// Inputs given.
+        found: usize,
+    },
+}
+
+/// A simulated trajectory with the per-step record of the contact solver.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Simulation {
+    /// Knot times t_k = k·h (N + 1).
+    pub times: Vec<f64>,
+    /// Configurations (N + 1 × n).
+    pub q: Vec<Vec<f64>>,
+    /// Velocities: v_0, then the backward differences (q_k − q_{k−1})/h (N + 1 × n).
+    pub v: Vec<Vec<f64>>,
+    /// Inputs per interval (N × m).
+    pub u: Vec<Vec<f64>>,
+    /// Impulses per interval (N).
+    pub impulses: Vec<Impulses>,
+    /// Signed distance per contact at each interval's end knot (N × nc).
+    pub distance: Vec<Vec<f64>>,
+    /// Newton iterations per step (N).
+    pub iterations: Vec<usize>,
+    /// The NLP's complementarity products per step (N; see [`super::StepOutcome`]).
+    pub complementarity: Vec<f64>,
+    /// Max-norm of the discrete equations per step (N, impulse units).
+    pub dynamics_residual: Vec<f64>,
+}
+
+impl Simulation {
+    /// The deepest penetration max(0, −φ) over every contact and knot (length units).
+    pub fn max_penetration(&self) -> f64 {
+        self.distance
+            .iter()
+            .flatten()
+            .fold(0.0_f64, |a, &d| a.max(-d))
+    }
+}
+
+/// Simulates from q_0 = `q0` with velocity v_0 = `v0`. `input(k, t_k, q_k, v_k)` gives u_k,
+/// held over [t_k, t_{k+1}] (v_k as in [`Simulation::v`]); `progress(k)` is called after
+/// each step.
+pub fn simulate<M: MechanicsDerivatives>(
+    mech: &M,
+    ctx: &Context,
+    q0: &[f64],
+    v0: &[f64],
+    options: &SimulationOptions,
+    mut input: impl FnMut(usize, f64, &[f64], &[f64]) -> Vec<f64>,
+    mut progress: impl FnMut(usize),
+) -> Result<Simulation, SimulationError> {
+    let (n, m, h) = (mech.nq(), mech.nu(), options.h);
+    let mut sim = Simulation {
+        times: vec![0.0],
+        q: vec![q0.to_vec()],
+        v: vec![v0.to_vec()],
+        ..Simulation::default()
+    };
+    let mut warm = Impulses::zeros(ctx, mech.num_contacts());
+    for k in 0..options.steps {
+        let t = k as f64 * h;
+        let u = input(k, t, &sim.q[k], &sim.v[k]);
+        if u.len() != m {
+            return Err(SimulationError::InputLength {
+                step: k,
+                expected: m,
+                found: u.len(),
+            });
+        }
+        let before = match (options.integrator, k) {
+            (Integrator::Midpoint, 0) => {
+                let mut p = vec![0.0; n];
+                initial_momentum(mech, &[q0, v0].concat(), &mut p);
+                Before::Momentum(p)
+            }
+            (Integrator::Midpoint, _) => Before::Momentum(incoming_momentum(
+                mech,
+                &sim.q[k - 1],
+                &sim.q[k],
+                &sim.u[k - 1],
+                h,
+            )),
+            (Integrator::Euler, 0) => Before::Euler {
+                before: v0,
+                first_step: true,
+                h_prev: h,
+            },
+            (Integrator::Euler, _) => Before::Euler {
+                before: &sim.q[k - 1],
+                first_step: false,
+                h_prev: h,
+            },
+        };
+        let q_curr = &sim.q[k];
+        let guess: Vec<f64> = q_curr
+            .iter()
+            .zip(&sim.v[k])
+            .map(|(q, v)| q + h * v)
+            .collect();
+        let step = ContactStep {
+            mech,
+            ctx,
+            integrator: options.integrator,
+            before,
+            q_curr,
+            u: &u,
+            h,
+        };
+        let outcome =
+            step.solve(&guess, &warm, &options.step)
+                .map_err(|source| SimulationError::Step {
+                    step: k,
+                    time: t,
+                    source,
+                })?;
+        let v_next = q_curr
+            .iter()
+            .zip(&outcome.q_next)
+            .map(|(a, b)| (b - a) / h)
+            .collect();
+        sim.times.push((k + 1) as f64 * h);
+        sim.q.push(outcome.q_next);
+        sim.v.push(v_next);
+        sim.u.push(u);
+        warm = outcome.impulses.clone();
+        sim.impulses.push(outcome.impulses);
+        sim.distance.push(outcome.distance);
+        sim.iterations.push(outcome.iterations);
+        sim.complementarity.push(outcome.complementarity);
+        sim.dynamics_residual.push(outcome.dynamics_residual);
+        progress(k);
+    }
+    Ok(sim)
+}
+
+/// Total energy T + V at each knot of a run without inputs, for mechanics whose Lagrangian
+/// is T − V with T quadratic in v: E = vᵀ(M v) − L(q, v), L(q, v) = Ld(q − hv/2, q + hv/2, h)/h.
+/// The knot velocity is the integrator's own: midpoint, v_k = M(q_k)⁻¹ p_k⁻ from the discrete
+/// Legendre transform (v_0 at the first knot); Euler, (q_k − q_{k−1})/h.
+pub fn knot_energies<M: MechanicsDerivatives>(
+    mech: &M,
+    sim: &Simulation,
+    integrator: Integrator,
+    h: f64,
+) -> Vec<f64> {
+    let n = mech.nq();
+    (0..sim.q.len())
+        .map(|k| {
+            let q = &sim.q[k];
+            let v = match (integrator, k) {
+                (_, 0) | (Integrator::Euler, _) => sim.v[k].clone(),
+                (Integrator::Midpoint, _) => {
+                    let u = &sim.u[k - 1];
+                    let p = incoming_momentum(mech, &sim.q[k - 1], q, u, h);
+                    let mass = mass_matrix(mech, q);
+                    mass.lu()
+                        .solve(&DVector::from_vec(p))
+                        .map_or_else(|| vec![f64::NAN; n], |v| v.as_slice().to_vec())
+                }
+            };
+            energy(mech, q, &v, h)
+        })
+        .collect()
+}
+
+/// M(q) from the momentum map, column by column.
+fn mass_matrix<M: MechanicsDerivatives>(mech: &M, q: &[f64]) -> DMatrix<f64> {
+    let n = mech.nq();
+    let mut mass = DMatrix::zeros(n, n);
+    let mut column = vec![0.0; n];
+    for j in 0..n {
+        let mut unit = vec![0.0; n];
+        unit[j] = 1.0;
+        mech.momentum(q, &unit, &mut column);
+        mass.column_mut(j).copy_from_slice(&column);
+    }
+    mass
+}
+
+/// T + V at (q, v) from the momentum and the discrete Lagrangian (see [`knot_energies`]).
+fn energy<M: MechanicsDerivatives>(mech: &M, q: &[f64], v: &[f64], h: f64) -> f64 {
+    let n = mech.nq();
+    let mut p = vec![0.0; n];
+    mech.momentum(q, v, &mut p);
+    let twice_kinetic: f64 = p.iter().zip(v).map(|(a, b)| a * b).sum();
+    let qa: Vec<f64> = q.iter().zip(v).map(|(q, v)| q - 0.5 * h * v).collect();
+    let qb: Vec<f64> = q.iter().zip(v).map(|(q, v)| q + 0.5 * h * v).collect();
+    let lagrangian = mech.discrete_lagrangian(&qa, &qb, h) / h;
+    twice_kinetic - lagrangian
+}

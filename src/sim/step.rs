@@ -1,0 +1,632 @@
+//! One forward step with contact: the problem of eq. (32) of the paper, the NLP's own rows
+//! solved for (q_{k+1}, λ_k) given the past, by a smoothed Fischer–Burmeister Newton method.
+//!
+//! Unknowns x = [q_{k+1} (n); per contact (c, β (nd), ψ); loop impulses ν (nl)]. Equations:
+//! - the knot's discrete equations (midpoint DEL or Euler residual, `crate::discrete::del`)
+//!   plus the contact impulses J(q_{k+1})ᵀλ (the NLP's contact-work gradient) and Gᵀν;
+//! - per contact, with η = P(q_{k+1})(q_{k+1} − q_k)/h + ψe (the NLP's tangential-velocity
+//!   rows solved for η): 0 ≤ c ⊥ φ(q_{k+1}) ≥ 0, 0 ≤ β ⊥ η ≥ 0, 0 ≤ ψ ⊥ μc − eᵀβ ≥ 0;
+//! - the loop closures a(q_{k+1}) = 0.
+//!
+//! Each complementarity pair (a, b) becomes Φ_ε(a, b) = a + b − √(a² + b² + 2ε) = 0, i.e.
+//! a, b > 0 with ab = ε, after scaling b to impulse units (φ by the contact's effective
+//! mass over h, velocities by the effective mass). ε falls with the residual to a floor below
+//! the tolerance; Newton steps are damped by an Armijo line search on ½‖Φ_ε‖².
+
+use nalgebra::{DMatrix, DVector};
+
+use crate::autodiff::{VectorFunction, jacobian, weighted_hessian};
+use crate::discrete::{
+    EulerKnotInNext, Integrator, MechanicsDerivatives, outgoing_momentum,
+    outgoing_momentum_jacobian,
+};
+use crate::scalar::Scalar;
+use crate::transcription::{
+    Context, contact_work_gradient, contact_work_hessian, tangential_rate, tangential_rate_jacobian,
+};
+
+/// Settings of the per-step solver.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StepOptions {
+    /// Residual tolerance relative to the step's momentum scale.
+    pub relative_tolerance: f64,
+    /// Newton iterations before the step fails.
+    pub max_iterations: usize,
+    /// Gravity magnitude (the problem's length and time units), for the momentum scale of a
+    /// body at rest.
+    pub gravity: f64,
+}
+
+impl Default for StepOptions {
+    fn default() -> Self {
+        StepOptions {
+            relative_tolerance: 1e-10,
+            max_iterations: 60,
+            gravity: 9.81,
+        }
+    }
+}
+
+/// Why a step failed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum StepFailure {
+    /// A value became NaN or infinite.
+    #[error("non-finite residual at Newton iteration {iteration}; reduce the time step")]
+    NonFinite {
+        /// Newton iteration.
+        iteration: usize,
+    },
+    /// The Newton matrix could not be factorised.
+    #[error("singular Newton matrix at iteration {iteration}")]
+    Singular {
+        /// Newton iteration.
+        iteration: usize,
+    },
+    /// Newton did not reach the tolerance.
+    #[error(
+        "the contact problem did not converge in {iterations} Newton iterations (residual {residual:.3e}, tolerance {tolerance:.3e}); reduce the time step"
+    )]
+    NotConverged {
+        /// Iterations done.
+        iterations: usize,
+        /// Final max-norm residual (impulse units).
+        residual: f64,
+        /// The tolerance.
+        tolerance: f64,
+    },
+}
+
+/// What the knot's equation takes from before the step.
+#[derive(Debug, Clone)]
+pub enum Before<'a> {
+    /// Midpoint: the momentum arriving at knot k, D2Ld(q_{k−1}, q_k) + ½Fd_{k−1}
+    /// ([`crate::discrete::incoming_momentum`]), or M(q_0)v_0 at the first step.
+    Momentum(Vec<f64>),
+    /// Euler: v_0 at the first step (`first_step`), else q_{k−1} with h_{k−1}.
+    Euler {
+        /// v_0 or q_{k−1}.
+        before: &'a [f64],
+        /// Whether `before` is v_0.
+        first_step: bool,
+        /// h_{k−1}, s (unused at the first step).
+        h_prev: f64,
+    },
+}
+
+/// Contact and loop impulses of one interval.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Impulses {
+    /// Normal impulse c per contact.
+    pub normal: Vec<f64>,
+    /// Friction impulses β per contact (nd each, the NLP's order).
+    pub friction: Vec<Vec<f64>>,
+    /// ψ per contact (the sliding speed).
+    pub slip: Vec<f64>,
+    /// Loop-closure impulses ν.
+    pub loops: Vec<f64>,
+}
+
+impl Impulses {
+    /// All zero for `ctx`'s sizes.
+    pub fn zeros(ctx: &Context, contacts: usize) -> Impulses {
+        Impulses {
+            normal: vec![0.0; contacts],
+            friction: vec![vec![0.0; ctx.nd()]; contacts],
+            slip: vec![0.0; contacts],
+            loops: vec![0.0; ctx.nl],
+        }
+    }
+}
+
+/// A solved step.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StepOutcome {
+    /// q_{k+1}.
+    pub q_next: Vec<f64>,
+    /// λ_k and ν_k.
+    pub impulses: Impulses,
+    /// Signed distance per contact at q_{k+1}.
+    pub distance: Vec<f64>,
+    /// Newton iterations.
+    pub iterations: usize,
+    /// Max-norm of the discrete equations (impulse units) at the solution.
+    pub dynamics_residual: f64,
+    /// The NLP's complementarity products at the solution, max over contacts of c·φ, ηᵀβ and
+    /// ψ(μc − eᵀβ): the slack the NLP would need for this step.
+    pub complementarity: f64,
+}
+
+/// One step's problem: the robot, the contact constants, the integrator and the knot data.
+pub struct ContactStep<'a, M> {
+    /// The robot.
+    pub mech: &'a M,
+    /// Contact constants (the NLP's).
+    pub ctx: &'a Context,
+    /// Discrete mechanics.
+    pub integrator: Integrator,
+    /// What the knot equation takes from before the step.
+    pub before: Before<'a>,
+    /// q_k.
+    pub q_curr: &'a [f64],
+    /// u_k, held over the step.
+    pub u: &'a [f64],
+    /// h_k, s.
+    pub h: f64,
+}
+
+/// Loop closures a(q) of any mechanics as an AD function of q.
+struct Loops<'a, M>(&'a M);
+
+impl<M: MechanicsDerivatives> VectorFunction for Loops<'_, M> {
+    fn dim_in(&self) -> usize {
+        self.0.nq()
+    }
+    fn dim_out(&self) -> usize {
+        self.0.num_loop_constraints()
+    }
+    fn eval<D: Scalar>(&self, z: &[D], out: &mut [D]) {
+        self.0.loop_residual(z, out);
+    }
+}
+
+/// Φ_ε(a, b) and its partial derivatives, written without cancellation (far from the
+/// kink, 1 − a/ρ is tiny and decides whether a variable is determined at all).
+fn fischer_burmeister(a: f64, b: f64, eps: f64) -> (f64, f64, f64) {
+    let root = (a * a + b * b + 2.0 * eps).sqrt();
+    if root == 0.0 {
+        let d = 1.0 - std::f64::consts::FRAC_1_SQRT_2;
+        return (0.0, d, d);
+    }
+    // (a + b)² − ρ² = 2ab − 2ε.
+    let value = if a + b > 0.0 {
+        2.0 * (a * b - eps) / (a + b + root)
+    } else {
+        a + b - root
+    };
+    // 1 − x/ρ = (ρ² − x²)/(ρ(ρ + x)) for x > 0.
+    let partial = |x: f64, y: f64| {
+        if x > 0.0 {
+            (y * y + 2.0 * eps) / (root * (root + x))
+        } else {
+            1.0 - x / root
+        }
+    };
+    (value, partial(a, b), partial(b, a))
+}
+
+/// Proximal term on the impulse unknowns' diagonal (relative to the row's unit scale): keeps
+/// the Newton matrix regular where the step leaves an impulse undetermined (ψ in flight, the
+/// split of forces between redundant contacts at rest), at a linear rate of this size.
+const PROXIMAL: f64 = 1e-10;
+
+/// Residual, its Jacobian, and the quantities reported at a point.
+struct Evaluation {
+    residual: DVector<f64>,
+    jacobian: DMatrix<f64>,
+    /// Max-norm of the unsmoothed residual (ε = 0).
+    plain: f64,
+    dynamics: f64,
+    complementarity: f64,
+    distance: Vec<f64>,
+}
+
+impl<M: MechanicsDerivatives> ContactStep<'_, M> {
+    fn n(&self) -> usize {
+        self.mech.nq()
+    }
+    fn nc(&self) -> usize {
+        self.mech.num_contacts()
+    }
+    fn stride(&self) -> usize {
+        2 + self.ctx.nd()
+    }
+
+    /// The knot's discrete equations without impulses, and their Jacobian in q_{k+1} when
+    /// `with_jacobian`.
+    fn knot(&self, q_next: &[f64], with_jacobian: bool) -> (Vec<f64>, Option<DMatrix<f64>>) {
+        match (&self.before, self.integrator) {
+            (Before::Momentum(p), Integrator::Midpoint) => {
+                let (mut value, jac) = if with_jacobian {
+                    let (v, j) =
+                        outgoing_momentum_jacobian(self.mech, self.q_curr, q_next, self.u, self.h);
+                    (v, Some(j))
+                } else {
+                    let v = outgoing_momentum(self.mech, self.q_curr, q_next, self.u, self.h);
+                    (v, None)
+                };
+                value.iter_mut().zip(p).for_each(|(v, p)| *v += p);
+                (value, jac)
+            }
+            (
+                Before::Euler {
+                    before,
+                    first_step,
+                    h_prev,
+                },
+                Integrator::Euler,
+            ) => {
+                let f = EulerKnotInNext {
+                    mech: self.mech,
+                    first_step: *first_step,
+                    before,
+                    q_curr: self.q_curr,
+                    h_prev: *h_prev,
+                    h_curr: self.h,
+                    u_curr: self.u,
+                };
+                if with_jacobian {
+                    let (v, j) = jacobian(&f, q_next);
+                    (v, Some(j))
+                } else {
+                    let mut v = vec![0.0; q_next.len()];
+                    f.eval(q_next, &mut v);
+                    (v, None)
+                }
+            }
+            // The caller pairs them (see `super::run`); a mismatch is a programming error.
+            _ => panic!("ContactStep: `before` does not match the integrator"),
+        }
+    }
+
+    /// Residual at x with smoothing ε and contact scales `scale`; the Jacobian only when
+    /// `with_jacobian` (zeros otherwise: line-search trials need values alone).
+    fn evaluate(
+        &self,
+        x: &[f64],
+        eps: f64,
+        scale: &[f64],
+        active: &[bool],
+        with_jacobian: bool,
+    ) -> Evaluation {
+        let (n, nc, nd, stride) = (self.n(), self.nc(), self.ctx.nd(), self.stride());
+        let nl = self.ctx.nl;
+        let dim = n + nc * stride + nl;
+        let q = &x[..n];
+        let (knot, knot_jac) = self.knot(q, with_jacobian);
+        let mut residual = DVector::from_vec([knot, vec![0.0; dim - n]].concat());
+        let mut jac = DMatrix::zeros(dim, dim);
+        if let Some(knot_jac) = knot_jac {
+            jac.view_mut((0, 0), (n, n)).copy_from(&knot_jac);
+        }
+        let mut plain = 0.0_f64;
+        let mut complementarity = 0.0_f64;
+        let mut distance = vec![0.0; nc];
+        let segment: Vec<f64> = [self.q_curr, q, &[self.h]].concat();
+        for i in 0..nc {
+            let base = n + i * stride;
+            let vars = &x[base..base + stride];
+            let (c, beta, psi) = (vars[0], &vars[1..1 + nd], vars[1 + nd]);
+            let z: Vec<f64> = [q, &vars[..1 + nd]].concat();
+            // Nᵀc + Pᵀβ into the knot rows, with its derivatives in q, c and β.
+            let work = contact_work_gradient(self.mech, self.ctx, i, &z);
+            let work_hessian = if with_jacobian && active[i] {
+                contact_work_hessian(self.mech, self.ctx, i, &z)
+            } else {
+                DMatrix::zeros(n + 1 + nd, n + 1 + nd)
+            };
+            for r in 0..n {
+                residual[r] += work[r];
+                for col in 0..n + 1 + nd {
+                    let target = if col < n { col } else { base + col - n };
+                    jac[(r, target)] += work_hessian[(r, col)];
+                }
+            }
+            let phi = work[n];
+            distance[i] = phi;
+            if !active[i] {
+                // Clear of the ground this step: no impulse (the caller checks φ afterwards).
+                for r in 0..stride {
+                    residual[base + r] = vars[r];
+                    jac[(base + r, base + r)] = 1.0;
+                    plain = plain.max(vars[r].abs());
+                }
+                continue;
+            }
+            let (k_phi, k_v) = (scale[i] / self.h, scale[i]);
+            let mu = self.ctx.friction[i];
+            // 0 ≤ c ⊥ φ ≥ 0.
+            let (f, da, db) = fischer_burmeister(c, k_phi * phi, eps);
+            residual[base] = f;
+            plain = plain.max(fischer_burmeister(c, k_phi * phi, 0.0).0.abs());
+            jac[(base, base)] = da;
+            for col in 0..n {
+                jac[(base, col)] = db * k_phi * work_hessian[(col, n)];
+            }
+            let mut cone = mu * c;
+            let mut eta_beta = 0.0;
+            if mu > 0.0 {
+                // 0 ≤ β ⊥ η = P v + ψe ≥ 0.
+                let mut rate = vec![0.0; nd];
+                tangential_rate(self.mech, self.ctx, i, &segment, &mut rate);
+                let rate_jac = if with_jacobian {
+                    tangential_rate_jacobian(self.mech, self.ctx, i, &segment)
+                } else {
+                    DMatrix::zeros(nd, 2 * n + 1)
+                };
+                for d in 0..nd {
+                    let eta = rate[d] + psi;
+                    let row = base + 1 + d;
+                    let (f, da, db) = fischer_burmeister(beta[d], k_v * eta, eps);
+                    residual[row] = f;
+                    plain = plain.max(fischer_burmeister(beta[d], k_v * eta, 0.0).0.abs());
+                    jac[(row, row)] = da;
+                    jac[(row, base + 1 + nd)] = db * k_v;
+                    for col in 0..n {
+                        jac[(row, col)] = db * k_v * rate_jac[(d, n + col)];
+                    }
+                    cone -= beta[d];
+                    eta_beta += eta * beta[d];
+                }
+                // 0 ≤ ψ ⊥ μc − eᵀβ ≥ 0.
+                let row = base + 1 + nd;
+                let (f, da, db) = fischer_burmeister(k_v * psi, cone, eps);
+                residual[row] = f;
+                plain = plain.max(fischer_burmeister(k_v * psi, cone, 0.0).0.abs());
+                jac[(row, row)] = da * k_v;
+                jac[(row, base)] = db * mu;
+                for d in 0..nd {
+                    jac[(row, base + 1 + d)] = -db;
+                }
+            } else {
+                // Frictionless: β = 0 and ψ = 0 (the cone μc − eᵀβ ≥ 0 leaves nothing else).
+                for d in 0..=nd {
+                    residual[base + 1 + d] = vars[1 + d];
+                    jac[(base + 1 + d, base + 1 + d)] = 1.0;
+                    plain = plain.max(vars[1 + d].abs());
+                }
+            }
+            for r in 0..stride {
+                let unit = if r == 1 + nd { k_v } else { 1.0 };
+                jac[(base + r, base + r)] += PROXIMAL * unit;
+            }
+            complementarity = complementarity
+                .max((c * phi).abs())
+                .max(eta_beta.abs())
+                .max((psi * cone).abs());
+        }
+        if nl > 0 {
+            // Loop closures are few and small: always with derivatives.
+            let loops = Loops(self.mech);
+            let first = n + nc * stride;
+            let nu = &x[first..];
+            let (closure, g) = jacobian(&loops, q);
+            let impulse = g.tr_mul(&DVector::from_column_slice(nu));
+            let curvature = weighted_hessian(&loops, q, nu);
+            for r in 0..n {
+                residual[r] += impulse[r];
+                for col in 0..n {
+                    jac[(r, col)] += curvature[(r, col)];
+                }
+                for l in 0..nl {
+                    jac[(r, first + l)] = g[(l, r)];
+                }
+            }
+            for l in 0..nl {
+                residual[first + l] = closure[l];
+                for col in 0..n {
+                    jac[(first + l, col)] = g[(l, col)];
+                }
+            }
+        }
+        let dynamics = residual.rows(0, n).amax();
+        let loops = if nl > 0 {
+            residual.rows(n + nc * stride, nl).amax()
+        } else {
+            0.0
+        };
+        Evaluation {
+            residual,
+            jacobian: jac,
+            plain: plain.max(dynamics).max(loops),
+            dynamics,
+            complementarity,
+            distance,
+        }
+    }
+
+    /// The solved step at x.
+    fn outcome(&self, x: &[f64], e: Evaluation, iterations: usize) -> StepOutcome {
+        let (n, nc, nd, stride) = (self.n(), self.nc(), self.ctx.nd(), self.stride());
+        let mut impulses = Impulses::zeros(self.ctx, nc);
+        for i in 0..nc {
+            let base = n + i * stride;
+            impulses.normal[i] = x[base];
+            impulses.friction[i] = x[base + 1..base + 1 + nd].to_vec();
+            impulses.slip[i] = x[base + 1 + nd];
+        }
+        impulses.loops = x[n + nc * stride..].to_vec();
+        StepOutcome {
+            q_next: x[..n].to_vec(),
+            impulses,
+            distance: e.distance,
+            iterations,
+            dynamics_residual: e.dynamics,
+            complementarity: e.complementarity,
+        }
+    }
+
+    /// Solves the step from the guess `q_guess` for q_{k+1} and the warm start `warm` for the
+    /// impulses.
+    pub fn solve(
+        &self,
+        q_guess: &[f64],
+        warm: &Impulses,
+        options: &StepOptions,
+    ) -> Result<StepOutcome, StepFailure> {
+        let (n, nc, nd, stride) = (self.n(), self.nc(), self.ctx.nd(), self.stride());
+        let nl = self.ctx.nl;
+        let mut x = q_guess.to_vec();
+        for i in 0..nc {
+            x.push(warm.normal.get(i).copied().unwrap_or(0.0));
+            for d in 0..nd {
+                x.push(
+                    warm.friction
+                        .get(i)
+                        .and_then(|b| b.get(d))
+                        .copied()
+                        .unwrap_or(0.0),
+                );
+            }
+            x.push(warm.slip.get(i).copied().unwrap_or(0.0));
+        }
+        x.extend((0..nl).map(|l| warm.loops.get(l).copied().unwrap_or(0.0)));
+
+        // Scales from the knot Jacobian A ≈ M/h at the guess: the momentum of the step's
+        // motion (and of gravity over it), and each contact's effective mass 1/(∇φ A⁻¹ ∇φᵀ)·h.
+        let a0 = self
+            .knot(q_guess, true)
+            .1
+            .unwrap_or_else(|| DMatrix::identity(n, n));
+        let motion = DVector::from_iterator(
+            n,
+            q_guess
+                .iter()
+                .zip(self.q_curr)
+                .map(|(g, c)| (g - c).abs() + options.gravity * self.h * self.h),
+        );
+        let momentum_scale = (a0.abs() * motion).amax();
+        let tolerance = options.relative_tolerance * momentum_scale.max(f64::MIN_POSITIVE);
+        let a0_lu = a0.clone().lu();
+        let mut scale = vec![1.0; nc];
+        for (i, s) in scale.iter_mut().enumerate() {
+            let base = n + i * stride;
+            let z: Vec<f64> = [q_guess, &x[base..base + 1 + nd]].concat();
+            let grad = contact_work_hessian(self.mech, self.ctx, i, &z)
+                .view((0, n), (n, 1))
+                .into_owned();
+            if let Some(y) = a0_lu.solve(&grad) {
+                let compliance = grad.dot(&y).abs();
+                if compliance.is_finite() && compliance > 0.0 {
+                    *s = self.h / compliance;
+                }
+            }
+        }
+
+        // Contacts clear of the ground at the guess and at q_k (by more than twice the
+        // guess's approach) carry no impulse; one that ends up below the ground is added and
+        // the step solved again.
+        let mut active: Vec<bool> = (0..nc)
+            .map(|i| {
+                let base = n + i * stride;
+                let z_guess: Vec<f64> = [q_guess, &x[base..base + 1 + nd]].concat();
+                let z_curr: Vec<f64> = [self.q_curr, &x[base..base + 1 + nd]].concat();
+                let phi_guess = contact_work_gradient(self.mech, self.ctx, i, &z_guess)[n];
+                let phi_curr = contact_work_gradient(self.mech, self.ctx, i, &z_curr)[n];
+                let margin = 2.0 * (phi_guess - phi_curr).abs() + options.gravity * self.h * self.h;
+                phi_guess <= margin || phi_curr <= margin
+            })
+            .collect();
+        let mut total = 0;
+        loop {
+            for i in (0..nc).filter(|&i| !active[i]) {
+                let base = n + i * stride;
+                x[base..base + stride].iter_mut().for_each(|v| *v = 0.0);
+            }
+            let (solved, iterations) =
+                match self.newton(x.clone(), &active, &scale, tolerance, options) {
+                    Ok(found) => found,
+                    // Once more from q_k at rest with no impulses: a long step's extrapolated
+                    // guess can start Newton in the wrong contact mode.
+                    Err(first) => {
+                        let mut cold = x.clone();
+                        cold[..n].copy_from_slice(self.q_curr);
+                        cold[n..].iter_mut().for_each(|v| *v = 0.0);
+                        self.newton(cold, &active, &scale, tolerance, options)
+                            .map_err(|_| first)?
+                    }
+                };
+            total += iterations;
+            x = solved;
+            let e = self.evaluate(&x, 0.0, &scale, &active, false);
+            let missed: Vec<usize> = (0..nc)
+                .filter(|&i| !active[i] && e.distance[i] < 0.0)
+                .collect();
+            if missed.is_empty() {
+                return Ok(self.outcome(&x, e, total));
+            }
+            for i in missed {
+                active[i] = true;
+            }
+        }
+    }
+
+    /// Newton's method on the smoothed system from x with the contacts marked `active`;
+    /// returns the solution and the iterations.
+    fn newton(
+        &self,
+        mut x: Vec<f64>,
+        active: &[bool],
+        scale: &[f64],
+        tolerance: f64,
+        options: &StepOptions,
+    ) -> Result<(Vec<f64>, usize), StepFailure> {
+        // Smoothing continuation: ε starts at the size of the residual, and falls (by 10, or
+        // at once to the residual's size) whenever Newton is on the smoothed path, i.e. its
+        // residual is below √(2ε); a failed or tiny line-search step raises it again.
+        let eps_floor = (0.01 * tolerance).powi(2);
+        let mut current = self.evaluate(&x, 0.0, scale, active, false);
+        let mut eps = (0.1 * current.plain).powi(2).max(eps_floor);
+        current = self.evaluate(&x, eps, scale, active, false);
+        for iteration in 0..=options.max_iterations {
+            if current.plain <= tolerance {
+                return Ok((x, iteration));
+            }
+            if iteration == options.max_iterations {
+                break;
+            }
+            if current.residual.amax() <= (2.0 * eps).sqrt() && eps > eps_floor {
+                eps = (0.1 * eps)
+                    .min((0.1 * current.plain).powi(2))
+                    .max(eps_floor);
+                current = self.evaluate(&x, eps, scale, active, false);
+            }
+            let e = self.evaluate(&x, eps, scale, active, true);
+            let finite = e
+                .residual
+                .iter()
+                .chain(e.jacobian.iter())
+                .all(|v| v.is_finite());
+            if !finite {
+                return Err(StepFailure::NonFinite { iteration });
+            }
+            let direction = e
+                .jacobian
+                .clone()
+                .lu()
+                .solve(&(-&e.residual))
+                .ok_or(StepFailure::Singular { iteration })?;
+            // Armijo backtracking on ½‖Φ_ε‖².
+            let merit = 0.5 * e.residual.norm_squared();
+            let mut t = 1.0;
+            let mut accepted = false;
+            for _ in 0..30 {
+                let trial: Vec<f64> = x
+                    .iter()
+                    .zip(direction.iter())
+                    .map(|(a, d)| a + t * d)
+                    .collect();
+                let trial_eval = self.evaluate(&trial, eps, scale, active, false);
+                let value = 0.5 * trial_eval.residual.norm_squared();
+                if value.is_finite() && value <= (1.0 - 1e-4 * t) * merit {
+                    x = trial;
+                    current = trial_eval;
+                    accepted = true;
+                    break;
+                }
+                t *= 0.5;
+            }
+            if !accepted || t < 1e-2 {
+                // Stalled on a nonsmooth valley (or jammed at an impulse's bound): smooth
+                // more and go on from here.
+                eps = (100.0 * eps).max((0.1 * e.plain).powi(2));
+                current = self.evaluate(&x, eps, scale, active, false);
+            }
+        }
+        Err(StepFailure::NotConverged {
+            iterations: options.max_iterations,
+            residual: current.plain,
+            tolerance,
+        })
+    }
+}

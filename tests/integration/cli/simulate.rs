@@ -1,0 +1,93 @@
+//! `vito simulate`: outputs in the solve's format, replaying a solved plan, and one clear
+//! error (exit 2) for bad input before simulating.
+
+use crate::cli::util::{TestDir, problems_dir, summary};
+
+/// The brick of brick_3d.toml simulated for 1 s at 1 kHz: trajectory.csv with the solve's
+/// columns, summary.json with the per-step record, the plots; it comes to rest on the ground.
+#[test]
+fn simulate_writes_trajectory_summary_and_plots() {
+    let t = TestDir::new("simulate-brick");
+    let out = t.path().join("out");
+    let problem = problems_dir().join("brick_3d.toml");
+    let run = t
+        .vito()
+        .args(
+            [problem.as_os_str(), "--out".as_ref(), out.as_os_str()]
+                .iter()
+                .fold(vec![std::ffi::OsStr::new("simulate")], |mut v, a| {
+                    v.push(a);
+                    v
+                }),
+        )
+        .args(["--rate", "1000", "--duration", "1", "--quiet"])
+        .assert_exit(0);
+    let s = summary(&out);
+    assert_eq!(s["steps"], 1000, "{}", run.stdout);
+    assert!(s["max_penetration"].as_f64().unwrap() <= 1e-6);
+    assert!(s["max_dynamics_residual"].as_f64().unwrap() < 1e-9);
+    assert!(
+        s["energy"].is_null(),
+        "contact dissipates: no drift to report"
+    );
+    let csv = std::fs::read_to_string(out.join("trajectory.csv")).unwrap();
+    let header = csv.lines().next().unwrap();
+    assert!(header.starts_with("time [s],base_x [m]"), "{header}");
+    assert!(header.ends_with(",slack"), "{header}");
+    assert_eq!(csv.lines().count(), 1002);
+    // At rest on a face: base_z is a half-thickness (0.025, 0.05 or 0.1 m) above the ground.
+    let last: Vec<f64> = csv
+        .lines()
+        .last()
+        .unwrap()
+        .split(',')
+        .take(4)
+        .map(|x| x.parse().unwrap())
+        .collect();
+    assert!(
+        [0.025, 0.05, 0.1]
+            .iter()
+            .any(|h| (last[3] - h).abs() < 1e-6),
+        "rest height {}",
+        last[3]
+    );
+    for svg in ["coordinates.svg", "inputs.svg", "contact_modes.svg"] {
+        assert!(out.join(svg).is_file(), "{svg}");
+    }
+}
+
+/// Bad options end with one message naming the option and exit 2, before anything is
+/// written.
+#[test]
+fn simulate_rejects_bad_input_before_simulating() {
+    let t = TestDir::with_hopper("simulate-errors");
+    t.write("hopper.toml", &crate::cli::util::hopper_text());
+    let out = t.path().join("out");
+    let cases: [(&[&str], &str); 4] = [
+        (&["--rate=-5"], "--rate"),
+        (&["--duration", "nan"], "--duration"),
+        (&["--inputs", "missing.csv"], "missing.csv"),
+        (&["--track", "plan.csv", "--gains", "elbow=1,1"], "elbow"),
+    ];
+    t.write(
+        "plan.csv",
+        "time [s],x [m],z [m],theta [rad],r [m]\n0,0,0.5,0,0.5\n1,0,0.5,0,0.5\n",
+    );
+    for (args, named) in cases {
+        let run = t
+            .vito()
+            .args(["simulate", "hopper.toml", "--quiet", "--out"])
+            .args([out.as_os_str()])
+            .args(args)
+            .assert_exit(2);
+        assert!(run.stderr.contains(named), "{args:?}: {}", run.stderr);
+        assert_eq!(
+            run.stderr
+                .lines()
+                .filter(|l| l.starts_with("error"))
+                .count(),
+            1
+        );
+        assert!(!out.exists(), "{args:?} wrote output");
+    }
+}

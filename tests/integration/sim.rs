@@ -1,0 +1,251 @@
+//! Forward simulation (issue 15): the step solver against conservation, resting contact,
+//! Coulomb sliding and sticking, and the discrete-mechanics step.
+
+use vito::discrete::{Integrator, Mechanics, ModelMechanics};
+use vito::pipeline;
+use vito::problem::ProblemSpec;
+use vito::sim::{Simulation, SimulationOptions, StepOptions, simulate};
+use vito::transcription::Context;
+
+use crate::common::reference;
+
+/// Simulates `spec`'s robot from (q0, v0) without inputs.
+fn run(
+    spec: &ProblemSpec,
+    integrator: Integrator,
+    q0: &[f64],
+    v0: &[f64],
+    h: f64,
+    steps: usize,
+) -> (ModelMechanics, Simulation) {
+    let mech = pipeline::mechanics(spec).expect("robot loads");
+    let ctx = Context::new(&mech, spec);
+    let options = SimulationOptions {
+        integrator,
+        h,
+        steps,
+        step: StepOptions::default(),
+    };
+    let m = mech.nu();
+    let sim = simulate(
+        &mech,
+        &ctx,
+        q0,
+        v0,
+        &options,
+        |_, _, _, _| vec![0.0; m],
+        |_| {},
+    )
+    .expect("simulates");
+    (mech, sim)
+}
+
+/// A brick dropped flat from 5 cm comes to rest on its face: penetration ≤ 1e-6 m, and over
+/// the last 1,000 steps (1 s at 1 kHz) it moves less than 1e-9 m.
+#[test]
+fn dropped_brick_comes_to_rest_without_drift() {
+    let spec = reference::brick_3d();
+    let q0 = [0.0, 0.0, 0.075, 0.0, 0.0, 0.0];
+    let (_, sim) = run(&spec, Integrator::Midpoint, &q0, &[0.0; 6], 1e-3, 1500);
+    let rest = &sim.q[500];
+    let last = sim.q.last().unwrap();
+    let drift = rest
+        .iter()
+        .zip(last)
+        .fold(0.0_f64, |a, (x, y)| a.max((x - y).abs()));
+    let iterations: usize = sim.iterations.iter().sum();
+    println!(
+        "rest z {:.3e}, drift {drift:.3e}, penetration {:.3e}, mean iterations {:.2}, max complementarity {:.3e}",
+        last[2] - 0.025,
+        sim.max_penetration(),
+        iterations as f64 / sim.iterations.len() as f64,
+        sim.complementarity.iter().cloned().fold(0.0, f64::max)
+    );
+    assert!(
+        sim.max_penetration() <= 1e-6,
+        "penetration {}",
+        sim.max_penetration()
+    );
+    assert!((last[2] - 0.025).abs() <= 1e-6, "rest height {}", last[2]);
+    assert!(drift <= 1e-9, "drift {drift:e}");
+}
+
+/// A brick resting flat, started sliding along x at v = 1 m/s on μ = 0.5, stops after
+/// v²/(2μg) within 2 % (midpoint, h = 1 ms).
+#[test]
+fn sliding_brick_stops_after_the_coulomb_distance() {
+    let spec = reference::brick_3d();
+    let (v, mu, g) = (1.0, 0.5, 9.81);
+    let q0 = [0.0, 0.0, 0.025, 0.0, 0.0, 0.0];
+    let (_, sim) = run(
+        &spec,
+        Integrator::Midpoint,
+        &q0,
+        &[v, 0.0, 0.0, 0.0, 0.0, 0.0],
+        1e-3,
+        400,
+    );
+    let stopped = sim.q.last().unwrap()[0];
+    let expected = v * v / (2.0 * mu * g);
+    let error = (stopped - expected).abs() / expected;
+    println!(
+        "slid {stopped:.5} m, v²/(2μg) = {expected:.5} m, error {:.3} %",
+        100.0 * error
+    );
+    assert!(error < 0.02, "slid {stopped} m, expected {expected} m");
+    // It has stopped: the last 100 steps move it less than a nanometre.
+    assert!((sim.q[300][0] - stopped).abs() < 1e-9);
+    assert!(sim.max_penetration() <= 1e-6);
+}
+
+/// On a slope (gravity tilted by θ about y), the brick slides when tan θ > μ and sticks when
+/// tan θ < μ (μ = 0.5: 30° slides, 20° sticks).
+#[test]
+fn brick_on_a_slope_slides_only_when_steeper_than_the_friction_angle() {
+    let mut spec = reference::brick_3d();
+    let q0 = [0.0, 0.0, 0.025, 0.0, 0.0, 0.0];
+    for (degrees, slides) in [(30.0_f64, true), (20.0, false)] {
+        let theta = degrees.to_radians();
+        spec.robot.gravity = [9.81 * theta.sin(), 0.0, -9.81 * theta.cos()];
+        let (_, sim) = run(&spec, Integrator::Midpoint, &q0, &[0.0; 6], 1e-3, 500);
+        let moved = sim.q.last().unwrap()[0];
+        // Sliding: x = ½ g (sin θ − μ cos θ) t² downhill (+x) at t = 0.5 s.
+        let expected = 0.5 * 9.81 * (theta.sin() - 0.5 * theta.cos()).max(0.0) * 0.25;
+        println!("{degrees}°: moved {moved:.6} m, Coulomb {expected:.6} m");
+        if slides {
+            assert!(
+                (moved - expected).abs() < 0.02 * expected,
+                "{moved} vs {expected}"
+            );
+        } else {
+            assert!(moved.abs() < 1e-9, "sticks: moved {moved}");
+        }
+    }
+}
+
+/// Without contact, each midpoint step of the simulator is the discrete-mechanics step
+/// (`discrete::step`) to round-off, and the double pendulum's energy does not drift over
+/// 10,000 steps (h = 0.01 s).
+#[test]
+fn contact_free_midpoint_is_the_discrete_step_and_conserves_energy() {
+    use vito::contact::{FrictionBasis, Terrain};
+    use vito::model::{BaseType, Model, sample};
+    let model = Model::from_urdf_str(&sample::double_pendulum(), BaseType::Fixed).unwrap();
+    let mech = ModelMechanics::with_contacts(model.clone(), Vec::new());
+    let ctx = Context {
+        n: 2,
+        m: mech.nu(),
+        nl: 0,
+        basis: FrictionBasis::Planar,
+        friction: vec![],
+        terrain: Terrain::flat(),
+        integrator: Integrator::Midpoint,
+        costs: vec![],
+    };
+    let (h, steps) = (0.01, 10_000);
+    let options = SimulationOptions {
+        integrator: Integrator::Midpoint,
+        h,
+        steps,
+        step: StepOptions::default(),
+    };
+    let m = mech.nu();
+    let q0 = [1.0, -0.5];
+    let sim = simulate(
+        &mech,
+        &ctx,
+        &q0,
+        &[0.0, 0.0],
+        &options,
+        |_, _, _, _| vec![0.0; m],
+        |_| {},
+    )
+    .expect("simulates");
+    let u = vec![0.0; m];
+    let mut worst = 0.0_f64;
+    for k in 1..steps {
+        let q = vito::discrete::step(
+            &model,
+            Integrator::Midpoint,
+            &sim.q[k - 1],
+            &sim.q[k],
+            &u,
+            h,
+        )
+        .expect("step");
+        for (a, b) in q.iter().zip(&sim.q[k + 1]) {
+            worst = worst.max((a - b).abs());
+        }
+    }
+    let energies = vito::sim::knot_energies(&mech, &sim, Integrator::Midpoint, h);
+    let e0 = energies[0];
+    let error = |range: std::ops::Range<usize>| {
+        energies[range]
+            .iter()
+            .fold(0.0_f64, |a, e| a.max((e - e0).abs()))
+    };
+    let (first, second) = (error(1..steps / 2), error(steps / 2..steps + 1));
+    println!(
+        "step vs discrete::step {worst:.3e} rad; |E − E0| first half {first:.3e} J, second half {second:.3e} J"
+    );
+    assert!(
+        worst < 1e-11,
+        "simulator and discrete::step differ by {worst:e}"
+    );
+    // The same bounds as the discrete module's energy test (energy scale ≈ 10 J).
+    assert!(
+        first.max(second) < 1e-2,
+        "energy error {first:e} / {second:e}"
+    );
+    assert!(
+        second < 2.0 * first,
+        "energy drifts: {first:e} → {second:e}"
+    );
+}
+
+/// The hopper's solved plan replayed open loop at its own time steps (h = 0.05 s) with its
+/// inputs held over each interval reproduces its configurations to the solver's tolerance
+/// over the first knots.
+#[test]
+fn replayed_hopper_plan_reproduces_its_states() {
+    use vito::problem::OptionValue;
+    use vito::transcription::SolveOptions;
+    let spec = reference::hopper_2d();
+    let options = SolveOptions {
+        ipopt_options: vec![("print_level".into(), OptionValue::Int(0))],
+        ..SolveOptions::default()
+    };
+    let plan = pipeline::solve(&spec, &options).expect("hopper solves");
+    let mech = pipeline::mechanics(&spec).unwrap();
+    let ctx = Context::new(&mech, &spec);
+    let h = plan.time_steps[0];
+    let knots = 6;
+    let sim_options = SimulationOptions {
+        integrator: Integrator::Midpoint,
+        h,
+        steps: knots - 1,
+        step: StepOptions::default(),
+    };
+    let sim = simulate(
+        &mech,
+        &ctx,
+        &plan.q[0],
+        &plan.v[0],
+        &sim_options,
+        |k, _, _, _| plan.u[k].clone(),
+        |_| {},
+    )
+    .expect("replays");
+    for k in 0..knots {
+        let error = plan.q[k]
+            .iter()
+            .zip(&sim.q[k])
+            .fold(0.0_f64, |a, (x, y)| a.max((x - y).abs()));
+        println!("knot {k}: |q_sim − q_plan| = {error:.3e}");
+        // Ipopt's tolerance 1e-6 (measured 2.6e-9 at knot 5).
+        assert!(
+            error < 1e-6,
+            "knot {k}: replay differs from the plan by {error:e}"
+        );
+    }
+}
