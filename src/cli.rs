@@ -629,12 +629,14 @@ fn solve(
     print_model_warnings(&problem.robot);
     pipeline::check_solver_options(&problem)?;
     let target = pipeline::checked_output_dir(&problem, out).map_err(report::ReportError::from)?;
-    // Staged before solving so that Ipopt's log goes straight into the directory that
-    // replaces the target atomically (and is removed with it if the run fails).
-    let staged = target.stage().map_err(report::ReportError::from)?;
+    // With --ipopt-log, staged before solving so that Ipopt's log goes straight into the
+    // directory that replaces the target atomically; otherwise staged once there is
+    // something to write, so a run killed while solving leaves nothing behind.
+    let mut staged = None;
     let mut ipopt_options = Vec::new();
     if ipopt_log {
-        let log = staged.path().join("ipopt.log");
+        let dir = staged.insert(target.stage().map_err(report::ReportError::from)?);
+        let log = dir.path().join("ipopt.log");
         let log = log.to_str().ok_or_else(|| {
             CliError::Input(format!(
                 "--ipopt-log: the output path {} is not UTF-8, which Ipopt cannot take",
@@ -667,6 +669,10 @@ fn solve(
         eprintln!(" iter       objective     inf_pr     inf_du  max_slack");
     }
     let solution = run_solver(&problem, cancel.clone(), quiet, ipopt_options, multi_start)?;
+    let staged = match staged {
+        Some(staged) => staged,
+        None => target.stage().map_err(report::ReportError::from)?,
+    };
     let written = report::write_outputs(staged, &problem, &solution)?;
     print_summary(&problem, &solution, &written)?;
     Ok(if is_solved(solution.status) { 0 } else { 1 })
