@@ -41,5 +41,5 @@ pub use compat::{LONG_VERSION, MpiState, VERSION, mpi_state};
 pub use error::IpoptError;
 pub use nlp::{IterationInfo, Nlp};
 pub use options::{DEFAULTS_FILE, OptionValue, check_allowed, default_options, parse_option_file};
-pub use solver::{SolveReport, Solver};
+pub use solver::{Multipliers, SolveReport, Solver};
 pub use status::Status;
