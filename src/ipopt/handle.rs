@@ -149,6 +149,7 @@ impl Handle {
         &mut self,
         x0: Vec<f64>,
         m: usize,
+        start: Option<&super::solver::Multipliers>,
         ctx: &mut Context<'_, P>,
     ) -> Outputs {
         let n = x0.len();
@@ -156,9 +157,9 @@ impl Handle {
             x: x0,
             g: vec![0.0; m],
             objective: f64::NAN,
-            mult_g: vec![0.0; m],
-            mult_x_lower: vec![0.0; n],
-            mult_x_upper: vec![0.0; n],
+            mult_g: start.map_or_else(|| vec![0.0; m], |w| w.g.clone()),
+            mult_x_lower: start.map_or_else(|| vec![0.0; n], |w| w.x_lower.clone()),
+            mult_x_upper: start.map_or_else(|| vec![0.0; n], |w| w.x_upper.clone()),
             code: 0,
         };
         let user_data = (ctx as *mut Context<'_, P>).cast::<c_void>();

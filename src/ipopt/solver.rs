@@ -91,6 +91,19 @@ pub struct Solver {
     /// Options in the order they are applied; one entry per name.
     options: Vec<(String, OptionValue)>,
     cancel: Option<Arc<AtomicBool>>,
+    /// Starting multipliers, read by Ipopt under `warm_start_init_point yes`.
+    start_multipliers: Option<Multipliers>,
+}
+
+/// Multipliers to start a solve from (Ipopt's convention, as in [`SolveReport`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Multipliers {
+    /// Constraint multipliers (length m).
+    pub g: Vec<f64>,
+    /// Lower-bound multipliers (length n).
+    pub x_lower: Vec<f64>,
+    /// Upper-bound multipliers (length n).
+    pub x_upper: Vec<f64>,
 }
 
 impl Default for Solver {
@@ -110,6 +123,7 @@ impl Solver {
         Solver {
             options: default_options(),
             cancel: None,
+            start_multipliers: None,
         }
     }
 
@@ -165,6 +179,12 @@ impl Solver {
     /// The options the next solve applies after the forced ones, in order.
     pub fn options(&self) -> &[(String, OptionValue)] {
         &self.options
+    }
+
+    /// Multipliers for the following solves to start from. Ipopt reads them only under
+    /// `warm_start_init_point yes`; multipliers of other lengths than the problem's are ignored.
+    pub fn set_starting_multipliers(&mut self, multipliers: Multipliers) {
+        self.start_multipliers = Some(multipliers);
     }
 
     /// Cancellation: when the flag becomes true the next intermediate callback stops the solve.
@@ -232,7 +252,12 @@ impl Solver {
         ctx.hessian_rows = setup.hessian_rows;
         ctx.hessian_cols = setup.hessian_cols;
         ctx.has_hessian = setup.has_hessian;
-        let out = handle.solve(setup.x0, m, &mut ctx);
+        let n = setup.x0.len();
+        let start = self
+            .start_multipliers
+            .as_ref()
+            .filter(|w| w.g.len() == m && w.x_lower.len() == n && w.x_upper.len() == n);
+        let out = handle.solve(setup.x0, m, start, &mut ctx);
         drop(handle);
         let wall_time = wall_start.elapsed();
         drop(lock);

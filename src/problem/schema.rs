@@ -398,6 +398,9 @@ pub struct SlackSection {
     pub growth: Option<f64>,
     /// Extra solves allowed (default 3).
     pub rounds: Option<usize>,
+    /// Where a raised-weight solve starts after an optimum: `"primal"` (default: its x),
+    /// `"primal_dual"` (its x and multipliers) or `"initial_guess"`.
+    pub restart: Option<String>,
 }
 
 /// `[[periodic]]`: q_N[c] − q_1[c] = offset and/or equal first and last velocities.

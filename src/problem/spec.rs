@@ -156,6 +156,19 @@ pub struct SlackContinuation {
     pub growth: f64,
     /// Extra solves allowed.
     pub rounds: usize,
+    /// Where a raised-weight solve starts after an optimum.
+    pub restart: SlackRestart,
+}
+
+/// `[slack] restart`: the start of a raised-weight solve that follows an optimum.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SlackRestart {
+    /// The last solution's x, with a small barrier parameter and bound push.
+    Primal,
+    /// The last solution's x and multipliers (Ipopt's `warm_start_init_point`).
+    PrimalDual,
+    /// The problem's initial guess, as the first solve.
+    InitialGuess,
 }
 
 /// An Ipopt option value as written in a problem file.

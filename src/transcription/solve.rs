@@ -12,8 +12,8 @@ use super::{
     TranscriptionError,
 };
 use crate::autodiff::VectorFunction;
-use crate::ipopt::{self, Solver};
-use crate::problem::{HessianMode, OptionValue, ProblemSpec};
+use crate::ipopt::{self, Multipliers, Solver};
+use crate::problem::{HessianMode, OptionValue, ProblemSpec, SlackRestart};
 
 /// How to run a solve besides the problem itself.
 #[derive(Default)]
@@ -258,7 +258,7 @@ fn solve_transcription<M: MechanicsDerivatives>(
     // 1500 iterations at violation 4: the α = 3000 solve from there was still at violation 4
     // after 1100 more): the raised-α solve then starts afresh from the guess.
     let guess = transcription.initial_point().to_vec();
-    let mut x = report.x;
+    let mut report = report;
     let mut weight = spec.slack_weight;
     for _ in 0..continuation.rounds {
         if solution.max_slack <= continuation.target
@@ -272,35 +272,63 @@ fn solve_transcription<M: MechanicsDerivatives>(
         }
         weight *= continuation.growth;
         transcription.set_slack_weight(weight);
-        let warm = converged(solution.status);
-        transcription.set_initial_point(if warm { &x } else { &guess })?;
+        let restart = if converged(solution.status) {
+            continuation.restart
+        } else {
+            SlackRestart::InitialGuess
+        };
+        let warm = restart != SlackRestart::InitialGuess;
+        transcription.set_initial_point(if warm { &report.x } else { &guess })?;
         let mut solver = configure(spec, options)?;
-        if warm {
-            for (name, value) in [
-                ("mu_init", 1e-4),
-                ("bound_push", 1e-6),
-                ("bound_frac", 1e-6),
-            ] {
-                let given = spec
-                    .solver_options
-                    .iter()
-                    .chain(&options.ipopt_options)
-                    .any(|(n, _)| n == name);
-                if !given {
-                    solver.set_option(name, ipopt::OptionValue::Num(value))?;
-                }
+        let mut warm_options = vec![
+            ("bound_push", ipopt::OptionValue::Num(1e-6)),
+            ("bound_frac", ipopt::OptionValue::Num(1e-6)),
+        ];
+        match restart {
+            SlackRestart::InitialGuess => warm_options.clear(),
+            SlackRestart::Primal => warm_options.push(("mu_init", ipopt::OptionValue::Num(1e-4))),
+            SlackRestart::PrimalDual => {
+                // The last optimum's multipliers, and a barrier parameter near its own
+                // complementarity; bound multipliers pushed off zero like the bounds.
+                warm_options.extend([
+                    (
+                        "warm_start_init_point",
+                        ipopt::OptionValue::Str("yes".into()),
+                    ),
+                    ("mu_init", ipopt::OptionValue::Num(1e-6)),
+                    ("warm_start_bound_push", ipopt::OptionValue::Num(1e-6)),
+                    ("warm_start_bound_frac", ipopt::OptionValue::Num(1e-6)),
+                    ("warm_start_slack_bound_push", ipopt::OptionValue::Num(1e-6)),
+                    ("warm_start_slack_bound_frac", ipopt::OptionValue::Num(1e-6)),
+                    ("warm_start_mult_bound_push", ipopt::OptionValue::Num(1e-6)),
+                ]);
+                solver.set_starting_multipliers(Multipliers {
+                    g: report.mult_g.clone(),
+                    x_lower: report.mult_x_lower.clone(),
+                    x_upper: report.mult_x_upper.clone(),
+                });
+            }
+        }
+        for (name, value) in warm_options {
+            let given = spec
+                .solver_options
+                .iter()
+                .chain(&options.ipopt_options)
+                .any(|(n, _)| n == name);
+            if !given {
+                solver.set_option(name, value)?;
             }
         }
         let mut nlp = TranscriptionNlp::new(transcription, options.progress.as_deref());
-        let report = solver.solve(&mut nlp)?;
-        let mut next = fill_solution(transcription, spec, &report);
+        let next_report = solver.solve(&mut nlp)?;
+        let mut next = fill_solution(transcription, spec, &next_report);
         next.iterations += solution.iterations;
         next.wall_time_s += solution.wall_time_s;
         next.callback_time_s += solution.callback_time_s;
         next.ipopt_time_s += solution.ipopt_time_s;
         next.solves = solution.solves + 1;
         solution = next;
-        x = report.x;
+        report = next_report;
     }
     Ok(solution)
 }

@@ -269,7 +269,7 @@ fn progress_is_reported_and_cancel_stops() {
 /// is below the target, and reports the final α and the number of solves.
 #[test]
 fn slack_continuation_reaches_the_target() {
-    use vito::problem::SlackContinuation;
+    use vito::problem::{SlackContinuation, SlackRestart};
     let mut spec = hopper_2d();
     spec.slack_weight = 0.1;
     let relaxed = run("hopper, alpha 0.1", Hopper, &spec);
@@ -278,17 +278,29 @@ fn slack_continuation_reaches_the_target() {
         "alpha = 0.1 should leave a relaxed point (max slack {:e})",
         relaxed.max_slack
     );
-    spec.slack_continuation = Some(SlackContinuation {
-        target: 1e-6,
-        growth: 10.0,
-        rounds: 4,
-    });
-    let s = run("hopper, alpha 0.1 with target 1e-6", Hopper, &spec);
-    assert!(s.status.is_success(), "{:?}", s.status);
-    assert!(s.max_slack <= 1e-6, "max slack {:e}", s.max_slack);
-    assert!(s.solves > 1 && s.solves <= 5, "{} solves", s.solves);
-    assert_eq!(s.slack_weight, 0.1 * 10f64.powi(s.solves as i32 - 1));
-    assert!(s.iterations > relaxed.iterations);
+    // From the last x, and from its x and multipliers (`restart = "primal_dual"`).
+    for restart in [SlackRestart::Primal, SlackRestart::PrimalDual] {
+        spec.slack_continuation = Some(SlackContinuation {
+            target: 1e-6,
+            growth: 10.0,
+            rounds: 4,
+            restart,
+        });
+        let s = run("hopper, alpha 0.1 with target 1e-6", Hopper, &spec);
+        assert!(s.status.is_success(), "{restart:?}: {:?}", s.status);
+        assert!(
+            s.max_slack <= 1e-6,
+            "{restart:?}: max slack {:e}",
+            s.max_slack
+        );
+        assert!(
+            s.solves > 1 && s.solves <= 5,
+            "{restart:?}: {} solves",
+            s.solves
+        );
+        assert_eq!(s.slack_weight, 0.1 * 10f64.powi(s.solves as i32 - 1));
+        assert!(s.iterations > relaxed.iterations);
+    }
 }
 
 /// A solve stopped by its iteration limit is no point to warm-start from: the continuation's
@@ -310,11 +322,44 @@ fn continuation_after_an_iteration_limit_starts_from_the_guess() {
         target: 1e-9,
         growth: 10.0,
         rounds: 1,
+        restart: vito::problem::SlackRestart::Primal,
     });
     let continued = run("hopper, alpha 1 then 10, 15 iterations each", Hopper, &spec);
     assert_eq!(continued.solves, 2);
     assert_eq!(continued.slack_weight, 10.0);
     assert_eq!(continued.iterations, 15 + direct.iterations);
+    assert_eq!(continued.objective, direct.objective);
+    assert_eq!(continued.q, direct.q);
+}
+
+/// `[slack] restart = "initial_guess"`: after an optimum, the raised-α solve starts from the
+/// problem's initial guess with the file's own options, so it repeats, iterate for iterate,
+/// a direct solve at the raised α.
+#[test]
+fn initial_guess_restart_repeats_a_direct_solve() {
+    use vito::problem::{SlackContinuation, SlackRestart};
+    let mut spec = hopper_2d();
+    spec.slack_weight = 1.0;
+    let direct = run("hopper, alpha 1", Hopper, &spec);
+    assert!(direct.status.is_success(), "{:?}", direct.status);
+
+    spec.slack_weight = 0.1;
+    let relaxed = run("hopper, alpha 0.1", Hopper, &spec);
+    assert!(
+        relaxed.max_slack > 1e-9,
+        "max slack {:e}",
+        relaxed.max_slack
+    );
+    spec.slack_continuation = Some(SlackContinuation {
+        target: 1e-9,
+        growth: 10.0,
+        rounds: 1,
+        restart: SlackRestart::InitialGuess,
+    });
+    let continued = run("hopper, alpha 0.1 then 1 from the guess", Hopper, &spec);
+    assert_eq!(continued.solves, 2);
+    assert_eq!(continued.slack_weight, 1.0);
+    assert_eq!(continued.iterations, relaxed.iterations + direct.iterations);
     assert_eq!(continued.objective, direct.objective);
     assert_eq!(continued.q, direct.q);
 }

@@ -3,7 +3,7 @@
 use super::context::Context;
 use super::values::positive;
 use crate::problem::schema::ProblemFile;
-use crate::problem::{ProblemError, SlackContinuation, SlackMode};
+use crate::problem::{ProblemError, SlackContinuation, SlackMode, SlackRestart};
 
 /// (weight α, mode).
 pub(super) fn check_slack_penalty(
@@ -32,6 +32,7 @@ pub(super) fn check_slack_continuation(
             for (field, given) in [
                 ("slack.growth", raw.slack.growth.is_some()),
                 ("slack.rounds", raw.slack.rounds.is_some()),
+                ("slack.restart", raw.slack.restart.is_some()),
             ] {
                 if given {
                     return Err(ctx.invalid(
@@ -52,7 +53,21 @@ pub(super) fn check_slack_continuation(
                     ),
                 ));
             }
+            let restart = match raw.slack.restart.as_deref() {
+                None | Some("primal") => SlackRestart::Primal,
+                Some("primal_dual") => SlackRestart::PrimalDual,
+                Some("initial_guess") => SlackRestart::InitialGuess,
+                Some(other) => {
+                    return Err(ctx.invalid(
+                        "slack.restart",
+                        format!(
+                            "must be \"primal\", \"primal_dual\" or \"initial_guess\", got {other:?}"
+                        ),
+                    ));
+                }
+            };
             Some(SlackContinuation {
+                restart,
                 target: positive(ctx, "slack.target", target)?,
                 growth,
                 rounds: raw.slack.rounds.unwrap_or(3),
