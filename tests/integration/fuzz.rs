@@ -8,7 +8,7 @@ fn mutated_inputs_never_panic() {
     let problems = Path::new(env!("CARGO_MANIFEST_DIR")).join("problems");
     let seeds = vito::testing::fuzz::seeds(&problems).unwrap();
     assert!(seeds.len() >= 10, "{} seeds", seeds.len());
-    let report = vito::testing::fuzz::run(&seeds, 3000, 11, |_| {});
+    let report = vito::testing::fuzz::run(&seeds, 0..3000, 11, |_| {});
     assert_eq!(report.inputs, 3000);
     assert_eq!(
         report.panics, 0,
