@@ -1,5 +1,5 @@
 //! Fuzzes problem loading and URDF loading with the project's own files, mutated
-//! (`vito::testing::fuzz`). Usage: `cargo run --release --example fuzz -- [COUNT] [SEED]
+//! (`vito::fuzz`). Usage: `cargo run --release --example fuzz -- [COUNT] [SEED]
 //! [FIRST]` (default 1,000,000 inputs, seed 1, from input 0; FIRST repeats the end of a run),
 //! or `make fuzz`. Prints the figures; exits 1 if any input panicked, printing where and
 //! writing the first few inputs to `fuzz-panics/`.
@@ -15,7 +15,7 @@ fn main() -> std::process::ExitCode {
     let seed: u64 = args.next().and_then(|a| a.parse().ok()).unwrap_or(1);
     let first: u64 = args.next().and_then(|a| a.parse().ok()).unwrap_or(0);
     let problems = Path::new(env!("CARGO_MANIFEST_DIR")).join("problems");
-    let seeds = match vito::testing::fuzz::seeds(&problems) {
+    let seeds = match vito::fuzz::seeds(&problems) {
         Ok(s) => s,
         Err(e) => {
             eprintln!("cannot read the seeds in {}: {e}", problems.display());
@@ -29,7 +29,7 @@ fn main() -> std::process::ExitCode {
             eprintln!("panic: {info}");
         }
     }));
-    let print = |r: &vito::testing::fuzz::FuzzReport| {
+    let print = |r: &vito::fuzz::FuzzReport| {
         println!(
             "inputs {} accepted {} panics {} wall {:.1} s slowest {:.3} ms ({})",
             r.inputs,
@@ -41,7 +41,7 @@ fn main() -> std::process::ExitCode {
         );
     };
     println!("{} seeds, {count} inputs, seed {seed}", seeds.len());
-    let report = vito::testing::fuzz::run(&seeds, first..count, seed, |r| {
+    let report = vito::fuzz::run(&seeds, first..count, seed, |r| {
         if r.inputs % 100_000 == 0 {
             print(r);
         }

@@ -11,8 +11,8 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use super::SeededRng;
 use crate::model::{BaseType, Model};
+use crate::testing::SeededRng;
 
 /// A valid input to mutate: a problem file with its robot's URDF, or a URDF alone.
 #[derive(Debug, Clone)]
