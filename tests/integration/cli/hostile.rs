@@ -630,3 +630,25 @@ fn bad_regression_records_are_input_errors() {
         .assert_exit(2);
     assert!(run.stderr.contains("does not exist"), "{}", run.stderr);
 }
+
+/// Item 14: serde's messages in the problem file's words: a 3-vector of the wrong length
+/// names the 3-vector fields, `robot = 3` asks for a table.
+#[test]
+fn schema_messages_speak_the_files_language() {
+    let err = check_fails(
+        "short_gravity",
+        &hopper_text(),
+        &["--set", "robot.gravity=[0, 0]"],
+    );
+    assert!(
+        err.contains("robot.gravity") && err.contains("[x, y, z]"),
+        "{err}"
+    );
+    let text = hopper_text().replace("[robot]\n", "robot = 3\n[robotx]\n");
+    let err = check_fails("robot_integer", &text, &[]);
+    assert!(
+        err.contains("field `robot`") && err.contains("expected a table"),
+        "{err}"
+    );
+    assert!(!err.contains("RobotSection"), "{err}");
+}
