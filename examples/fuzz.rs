@@ -1,7 +1,8 @@
 //! Fuzzes problem loading and URDF loading with the project's own files, mutated
-//! (`vito::testing::fuzz`). Usage: `cargo run --release --example fuzz -- [COUNT] [SEED]`
-//! (default 1,000,000 inputs, seed 1), or `make fuzz`. Prints the figures; exits 1 if any
-//! input panicked, writing the first few to `fuzz-panics/`.
+//! (`vito::fuzz`). Usage: `cargo run --release --example fuzz -- [COUNT] [SEED]
+//! [FIRST]` (default 1,000,000 inputs, seed 1, from input 0; FIRST repeats the end of a run),
+//! or `make fuzz`. Prints the figures; exits 1 if any input panicked, printing where and
+//! writing the first few inputs to `fuzz-panics/`.
 
 use std::path::Path;
 
@@ -12,17 +13,23 @@ fn main() -> std::process::ExitCode {
         .and_then(|a| a.parse().ok())
         .unwrap_or(1_000_000);
     let seed: u64 = args.next().and_then(|a| a.parse().ok()).unwrap_or(1);
+    let first: u64 = args.next().and_then(|a| a.parse().ok()).unwrap_or(0);
     let problems = Path::new(env!("CARGO_MANIFEST_DIR")).join("problems");
-    let seeds = match vito::testing::fuzz::seeds(&problems) {
+    let seeds = match vito::fuzz::seeds(&problems) {
         Ok(s) => s,
         Err(e) => {
             eprintln!("cannot read the seeds in {}: {e}", problems.display());
             return std::process::ExitCode::from(2);
         }
     };
-    // Panics are counted, not printed 1,000,000 times.
-    std::panic::set_hook(Box::new(|_| {}));
-    let print = |r: &vito::testing::fuzz::FuzzReport| {
+    // Panics are counted; the first few are printed with their place.
+    let printed = std::sync::atomic::AtomicUsize::new(0);
+    std::panic::set_hook(Box::new(move |info| {
+        if printed.fetch_add(1, std::sync::atomic::Ordering::Relaxed) < 10 {
+            eprintln!("panic: {info}");
+        }
+    }));
+    let print = |r: &vito::fuzz::FuzzReport| {
         println!(
             "inputs {} accepted {} panics {} wall {:.1} s slowest {:.3} ms ({})",
             r.inputs,
@@ -34,7 +41,7 @@ fn main() -> std::process::ExitCode {
         );
     };
     println!("{} seeds, {count} inputs, seed {seed}", seeds.len());
-    let report = vito::testing::fuzz::run(&seeds, count, seed, |r| {
+    let report = vito::fuzz::run(&seeds, first..count, seed, |r| {
         if r.inputs % 100_000 == 0 {
             print(r);
         }

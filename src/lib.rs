@@ -26,6 +26,8 @@
 //! - `testing`: the seeded generator of test and benchmark inputs.
 //! - `pipeline`: the steps the commands run on a loaded problem (Ipopt's option check, the
 //!   solver's NLP and its size, solve, bench), so that `check` reports what `solve` builds.
+//! - `fuzz`: the fuzz harness: the project's own files, mutated, through problem and URDF
+//!   loading (`make fuzz`).
 //! - `regress`: solving a regression record's problems, one process each, and blessing it.
 //! - `paths`: a path as another file's directory names it.
 //! - `trajectory_csv`: the trajectory CSV format (columns, units, numbers, parsing), written
@@ -38,6 +40,7 @@ pub mod autodiff;
 pub mod contact;
 pub mod dependency;
 pub mod discrete;
+pub mod fuzz;
 pub mod input;
 #[allow(unsafe_code)]
 pub mod ipopt;

@@ -63,10 +63,12 @@ pub enum RegressError {
     #[error(transparent)]
     Record(#[from] GoldenError),
     /// Nothing to solve.
-    #[error("{record} lists no problems; name problem files to add them with --bless")]
+    #[error("{record} {}; name problem files to add them with --bless", if *.missing { "does not exist" } else { "lists no problems" })]
     NoProblems {
         /// The record file.
         record: PathBuf,
+        /// Whether the record file is missing (rather than empty).
+        missing: bool,
     },
     /// The solver process could not be started.
     #[error("cannot run {exe}: {source}")]
@@ -114,6 +116,7 @@ pub fn regress(
     if names.is_empty() {
         return Err(RegressError::NoProblems {
             record: record_path.to_owned(),
+            missing: !record_path.exists(),
         });
     }
     let scratch = scratch_dir(record_path)?;

@@ -67,16 +67,62 @@ impl GoldenRecord {
     /// Reads a record; a missing file is an empty record.
     pub fn read(path: &Path) -> Result<GoldenRecord, GoldenError> {
         match crate::input::read_regular_text(path, crate::input::MAX_TEXT_BYTES) {
-            Ok(text) => toml::from_str(&text).map_err(|e| GoldenError::Parse {
-                path: path.to_owned(),
-                message: e.to_string(),
-            }),
+            Ok(text) => {
+                let record: GoldenRecord =
+                    toml::from_str(&text).map_err(|e| GoldenError::Parse {
+                        path: path.to_owned(),
+                        message: e.to_string(),
+                    })?;
+                record.check().map_err(|message| GoldenError::Parse {
+                    path: path.to_owned(),
+                    message,
+                })?;
+                Ok(record)
+            }
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(GoldenRecord::default()),
             Err(source) => Err(GoldenError::Io {
                 path: path.to_owned(),
                 source,
             }),
         }
+    }
+
+    /// Every entry's numbers and status can be compared: a finite objective and slack, a
+    /// finite tolerance ≥ 0, and a status Ipopt can return (snake case).
+    fn check(&self) -> Result<(), String> {
+        for (i, e) in self.problem.iter().enumerate() {
+            let at =
+                |field: &str, what: String| format!("problem[{i}].{field} ({}): {what}", e.file);
+            if !(e.objective.is_finite() && e.objective.abs() <= 1e300) {
+                return Err(at(
+                    "objective",
+                    format!("{} is not a finite number", e.objective),
+                ));
+            }
+            if !(e.tolerance.is_finite() && e.tolerance >= 0.0) {
+                let t = e.tolerance;
+                return Err(at(
+                    "tolerance",
+                    format!("must be a finite number ≥ 0, got {t}"),
+                ));
+            }
+            if !e.max_slack.is_finite() {
+                let s = e.max_slack;
+                return Err(at("max_slack", format!("{s} is not a finite number")));
+            }
+            let known = crate::ipopt::Status::ALL.map(|s| s.as_snake_case());
+            if !known.contains(&e.status.as_str()) {
+                return Err(at(
+                    "status",
+                    format!(
+                        "`{}` is not an Ipopt status; one of: {}",
+                        e.status,
+                        known.join(", ")
+                    ),
+                ));
+            }
+        }
+        Ok(())
     }
 
     /// Writes the record atomically.

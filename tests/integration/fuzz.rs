@@ -1,4 +1,4 @@
-//! A short run of the fuzz harness (`vito::testing::fuzz`; the long run is `make fuzz`):
+//! A short run of the fuzz harness (`vito::fuzz`; the long run is `make fuzz`):
 //! mutated problem files and URDFs end in a result or an error, never a panic.
 
 use std::path::Path;
@@ -6,9 +6,9 @@ use std::path::Path;
 #[test]
 fn mutated_inputs_never_panic() {
     let problems = Path::new(env!("CARGO_MANIFEST_DIR")).join("problems");
-    let seeds = vito::testing::fuzz::seeds(&problems).unwrap();
+    let seeds = vito::fuzz::seeds(&problems).unwrap();
     assert!(seeds.len() >= 10, "{} seeds", seeds.len());
-    let report = vito::testing::fuzz::run(&seeds, 3000, 11, |_| {});
+    let report = vito::fuzz::run(&seeds, 0..3000, 11, |_| {});
     assert_eq!(report.inputs, 3000);
     assert_eq!(
         report.panics, 0,

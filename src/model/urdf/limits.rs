@@ -20,8 +20,10 @@ fn skip_past(bytes: &[u8], from: usize, end: &[u8]) -> usize {
         .map_or(bytes.len(), |p| from + p + end.len())
 }
 
-/// Refuses text whose elements nest deeper than [`MAX_DEPTH`], naming the line, by a scan
-/// that keeps no stack (comments, CDATA, declarations and quoted attributes are skipped).
+/// Refuses text whose elements nest deeper than [`MAX_DEPTH`], or with an element or
+/// attribute name that starts with `:` (XML allows it, roxmltree takes it, and urdf-rs's XML
+/// library then panics on the empty namespace prefix), naming the line, by a scan that keeps
+/// no stack (comments, CDATA, declarations and quoted attributes are skipped).
 pub(super) fn check_nesting(xml: &str, origin: &str) -> Result<(), ModelError> {
     let bytes = xml.as_bytes();
     let mut depth = 0usize;
@@ -49,6 +51,15 @@ pub(super) fn check_nesting(xml: &str, origin: &str) -> Result<(), ModelError> {
                     (None, b'"' | b'\'') => quote = Some(bytes[j]),
                     (Some(q), b) if b == q => quote = None,
                     (None, b'>') => break,
+                    (None, b':') if bytes[j - 1] == b'<' || bytes[j - 1].is_ascii_whitespace() => {
+                        let line = bytes[..j].iter().filter(|&&b| b == b'\n').count() + 1;
+                        return Err(ModelError::Xml {
+                            origin: origin.to_owned(),
+                            message: format!(
+                                "a name starts with `:` (an empty namespace prefix) at line {line}"
+                            ),
+                        });
+                    }
                     _ => {}
                 }
                 j += 1;
@@ -112,5 +123,12 @@ mod tests {
         assert!(err.contains("t.urdf") && err.contains("line 2"), "{err}");
         let flat = format!("<robot>{}</robot>", "<a></a>".repeat(100_000));
         assert!(check_nesting(&flat, "t").is_ok());
+        let err = check_nesting("<robot>\n<joint :ame=\"x\"/></robot>", "t").unwrap_err();
+        assert!(
+            err.to_string()
+                .contains("`:` (an empty namespace prefix) at line 2"),
+            "{err}"
+        );
+        assert!(check_nesting("<robot a=\"x :y\"/>", "t").is_ok());
     }
 }

@@ -64,7 +64,7 @@ impl Context {
     /// Turns a TOML/serde error on `parsed` (the file, or the file with overrides) into
     /// a located error; unknown keys get the nearest valid key.
     pub(crate) fn serde_error(&self, e: &toml::de::Error, parsed: &str) -> ProblemError {
-        let message = e.message().trim().to_owned();
+        let message = plain_serde_message(e.message().trim());
         let span = e.span();
         let field = span
             .clone()
@@ -116,6 +116,24 @@ impl Context {
         }
         ProblemError::Invalid { at, message }
     }
+}
+
+/// serde's message in the problem file's words: a schema struct (`RobotSection`) is a table,
+/// and a wrong-length 3-vector says which fields are 3-vectors.
+fn plain_serde_message(message: &str) -> String {
+    let mut out = message.to_owned();
+    if let Some(at) = out.find("expected struct ") {
+        out.replace_range(
+            at..,
+            "expected a table (a `[section]` or `{ key = value }`)",
+        );
+    }
+    if out.starts_with("invalid length") && out.ends_with("expected an array of length 3") {
+        out.push_str(
+            " (3-vectors are `robot.gravity` and `contacts.point[].point`: give [x, y, z])",
+        );
+    }
+    out
 }
 
 /// Errors of the TOML grammar rather than of the schema.

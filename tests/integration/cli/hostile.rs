@@ -587,3 +587,68 @@ fn unwritable_stdout_is_an_error() {
         );
     }
 }
+
+/// Item 16: a regression record's non-finite objective, unknown status or negative/NaN
+/// tolerance is an input error (exit 2) before anything is solved, also with `--bless`
+/// (which so never keeps a negative tolerance).
+#[test]
+fn bad_regression_records_are_input_errors() {
+    let t = TestDir::with_hopper("bad_records");
+    t.write("p.toml", &hopper_text());
+    let entry = |objective: &str, tolerance: &str, status: &str| {
+        format!(
+            "[[problem]]\nfile = \"p.toml\"\nobjective = {objective}\ntolerance = {tolerance}\nstatus = \"{status}\"\niterations = 1\nmax_slack = 0.0\n"
+        )
+    };
+    let s = "solve_succeeded";
+    for (name, objective, tolerance, status, field) in [
+        ("inf", "inf", "1e-6", s, "objective"),
+        ("banana", "1.0", "1e-6", "banana", "status"),
+        ("negative", "1.0", "-1e-6", s, "tolerance"),
+        ("nan", "1.0", "nan", s, "tolerance"),
+    ] {
+        let record = entry(objective, tolerance, status);
+        let field = format!("problem[0].{field}");
+        let path = t.write(&format!("{name}.toml"), &record);
+        for bless in [false, true] {
+            let mut args = vec!["regress", "--record", path.to_str().unwrap()];
+            if bless {
+                args.push("--bless");
+            }
+            let run = t.vito().args(&args).assert_exit(2);
+            assert!(
+                run.stderr.contains(&field) && run.stderr.contains("p.toml"),
+                "{}",
+                run.stderr
+            );
+            assert_eq!(std::fs::read_to_string(&path).unwrap(), record);
+        }
+    }
+    let run = t
+        .vito()
+        .args(["regress", "--record", "/nonexistent/golden.toml"])
+        .assert_exit(2);
+    assert!(run.stderr.contains("does not exist"), "{}", run.stderr);
+}
+
+/// Item 14: serde's messages in the problem file's words: a 3-vector of the wrong length
+/// names the 3-vector fields, `robot = 3` asks for a table.
+#[test]
+fn schema_messages_speak_the_files_language() {
+    let err = check_fails(
+        "short_gravity",
+        &hopper_text(),
+        &["--set", "robot.gravity=[0, 0]"],
+    );
+    assert!(
+        err.contains("robot.gravity") && err.contains("[x, y, z]"),
+        "{err}"
+    );
+    let text = hopper_text().replace("[robot]\n", "robot = 3\n[robotx]\n");
+    let err = check_fails("robot_integer", &text, &[]);
+    assert!(
+        err.contains("field `robot`") && err.contains("expected a table"),
+        "{err}"
+    );
+    assert!(!err.contains("RobotSection"), "{err}");
+}

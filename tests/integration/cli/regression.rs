@@ -61,7 +61,7 @@ fn regress_without_problems_is_an_input_error() {
         .args(["regress", "--record", "none.toml"])
         .assert_exit(2);
     assert!(
-        run.stderr.contains("none.toml lists no problems"),
+        run.stderr.contains("none.toml does not exist"),
         "{}",
         run.stderr
     );

@@ -11,8 +11,8 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use super::SeededRng;
 use crate::model::{BaseType, Model};
+use crate::testing::SeededRng;
 
 /// A valid input to mutate: a problem file with its robot's URDF, or a URDF alone.
 #[derive(Debug, Clone)]
@@ -315,11 +315,12 @@ fn load_once(problem: Option<&str>, urdf: &str, base: BaseType) -> bool {
     }
 }
 
-/// Mutates and loads `count` inputs drawn from `seeds` with generator seed `seed`;
-/// `progress` is called every 10,000 inputs.
+/// Mutates and loads the inputs numbered `inputs` (0-based; earlier ones are drawn but not
+/// loaded, to repeat part of a run) from `seeds` with generator seed `seed`; `progress` is
+/// called every 10,000 inputs.
 pub fn run(
     seeds: &[Seed],
-    count: u64,
+    inputs: std::ops::Range<u64>,
     seed: u64,
     mut progress: impl FnMut(&FuzzReport),
 ) -> FuzzReport {
@@ -327,7 +328,7 @@ pub fn run(
     let mut report = FuzzReport::default();
     let start = Instant::now();
     let bases = [BaseType::Fixed, BaseType::Planar, BaseType::Floating];
-    for _ in 0..count {
+    for index in 0..inputs.end {
         let s = &seeds[rng.index(seeds.len())];
         let (problem, urdf) = match &s.problem {
             Some(p) => match rng.index(4) {
@@ -338,6 +339,9 @@ pub fn run(
             None => (None, mutate(&s.urdf, &mut rng)),
         };
         let base = bases[rng.index(3)];
+        if index < inputs.start {
+            continue;
+        }
         let t0 = Instant::now();
         let outcome = catch_unwind(AssertUnwindSafe(|| {
             load_once(problem.as_deref(), &urdf, base)
@@ -350,7 +354,11 @@ pub fn run(
             Err(_) => {
                 report.panics += 1;
                 if report.panic_inputs.len() < 10 {
-                    report.panic_inputs.push((s.name.clone(), problem, urdf));
+                    report.panic_inputs.push((
+                        format!("input {index} from {}", s.name),
+                        problem,
+                        urdf,
+                    ));
                 }
             }
         }

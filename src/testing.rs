@@ -2,8 +2,6 @@
 //! benchmark and machine draws the same numbers from the same seed (no `rand` dependency,
 //! no state shared between tests).
 
-pub mod fuzz;
-
 /// A 64-bit linear congruential generator (Knuth's MMIX constants). Not for statistics:
 /// for sample points, perturbations and mutated inputs that must repeat exactly.
 #[derive(Debug, Clone)]
