@@ -599,14 +599,24 @@ fn actuators(
         .filter_map(|(j, joint)| {
             let coordinate = joints.joint_coordinate[j]?;
             let has_limit = ext.limit_presence.get(&joint.name).is_some_and(|p| p.0);
+            let effort = if has_limit {
+                joint.limit.effort
+            } else {
+                f64::INFINITY
+            };
+            // Transmission joints were checked above; any other joint with a meaningless
+            // effort limit is left out of the joints an `actuated` rule may pick.
+            if effort.is_nan() || effort < 0.0 {
+                warnings.push(format!(
+                    "joint '{}': <limit effort=\"{effort}\"> is not ≥ 0, so it cannot be actuated",
+                    joint.name
+                ));
+                return None;
+            }
             Some(Actuator {
                 joint: joint.name.clone(),
                 coordinate,
-                effort: if has_limit {
-                    joint.limit.effort
-                } else {
-                    f64::INFINITY
-                },
+                effort,
                 transmission: transmission_of.get(&coordinate).copied(),
             })
         })

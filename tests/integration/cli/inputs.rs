@@ -103,3 +103,32 @@ fn bad_actuated_entries_name_the_field() {
         assert!(run.stderr.contains(expected), "{rule}:\n{}", run.stderr);
     }
 }
+
+#[test]
+fn a_joint_with_a_negative_effort_limit_is_never_actuated() {
+    let t = TestDir::with_hopper("negative_effort_never_actuated");
+    let urdf = t.path().join("robots/hopper_2d.urdf");
+    let text = std::fs::read_to_string(&urdf).unwrap().replacen(
+        r#"<limit lower="-inf" upper="inf" effort="inf" velocity="inf"/>"#,
+        r#"<limit lower="-inf" upper="inf" effort="-5" velocity="inf"/>"#,
+        1,
+    );
+    std::fs::write(&urdf, text).unwrap();
+    // "all" leaves x out and says why; naming it is an error.
+    t.write("p.toml", &hopper_any_inputs(Some("\"all\"")));
+    let run = t.vito().args(["check", "p.toml"]).assert_exit(0);
+    assert!(
+        inputs_line(&run.stdout).ends_with("3 (z, theta, r), from every movable joint"),
+        "{}",
+        run.stdout
+    );
+    assert!(
+        run.stderr
+            .contains("joint 'x': <limit effort=\"-5\"> is not ≥ 0"),
+        "{}",
+        run.stderr
+    );
+    t.write("p.toml", &hopper_any_inputs(Some("[\"x\"]")));
+    let run = t.vito().args(["check", "p.toml"]).assert_exit(2);
+    assert!(run.stderr.contains("inputs.actuated"), "{}", run.stderr);
+}
