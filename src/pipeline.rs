@@ -201,12 +201,13 @@ pub fn prepare_simulation(
     };
     let robot = &problem.robot;
     let read = |path: &Path| -> Result<_, TranscriptionError> {
-        let text = std::fs::read_to_string(path).map_err(|e| {
-            invalid(
-                "--inputs/--track",
-                format!("cannot read {}: {e}", path.display()),
-            )
-        })?;
+        let text =
+            crate::input::read_regular_text(path, crate::input::MAX_TEXT_BYTES).map_err(|e| {
+                invalid(
+                    "--inputs/--track",
+                    format!("cannot read {}: {e}", path.display()),
+                )
+            })?;
         crate::trajectory_csv::read_trajectory(&text, &robot.coordinates, &robot.inputs)
             .map_err(|m| invalid("--inputs/--track", format!("{}: {m}", path.display())))
     };

@@ -289,10 +289,12 @@ impl Table {
     /// Reads `dir/sweep.json`.
     pub fn read(dir: &Path) -> Result<Table, SweepError> {
         let path = dir.join(TABLE_JSON);
-        let text = std::fs::read_to_string(&path).map_err(|source| SweepError::Io {
-            path: path.clone(),
-            source,
-        })?;
+        let text = crate::input::read_regular_text(&path, crate::input::MAX_TEXT_BYTES).map_err(
+            |source| SweepError::Io {
+                path: path.clone(),
+                source,
+            },
+        )?;
         serde_json::from_str(&text).map_err(|e| SweepError::Table {
             path,
             message: e.to_string(),

@@ -291,6 +291,19 @@ fn fifos_devices_and_directories_are_not_read() {
     );
     let run = t.vito().args(["check", "fifo"]).assert_exit(2);
     assert!(run.stderr.contains("fifo: it is a FIFO"), "{}", run.stderr);
+    // Trajectory CSVs given on the command line are read the same way.
+    t.write("p.toml", &crate::cli::util::hopper_text());
+    for args in [
+        ["check", "p.toml", "--derivatives", "--at", "fifo"].as_slice(),
+        ["simulate", "p.toml", "--inputs", "fifo", "--out", "s"].as_slice(),
+    ] {
+        let run = t.vito().args(args).assert_exit(2);
+        assert!(
+            run.stderr.contains("it is a FIFO"),
+            "{args:?}: {}",
+            run.stderr
+        );
+    }
     let run = t
         .vito()
         .args(["solve", "/dev/zero", "--out", "o"])
