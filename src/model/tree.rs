@@ -4,6 +4,7 @@
 use std::path::Path;
 
 use super::{BaseType, CoordinateKind, ModelError};
+use crate::scalar::Scalar;
 
 /// Index of a URDF link in [`Model::link_names`].
 #[repr(transparent)]
@@ -113,6 +114,16 @@ pub(crate) struct Frame {
     pub com: [f64; 3],
     /// Inertia about the centre of mass, in this frame's axes.
     pub inertia: [[f64; 3]; 3],
+    /// For a `<mimic>` joint: its value is multiplier·q[`coordinate`] + offset (the leader's
+    /// coordinate); `None` when the joint has a coordinate of its own.
+    pub mimic: Option<Mimic>,
+}
+
+/// A `<mimic>` joint's map from its leader's coordinate: θ = multiplier·q_leader + offset.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Mimic {
+    pub multiplier: f64,
+    pub offset: f64,
 }
 
 impl Frame {
@@ -135,6 +146,31 @@ impl Frame {
             mass: 0.0,
             com: [0.0; 3],
             inertia: [[0.0; 3]; 3],
+            mimic: None,
+        }
+    }
+
+    /// The joint's value θ (angle or length): q[`coordinate`], or a mimic's map of it.
+    pub(crate) fn joint_value<D: Scalar>(&self, q: &[D]) -> D {
+        match self.mimic {
+            None => q[self.coordinate],
+            Some(m) => q[self.coordinate] * m.multiplier + D::from(m.offset),
+        }
+    }
+
+    /// The joint's rate θ̇ (or acceleration) from the coordinates' rates `v`.
+    pub(crate) fn joint_rate<D: Scalar>(&self, v: &[D]) -> D {
+        match self.mimic {
+            None => v[self.coordinate],
+            Some(m) => v[self.coordinate] * m.multiplier,
+        }
+    }
+
+    /// A generalised force on θ as a force on q[`coordinate`]: times ∂θ/∂q = multiplier.
+    pub(crate) fn to_coordinate<D: Scalar>(&self, force: D) -> D {
+        match self.mimic {
+            None => force,
+            Some(m) => force * m.multiplier,
         }
     }
 }
@@ -276,7 +312,7 @@ impl Model {
     pub fn coordinate_kinds(&self) -> Vec<CoordinateKind> {
         let mut kinds = vec![CoordinateKind::Angular; self.nq()];
         for frame in &self.frames {
-            if frame.motion == Motion::Prismatic {
+            if frame.motion == Motion::Prismatic && frame.mimic.is_none() {
                 kinds[frame.coordinate] = CoordinateKind::Linear;
             }
         }
