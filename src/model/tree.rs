@@ -18,7 +18,7 @@ impl LinkId {
     }
 }
 
-/// A point contact: a zero-radius collision sphere of the URDF.
+/// A contact of the URDF: a collision sphere (radius 0: a point).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ContactPoint {
     /// The collision element's `name`; when it has none, the link's name if this is the
@@ -26,8 +26,11 @@ pub struct ContactPoint {
     pub name: String,
     /// The URDF link the point is fixed to.
     pub link: String,
-    /// The point in the link frame (the collision origin's xyz), in model length units.
+    /// The sphere's centre in the link frame (the collision origin's xyz), in model length
+    /// units.
     pub point: [f64; 3],
+    /// The sphere's radius (0 for a point), in model length units.
+    pub radius: f64,
 }
 
 /// Whether a spring acts on an angle or a length.
@@ -359,7 +362,7 @@ impl Model {
         self.link_names.iter().position(|n| n == name).map(LinkId)
     }
 
-    /// Zero-radius collision spheres, in document order.
+    /// Collision spheres (radius 0: points), in document order.
     pub fn contact_points(&self) -> &[ContactPoint] {
         &self.contact_points
     }

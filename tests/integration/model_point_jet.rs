@@ -73,6 +73,7 @@ fn check_model(rel: &str, model: Model, links: usize) {
             name: link.clone(),
             link: link.clone(),
             point: [0.031, -0.022, 0.047],
+            radius: 0.0,
             friction: 1.0,
         })
         .collect();

@@ -87,7 +87,7 @@ pub(super) fn build(
             problems,
         });
     }
-    let contact_points = contact_points(robot);
+    let contact_points = contact_points(robot, ext, &mut warnings);
     let springs = springs(robot, ext, &joints)?;
     let loop_closures = loop_closures(ext, &bodies.link_names)?;
     let actuators = actuators(robot, ext, &joints, &mut warnings)?;
@@ -534,16 +534,40 @@ fn bodies(
     })
 }
 
-/// Contact points: zero-radius spheres, links in document order.
-fn contact_points(robot: &urdf_rs::Robot) -> Vec<ContactPoint> {
+/// Contacts: collision spheres of any radius (0: a point), links in document order. Other
+/// collision shapes are listed, by link, in one warning.
+fn contact_points(
+    robot: &urdf_rs::Robot,
+    ext: &Extensions,
+    warnings: &mut Vec<String>,
+) -> Vec<ContactPoint> {
     let mut contact_points = Vec::new();
+    let mut ignored = Vec::new();
     for link in &robot.links {
-        let is_point = |c: &&urdf_rs::Collision| matches!(c.geometry, urdf_rs::Geometry::Sphere { radius } if radius == 0.0);
-        let n_points = link.collision.iter().filter(is_point).count();
+        let sphere = |c: &urdf_rs::Collision| match c.geometry {
+            urdf_rs::Geometry::Sphere { radius } => Some(radius),
+            _ => None,
+        };
+        let n_points = link
+            .collision
+            .iter()
+            .filter(|c| sphere(c).is_some())
+            .count();
         for (k, collision) in link.collision.iter().enumerate() {
-            if !is_point(&collision) {
+            let Some(radius) = sphere(collision) else {
+                let shape = match collision.geometry {
+                    urdf_rs::Geometry::Box { .. } => "box",
+                    urdf_rs::Geometry::Cylinder { .. } => "cylinder",
+                    urdf_rs::Geometry::Capsule { .. } => "capsule",
+                    _ => "mesh",
+                };
+                ignored.push(format!(
+                    "{}'{}' ({shape})",
+                    ext.at("link", &link.name),
+                    link.name
+                ));
                 continue;
-            }
+            };
             // Unnamed: the link's name when it is the link's only point.
             let fallback = if n_points == 1 {
                 link.name.clone()
@@ -554,8 +578,16 @@ fn contact_points(robot: &urdf_rs::Robot) -> Vec<ContactPoint> {
                 name: collision.name.clone().unwrap_or(fallback),
                 link: link.name.clone(),
                 point: *collision.origin.xyz,
+                radius,
             });
         }
+    }
+    if !ignored.is_empty() {
+        warnings.push(format!(
+            "collision shapes other than spheres are ignored (no contact from them): {}; \
+             add a <sphere> collision or a [[contacts.point]] with a radius for each foot",
+            ignored.join(", ")
+        ));
     }
     contact_points
 }
