@@ -40,7 +40,7 @@ pub use loops::*;
 pub use mechanics::Mechanics;
 pub use midpoint::*;
 pub use midpoint_derivatives::*;
-pub use model_mechanics::ModelMechanics;
+pub use model_mechanics::{ContactSphere, ModelMechanics};
 pub use step::*;
 
 /// Which discrete mechanics the dynamics constraints use.

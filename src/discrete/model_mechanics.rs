@@ -14,17 +14,38 @@ use crate::model::{
 };
 use crate::scalar::Scalar;
 
-/// A URDF model with the problem's contact points resolved to links.
+/// A contact resolved to its link: a sphere (radius 0: a point) fixed on the link.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactSphere {
+    /// The link.
+    pub link: LinkId,
+    /// The centre in the link frame (length units).
+    pub centre: [f64; 3],
+    /// The radius (length units).
+    pub radius: f64,
+}
+
+impl ContactSphere {
+    /// A point contact (radius 0).
+    pub fn point(link: LinkId, centre: [f64; 3]) -> Self {
+        ContactSphere {
+            link,
+            centre,
+            radius: 0.0,
+        }
+    }
+}
+
+/// A URDF model with the problem's contacts resolved to links.
 #[derive(Debug)]
 pub struct ModelMechanics {
     model: Model,
-    contacts: Vec<(LinkId, [f64; 3])>,
+    contacts: Vec<ContactSphere>,
 }
 
 impl ModelMechanics {
-    /// The model with its contact points, each a link and a point in that link's frame
-    /// (length units), in the problem's contact order.
-    pub fn with_contacts(model: Model, contacts: Vec<(LinkId, [f64; 3])>) -> Self {
+    /// The model with its contacts, in the problem's contact order.
+    pub fn with_contacts(model: Model, contacts: Vec<ContactSphere>) -> Self {
         ModelMechanics { model, contacts }
     }
 
@@ -89,9 +110,18 @@ impl Mechanics for ModelMechanics {
     fn momentum<D: Scalar>(&self, q: &[D], v: &[D], out: &mut [D]) {
         out.copy_from_slice(&generalized_momentum(&self.model, q, v));
     }
+    /// A sphere's lowest point, centre − r·ẑ: the terrain's normal is +z wherever the
+    /// signed distance is exact (it is the vertical distance, `contact::signed_distance`),
+    /// so φ is the centre's distance minus r. Friction acts at this point as it moves with
+    /// the centre (tangential coordinates of a potential, as for points): it exerts no
+    /// torque about the centre, as a ball rolling without resistance.
     fn contact_position<D: Scalar>(&self, contact: usize, q: &[D]) -> [D; 3] {
-        let (link, point) = &self.contacts[contact];
-        point_position(&self.model, *link, point, q)
+        let c = &self.contacts[contact];
+        let mut p = point_position(&self.model, c.link, &c.centre, q);
+        if c.radius != 0.0 {
+            p[2] -= D::from(c.radius);
+        }
+        p
     }
     fn loop_residual<D: Scalar>(&self, q: &[D], out: &mut [D]) {
         out.copy_from_slice(&loop_residual(&self.model, q));
@@ -100,8 +130,11 @@ impl Mechanics for ModelMechanics {
 
 impl MechanicsDerivatives for ModelMechanics {
     fn contact_jet(&self, contact: usize, q: &[f64], order: usize) -> PointJet {
-        let (link, point) = &self.contacts[contact];
-        point_jet(&self.model, *link, point, q, order)
+        let c = &self.contacts[contact];
+        let mut jet = point_jet(&self.model, c.link, &c.centre, q, order);
+        // The lowest point moves with the centre: a constant offset, the same derivatives.
+        jet.position[2] -= c.radius;
+        jet
     }
     fn segment_gradient(&self, z: &[f64]) -> Vec<f64> {
         let n = self.model.nq();

@@ -104,16 +104,16 @@ pub fn inverse_dynamics<D: Scalar>(model: &Model, q: &[D], v: &[D], a: &[D]) -> 
         match frame.motion {
             Motion::Fixed => {}
             Motion::Revolute => {
-                let rate = scale(v[frame.coordinate], pose.axis);
+                let rate = scale(frame.joint_rate(v), pose.axis);
                 alpha = add(
                     alpha,
-                    add(scale(a[frame.coordinate], pose.axis), cross(w, rate)),
+                    add(scale(frame.joint_rate(a), pose.axis), cross(w, rate)),
                 );
             }
             Motion::Prismatic => {
-                let rate = scale(v[frame.coordinate], pose.axis);
+                let rate = scale(frame.joint_rate(v), pose.axis);
                 let slide = add(
-                    scale(a[frame.coordinate], pose.axis),
+                    scale(frame.joint_rate(a), pose.axis),
                     scale(D::from(2.0), cross(w, rate)),
                 );
                 acc = add(acc, slide);

@@ -90,9 +90,11 @@ pub(crate) fn project_wrenches<D: Scalar>(
             Motion::Revolute => {
                 // Moment about the joint axis line through the frame origin.
                 let about_joint = sub(moment[i], cross(pose.origin, force[i]));
-                out[frame.coordinate] += dot(pose.axis, about_joint);
+                out[frame.coordinate] += frame.to_coordinate(dot(pose.axis, about_joint));
             }
-            Motion::Prismatic => out[frame.coordinate] += dot(pose.axis, force[i]),
+            Motion::Prismatic => {
+                out[frame.coordinate] += frame.to_coordinate(dot(pose.axis, force[i]))
+            }
         }
         if let Some(p) = frame.parent {
             force[p] = add(force[p], force[i]);

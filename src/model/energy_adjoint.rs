@@ -253,12 +253,12 @@ fn twist_adjoint<D: Scalar>(
     match frame.motion {
         Motion::Fixed => {}
         Motion::Revolute => {
-            dqdot[frame.coordinate] += dot(axis, bar.angular);
-            *axis_bar = add(*axis_bar, scale(qdot[frame.coordinate], bar.angular));
+            dqdot[frame.coordinate] += frame.to_coordinate(dot(axis, bar.angular));
+            *axis_bar = add(*axis_bar, scale(frame.joint_rate(qdot), bar.angular));
         }
         Motion::Prismatic => {
-            dqdot[frame.coordinate] += dot(axis, bar.linear);
-            *axis_bar = add(*axis_bar, scale(qdot[frame.coordinate], bar.linear));
+            dqdot[frame.coordinate] += frame.to_coordinate(dot(axis, bar.linear));
+            *axis_bar = add(*axis_bar, scale(frame.joint_rate(qdot), bar.linear));
         }
     }
 }
@@ -285,13 +285,12 @@ fn pose_adjoint<D: Scalar>(
             for k in 0..3 {
                 torque = add(torque, cross(column(r, k), column(r_bar, k)));
             }
-            dq[frame.coordinate] += dot(pose.axis, torque);
-            joint_bar = rotation_adjoint(r_bar, &frame.axis, q[frame.coordinate]);
+            dq[frame.coordinate] += frame.to_coordinate(dot(pose.axis, torque));
+            joint_bar = rotation_adjoint(r_bar, &frame.axis, frame.joint_value(q));
         }
         Motion::Prismatic => {
-            let c = frame.coordinate;
-            dq[c] += dot(pose.axis, bar.origin);
-            axis_bar = add(axis_bar, scale(q[c], bar.origin));
+            dq[frame.coordinate] += frame.to_coordinate(dot(pose.axis, bar.origin));
+            axis_bar = add(axis_bar, scale(frame.joint_value(q), bar.origin));
         }
     }
     if frame.motion != Motion::Fixed {

@@ -79,35 +79,14 @@ pub enum ModelError {
     /// No links at all.
     #[error("the URDF has no links")]
     NoLinks,
-    /// A link's `<inertial>` has mass ≤ 0 (or not finite).
-    #[error(
-        "link '{link}' has mass {mass}; an <inertial> needs a positive finite mass (remove <inertial> for a massless link)"
-    )]
-    NonPositiveMass {
-        /// The link.
-        link: String,
-        /// The mass read.
-        mass: f64,
-    },
-    /// A link's inertia matrix is not positive definite.
-    #[error(
-        "link '{link}' has an inertia matrix that is not positive definite (ixx={ixx}, iyy={iyy}, izz={izz}, ixy={ixy}, ixz={ixz}, iyz={iyz}); fix the <inertia> values"
-    )]
-    InertiaNotPositiveDefinite {
-        /// The link.
-        link: String,
-        /// Components as read.
-        ixx: f64,
-        /// Component.
-        iyy: f64,
-        /// Component.
-        izz: f64,
-        /// Component.
-        ixy: f64,
-        /// Component.
-        ixz: f64,
-        /// Component.
-        iyz: f64,
+    /// Masses, inertias or mimic joints vito cannot use, all of a file's at once: each
+    /// problem names the line and element and says how to fix it.
+    #[error("{origin}: {} problem{} to fix:\n  - {}", problems.len(), if problems.len() == 1 { "" } else { "s" }, problems.join("\n  - "))]
+    Invalid {
+        /// File path or `<string>`.
+        origin: String,
+        /// One line per problem (`line N: <link name="x"> <inertial>: ...`).
+        problems: Vec<String>,
     },
     /// A joint type vito does not model inside a URDF.
     #[error(

@@ -64,7 +64,7 @@ pub(crate) fn child_pose<D: Scalar>(frame: &Frame, parent: &Pose<D>, q: &[D]) ->
             axis: [D::from(0.0); 3],
         },
         Motion::Revolute => {
-            let angle = q[frame.coordinate];
+            let angle = frame.joint_value(q);
             Pose {
                 rotation: rotate_about(&joint_rotation, &frame.axis, angle),
                 origin: joint_origin,
@@ -75,7 +75,7 @@ pub(crate) fn child_pose<D: Scalar>(frame: &Frame, parent: &Pose<D>, q: &[D]) ->
             let axis = mat_vec_const(&joint_rotation, &frame.axis);
             Pose {
                 rotation: joint_rotation,
-                origin: add(joint_origin, scale(q[frame.coordinate], axis)),
+                origin: add(joint_origin, scale(frame.joint_value(q), axis)),
                 axis,
             }
         }
@@ -152,8 +152,8 @@ pub(crate) fn child_twist<D: Scalar>(
     let mut linear = add(parent.linear, cross(parent.angular, lever));
     match frame.motion {
         Motion::Fixed => {}
-        Motion::Revolute => angular = add(angular, scale(qdot[frame.coordinate], pose.axis)),
-        Motion::Prismatic => linear = add(linear, scale(qdot[frame.coordinate], pose.axis)),
+        Motion::Revolute => angular = add(angular, scale(frame.joint_rate(qdot), pose.axis)),
+        Motion::Prismatic => linear = add(linear, scale(frame.joint_rate(qdot), pose.axis)),
     }
     Twist { angular, linear }
 }

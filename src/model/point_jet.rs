@@ -71,7 +71,9 @@ pub fn point_jet(
         let frame = &model.frames[i];
         pose = child_pose(frame, &pose, q);
         if frame.motion != Motion::Fixed {
-            joints.push((frame.coordinate, frame.motion, pose.axis, pose.origin));
+            // Per unit rate of the coordinate: a mimic joint turns `multiplier` times as fast.
+            let axis = pose.axis.map(|a| frame.to_coordinate(a));
+            joints.push((frame.coordinate, frame.motion, axis, pose.origin));
         }
     }
     let position = add(

@@ -178,3 +178,74 @@ pub fn hopper_2d() -> &'static str {
 pub fn brick() -> &'static str {
     include_str!("../../problems/robots/brick.urdf")
 }
+
+/// A gripper as ROS description packages ship it (use with a fixed or floating base): no
+/// `<transmission>`; a camera link with mass 0 and a nonzero tensor (a massless frame) and
+/// an optical frame without `<inertial>`; a point mass (zero inertia) welded to the palm;
+/// a joint and a link both named `thumb`. Coordinates `wrist` (revolute about z) and
+/// `left` (the left finger, prismatic along y); three `<mimic>` joints follow them:
+/// `right` = −1·left, `tip` (along the right finger's z) = 2·right + 0.003 (a mimic of a
+/// mimic), and `thumb` (about a tilted axis) = 0.5·wrist + 0.1.
+pub fn gripper() -> &'static str {
+    r#"<?xml version="1.0"?>
+<robot name="gripper">
+  <link name="base">
+    <inertial><mass value="2.0"/><inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial>
+  </link>
+  <link name="camera_link">
+    <inertial><mass value="0"/><inertia ixx="1e-6" ixy="0" ixz="0" iyy="1e-6" iyz="0" izz="1e-6"/></inertial>
+  </link>
+  <link name="camera_optical_frame"/>
+  <joint name="camera_mount" type="fixed">
+    <parent link="base"/><child link="camera_link"/><origin xyz="0.1 0 0.05" rpy="0 0.3 0"/>
+  </joint>
+  <joint name="camera_optical" type="fixed">
+    <parent link="camera_link"/><child link="camera_optical_frame"/><origin xyz="0 0 0" rpy="-1.5708 0 -1.5708"/>
+  </joint>
+  <link name="palm">
+    <inertial><origin xyz="0 0 -0.02"/><mass value="0.5"/><inertia ixx="0.002" ixy="0" ixz="0" iyy="0.002" iyz="0" izz="0.001"/></inertial>
+  </link>
+  <joint name="wrist" type="revolute">
+    <parent link="base"/><child link="palm"/><origin xyz="0 0 -0.1"/><axis xyz="0 0 1"/>
+    <limit lower="-2" upper="2" effort="5" velocity="3"/>
+  </joint>
+  <link name="palm_weight">
+    <inertial><mass value="0.2"/><inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0"/></inertial>
+  </link>
+  <joint name="weight_mount" type="fixed">
+    <parent link="palm"/><child link="palm_weight"/><origin xyz="0.05 0 0"/>
+  </joint>
+  <link name="left_finger">
+    <inertial><mass value="0.1"/><inertia ixx="1e-4" ixy="0" ixz="0" iyy="1e-4" iyz="0" izz="1e-4"/></inertial>
+  </link>
+  <joint name="left" type="prismatic">
+    <parent link="palm"/><child link="left_finger"/><origin xyz="0 0.02 -0.05"/><axis xyz="0 1 0"/>
+    <limit lower="0" upper="0.04" effort="20" velocity="0.1"/>
+  </joint>
+  <link name="right_finger">
+    <inertial><mass value="0.1"/><inertia ixx="1e-4" ixy="0" ixz="0" iyy="1e-4" iyz="0" izz="1e-4"/></inertial>
+  </link>
+  <joint name="right" type="prismatic">
+    <parent link="palm"/><child link="right_finger"/><origin xyz="0 -0.02 -0.05"/><axis xyz="0 1 0"/>
+    <limit lower="-0.04" upper="0" effort="20" velocity="0.1"/>
+    <mimic joint="left" multiplier="-1"/>
+  </joint>
+  <link name="tip">
+    <inertial><mass value="0.04"/><inertia ixx="1e-5" ixy="0" ixz="0" iyy="1e-5" iyz="0" izz="1e-5"/></inertial>
+  </link>
+  <joint name="tip" type="prismatic">
+    <parent link="right_finger"/><child link="tip"/><origin xyz="0 0 -0.03"/><axis xyz="0 0 1"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/>
+    <mimic joint="right" multiplier="2" offset="0.003"/>
+  </joint>
+  <link name="thumb">
+    <inertial><origin xyz="0.02 0 0"/><mass value="0.05"/><inertia ixx="2e-5" ixy="0" ixz="0" iyy="3e-5" iyz="0" izz="4e-5"/></inertial>
+  </link>
+  <joint name="thumb" type="revolute">
+    <parent link="palm"/><child link="thumb"/><origin xyz="0.03 0 -0.04" rpy="0.2 -0.1 0.4"/><axis xyz="0.6 0 0.8"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/>
+    <mimic joint="wrist" multiplier="0.5" offset="0.1"/>
+  </joint>
+</robot>
+"#
+}

@@ -4,6 +4,7 @@
 use std::path::Path;
 
 use super::{BaseType, CoordinateKind, ModelError};
+use crate::scalar::Scalar;
 
 /// Index of a URDF link in [`Model::link_names`].
 #[repr(transparent)]
@@ -17,7 +18,7 @@ impl LinkId {
     }
 }
 
-/// A point contact: a zero-radius collision sphere of the URDF.
+/// A contact of the URDF: a collision sphere (radius 0: a point).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ContactPoint {
     /// The collision element's `name`; when it has none, the link's name if this is the
@@ -25,8 +26,11 @@ pub struct ContactPoint {
     pub name: String,
     /// The URDF link the point is fixed to.
     pub link: String,
-    /// The point in the link frame (the collision origin's xyz), in model length units.
+    /// The sphere's centre in the link frame (the collision origin's xyz), in model length
+    /// units.
     pub point: [f64; 3],
+    /// The sphere's radius (0 for a point), in model length units.
+    pub radius: f64,
 }
 
 /// Whether a spring acts on an angle or a length.
@@ -113,6 +117,16 @@ pub(crate) struct Frame {
     pub com: [f64; 3],
     /// Inertia about the centre of mass, in this frame's axes.
     pub inertia: [[f64; 3]; 3],
+    /// For a `<mimic>` joint: its value is multiplier·q[`coordinate`] + offset (the leader's
+    /// coordinate); `None` when the joint has a coordinate of its own.
+    pub mimic: Option<Mimic>,
+}
+
+/// A `<mimic>` joint's map from its leader's coordinate: θ = multiplier·q_leader + offset.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Mimic {
+    pub multiplier: f64,
+    pub offset: f64,
 }
 
 impl Frame {
@@ -135,6 +149,31 @@ impl Frame {
             mass: 0.0,
             com: [0.0; 3],
             inertia: [[0.0; 3]; 3],
+            mimic: None,
+        }
+    }
+
+    /// The joint's value θ (angle or length): q[`coordinate`], or a mimic's map of it.
+    pub(crate) fn joint_value<D: Scalar>(&self, q: &[D]) -> D {
+        match self.mimic {
+            None => q[self.coordinate],
+            Some(m) => q[self.coordinate] * m.multiplier + D::from(m.offset),
+        }
+    }
+
+    /// The joint's rate θ̇ (or acceleration) from the coordinates' rates `v`.
+    pub(crate) fn joint_rate<D: Scalar>(&self, v: &[D]) -> D {
+        match self.mimic {
+            None => v[self.coordinate],
+            Some(m) => v[self.coordinate] * m.multiplier,
+        }
+    }
+
+    /// A generalised force on θ as a force on q[`coordinate`]: times ∂θ/∂q = multiplier.
+    pub(crate) fn to_coordinate<D: Scalar>(&self, force: D) -> D {
+        match self.mimic {
+            None => force,
+            Some(m) => force * m.multiplier,
         }
     }
 }
@@ -276,7 +315,7 @@ impl Model {
     pub fn coordinate_kinds(&self) -> Vec<CoordinateKind> {
         let mut kinds = vec![CoordinateKind::Angular; self.nq()];
         for frame in &self.frames {
-            if frame.motion == Motion::Prismatic {
+            if frame.motion == Motion::Prismatic && frame.mimic.is_none() {
                 kinds[frame.coordinate] = CoordinateKind::Linear;
             }
         }
@@ -323,7 +362,7 @@ impl Model {
         self.link_names.iter().position(|n| n == name).map(LinkId)
     }
 
-    /// Zero-radius collision spheres, in document order.
+    /// Collision spheres (radius 0: points), in document order.
     pub fn contact_points(&self) -> &[ContactPoint] {
         &self.contact_points
     }

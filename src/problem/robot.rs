@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use crate::model::{Actuation, AppliedActuation, BaseType, CoordinateKind, Model};
 use crate::problem::Interval;
 
-/// A contact point declared in the URDF (a zero-radius collision sphere).
+/// A contact declared in the URDF (a collision sphere; radius 0: a point).
 #[derive(Debug, Clone, PartialEq)]
 pub struct UrdfContact {
     /// The name `model::ContactPoint` gives it (the collision's `name`, else the link's or
@@ -19,8 +19,10 @@ pub struct UrdfContact {
     pub name: String,
     /// Link it is fixed to.
     pub link: String,
-    /// Point in the link frame [length].
+    /// Point in the link frame [length] (a sphere's centre).
     pub point: [f64; 3],
+    /// The sphere's radius [length] (0: a point).
+    pub radius: f64,
 }
 
 /// Names and limits of a robot in the model's coordinate and input order.
@@ -161,6 +163,7 @@ impl RobotInfo {
                     name: c.name.clone(),
                     link: c.link.clone(),
                     point: c.point,
+                    radius: c.radius,
                 })
                 .collect(),
             coordinate_kinds,

@@ -166,8 +166,10 @@ pub struct ContactPointEntry {
     pub name: String,
     /// URDF link name.
     pub link: String,
-    /// Point in the link frame [length].
+    /// Point in the link frame [length]: the sphere's centre when `radius` is given.
     pub point: [f64; 3],
+    /// Radius of a sphere around `point` [length] (default 0: a point).
+    pub radius: Option<f64>,
     /// Friction coefficient (default: `contacts.friction`).
     pub friction: Option<f64>,
 }

@@ -54,8 +54,11 @@ pub struct ContactSpec {
     pub name: String,
     /// Link the point is fixed to (URDF link name; resolved by the model).
     pub link: String,
-    /// Point in the link frame.
+    /// Point in the link frame: a sphere's centre.
     pub point: [f64; 3],
+    /// The sphere's radius (0: a point); its distance to the terrain is the centre's minus
+    /// the radius, and friction acts at its lowest point.
+    pub radius: f64,
     /// Coulomb friction coefficient μ ≥ 0.
     pub friction: f64,
 }

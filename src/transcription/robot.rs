@@ -2,7 +2,7 @@
 //! gravity, its contacts resolved by link name.
 
 use super::TranscriptionError;
-use crate::discrete::ModelMechanics;
+use crate::discrete::{ContactSphere, ModelMechanics};
 use crate::model::Model;
 use crate::problem::{ContactSpec, ProblemSpec};
 
@@ -22,7 +22,11 @@ impl ModelMechanics {
                         model.link_names().join(", ")
                     ),
                 })?;
-            resolved.push((link, c.point));
+            resolved.push(ContactSphere {
+                link,
+                centre: c.point,
+                radius: c.radius,
+            });
         }
         Ok(ModelMechanics::with_contacts(model, resolved))
     }

@@ -15,6 +15,7 @@ mod model_errors;
 mod model_mechanics;
 mod model_point_jet;
 mod model_robots;
+mod model_user_urdfs;
 mod sim;
 mod transcription_derivative_check;
 mod transcription_derivatives;

@@ -119,6 +119,10 @@ fn robots() -> Vec<(&'static str, Model)> {
         ("brick", sampled(sample::brick(), BaseType::Floating)),
         ("twisted", sampled(TWISTED, BaseType::Floating)),
         (
+            "gripper (mimic joints)",
+            sampled(sample::gripper(), BaseType::Floating),
+        ),
+        (
             "spring_flamingo",
             robot(
                 "spring_flamingo/spring_flamingo_passive_ankle.normalized.urdf",

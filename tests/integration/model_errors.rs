@@ -94,15 +94,18 @@ fn multiple_roots_are_rejected() {
 }
 
 #[test]
-fn non_positive_masses_are_rejected() {
-    for mass in ["0", "-2.5"] {
+fn negative_and_non_finite_masses_are_rejected() {
+    for mass in ["-2.5", "nan", "inf"] {
         let bad = format!(
             r#"<link name="heavy_nothing"><inertial><mass value="{mass}"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial></link>"#
         );
         let body = link("base") + &bad + &joint("j", "revolute", "base", "heavy_nothing");
         let (e, msg) = reject(&robot(&body));
-        assert!(matches!(e, ModelError::NonPositiveMass { .. }), "{e:?}");
-        assert!(msg.contains("'heavy_nothing'"), "{msg}");
+        assert!(matches!(e, ModelError::Invalid { .. }), "{e:?}");
+        assert!(
+            msg.contains("'heavy_nothing'") || msg.contains("\"heavy_nothing\""),
+            "{msg}"
+        );
     }
 }
 
@@ -118,11 +121,11 @@ fn non_positive_definite_inertias_are_rejected() {
         );
         let body = link("base") + &bad + &joint("j", "revolute", "base", "wobbly");
         let (e, msg) = reject(&robot(&body));
+        assert!(matches!(e, ModelError::Invalid { .. }), "{e:?}");
         assert!(
-            matches!(e, ModelError::InertiaNotPositiveDefinite { .. }),
-            "{e:?}"
+            msg.contains("\"wobbly\"") && msg.contains("positive definite"),
+            "{msg}"
         );
-        assert!(msg.contains("'wobbly'"), "{msg}");
     }
 }
 

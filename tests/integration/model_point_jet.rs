@@ -19,13 +19,25 @@ fn dense(jet: &PointJet, n: usize) -> (Tensor, Tensor, Tensor) {
         vec![[0.0; 3]; n * n],
         vec![[0.0; 3]; n * n * n],
     );
+    // A coordinate may appear twice (a mimic joint on its leader's path): sum its entries.
+    let accumulate = |into: &mut [f64; 3], v: &[f64; 3]| {
+        for m in 0..3 {
+            into[m] += v[m];
+        }
+    };
     for a in 0..c {
-        first[jet.coords[a]] = jet.first[a];
+        accumulate(&mut first[jet.coords[a]], &jet.first[a]);
         for b in 0..c {
-            second[jet.coords[a] * n + jet.coords[b]] = jet.second[a * c + b];
+            accumulate(
+                &mut second[jet.coords[a] * n + jet.coords[b]],
+                &jet.second[a * c + b],
+            );
             for e in 0..c {
                 let (qa, qb, qe) = (jet.coords[a], jet.coords[b], jet.coords[e]);
-                third[(qa * n + qb) * n + qe] = jet.third[(a * c + b) * c + e];
+                accumulate(
+                    &mut third[(qa * n + qb) * n + qe],
+                    &jet.third[(a * c + b) * c + e],
+                );
             }
         }
     }
@@ -49,6 +61,10 @@ fn check_robot(rel: &str, base: BaseType, links: usize) {
         .join("problems/robots")
         .join(rel);
     let model = Model::from_urdf_file(&path, base).unwrap_or_else(|e| panic!("{rel}: {e}"));
+    check_model(rel, model, links);
+}
+
+fn check_model(rel: &str, model: Model, links: usize) {
     let n = model.nq();
     let names: Vec<String> = model.link_names().iter().take(links).cloned().collect();
     let contacts: Vec<ContactSpec> = names
@@ -57,6 +73,7 @@ fn check_robot(rel: &str, base: BaseType, links: usize) {
             name: link.clone(),
             link: link.clone(),
             point: [0.031, -0.022, 0.047],
+            radius: 0.0,
             friction: 1.0,
         })
         .collect();
@@ -89,6 +106,14 @@ fn check_robot(rel: &str, base: BaseType, links: usize) {
         deepest >= 4,
         "{rel}: no link deeper than {deepest} joints; the test proves too little"
     );
+}
+
+#[test]
+fn gripper_with_mimic_joints_every_link() {
+    // The tip's path holds `left` twice (its finger mimics it, and so does the tip).
+    let model = Model::from_urdf_str(vito::model::sample::gripper(), BaseType::Floating)
+        .expect("the gripper loads");
+    check_model("gripper", model, 100);
 }
 
 #[test]

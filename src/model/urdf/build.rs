@@ -5,10 +5,10 @@
 use std::collections::{HashMap, HashSet};
 
 use super::extensions::{Extensions, bad};
-use super::inertia::{MassPiece, link_inertia, lump};
+use super::inertia::{MassPiece, check_body, link_inertia, lump};
 use crate::model::actuation::{Actuator, AppliedActuation};
 use crate::model::spatial::{mat_mul, normalized, perpendicular_pair, rpy_to_matrix, transpose};
-use crate::model::tree::{Frame, LinkPlacement, Motion};
+use crate::model::tree::{Frame, LinkPlacement, Mimic, Motion};
 use crate::model::{
     BaseType, ContactPoint, LinkId, LoopClosure, Model, ModelError, Spring, SpringKind,
 };
@@ -51,6 +51,7 @@ pub(super) fn build(
     robot: &urdf_rs::Robot,
     ext: &Extensions,
     base: BaseType,
+    origin: &str,
     mut warnings: Vec<String>,
 ) -> Result<Model, ModelError> {
     if robot.links.is_empty() {
@@ -58,13 +59,35 @@ pub(super) fn build(
     }
     let (link_of, joint_of) = index_names(robot)?;
     let tree = tree_order(robot, &link_of)?;
-    let coordinates = coordinates(robot, ext, base, &mut warnings)?;
+    // Problems of masses and mimic joints, reported together.
+    let mut problems = Vec::new();
+    let coordinates = coordinates(robot, ext, base, &joint_of, &mut problems, &mut warnings)?;
     let joints = JointCoordinates {
+        robot,
         joint_of: &joint_of,
         joint_coordinate: &coordinates.joint_coordinate,
     };
-    let bodies = bodies(robot, ext, base, &link_of, &tree, &coordinates)?;
-    let contact_points = contact_points(robot);
+    let mut findings = Findings { problems, warnings };
+    let bodies = bodies(
+        robot,
+        ext,
+        base,
+        &link_of,
+        &tree,
+        &coordinates,
+        &mut findings,
+    )?;
+    let Findings {
+        problems,
+        mut warnings,
+    } = findings;
+    if !problems.is_empty() {
+        return Err(ModelError::Invalid {
+            origin: origin.to_string(),
+            problems,
+        });
+    }
+    let contact_points = contact_points(robot, ext, &mut warnings);
     let springs = springs(robot, ext, &joints)?;
     let loop_closures = loop_closures(ext, &bodies.link_names)?;
     let actuators = actuators(robot, ext, &joints, &mut warnings)?;
@@ -201,19 +224,24 @@ fn tree_order(robot: &urdf_rs::Robot, link_of: &NameIndex) -> Result<Tree, Model
     })
 }
 
-/// The coordinates: base, then non-fixed joints in document order.
+/// The coordinates: base, then non-fixed joints in document order (except `<mimic>`
+/// joints, which follow their leader and have no coordinate of their own).
 struct Coordinates {
     names: Vec<String>,
     limits: Vec<(f64, f64)>,
     damping: Vec<f64>,
-    /// Per joint, its coordinate (`None` for fixed joints).
+    /// Per joint, its coordinate (`None` for fixed and mimic joints).
     joint_coordinate: Vec<Option<usize>>,
+    /// Per mimic joint, its leader's coordinate and the map from it.
+    mimic: Vec<Option<(usize, Mimic)>>,
 }
 
 fn coordinates(
     robot: &urdf_rs::Robot,
     ext: &Extensions,
     base: BaseType,
+    joint_of: &NameIndex,
+    problems: &mut Vec<String>,
     warnings: &mut Vec<String>,
 ) -> Result<Coordinates, ModelError> {
     let base_names = base.coordinate_names();
@@ -221,8 +249,9 @@ fn coordinates(
     let mut coordinate_limits = vec![(f64::NEG_INFINITY, f64::INFINITY); base_names.len()];
     let mut damping = vec![0.0; base_names.len()];
     let mut joint_coordinate: Vec<Option<usize>> = vec![None; robot.joints.len()];
+    let moves = |joint: &urdf_rs::Joint| joint.joint_type != urdf_rs::JointType::Fixed;
     for (j, joint) in robot.joints.iter().enumerate() {
-        if joint.joint_type == urdf_rs::JointType::Fixed {
+        if !moves(joint) || joint.mimic.is_some() {
             continue;
         }
         if base_names.contains(&joint.name.as_str()) {
@@ -258,12 +287,86 @@ fn coordinates(
         coordinate_limits.push((lower, upper));
         damping.push(joint.dynamics.as_ref().map_or(0.0, |d| d.damping));
     }
+    let mut mimic = vec![None; robot.joints.len()];
+    for (j, joint) in robot.joints.iter().enumerate() {
+        if !moves(joint) || joint.mimic.is_none() {
+            continue;
+        }
+        let at = ext.at("joint", &joint.name);
+        match follow_mimics(robot, j, joint_of, &joint_coordinate) {
+            Ok((coordinate, map)) => {
+                // Viscous damping d on θ = m·q + o is d·m² on q (the same dissipation).
+                if let Some(d) = &joint.dynamics {
+                    damping[coordinate] += d.damping * map.multiplier * map.multiplier;
+                }
+                mimic[j] = Some((coordinate, map));
+            }
+            Err(problem) => problems.push(format!(
+                "{at}<joint name=\"{}\"> <mimic>: {problem}",
+                joint.name
+            )),
+        }
+    }
     Ok(Coordinates {
         names: coordinate_names,
         limits: coordinate_limits,
         damping,
         joint_coordinate,
+        mimic,
     })
+}
+
+/// The coordinate a mimic joint follows and θ = multiplier·q + offset, composed along a
+/// chain of mimics (a mimic of a mimic).
+fn follow_mimics(
+    robot: &urdf_rs::Robot,
+    joint: usize,
+    joint_of: &NameIndex,
+    joint_coordinate: &[Option<usize>],
+) -> Result<(usize, Mimic), String> {
+    let mut map = Mimic {
+        multiplier: 1.0,
+        offset: 0.0,
+    };
+    let mut current = joint;
+    for _ in 0..=robot.joints.len() {
+        let Some(m) = &robot.joints[current].mimic else {
+            return match joint_coordinate[current] {
+                Some(c) => Ok((c, map)),
+                None => Err(format!(
+                    "follows joint '{}', which is fixed; name a moving joint",
+                    robot.joints[current].name
+                )),
+            };
+        };
+        let (multiplier, offset) = (m.multiplier.unwrap_or(1.0), m.offset.unwrap_or(0.0));
+        if !(multiplier.is_finite() && offset.is_finite()) {
+            return Err(format!(
+                "multiplier {multiplier} and offset {offset} must be finite numbers"
+            ));
+        }
+        // θ = c·θ_current + d with θ_current = a·θ_leader + b: θ = c·a·θ_leader + (c·b + d).
+        map = Mimic {
+            multiplier: map.multiplier * multiplier,
+            offset: map.multiplier * offset + map.offset,
+        };
+        current = *joint_of.get(m.joint.as_str()).ok_or_else(|| {
+            format!(
+                "follows joint '{}', which is not defined; name a joint of this URDF",
+                m.joint
+            )
+        })?;
+    }
+    Err(
+        "mimic joints follow each other in a circle; one of them must have its own coordinate"
+            .into(),
+    )
+}
+
+/// What loading found so far: problems (reported together, as one error) and warnings.
+struct Findings {
+    problems: Vec<String>,
+    warnings: Vec<String>,
 }
 
 /// The rigid bodies: tree frames with their lumped masses, and where each link sits.
@@ -285,7 +388,9 @@ fn bodies(
     link_of: &NameIndex,
     tree: &Tree,
     coordinates: &Coordinates,
+    findings: &mut Findings,
 ) -> Result<Bodies, ModelError> {
+    let Findings { problems, warnings } = findings;
     let base_frames = base_chain(base);
     let mut frames: Vec<Frame> = Vec::with_capacity(base_frames.len() + robot.links.len());
     for (k, &(motion, axis, coordinate)) in base_frames.iter().enumerate() {
@@ -302,6 +407,8 @@ fn bodies(
     let mut placement_of: Vec<Option<LinkPlacement>> = vec![None; robot.links.len()];
     // Mass pieces per frame: (mass, com in frame, inertia about com in frame axes).
     let mut pieces: Vec<Vec<MassPiece>> = vec![Vec::new(); frames.len()];
+    // Per frame, its links with mass ("line N: ", name), for messages about the lumped body.
+    let mut body_links: Vec<Vec<(String, String)>> = vec![Vec::new(); frames.len()];
     let mut total_mass = 0.0;
     for &l in &tree.order {
         let link = &robot.links[l];
@@ -316,6 +423,7 @@ fn bodies(
                     0,
                 ));
                 pieces.push(Vec::new());
+                body_links.push(Vec::new());
                 LinkPlacement {
                     frame: frames.len() - 1,
                     rotation: IDENTITY,
@@ -350,15 +458,22 @@ fn bodies(
                         joint: joint.name.clone(),
                         axis: *joint.axis.xyz,
                     })?;
-                    frames.push(Frame::massless(
+                    let (coordinate, mimic) = match coordinates.mimic[j] {
+                        Some((leader, map)) => (leader, Some(map)),
+                        None => (coordinates.joint_coordinate[j].unwrap_or(0), None),
+                    };
+                    let mut frame = Frame::massless(
                         Some(parent.frame),
                         rotation,
                         translation,
                         axis,
                         motion,
-                        coordinates.joint_coordinate[j].unwrap_or(0),
-                    ));
+                        coordinate,
+                    );
+                    frame.mimic = mimic;
+                    frames.push(frame);
                     pieces.push(Vec::new());
+                    body_links.push(Vec::new());
                     LinkPlacement {
                         frame: frames.len() - 1,
                         rotation: IDENTITY,
@@ -367,9 +482,12 @@ fn bodies(
                 }
             }
         };
-        if ext.has_inertial.contains(&link.name) {
-            let (mass, com, inertia) = link_inertia(link)?;
+        let at = ext.at("link", &link.name);
+        if ext.has_inertial.contains(&link.name)
+            && let Some((mass, com, inertia)) = link_inertia(link, &at, problems, warnings)
+        {
             total_mass += mass;
+            body_links[placement.frame].push((at, link.name.clone()));
             let r = &placement.rotation;
             pieces[placement.frame].push((
                 mass,
@@ -379,8 +497,19 @@ fn bodies(
         }
         placement_of[l] = Some(placement);
     }
-    for (frame, parts) in frames.iter_mut().zip(&pieces) {
+    // A body welded to the world never moves, so its inertia plays no part.
+    let mut moves: Vec<bool> = Vec::with_capacity(frames.len());
+    for (i, (frame, parts)) in frames.iter_mut().zip(&pieces).enumerate() {
         (frame.mass, frame.com, frame.inertia) = lump(parts);
+        let moving = frame.motion != Motion::Fixed || frame.parent.is_some_and(|p| moves[p]);
+        if moving {
+            check_body(
+                &(frame.mass, frame.com, frame.inertia),
+                &body_links[i],
+                problems,
+            );
+        }
+        moves.push(moving);
     }
     // Link ids follow the topological order.
     let link_names: Vec<String> = tree
@@ -405,16 +534,40 @@ fn bodies(
     })
 }
 
-/// Contact points: zero-radius spheres, links in document order.
-fn contact_points(robot: &urdf_rs::Robot) -> Vec<ContactPoint> {
+/// Contacts: collision spheres of any radius (0: a point), links in document order. Other
+/// collision shapes are listed, by link, in one warning.
+fn contact_points(
+    robot: &urdf_rs::Robot,
+    ext: &Extensions,
+    warnings: &mut Vec<String>,
+) -> Vec<ContactPoint> {
     let mut contact_points = Vec::new();
+    let mut ignored = Vec::new();
     for link in &robot.links {
-        let is_point = |c: &&urdf_rs::Collision| matches!(c.geometry, urdf_rs::Geometry::Sphere { radius } if radius == 0.0);
-        let n_points = link.collision.iter().filter(is_point).count();
+        let sphere = |c: &urdf_rs::Collision| match c.geometry {
+            urdf_rs::Geometry::Sphere { radius } => Some(radius),
+            _ => None,
+        };
+        let n_points = link
+            .collision
+            .iter()
+            .filter(|c| sphere(c).is_some())
+            .count();
         for (k, collision) in link.collision.iter().enumerate() {
-            if !is_point(&collision) {
+            let Some(radius) = sphere(collision) else {
+                let shape = match collision.geometry {
+                    urdf_rs::Geometry::Box { .. } => "box",
+                    urdf_rs::Geometry::Cylinder { .. } => "cylinder",
+                    urdf_rs::Geometry::Capsule { .. } => "capsule",
+                    _ => "mesh",
+                };
+                ignored.push(format!(
+                    "{}'{}' ({shape})",
+                    ext.at("link", &link.name),
+                    link.name
+                ));
                 continue;
-            }
+            };
             // Unnamed: the link's name when it is the link's only point.
             let fallback = if n_points == 1 {
                 link.name.clone()
@@ -425,14 +578,23 @@ fn contact_points(robot: &urdf_rs::Robot) -> Vec<ContactPoint> {
                 name: collision.name.clone().unwrap_or(fallback),
                 link: link.name.clone(),
                 point: *collision.origin.xyz,
+                radius,
             });
         }
+    }
+    if !ignored.is_empty() {
+        warnings.push(format!(
+            "collision shapes other than spheres are ignored (no contact from them): {}; \
+             add a <sphere> collision or a [[contacts.point]] with a radius for each foot",
+            ignored.join(", ")
+        ));
     }
     contact_points
 }
 
 /// Which coordinate a joint named by an extension moves.
 struct JointCoordinates<'a> {
+    robot: &'a urdf_rs::Robot,
     joint_of: &'a NameIndex<'a>,
     joint_coordinate: &'a [Option<usize>],
 }
@@ -449,10 +611,19 @@ impl JointCoordinates<'_> {
             )
         })?;
         self.joint_coordinate[j].ok_or_else(|| {
+            let why = match &self.robot.joints[j].mimic {
+                Some(m) if self.robot.joints[j].joint_type != urdf_rs::JointType::Fixed => {
+                    format!(
+                        "mimics joint '{}' and has no coordinate of its own",
+                        m.joint
+                    )
+                }
+                _ => "is fixed and has no coordinate".to_string(),
+            };
             bad(
                 element,
                 owner,
-                format!("acts on joint '{joint}', which is fixed and has no coordinate"),
+                format!("acts on joint '{joint}', which {why}"),
             )
         })
     }

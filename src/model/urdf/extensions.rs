@@ -24,6 +24,9 @@ const KNOWN_TOP_LEVEL: &[&str] = &[
 pub(super) struct Extensions {
     /// Links that have an `<inertial>`.
     pub(super) has_inertial: HashSet<String>,
+    /// Source line of each `<link>` (of its `<inertial>` when it has one) and `<joint>`,
+    /// for messages that name where to look.
+    pub(super) lines: HashMap<(&'static str, String), u32>,
     /// Joint name → (has `<limit>`, has lower, has upper).
     pub(super) limit_presence: HashMap<String, (bool, bool, bool)>,
     pub(super) springs: Vec<RawSpring>,
@@ -48,6 +51,15 @@ pub(super) struct RawLoop {
     pub(super) link2: String,
     pub(super) xyz2: [f64; 3],
     pub(super) rpy2: [f64; 3],
+}
+
+impl Extensions {
+    /// "line N: " for the named link or joint (empty when unknown).
+    pub(super) fn at(&self, element: &'static str, name: &str) -> String {
+        self.lines
+            .get(&(element, name.to_string()))
+            .map_or_else(String::new, |line| format!("line {line}: "))
+    }
 }
 
 pub(super) fn bad(element: &'static str, name: &str, problem: String) -> ModelError {
@@ -116,13 +128,18 @@ pub(super) fn read_extensions(
     for node in root.children().filter(Node::is_element) {
         let tag = node.tag_name().name();
         let name = node.attribute("name").unwrap_or("").to_string();
+        let line = |n: Node| doc.text_pos_at(n.range().start).row;
         match tag {
             "link" => {
-                if node.children().any(|c| c.has_tag_name("inertial")) {
+                let inertial = node.children().find(|c| c.has_tag_name("inertial"));
+                ext.lines
+                    .insert(("link", name.clone()), line(inertial.unwrap_or(node)));
+                if inertial.is_some() {
                     ext.has_inertial.insert(name);
                 }
             }
             "joint" => {
+                ext.lines.insert(("joint", name.clone()), line(node));
                 let limit = node.children().find(|c| c.has_tag_name("limit"));
                 let presence = match limit {
                     Some(l) => (true, l.has_attribute("lower"), l.has_attribute("upper")),

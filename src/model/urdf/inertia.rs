@@ -1,45 +1,96 @@
 //! A link's mass and inertia, checked, and the lumping of rigidly attached masses into one
 //! body (parallel-axis theorem).
 
-use crate::model::ModelError;
 use crate::model::spatial::{mat_mul, positive_definite, rpy_to_matrix, transpose};
 
 /// Mass, centre of mass, and inertia about the centre of mass (in the axes of the frame the
 /// centre is given in).
 pub(super) type MassPiece = (f64, [f64; 3], [[f64; 3]; 3]);
 
-/// A link's checked mass, centre of mass and inertia (about the centre of mass, in link
-/// axes: the URDF inertia rotated by the inertial origin's rpy).
-pub(super) fn link_inertia(link: &urdf_rs::Link) -> Result<MassPiece, ModelError> {
+/// A link's mass, centre of mass and inertia (about the centre of mass, in link axes: the
+/// URDF inertia rotated by the inertial origin's rpy); `None` for a massless frame (mass 0).
+/// Numbers vito cannot use go to `problems`; whether the inertia is positive definite is
+/// checked later, on the rigid body the link is lumped into ([`check_body`]).
+pub(super) fn link_inertia(
+    link: &urdf_rs::Link,
+    at: &str,
+    problems: &mut Vec<String>,
+    warnings: &mut Vec<String>,
+) -> Option<MassPiece> {
     let inertial = &link.inertial;
     let mass = inertial.mass.value;
-    if !(mass > 0.0 && mass.is_finite()) {
-        return Err(ModelError::NonPositiveMass {
-            link: link.name.clone(),
-            mass,
-        });
-    }
     let i = &inertial.inertia;
     let urdf_inertia = [
         [i.ixx, i.ixy, i.ixz],
         [i.ixy, i.iyy, i.iyz],
         [i.ixz, i.iyz, i.izz],
     ];
-    if !positive_definite(&urdf_inertia) {
-        return Err(ModelError::InertiaNotPositiveDefinite {
-            link: link.name.clone(),
-            ixx: i.ixx,
-            iyy: i.iyy,
-            izz: i.izz,
-            ixy: i.ixy,
-            ixz: i.ixz,
-            iyz: i.iyz,
-        });
+    let element = format!("{at}<link name=\"{}\"> <inertial>", link.name);
+    if !(mass.is_finite() && mass >= 0.0) {
+        problems.push(format!(
+            "{element}: mass {mass} must be a finite number ≥ 0 (0 makes a massless frame)"
+        ));
+        return None;
+    }
+    if !urdf_inertia.iter().flatten().all(|x| x.is_finite()) {
+        problems.push(format!(
+            "{element}: the <inertia> entries must be finite numbers ({})",
+            describe(&urdf_inertia)
+        ));
+        return None;
+    }
+    if mass == 0.0 {
+        if urdf_inertia.iter().flatten().any(|&x| x != 0.0) {
+            warnings.push(format!(
+                "{element}: mass 0 with a nonzero inertia ({}); read as a massless frame, \
+                 the inertia ignored",
+                describe(&urdf_inertia)
+            ));
+        }
+        return None;
     }
     let rpy = &inertial.origin.rpy;
     let r = rpy_to_matrix(rpy[0], rpy[1], rpy[2]);
     let rotated = mat_mul(&mat_mul(&r, &urdf_inertia), &transpose(&r));
-    Ok((mass, *inertial.origin.xyz, rotated))
+    Some((mass, *inertial.origin.xyz, rotated))
+}
+
+fn describe(i: &[[f64; 3]; 3]) -> String {
+    format!(
+        "ixx={} iyy={} izz={} ixy={} ixz={} iyz={}",
+        i[0][0], i[1][1], i[2][2], i[0][1], i[0][2], i[1][2]
+    )
+}
+
+/// Checks the lumped inertia of one moving rigid body: positive definite when it has mass.
+/// `links` are the body's URDF links with mass (the moving one first, then those fixed to
+/// it), each with its "line N: " prefix.
+pub(super) fn check_body(body: &MassPiece, links: &[(String, String)], problems: &mut Vec<String>) {
+    let (mass, _, inertia) = body;
+    if *mass == 0.0 || positive_definite(inertia) {
+        return;
+    }
+    let Some((at, first)) = links.first() else {
+        return;
+    };
+    let lumped = if links.len() > 1 {
+        let others: Vec<String> = links[1..]
+            .iter()
+            .map(|(a, l)| match a.trim_end_matches(": ") {
+                "" => format!("'{l}'"),
+                line => format!("'{l}' ({line})"),
+            })
+            .collect();
+        format!(" (with {} fixed to it)", others.join(", "))
+    } else {
+        String::new()
+    };
+    problems.push(format!(
+        "{at}<link name=\"{first}\"> <inertial>: the rigid body{lumped} has an inertia that is \
+         not positive definite ({}); fix the <inertia> values (a body that turns needs \
+         rotational inertia about every axis)",
+        describe(inertia)
+    ));
 }
 
 /// Combines rigidly attached masses into one body: total mass, centre of mass, and the

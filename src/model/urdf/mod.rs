@@ -2,10 +2,13 @@
 //! extensions. The only module that imports `urdf_rs`: `repair` mends the text, `extensions`
 //! reads Drake's elements, `inertia` checks and lumps masses, `build` makes the [`Model`].
 //!
-//! Read: links (`<inertial>`, zero-radius `<collision>` spheres as point contacts), joints
-//! of type fixed, revolute, continuous and prismatic (origin, axis, `<limit>` lower/upper/effort,
-//! `<dynamics damping>`), `<transmission>` joints (inputs), and Drake's `<force_element>`
-//! (`<torsional_spring>`, `<prismatic_spring>`) and `<loop_joint>`.
+//! Read: links (`<inertial>`; mass 0 is a massless frame; zero-radius `<collision>` spheres
+//! as point contacts), joints of type fixed, revolute, continuous and prismatic (origin,
+//! axis, `<limit>` lower/upper/effort, `<dynamics damping>`, `<mimic>`: no coordinate of its
+//! own, θ = multiplier·q_leader + offset), `<transmission>` joints (inputs), and Drake's
+//! `<force_element>` (`<torsional_spring>`, `<prismatic_spring>`) and `<loop_joint>`.
+//! Inertias are checked on the rigid bodies after fixed children are lumped in, and every
+//! problem of masses and mimics is reported at once, by line and element.
 //!
 //! Repaired before parsing, each listed in [`Model::warnings`] (the original files of the
 //! paper's robots need them): a `<limit>` without `velocity` or `effort` (both then mean "no
@@ -13,7 +16,7 @@
 //! mesh `scale`, capitalised joint types, and stray `/` text.
 //!
 //! Limitations (ignored): visual elements and meshes, non-zero-radius collision geometry,
-//! `velocity` limits, `friction` in `<dynamics>`, `<mimic>`, `<calibration>`,
+//! `velocity` limits, `friction` in `<dynamics>`, a mimic joint's own `<limit>`, `<calibration>`,
 //! `<safety_controller>`, `mechanicalReduction` (must be 1), `<gazebo>`, Drake `<frame>`
 //! (reported as a warning), collision groups.
 
@@ -41,7 +44,7 @@ pub(crate) fn load(xml: &str, origin: &str, base: BaseType) -> Result<Model, Mod
         message: e.to_string(),
     })?;
     values::check_values(&robot, &extensions)?;
-    build::build(&robot, &extensions, base, warnings)
+    build::build(&robot, &extensions, base, origin, warnings)
 }
 
 pub(super) fn xml_error(origin: &str, e: roxmltree::Error) -> ModelError {

@@ -30,6 +30,17 @@ pub(super) fn check_values(robot: &urdf_rs::Robot, ext: &Extensions) -> Result<(
         origin("link", &link.name, &link.inertial.origin)?;
         for collision in &link.collision {
             origin("link", &link.name, &collision.origin)?;
+            if let urdf_rs::Geometry::Sphere { radius } = collision.geometry
+                && !(radius.is_finite() && radius >= 0.0)
+            {
+                return Err(bad(
+                    "link",
+                    &link.name,
+                    format!(
+                        "<collision> <sphere radius=\"{radius}\">: the radius must be a finite number ≥ 0"
+                    ),
+                ));
+            }
         }
     }
     for joint in &robot.joints {

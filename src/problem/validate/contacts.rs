@@ -25,6 +25,7 @@ pub(super) fn check_contacts(
         name: c.name.clone(),
         link: c.link.clone(),
         point: c.point,
+        radius: c.radius,
         friction: default_friction,
     };
     match &selection {
@@ -61,6 +62,10 @@ pub(super) fn check_contacts(
             name: p.name.clone(),
             link: p.link.clone(),
             point: p.point,
+            radius: match p.radius {
+                Some(r) => nonnegative(ctx, &f("radius"), r)?,
+                None => 0.0,
+            },
             friction: match p.friction {
                 Some(mu) => nonnegative(ctx, &f("friction"), mu)?,
                 None => default_friction,

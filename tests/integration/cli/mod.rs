@@ -11,5 +11,6 @@ mod output_dirs;
 mod regression;
 mod simulate;
 mod solve;
+mod sphere_contacts;
 pub mod sweep;
 mod sweep_slurm;

@@ -42,6 +42,7 @@ pub fn hopper_2d() -> ProblemSpec {
             name: "foot_contact".into(),
             link: "foot".into(),
             point: [0.0; 3],
+            radius: 0.0,
             friction: 0.8,
         }],
         terrain: Terrain::default(),
@@ -131,6 +132,7 @@ pub fn brick_3d() -> ProblemSpec {
                 name: (*name).into(),
                 link: "brick".into(),
                 point: [sign(4) * 0.1, sign(2) * 0.05, sign(1) * 0.025],
+                radius: 0.0,
                 friction: 0.5,
             }
         })
@@ -178,6 +180,7 @@ pub fn spring_flamingo_walk() -> ProblemSpec {
         name: name.into(),
         link: name.into(),
         point: [0.0; 3],
+        radius: 0.0,
         friction: 1.0,
     };
     ProblemSpec {
@@ -251,6 +254,7 @@ pub fn littledog_step() -> ProblemSpec {
         name: name.into(),
         link: link.into(),
         point: [x, 0.0, -0.0985],
+        radius: 0.0,
         friction: 1.0,
     };
     let mut q_weights = vec![0.0, 0.0, 0.0, 10.0, 10.0, 10.0];

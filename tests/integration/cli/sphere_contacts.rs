@@ -1,0 +1,224 @@
+//! Sphere contacts with a radius: a URDF collision sphere or a `[[contacts.point]]` with
+//! `radius`. The distance to the terrain is the centre's minus r; a ball resting on flat
+//! ground carries its weight, m·g·h per step, without sinking.
+
+use crate::cli::util::{TestDir, says, summary};
+use vito::trajectory_csv::read_csv;
+
+const MASS: f64 = 2.0;
+const RADIUS: f64 = 0.1;
+const STEP: f64 = 0.05;
+
+/// A solid ball (I = 2/5·m·r²) whose collision is a sphere of radius r around its centre,
+/// and a box collision the reader ignores with a warning.
+fn ball_urdf() -> String {
+    let i = 0.4 * MASS * RADIUS * RADIUS;
+    format!(
+        r#"<?xml version="1.0"?>
+<robot name="ball">
+  <link name="ball">
+    <inertial><mass value="{MASS}"/><inertia ixx="{i}" ixy="0" ixz="0" iyy="{i}" iyz="0" izz="{i}"/></inertial>
+    <collision name="shell"><geometry><sphere radius="{RADIUS}"/></geometry></collision>
+    <collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision>
+  </link>
+</robot>
+"#
+    )
+}
+
+/// The ball at rest on flat ground: its centre at z = r, no velocity, nothing to optimise
+/// but the slack. Ipopt's tolerance is tight so that the impulses are exact to 1e-6.
+fn resting_problem(contacts: &str) -> String {
+    format!(
+        r#"name = "resting-ball"
+[robot]
+urdf = "ball.urdf"
+base = "floating"
+
+[contacts]
+{contacts}
+friction = 0.5
+
+[horizon]
+knots = 11
+time_step = {STEP}
+
+[initial]
+q = [0.0, 0.0, {RADIUS}, 0.0, 0.0, 0.0]
+v = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+
+[final]
+free = true
+
+[slack]
+weight = 1000.0
+
+[initial_guess]
+to = "initial"
+
+[solver.ipopt]
+tol = 1e-9
+"#
+    )
+}
+
+#[test]
+fn a_ball_rests_on_flat_ground_carrying_its_weight() {
+    let t = TestDir::new("a_ball_rests_on_flat_ground");
+    t.write("ball.urdf", &ball_urdf());
+    // The collision sphere, and the same sphere declared in the problem file.
+    let cases = [
+        ("from_urdf", "from_urdf = \"all\"", "shell"),
+        (
+            "point",
+            "from_urdf = \"none\"\n[[contacts.point]]\nname = \"shell\"\nlink = \"ball\"\npoint = [0.0, 0.0, 0.0]\nradius = 0.1",
+            "shell",
+        ),
+    ];
+    for (label, contacts, name) in cases {
+        t.write("ball.toml", &resting_problem(contacts));
+        let run = t
+            .vito()
+            .args(["solve", "ball.toml", "--quiet", "--out", label])
+            .assert_exit(0);
+        if label == "from_urdf" {
+            assert!(
+                run.stderr.contains("'ball' (box)") || run.stdout.contains("'ball' (box)"),
+                "the ignored box is named\n{}\n{}",
+                run.stdout,
+                run.stderr
+            );
+        }
+        let s = summary(&t.path().join(label));
+        assert_eq!(s["status"], "solve_succeeded", "{label}");
+        let csv = std::fs::read_to_string(t.path().join(label).join("trajectory.csv")).unwrap();
+        let table = read_csv(&csv).unwrap();
+        let normal = table.column(&format!("{name}_normal")).unwrap();
+        let distance = table.column(&format!("{name}_distance")).unwrap();
+        let z = table.column("base_z").unwrap();
+        let weight = MASS * 9.81 * STEP;
+        // Row k holds the impulse over the step to knot k + 1 and the distance at its end;
+        // the first is a half step (v_0 given), the last row has none.
+        let n = z.len();
+        assert!(
+            (normal[0] - weight / 2.0).abs() <= 1e-6 * weight,
+            "{label}: {normal:?}"
+        );
+        for (k, c) in normal.iter().enumerate().take(n - 1).skip(1) {
+            assert!(
+                (c - weight).abs() <= 1e-6 * weight,
+                "{label}: step {k}: normal impulse {c} vs m·g·h = {weight}"
+            );
+        }
+        for k in 0..n - 1 {
+            assert!(
+                distance[k] >= -1e-6,
+                "{label}: knot {}: penetrates {}",
+                k + 1,
+                distance[k]
+            );
+            assert!(
+                (distance[k] - (z[k + 1] - RADIUS)).abs() < 1e-12,
+                "{label}: knot {}: distance {} is the centre's height minus r",
+                k + 1,
+                distance[k]
+            );
+        }
+        assert!(
+            z.iter().all(|z| (z - RADIUS).abs() <= 1e-6),
+            "{label}: {z:?}"
+        );
+    }
+}
+
+#[test]
+fn sphere_contact_derivatives_pass_at_a_solved_trajectory() {
+    let t = TestDir::new("sphere_contact_derivatives");
+    t.write(
+        "body.urdf",
+        r#"<?xml version="1.0"?>
+<robot name="lollipop">
+  <link name="body">
+    <inertial><origin xyz="0.02 0 0.05"/><mass value="1.5"/><inertia ixx="0.01" ixy="0.001" ixz="0" iyy="0.012" iyz="0" izz="0.008"/></inertial>
+    <collision name="knob"><origin xyz="0.1 0.05 -0.1"/><geometry><sphere radius="0.04"/></geometry></collision>
+    <collision name="tip"><origin xyz="-0.1 -0.05 -0.05"/><geometry><sphere radius="0"/></geometry></collision>
+  </link>
+</robot>
+"#,
+    );
+    t.write(
+        "p.toml",
+        r#"name = "tumbling-lollipop"
+[robot]
+urdf = "body.urdf"
+base = "floating"
+[contacts]
+friction = 0.6
+[horizon]
+knots = 15
+time_step = 0.04
+[initial]
+q = [0.0, 0.0, 0.3, 0.4, -0.3, 0.2]
+v = [0.8, 0.2, -0.5, 2.0, 1.5, -1.0]
+[final]
+free = true
+[slack]
+weight = 1000.0
+[initial_guess]
+to = "initial"
+"#,
+    );
+    t.vito()
+        .args(["solve", "p.toml", "--quiet", "--out", "solved"])
+        .assert_exit(0);
+    assert_eq!(
+        summary(&t.path().join("solved"))["status"],
+        "solve_succeeded"
+    );
+    let csv = std::fs::read_to_string(t.path().join("solved/trajectory.csv")).unwrap();
+    let knob = read_csv(&csv).unwrap().column("knob_normal").unwrap();
+    assert!(
+        knob.iter().any(|&c| c > 1e-3),
+        "the sphere never touches: {knob:?}"
+    );
+    let run = says(
+        &t,
+        &[
+            "check",
+            "--derivatives",
+            "--at",
+            "solved/trajectory.csv",
+            "p.toml",
+        ],
+        0,
+        "passed",
+    );
+    assert!(run.stdout.contains("trajectory.csv ("), "{}", run.stdout);
+}
+
+#[test]
+fn a_negative_radius_is_an_input_error() {
+    let t = TestDir::new("a_negative_radius");
+    t.write("ball.urdf", &ball_urdf());
+    t.write(
+        "ball.toml",
+        &resting_problem(
+            "from_urdf = \"none\"\n[[contacts.point]]\nname = \"s\"\nlink = \"ball\"\npoint = [0.0, 0.0, 0.0]\nradius = -0.1",
+        ),
+    );
+    says(&t, &["check", "ball.toml"], 2, "contacts.point[0].radius");
+    t.write(
+        "bad.urdf",
+        &ball_urdf().replace("radius=\"0.1\"", "radius=\"-1\""),
+    );
+    t.write(
+        "bad.toml",
+        &resting_problem("from_urdf = \"all\"").replace("ball.urdf", "bad.urdf"),
+    );
+    says(
+        &t,
+        &["check", "bad.toml"],
+        2,
+        "radius must be a finite number",
+    );
+}
