@@ -11,7 +11,7 @@ use crate::autodiff::{
     ScalarFunction, ThirdOrder, VectorFunction, gradient, gradient_hessian, gradient_hessian_third,
     jacobian, weighted_hessian,
 };
-use crate::model::PointJet;
+use crate::model::{LoopJet, PointJet};
 use crate::scalar::Scalar;
 
 /// Derivatives of [`Mechanics`]: every method has a forward-AD default; an implementation
@@ -40,6 +40,84 @@ pub trait MechanicsDerivatives: Mechanics + Sized {
     fn segment_third_order(&self, z: &[f64], dir: &[f64], columns: Option<&[bool]>) -> ThirdOrder {
         let _ = columns;
         gradient_hessian_third(&SegmentLagrangian { mech: self }, z, dir)
+    }
+    /// The loop-closure residual [`Mechanics::loop_residual`] at q and its derivatives up to
+    /// `order` (1 to 3), the third contracted with `along` (length n, read at order 3), as
+    /// groups of rows over the coordinates each depends on. The default is one group of all
+    /// rows over all n coordinates by forward AD ([`loop_jets_by_autodiff`]).
+    fn loop_jets(&self, q: &[f64], order: usize, along: &[f64]) -> Vec<LoopJet> {
+        loop_jets_by_autodiff(self, q, order, along)
+    }
+}
+
+/// [`MechanicsDerivatives::loop_jets`] by forward AD through [`Mechanics::loop_residual`]:
+/// one group of every row over all n coordinates (one Hessian and one contracted third
+/// derivative pass per row: the reference the analytic jets are tested against).
+pub fn loop_jets_by_autodiff<M: Mechanics>(
+    mech: &M,
+    q: &[f64],
+    order: usize,
+    along: &[f64],
+) -> Vec<LoopJet> {
+    let (n, rows) = (q.len(), mech.num_loop_constraints());
+    if rows == 0 {
+        return Vec::new();
+    }
+    let (value, jac) = jacobian(&LoopResidualFn { mech, row: 0 }, q);
+    let mut jet = LoopJet {
+        coords: (0..n).collect(),
+        first_row: 0,
+        value,
+        first: (0..rows)
+            .flat_map(|r| (0..n).map(move |a| (r, a)))
+            .map(|(r, a)| jac[(r, a)])
+            .collect(),
+        second: Vec::new(),
+        third_along: Vec::new(),
+    };
+    if order >= 2 {
+        for r in 0..rows {
+            let mut w = vec![0.0; rows];
+            w[r] = 1.0;
+            let h = weighted_hessian(&LoopResidualFn { mech, row: r }, q, &w);
+            jet.second.extend(h.transpose().iter());
+        }
+    }
+    if order >= 3 {
+        for r in 0..rows {
+            let t = gradient_hessian_third(&LoopResidualFn { mech, row: r }, q, along).contracted;
+            jet.third_along.extend(t.transpose().iter());
+        }
+    }
+    vec![jet]
+}
+
+/// The loop-closure residual as an AD-able function of q (all rows, or the one `row`).
+struct LoopResidualFn<'a, M> {
+    mech: &'a M,
+    row: usize,
+}
+
+impl<M: Mechanics> VectorFunction for LoopResidualFn<'_, M> {
+    fn dim_in(&self) -> usize {
+        self.mech.nq()
+    }
+    fn dim_out(&self) -> usize {
+        self.mech.num_loop_constraints()
+    }
+    fn eval<D: Scalar>(&self, z: &[D], out: &mut [D]) {
+        self.mech.loop_residual(z, out);
+    }
+}
+
+impl<M: Mechanics> ScalarFunction for LoopResidualFn<'_, M> {
+    fn dim(&self) -> usize {
+        self.mech.nq()
+    }
+    fn eval<D: Scalar>(&self, z: &[D]) -> D {
+        let mut out = vec![D::from(0.0); self.mech.num_loop_constraints()];
+        self.mech.loop_residual(z, &mut out);
+        out[self.row]
     }
 }
 

@@ -10,7 +10,8 @@ use super::{
 };
 use crate::autodiff::ThirdOrder;
 use crate::model::{
-    LinkId, Model, PointJet, generalized_momentum, loop_residual, point_jet, point_position,
+    LinkId, LoopJet, Model, PointJet, generalized_momentum, loop_closure_jets, loop_residual,
+    point_jet, point_position,
 };
 use crate::scalar::Scalar;
 
@@ -159,6 +160,9 @@ impl MechanicsDerivatives for ModelMechanics {
         let mut out = ThirdOrder::zeros(z.len());
         midpoint_third_order_columns(&self.model, z, dir, columns, &mut out);
         out
+    }
+    fn loop_jets(&self, q: &[f64], order: usize, along: &[f64]) -> Vec<LoopJet> {
+        loop_closure_jets(&self.model, q, order, along)
     }
 }
 

@@ -30,8 +30,8 @@ pub use energy_adjoint::{kinetic_energy_gradient, lagrangian_gradient, potential
 pub use error::{ModelError, describe};
 pub use inspect::{CoordinateInfo, Inspection, LoopInfo, SpringInfo, inspect};
 pub use kinematics::{link_pose, point_position};
-pub use loops::loop_residual;
-pub use point_jet::{PointJet, point_jet};
+pub use loops::{LoopJet, loop_closure_jets, loop_residual};
+pub use point_jet::{PointJet, point_jet, vector_jet};
 
 pub use tree::{ContactPoint, LinkId, LoopClosure, Model, Spring, SpringKind};
 

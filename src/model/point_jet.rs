@@ -11,7 +11,8 @@
 //! vector in G_k and in R_j(G_k), j ≤ k, is carried by the bodies below the joints above it,
 //! so for chain positions i ≤ j ≤ k
 //!   ∂p/∂q_k = G_k,   ∂²p/∂q_j∂q_k = R_j(G_k),   ∂³p/∂q_i∂q_j∂q_k = R_i(R_j(G_k)),
-//! and the other orders follow by symmetry. `tests/integration/model_point_jet.rs` checks every entry
+//! and the other orders follow by symmetry. A free vector v fixed in a body (a loop closure's
+//! direction) has the same jet with G_k replaced by R_k(v). `tests/integration/model_point_jet.rs` checks every entry
 //! against forward AD through [`super::point_position`].
 
 use super::kinematics::{Pose, check_len, child_pose};
@@ -56,79 +57,127 @@ pub fn point_jet(
     q: &[f64],
     order: usize,
 ) -> PointJet {
-    check_len(model, q.len(), "q");
+    let chain = Chain::to_link(model, link, q);
     let placement = &model.link_frame[link.0];
-    let mut path = Vec::with_capacity(16);
-    let mut cursor = Some(placement.frame);
-    while let Some(i) = cursor {
-        path.push(i);
-        cursor = model.frames[i].parent;
-    }
-    let mut pose: Pose<f64> = Pose::world();
-    // (coordinate, motion, world axis, world origin) of each moving joint, root to leaf.
-    let mut joints: Vec<(usize, Motion, [f64; 3], [f64; 3])> = Vec::with_capacity(path.len());
-    for &i in path.iter().rev() {
-        let frame = &model.frames[i];
-        pose = child_pose(frame, &pose, q);
-        if frame.motion != Motion::Fixed {
-            // Per unit rate of the coordinate: a mimic joint turns `multiplier` times as fast.
-            let axis = pose.axis.map(|a| frame.to_coordinate(a));
-            joints.push((frame.coordinate, frame.motion, axis, pose.origin));
-        }
-    }
     let position = add(
-        pose.origin,
-        mat_vec_const(&pose.rotation, &placement.point_in_frame(point)),
+        chain.pose.origin,
+        mat_vec_const(&chain.pose.rotation, &placement.point_in_frame(point)),
     );
-    let c = joints.len();
-    let rotate = |i: usize, v: [f64; 3]| match joints[i].1 {
-        Motion::Revolute => cross(joints[i].2, v),
-        _ => [0.0; 3],
-    };
-    let first: Vec<[f64; 3]> = joints
+    let first = chain
+        .joints
         .iter()
         .map(|&(_, motion, axis, origin)| match motion {
             Motion::Revolute => cross(axis, sub(position, origin)),
             _ => axis,
         })
         .collect();
-    let mut second = Vec::new();
-    if order >= 2 {
-        second = vec![[0.0; 3]; c * c];
-        for k in 0..c {
-            for j in 0..=k {
-                let s = rotate(j, first[k]);
-                second[j * c + k] = s;
-                second[k * c + j] = s;
+    chain.jet(position, first, order)
+}
+
+/// World components of a free vector fixed in `link` (`vector` in the link frame, e.g. a
+/// direction) and their derivatives in q up to `order` (1 to 3): the same jet as a point's,
+/// with every joint's first derivative R_k(v) (a free vector does not translate).
+pub fn vector_jet(
+    model: &Model,
+    link: LinkId,
+    vector: &[f64; 3],
+    q: &[f64],
+    order: usize,
+) -> PointJet {
+    let chain = Chain::to_link(model, link, q);
+    let placement = &model.link_frame[link.0];
+    let value = mat_vec_const(
+        &chain.pose.rotation,
+        &mat_vec_const(&placement.rotation, vector),
+    );
+    let first = (0..chain.joints.len())
+        .map(|k| chain.rotate(k, value))
+        .collect();
+    chain.jet(value, first, order)
+}
+
+/// The moving joints on the path from the world to a link, at q.
+struct Chain {
+    /// The link's tree-frame pose.
+    pose: Pose<f64>,
+    /// (coordinate, motion, world axis, world origin) of each moving joint, root to leaf.
+    joints: Vec<(usize, Motion, [f64; 3], [f64; 3])>,
+}
+
+impl Chain {
+    fn to_link(model: &Model, link: LinkId, q: &[f64]) -> Chain {
+        check_len(model, q.len(), "q");
+        let placement = &model.link_frame[link.0];
+        let mut path = Vec::with_capacity(16);
+        let mut cursor = Some(placement.frame);
+        while let Some(i) = cursor {
+            path.push(i);
+            cursor = model.frames[i].parent;
+        }
+        let mut pose: Pose<f64> = Pose::world();
+        let mut joints = Vec::with_capacity(path.len());
+        for &i in path.iter().rev() {
+            let frame = &model.frames[i];
+            pose = child_pose(frame, &pose, q);
+            if frame.motion != Motion::Fixed {
+                // Per unit rate of the coordinate: a mimic joint turns `multiplier` times as fast.
+                let axis = pose.axis.map(|a| frame.to_coordinate(a));
+                joints.push((frame.coordinate, frame.motion, axis, pose.origin));
             }
         }
+        Chain { pose, joints }
     }
-    let mut third = Vec::new();
-    if order >= 3 {
-        third = vec![[0.0; 3]; c * c * c];
-        for k in 0..c {
-            for j in 0..=k {
-                for i in 0..=j {
-                    let t = rotate(i, second[j * c + k]);
-                    for (a, b, e) in [
-                        (i, j, k),
-                        (i, k, j),
-                        (j, i, k),
-                        (j, k, i),
-                        (k, i, j),
-                        (k, j, i),
-                    ] {
-                        third[(a * c + b) * c + e] = t;
+
+    /// R_i(v): the rate of a free vector carried by the bodies below joint i.
+    fn rotate(&self, i: usize, v: [f64; 3]) -> [f64; 3] {
+        match self.joints[i].1 {
+            Motion::Revolute => cross(self.joints[i].2, v),
+            _ => [0.0; 3],
+        }
+    }
+
+    /// The jet whose first derivatives are `first` (one per joint, carried by the bodies
+    /// below it): higher orders by R_j and R_i (module comment).
+    fn jet(&self, position: [f64; 3], first: Vec<[f64; 3]>, order: usize) -> PointJet {
+        let c = self.joints.len();
+        let mut second = Vec::new();
+        if order >= 2 {
+            second = vec![[0.0; 3]; c * c];
+            for k in 0..c {
+                for j in 0..=k {
+                    let s = self.rotate(j, first[k]);
+                    second[j * c + k] = s;
+                    second[k * c + j] = s;
+                }
+            }
+        }
+        let mut third = Vec::new();
+        if order >= 3 {
+            third = vec![[0.0; 3]; c * c * c];
+            for k in 0..c {
+                for j in 0..=k {
+                    for i in 0..=j {
+                        let t = self.rotate(i, second[j * c + k]);
+                        for (a, b, e) in [
+                            (i, j, k),
+                            (i, k, j),
+                            (j, i, k),
+                            (j, k, i),
+                            (k, i, j),
+                            (k, j, i),
+                        ] {
+                            third[(a * c + b) * c + e] = t;
+                        }
                     }
                 }
             }
         }
-    }
-    PointJet {
-        coords: joints.iter().map(|j| j.0).collect(),
-        position,
-        first,
-        second,
-        third,
+        PointJet {
+            coords: self.joints.iter().map(|j| j.0).collect(),
+            position,
+            first,
+            second,
+            third,
+        }
     }
 }

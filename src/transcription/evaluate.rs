@@ -9,7 +9,9 @@ use rayon::prelude::*;
 use super::blocks::{
     Block, ScalarBlockFn, ScalarKind, VectorBlockFn, VectorKind, complementarity_hessian,
     complementarity_jacobian, contact_work_gradient, contact_work_hessian, contact_work_third,
-    distance_hessian, distance_jacobian, tangential_rate_hessian, tangential_rate_jacobian,
+    distance_hessian, distance_jacobian, loop_closure_hessian, loop_closure_jacobian,
+    loop_work_gradient, loop_work_hessian, loop_work_third, tangential_rate_hessian,
+    tangential_rate_jacobian,
 };
 use super::structure::NO_SLOT;
 use super::{InitialGuessReport, Transcription};
@@ -20,11 +22,11 @@ use crate::autodiff::{
 use crate::discrete::MechanicsDerivatives;
 
 /// How the contact blocks (tangential rate, contact work, signed distance, c·φ,
-/// complementarity) are differentiated.
+/// complementarity) and the loop-closure blocks (residual rows, loop work) are differentiated.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ContactDerivatives {
-    /// By the chain rule through the contact point's jet, and the bilinear complementarity
-    /// rows in closed form (fast; the default for evaluation).
+    /// By the chain rule through the contact point's jet and the mechanics' loop jets, and
+    /// the bilinear complementarity rows in closed form (fast; the default for evaluation).
     ChainRule,
     /// By generic forward AD over the whole block: structural zeros are exact, where the
     /// chain rule can leave round-off (1e-17) on them (for comparison).
@@ -290,6 +292,9 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         {
             return contact_work_gradient(&self.mech, &self.ctx, contact, z);
         }
+        if b.kind == ScalarKind::LoopWork && contacts == ContactDerivatives::ChainRule {
+            return loop_work_gradient(&self.mech, z);
+        }
         gradient(&self.scalar_fn(b), z).1
     }
 
@@ -307,6 +312,9 @@ impl<M: MechanicsDerivatives> Transcription<M> {
             && contacts == ContactDerivatives::ChainRule
         {
             return contact_work_hessian(&self.mech, &self.ctx, contact, z);
+        }
+        if b.kind == ScalarKind::LoopWork && contacts == ContactDerivatives::ChainRule {
+            return loop_work_hessian(&self.mech, z);
         }
         gradient_hessian(&self.scalar_fn(b), z).2
     }
@@ -335,6 +343,9 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                 contracted,
             };
         }
+        if b.kind == ScalarKind::LoopWork && contacts == ContactDerivatives::ChainRule {
+            return loop_work_third(&self.mech, z, dir);
+        }
         gradient_hessian_third(&self.scalar_fn(b), z, dir)
     }
 
@@ -359,6 +370,7 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                 &VectorKind::ContactGap { contact } => {
                     return distance_jacobian(&self.mech, &self.ctx, contact, z, true);
                 }
+                VectorKind::LoopClosure => return loop_closure_jacobian(&self.mech, z),
                 _ => {}
             }
         }
@@ -387,6 +399,7 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                 &VectorKind::ContactGap { contact } => {
                     return distance_hessian(&self.mech, &self.ctx, contact, z, w[0], true);
                 }
+                VectorKind::LoopClosure => return loop_closure_hessian(&self.mech, z, w),
                 _ => {}
             }
         }

@@ -148,3 +148,73 @@ fn littledog_every_link() {
 fn hamr_first_links() {
     check_robot("hamr/HAMR_scaledV2.normalized.urdf", BaseType::Floating, 12);
 }
+
+/// HAMR's loop-closure jets (points and link-fixed directions by the chain formulas,
+/// combined by the product rule) equal forward AD through `loop_residual` in value, first,
+/// second and third derivatives (contracted with a direction), on all 24 rows, away from
+/// q = 0 where the loops are violated and no derivative vanishes by symmetry.
+#[test]
+fn hamr_loop_closure_jets_match_autodiff() {
+    use vito::discrete::loop_jets_by_autodiff;
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("problems/robots/hamr/HAMR_scaledV2_TYM.normalized.urdf");
+    let model = Model::from_urdf_file(&path, BaseType::Floating).expect("HAMR loads");
+    let n = model.nq();
+    let mech = ModelMechanics::new(model, &[]).expect("no contacts to resolve");
+    let q: Vec<f64> = (0..n).map(|k| 0.3 * (1.3 * k as f64 + 0.2).sin()).collect();
+    let along: Vec<f64> = (0..n).map(|k| (0.7 * k as f64 - 0.5).cos()).collect();
+    let reference = loop_jets_by_autodiff(&mech, &q, 3, &along);
+    let [reference] = reference.as_slice() else {
+        panic!("the AD reference is one group of all rows");
+    };
+    let rows = reference.rows();
+    assert_eq!(rows, 24);
+    let jets = mech.loop_jets(&q, 3, &along);
+    assert_eq!(jets.len(), 12, "one jet per loop");
+    // Dense (rows × n, rows × n × n) copies of the analytic jets.
+    let (mut value, mut first) = (vec![0.0; rows], vec![0.0; rows * n]);
+    let (mut second, mut third) = (vec![0.0; rows * n * n], vec![0.0; rows * n * n]);
+    let mut covered = 0;
+    for jet in &jets {
+        let u = jet.coords.len();
+        assert!(u < n, "a loop depends on part of the robot only");
+        for r in 0..jet.rows() {
+            let row = jet.first_row + r;
+            covered += 1;
+            value[row] = jet.value[r];
+            for (a, &ca) in jet.coords.iter().enumerate() {
+                first[row * n + ca] = jet.first[r * u + a];
+                for (b, &cb) in jet.coords.iter().enumerate() {
+                    second[(row * n + ca) * n + cb] = jet.second[(r * u + a) * u + b];
+                    third[(row * n + ca) * n + cb] = jet.third_along[(r * u + a) * u + b];
+                }
+            }
+        }
+    }
+    assert_eq!(covered, rows);
+    for (order, ours, theirs) in [
+        (0, &value, &reference.value),
+        (1, &first, &reference.first),
+        (2, &second, &reference.second),
+        (3, &third, &reference.third_along),
+    ] {
+        let scale = theirs.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+        let diff = ours
+            .iter()
+            .zip(theirs.iter())
+            .fold(0.0_f64, |m, (x, y)| m.max((x - y).abs()));
+        assert!(scale > 1e-3, "order {order}: all zero proves nothing");
+        assert!(
+            diff <= 1e-12 * scale.max(1.0),
+            "order {order}: differs by {diff:e} (scale {scale:e})"
+        );
+    }
+    // Lower orders leave the higher arrays empty and the rest unchanged.
+    let first_only = mech.loop_jets(&q, 1, &[]);
+    assert!(
+        first_only
+            .iter()
+            .all(|j| j.second.is_empty() && j.third_along.is_empty())
+    );
+    assert_eq!(first_only[3].first, jets[3].first);
+}

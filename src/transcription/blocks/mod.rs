@@ -9,11 +9,16 @@
 
 mod contact;
 mod contact_geometry;
+mod loops;
 
 pub(crate) use contact::{
     complementarity_hessian, complementarity_jacobian, contact_work_gradient, contact_work_hessian,
     contact_work_third, distance_hessian, distance_jacobian, tangential_rate,
     tangential_rate_hessian, tangential_rate_jacobian,
+};
+pub(crate) use loops::{
+    loop_closure_hessian, loop_closure_jacobian, loop_work_gradient, loop_work_hessian,
+    loop_work_third,
 };
 
 use num_dual::Dual;
