@@ -332,6 +332,7 @@ fn init_and_stand(t: &TestDir, name: &str, urdf: &str, feet: usize) -> (f64, f64
             "{name}: foot {i}"
         );
     }
+    eprintln!("{name}: feet moved {foot_moved:.3e}, base {base_moved:.3e}");
     (foot_moved, base_moved)
 }
 
