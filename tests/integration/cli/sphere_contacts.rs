@@ -249,6 +249,14 @@ fn check_shows_distances_and_warns_about_infeasible_starts() {
     ] {
         assert!(run.stderr.contains(says), "{says}:\n{}", run.stderr);
     }
+    // No contacts at all: nothing holds a free base up.
+    t.write("none.toml", &resting_problem("from_urdf = \"none\""));
+    let run = t.vito().args(["check", "none.toml"]).assert_exit(0);
+    assert!(
+        run.stderr.contains("a free base but no contacts"),
+        "{}",
+        run.stderr
+    );
     // At rest on the ground: no warning about the start.
     t.write("rest.toml", &resting_problem("from_urdf = \"all\""));
     let run = t.vito().args(["check", "rest.toml"]).assert_exit(0);
