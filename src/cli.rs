@@ -529,6 +529,19 @@ fn check(file: &Path, set: &[String]) -> Result<u8, CliError> {
         nlp.layout().nd,
         nlp.layout().nl
     );
+    let feasibility = pipeline::feasibility(s, &nlp);
+    if !feasibility.clearances.is_empty() {
+        out!(
+            "  distance to the terrain [{}], first / last knot of the initial guess:",
+            p.units.length
+        );
+        for c in &feasibility.clearances {
+            out!("    {:<20} {:>11.4e} / {:.4e}", c.name, c.first, c.last);
+        }
+    }
+    for w in &feasibility.warnings {
+        eprintln!("{}", vito::names::escape_controls(&format!("warning: {w}")));
+    }
     Ok(0)
 }
 
@@ -827,11 +840,33 @@ fn print_summary(problem: &LoadedProblem, s: &Solution, dir: &Path) -> Result<()
     Ok(())
 }
 
+/// The regular file standard output is redirected to, if it is one (Linux's /proc).
+fn stdout_file() -> Option<PathBuf> {
+    let target = std::fs::read_link("/proc/self/fd/1").ok()?;
+    std::fs::metadata(&target)
+        .ok()
+        .filter(std::fs::Metadata::is_file)
+        .map(|_| target)
+}
+
 fn init(urdf: &Path, base: BaseType, out: Option<&Path>) -> Result<u8, CliError> {
     let robot = RobotInfo::read(urdf, base, &vito::model::Actuation::Default)
         .map_err(|e| CliError::Input(e.to_string()))?;
-    let urdf_text = vito::paths::reference_from(urdf, out);
-    let text = vito::problem::starter_problem(&robot, base, &urdf_text);
+    let model = vito::model::Model::from_urdf_file(urdf, base)
+        .map_err(|e| CliError::Input(vito::model::describe(urdf, &e)))?;
+    let urdf_text = match out {
+        Some(_) => vito::paths::reference_from(urdf, out),
+        // Printed: relative to the file stdout goes to, when it is one; else absolute, so
+        // that the text names the URDF wherever it is saved.
+        None => match stdout_file() {
+            Some(file) => vito::paths::reference_from(urdf, Some(&file)),
+            None => std::path::absolute(urdf)
+                .unwrap_or_else(|_| urdf.to_owned())
+                .display()
+                .to_string(),
+        },
+    };
+    let text = vito::problem::starter_problem(&model, &robot, base, &urdf_text);
     match out {
         None => {
             let mut stdout = std::io::stdout().lock();

@@ -227,6 +227,7 @@ pub struct Model {
     pub(crate) base: BaseType,
     pub(crate) name: String,
     pub(crate) warnings: Vec<String>,
+    pub(crate) leaf_links: Vec<String>,
 }
 
 impl Model {
@@ -395,6 +396,12 @@ impl Model {
     /// Number of loop-closure residual rows (2 per loop).
     pub fn num_loop_constraints(&self) -> usize {
         2 * self.loop_closures.len()
+    }
+
+    /// Links without children (the ends of the tree: feet, hands, sensor frames), in
+    /// document order.
+    pub fn leaf_links(&self) -> &[String] {
+        &self.leaf_links
     }
 
     /// What the loader repaired or ignored (unknown elements, inserted limits, ...).

@@ -102,7 +102,7 @@ pub enum BaseName {
 #[derive(Debug, Clone, Deserialize, Default)]
 #[serde(deny_unknown_fields)]
 pub struct ContactsSection {
-    /// Contacts from the URDF's zero-radius collision spheres: `"all"` (default when no
+    /// Contacts from the URDF's collision spheres (any radius): `"all"` (default when no
     /// explicit `point` is given), `"none"`, or a list of contact names.
     pub from_urdf: Option<ContactSelection>,
     /// Coulomb friction coefficient for every contact without its own (default 1).
@@ -123,7 +123,7 @@ pub struct ContactsSection {
 /// `"all"`, `"none"` or a list of names.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ContactSelection {
-    /// Every zero-radius collision sphere of the URDF.
+    /// Every collision sphere of the URDF.
     All,
     /// None of them.
     None,

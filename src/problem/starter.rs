@@ -1,8 +1,12 @@
 //! `vito init`: a commented starter problem for a URDF, which `vito check` accepts as is.
+//! For a robot with a free base it is a stand-in-place problem that `vito solve` solves
+//! unchanged: the feet found (collision spheres, else end links named like feet, else the
+//! lowest end links), the robot standing on flat ground in a nominal pose with its lowest
+//! feet at z = 0.
 
 #![warn(missing_docs)]
 
-use crate::model::BaseType;
+use crate::model::{BaseType, Model, point_position};
 use crate::problem::{CoordinateKind, RobotInfo};
 
 fn fmt_limit(x: f64) -> String {
@@ -13,27 +17,123 @@ fn fmt_limit(x: f64) -> String {
     }
 }
 
-/// A starter problem: every coordinate named with its limits, the URDF contacts, a fixed
-/// horizon, a state-tracking and an input cost, and the reference Ipopt options.
-pub fn starter_problem(robot: &RobotInfo, base: BaseType, urdf: &str) -> String {
-    let base_name = match base {
-        BaseType::Fixed => "fixed",
-        BaseType::Planar => "planar",
-        BaseType::Floating => "floating",
+/// Names of end links that are feet.
+const FOOT_WORDS: [&str; 5] = ["foot", "feet", "toe", "sole", "paw"];
+
+/// A foot the starter stands the robot on: a URDF collision sphere, or a point at an end
+/// link's origin.
+struct Foot {
+    name: String,
+    link: String,
+    centre: [f64; 3],
+    radius: f64,
+    from_urdf: bool,
+}
+
+/// The nominal pose: every joint at 0, or at its limits' midpoint where 0 is outside them
+/// (at the finite limit when the other is infinite); the base at the origin.
+fn nominal_pose(robot: &RobotInfo) -> Vec<f64> {
+    robot
+        .coordinate_limits
+        .iter()
+        .map(|lim| {
+            let (lo, hi) = (lim.lower, lim.upper);
+            if (lo..=hi).contains(&0.0) {
+                0.0
+            } else if lo.is_finite() && hi.is_finite() {
+                0.5 * (lo + hi)
+            } else if lo.is_finite() {
+                lo
+            } else {
+                hi
+            }
+        })
+        .collect()
+}
+
+/// The feet: the URDF's collision spheres; else end links named like feet; else the end
+/// links lowest in the nominal pose (within 2 % of the robot's height).
+fn find_feet(model: &Model, robot: &RobotInfo, q: &[f64]) -> Vec<Foot> {
+    if !robot.contacts.is_empty() {
+        return robot
+            .contacts
+            .iter()
+            .map(|c| Foot {
+                name: c.name.clone(),
+                link: c.link.clone(),
+                centre: c.point,
+                radius: c.radius,
+                from_urdf: true,
+            })
+            .collect();
+    }
+    let at_origin = |link: &String| Foot {
+        name: link.clone(),
+        link: link.clone(),
+        centre: [0.0; 3],
+        radius: 0.0,
+        from_urdf: false,
     };
-    let mut t = String::new();
-    t.push_str(
-        "# vito problem file (starter written by `vito init`; edit, then `vito check` it).\n",
-    );
-    t.push_str("# Units: SI (m, kg, s, rad, N, N·m) unless [robot] units says otherwise.\n");
-    t.push_str("# Every coordinate, input and contact is addressed by its URDF name.\n\n");
-    t.push_str("[robot]\n");
-    t.push_str(&format!("urdf = {urdf:?}   # relative to this file\n"));
-    t.push_str(&format!(
-        "base = \"{base_name}\"   # fixed | planar | floating\n"
-    ));
-    t.push_str("gravity = [0.0, 0.0, -9.81]   # world frame, robot units\n");
-    t.push_str("joint_limits = true   # apply the URDF joint limits on every knot\n\n");
+    let leaves = model.leaf_links();
+    let named: Vec<Foot> = leaves
+        .iter()
+        .filter(|l| {
+            let lower = l.to_lowercase();
+            FOOT_WORDS.iter().any(|w| lower.contains(w))
+        })
+        .map(at_origin)
+        .collect();
+    if !named.is_empty() {
+        return named;
+    }
+    let heights: Vec<f64> = leaves
+        .iter()
+        .map(|l| height(model, &at_origin(l), q))
+        .collect();
+    let lowest = heights.iter().copied().fold(f64::INFINITY, f64::min);
+    let highest = heights.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let band = 0.02 * (highest - lowest);
+    leaves
+        .iter()
+        .zip(&heights)
+        .filter(|&(_, &z)| z <= lowest + band)
+        .map(|(l, _)| at_origin(l))
+        .collect()
+}
+
+/// The height of a foot's lowest point at `q`.
+fn height(model: &Model, foot: &Foot, q: &[f64]) -> f64 {
+    model.link_index(&foot.link).map_or(0.0, |link| {
+        point_position(model, link, &foot.centre, q)[2] - foot.radius
+    })
+}
+
+/// The stand-in-place pose and its feet: the nominal pose with the base raised so that the
+/// lowest feet touch z = 0.
+fn standing(model: &Model, robot: &RobotInfo) -> (Vec<f64>, Vec<Foot>) {
+    let mut q = nominal_pose(robot);
+    let feet = find_feet(model, robot, &q);
+    let lowest = feet
+        .iter()
+        .map(|f| height(model, f, &q))
+        .fold(f64::INFINITY, f64::min);
+    if let Some(z) = robot.coordinates.iter().position(|c| c == "base_z")
+        && lowest.is_finite()
+    {
+        q[z] -= lowest;
+    }
+    (q, feet)
+}
+
+/// A starter problem: every coordinate named with its limits, the contacts, a fixed
+/// horizon, a state-tracking and an input cost, and the reference Ipopt options. With a
+/// fixed base it moves the first coordinate to 0; with a free base it stands in place on
+/// its feet (`model` finds them and the base height).
+pub fn starter_problem(model: &Model, robot: &RobotInfo, base: BaseType, urdf: &str) -> String {
+    if base != BaseType::Fixed {
+        return standing_problem(model, robot, base, urdf);
+    }
+    let mut t = robot_section(base, urdf);
     t.push_str("[contacts]\n");
     if robot.contacts.is_empty() {
         t.push_str(
@@ -59,25 +159,7 @@ pub fn starter_problem(robot: &RobotInfo, base: BaseType, urdf: &str) -> String 
     t.push_str("[horizon]\nknots = 21\ntime_step = 0.05   # fixed h [s]; or total_time = [t_min, t_max] for free equal steps\n\n");
     t.push_str("[initial]\nv = \"zero\"   # \"zero\", \"free\" or a table by coordinate\n");
     t.push_str("[initial.q]   # q_1, fixed; every coordinate (limits from the URDF in comments)\n");
-    for (i, name) in robot.coordinates.iter().enumerate() {
-        let lim = robot.coordinate_limits[i];
-        let unit = match robot.coordinate_kinds[i] {
-            CoordinateKind::Linear => "m",
-            CoordinateKind::Angular => "rad",
-        };
-        let value = if lim.lower > 0.0 && lim.lower.is_finite() {
-            lim.lower
-        } else if lim.upper < 0.0 && lim.upper.is_finite() {
-            lim.upper
-        } else {
-            0.0
-        };
-        t.push_str(&format!(
-            "{name} = {value:?}   # [{unit}] limits {} .. {}\n",
-            fmt_limit(lim.lower),
-            fmt_limit(lim.upper)
-        ));
-    }
+    t.push_str(&pose_table(robot, &nominal_pose(robot)));
     t.push_str("\n[final]   # q_N: coordinates not named keep their initial value\n");
     t.push_str("tolerance = 0.0   # q_N within goal ± tolerance (0: fixed)\n");
     t.push_str("[final.q]\n");
@@ -106,7 +188,104 @@ pub fn starter_problem(robot: &RobotInfo, base: BaseType, urdf: &str) -> String 
     }
     t.push_str("[slack]\nweight = 100.0   # α on Σ s (complementarity relaxation)\nmode = \"per_interval\"\n\n");
     t.push_str("[initial_guess]\nto = \"final\"   # q linear from q_1 to the goal; or warm_start = \"out/x/trajectory.csv\"\n\n");
-    t.push_str("[solver]\nintegrator = \"midpoint\"   # midpoint | euler\nhessian = \"exact\"   # exact | lbfgs\n");
-    t.push_str("[solver.ipopt]\ntol = 1e-6\nmax_iter = 3000\nmu_strategy = \"adaptive\"\nlinear_solver = \"mumps\"\n");
+    t.push_str(SOLVER);
+    t
+}
+
+/// The `[solver]` sections of every starter.
+const SOLVER: &str = "[solver]\nintegrator = \"midpoint\"   # midpoint | euler\nhessian = \"exact\"   # exact | lbfgs\n[solver.ipopt]\ntol = 1e-6\nmax_iter = 3000\nmu_strategy = \"adaptive\"\nlinear_solver = \"mumps\"\n";
+
+/// The header and `[robot]` section of every starter.
+fn robot_section(base: BaseType, urdf: &str) -> String {
+    let base_name = match base {
+        BaseType::Fixed => "fixed",
+        BaseType::Planar => "planar",
+        BaseType::Floating => "floating",
+    };
+    let mut t = String::new();
+    t.push_str(
+        "# vito problem file (starter written by `vito init`; edit, then `vito check` it).\n",
+    );
+    t.push_str("# Units: SI (m, kg, s, rad, N, N·m) unless [robot] units says otherwise.\n");
+    t.push_str("# Every coordinate, input and contact is addressed by its URDF name.\n\n");
+    t.push_str("[robot]\n");
+    t.push_str(&format!("urdf = {urdf:?}   # relative to this file\n"));
+    t.push_str(&format!(
+        "base = \"{base_name}\"   # fixed | planar | floating\n"
+    ));
+    t.push_str("gravity = [0.0, 0.0, -9.81]   # world frame, robot units\n");
+    t.push_str("joint_limits = true   # apply the URDF joint limits on every knot\n\n");
+    t
+}
+
+/// `[initial.q]`: every coordinate at `q`, its unit and limits in a comment.
+fn pose_table(robot: &RobotInfo, q: &[f64]) -> String {
+    let mut t = String::new();
+    for (i, name) in robot.coordinates.iter().enumerate() {
+        let lim = robot.coordinate_limits[i];
+        let unit = match robot.coordinate_kinds[i] {
+            CoordinateKind::Linear => "m",
+            CoordinateKind::Angular => "rad",
+        };
+        t.push_str(&format!(
+            "{name} = {:?}   # [{unit}] limits {} .. {}\n",
+            q[i],
+            fmt_limit(lim.lower),
+            fmt_limit(lim.upper)
+        ));
+    }
+    t
+}
+
+/// A free-base robot standing in place on its feet for half a second.
+fn standing_problem(model: &Model, robot: &RobotInfo, base: BaseType, urdf: &str) -> String {
+    let (q, feet) = standing(model, robot);
+    let mut t = robot_section(base, urdf);
+    t.push_str("# A stand-in-place problem: the robot stands on flat ground in a nominal pose\n");
+    t.push_str("# (joints at 0, or mid-range where 0 is outside their limits), its lowest feet\n");
+    t.push_str("# touching z = 0, and holds that pose. Solve it as is, then edit the goal.\n\n");
+    t.push_str("[contacts]   # the feet\n");
+    if feet.is_empty() {
+        t.push_str("# No feet found (no collision spheres, no end links): add contacts.\n");
+        t.push_str("# [[contacts.point]]\n# name = \"foot\"\n# link = \"...\"\n# point = [0.0, 0.0, 0.0]\n# radius = 0.0\n");
+        t.push_str("from_urdf = \"none\"\n");
+    } else if feet.iter().all(|f| f.from_urdf) {
+        t.push_str("from_urdf = \"all\"   # the URDF's collision spheres\n");
+    } else {
+        t.push_str("from_urdf = \"none\"\n");
+    }
+    t.push_str("friction = 1.0   # Coulomb coefficient for every contact\n");
+    for foot in feet.iter().filter(|f| !f.from_urdf) {
+        t.push_str(&format!(
+            "[[contacts.point]]   # an end link of the URDF\nname = {:?}\nlink = {:?}\npoint = [{:?}, {:?}, {:?}]   # in the link frame [m]\nradius = {:?}   # a sphere around point [m]; 0: a point\n",
+            foot.name, foot.link, foot.centre[0], foot.centre[1], foot.centre[2], foot.radius
+        ));
+    }
+    t.push_str("\n[terrain]\nground_height = 0.0\n\n");
+    t.push_str("[horizon]\nknots = 11\ntime_step = 0.05   # fixed h [s]: T = 0.5 s\n\n");
+    t.push_str("[initial]\nv = \"zero\"   # at rest\n");
+    t.push_str("[initial.q]   # q_1, fixed: the standing pose (base height from the feet)\n");
+    t.push_str(&pose_table(robot, &q));
+    t.push_str("\n[final]   # q_N = q_1: stand in place\n");
+    t.push_str("tolerance = 0.0   # q_N within goal ± tolerance (0: fixed)\n");
+    t.push_str("[final.q]   # coordinates not named keep their initial value\n");
+    if let Some(first) = robot.coordinates.first() {
+        t.push_str(&format!("{first} = {:?}\n", q[0]));
+    }
+    t.push('\n');
+    t.push_str(&format!(
+        "[inputs]\n# actuated = \"transmissions\" | \"all\" | [\"joint\", ...]; the inputs are from {} ({})\neffort_limits = true   # |u| ≤ URDF effort\n\n",
+        robot.actuation,
+        robot.inputs.len()
+    ));
+    t.push_str("# Every quadratic cost carries ½: ½ (x − target)ᵀ diag(w) (x − target).\n");
+    t.push_str("[[cost]]\ntype = \"state_tracking\"   # towards the goal (the standing pose), midpoint state\n");
+    t.push_str("q_weights = { default = 10.0 }\nv_weights = { default = 1.0 }   # velocity weights keep legs from swinging\ntime_weighted = true\n\n");
+    if !robot.inputs.is_empty() {
+        t.push_str("[[cost]]\ntype = \"input\"\nweights = { default = 0.001 }\n\n");
+    }
+    t.push_str("[slack]\nweight = 1000.0   # α on Σ s (complementarity relaxation)\nmode = \"per_interval\"\n\n");
+    t.push_str("[initial_guess]\nto = \"initial\"   # every q_k = q_1; or warm_start = \"out/x/trajectory.csv\"\n\n");
+    t.push_str(SOLVER);
     t
 }

@@ -111,6 +111,11 @@ pub(super) fn build(
         base,
         name: robot.name.clone(),
         warnings,
+        leaf_links: tree
+            .leaves
+            .iter()
+            .map(|&l| robot.links[l].name.clone())
+            .collect(),
     };
     model.actuate_by_default();
     Ok(model)
@@ -145,6 +150,8 @@ fn index_names(robot: &urdf_rs::Robot) -> Result<(NameIndex<'_>, NameIndex<'_>),
 /// The tree's shape: each link's parent joint, and the links parents first.
 struct Tree {
     parent_joint: Vec<Option<usize>>,
+    /// Links without children, in document order.
+    leaves: Vec<usize>,
     /// Depth-first from the root.
     order: Vec<usize>,
 }
@@ -218,8 +225,12 @@ fn tree_order(robot: &urdf_rs::Robot, link_of: &NameIndex) -> Result<Tree, Model
             link: robot.links[stray].name.clone(),
         });
     }
+    let leaves = (0..robot.links.len())
+        .filter(|&l| children[l].is_empty())
+        .collect();
     Ok(Tree {
         parent_joint,
+        leaves,
         order,
     })
 }

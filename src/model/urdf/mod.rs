@@ -2,8 +2,8 @@
 //! extensions. The only module that imports `urdf_rs`: `repair` mends the text, `extensions`
 //! reads Drake's elements, `inertia` checks and lumps masses, `build` makes the [`Model`].
 //!
-//! Read: links (`<inertial>`; mass 0 is a massless frame; zero-radius `<collision>` spheres
-//! as point contacts), joints of type fixed, revolute, continuous and prismatic (origin,
+//! Read: links (`<inertial>`; mass 0 is a massless frame; `<collision>` spheres of any
+//! radius as contacts; other collision shapes listed as ignored), joints of type fixed, revolute, continuous and prismatic (origin,
 //! axis, `<limit>` lower/upper/effort, `<dynamics damping>`, `<mimic>`: no coordinate of its
 //! own, θ = multiplier·q_leader + offset), `<transmission>` joints (inputs), and Drake's
 //! `<force_element>` (`<torsional_spring>`, `<prismatic_spring>`) and `<loop_joint>`.
@@ -15,7 +15,7 @@
 //! limit"), `pi`-expressions such as `-pi/4` in `<limit>`, commas in `xyz`/`rpy`, a one-value
 //! mesh `scale`, capitalised joint types, and stray `/` text.
 //!
-//! Limitations (ignored): visual elements and meshes, non-zero-radius collision geometry,
+//! Limitations (ignored): visual elements and meshes, collision boxes, cylinders and meshes,
 //! `velocity` limits, `friction` in `<dynamics>`, a mimic joint's own `<limit>`, `<calibration>`,
 //! `<safety_controller>`, `mechanicalReduction` (must be 1), `<gazebo>`, Drake `<frame>`
 //! (reported as a warning), collision groups.

@@ -115,3 +115,274 @@ fn init_accepts_every_urdf_that_inspect_loads() {
     // 2 + 10 URDFs in problems/robots, each with at least one base.
     assert!(initialised >= 12, "only {initialised} starters");
 }
+
+/// A `<link>` with a diagonal inertia about its centre of mass at `com`, and `extra` inside.
+fn urdf_link(name: &str, mass: f64, inertia: [f64; 3], com: &str, extra: &str) -> String {
+    format!(
+        r#"<link name="{name}"><inertial><origin xyz="{com}"/><mass value="{mass}"/><inertia ixx="{}" ixy="0" ixz="0" iyy="{}" iyz="0" izz="{}"/></inertial>{extra}</link>
+"#,
+        inertia[0], inertia[1], inertia[2]
+    )
+}
+
+fn urdf_joint(
+    name: &str,
+    parent: &str,
+    child: &str,
+    xyz: &str,
+    axis: &str,
+    limits: [f64; 2],
+) -> String {
+    format!(
+        r#"<joint name="{name}" type="revolute"><parent link="{parent}"/><child link="{child}"/><origin xyz="{xyz}"/><axis xyz="{axis}"/><limit lower="{}" upper="{}" effort="100" velocity="20"/></joint>
+"#,
+        limits[0], limits[1]
+    )
+}
+
+/// A 12-joint quadruped as ROS packages ship it: no transmissions, massless foot links
+/// (no `<inertial>`, no collision) at the ends of the legs, hip and knee limits that exclude
+/// 0 (the starter bends them to mid-range, which puts each foot under its hip).
+fn quadruped() -> String {
+    let mut x = String::from("<?xml version=\"1.0\"?>\n<robot name=\"quadruped\">\n");
+    x += &urdf_link("trunk", 8.0, [0.05, 0.15, 0.15], "0 0 0", "");
+    for (leg, sx, sy) in [
+        ("FL", 1.0, 1.0),
+        ("FR", 1.0, -1.0),
+        ("HL", -1.0, 1.0),
+        ("HR", -1.0, -1.0),
+    ] {
+        x += &urdf_link(&format!("{leg}_hip"), 0.5, [1e-3; 3], "0 0 0", "");
+        x += &urdf_link(
+            &format!("{leg}_thigh"),
+            1.0,
+            [4e-3, 4e-3, 5e-4],
+            "0 0 -0.1",
+            "",
+        );
+        x += &urdf_link(
+            &format!("{leg}_calf"),
+            0.3,
+            [1e-3, 1e-3, 1e-4],
+            "0 0 -0.1",
+            "",
+        );
+        x += &format!("<link name=\"{leg}_foot\"/>\n");
+        x += &urdf_joint(
+            &format!("{leg}_HAA"),
+            "trunk",
+            &format!("{leg}_hip"),
+            &format!("{} {} 0", 0.2 * sx, 0.1 * sy),
+            "1 0 0",
+            [-0.8, 0.8],
+        );
+        x += &urdf_joint(
+            &format!("{leg}_HFE"),
+            &format!("{leg}_hip"),
+            &format!("{leg}_thigh"),
+            &format!("0 {} 0", 0.05 * sy),
+            "0 1 0",
+            [0.2, 1.0],
+        );
+        x += &urdf_joint(
+            &format!("{leg}_KFE"),
+            &format!("{leg}_thigh"),
+            &format!("{leg}_calf"),
+            "0 0 -0.2",
+            "0 1 0",
+            [-1.6, -0.8],
+        );
+        x += &format!(
+            "<joint name=\"{leg}_foot_fixed\" type=\"fixed\"><parent link=\"{leg}_calf\"/><child link=\"{leg}_foot\"/><origin xyz=\"0 0 -0.2\"/></joint>\n"
+        );
+    }
+    x + "</robot>\n"
+}
+
+/// A 6-joint biped with point feet (zero-radius collision spheres under its feet) and a
+/// camera frame, straight-legged at 0.
+fn biped() -> String {
+    let mut x = String::from("<?xml version=\"1.0\"?>\n<robot name=\"biped\">\n");
+    x += &urdf_link("pelvis", 10.0, [0.1, 0.08, 0.06], "0 0 0", "");
+    x += "<link name=\"camera_optical_frame\"/>\n<joint name=\"camera\" type=\"fixed\"><parent link=\"pelvis\"/><child link=\"camera_optical_frame\"/><origin xyz=\"0.1 0 0.1\"/></joint>\n";
+    for (leg, sy) in [("L", 1.0), ("R", -1.0)] {
+        x += &urdf_link(
+            &format!("{leg}_thigh"),
+            2.0,
+            [0.02, 0.02, 2e-3],
+            "0 0 -0.2",
+            "",
+        );
+        x += &urdf_link(
+            &format!("{leg}_shin"),
+            1.0,
+            [0.01, 0.01, 1e-3],
+            "0 0 -0.2",
+            "",
+        );
+        x += &urdf_link(
+            &format!("{leg}_foot"),
+            0.3,
+            [1e-3; 3],
+            "0 0 -0.02",
+            r#"<collision><origin xyz="0 0 -0.04"/><geometry><sphere radius="0"/></geometry></collision>"#,
+        );
+        x += &urdf_joint(
+            &format!("{leg}_hip"),
+            "pelvis",
+            &format!("{leg}_thigh"),
+            &format!("0 {} -0.05", 0.1 * sy),
+            "0 1 0",
+            [-1.5, 1.5],
+        );
+        x += &urdf_joint(
+            &format!("{leg}_knee"),
+            &format!("{leg}_thigh"),
+            &format!("{leg}_shin"),
+            "0 0 -0.4",
+            "0 1 0",
+            [-0.1, 2.2],
+        );
+        x += &urdf_joint(
+            &format!("{leg}_ankle"),
+            &format!("{leg}_shin"),
+            &format!("{leg}_foot"),
+            "0 0 -0.4",
+            "0 1 0",
+            [-1.0, 1.0],
+        );
+    }
+    x + "</robot>\n"
+}
+
+/// `vito init ROBOT --base floating` then `vito solve` unchanged: the robot stands in place
+/// on its feet. Returns the largest foot and base displacement from the first knot.
+fn init_and_stand(t: &TestDir, name: &str, urdf: &str, feet: usize) -> (f64, f64) {
+    std::fs::create_dir_all(t.path().join("robots")).unwrap();
+    std::fs::create_dir_all(t.path().join("problems")).unwrap();
+    t.write(&format!("robots/{name}.urdf"), urdf);
+    let problem = t.path().join(format!("problems/{name}.toml"));
+    init(
+        t,
+        Path::new(&format!("robots/{name}.urdf")),
+        "floating",
+        &problem,
+    )
+    .assert_exit(0);
+    let text = std::fs::read_to_string(&problem).unwrap();
+    assert!(
+        text.contains(&format!("urdf = \"../robots/{name}.urdf\"")),
+        "{text}"
+    );
+    let check = t
+        .vito()
+        .args([std::ffi::OsStr::new("check"), problem.as_os_str()])
+        .assert_exit(0);
+    assert!(
+        check.stdout.contains(&format!("contacts:    {feet} (")),
+        "{}",
+        check.stdout
+    );
+    assert!(
+        !check.stderr.contains("below the terrain"),
+        "{}",
+        check.stderr
+    );
+    t.vito()
+        .args([
+            std::ffi::OsStr::new("solve"),
+            problem.as_os_str(),
+            "--quiet".as_ref(),
+            "--out".as_ref(),
+            name.as_ref(),
+        ])
+        .env("OPENBLAS_NUM_THREADS", "1")
+        .assert_exit(0);
+    let out = t.path().join(name);
+    let s = crate::cli::util::summary(&out);
+    assert_eq!(s["status"], "solve_succeeded", "{name}");
+    assert!(
+        s["max_slack"].as_f64().unwrap() <= 1e-4,
+        "{name}: {}",
+        s["max_slack"]
+    );
+    // Feet and base from the trajectory, by the problem's own mechanics.
+    let loaded = vito::problem::load(&problem, &[]).unwrap();
+    let mech = vito::pipeline::mechanics(&loaded.spec).unwrap();
+    let csv = std::fs::read_to_string(out.join("trajectory.csv")).unwrap();
+    let q = vito::trajectory_csv::read_trajectory(&csv, &loaded.robot.coordinates, &[])
+        .unwrap()
+        .q;
+    use vito::discrete::Mechanics;
+    let (mut foot_moved, mut base_moved) = (0.0f64, 0.0f64);
+    for qk in &q {
+        for i in 0..feet {
+            let (a, b) = (
+                mech.contact_position(i, &q[0]),
+                mech.contact_position(i, qk),
+            );
+            foot_moved = foot_moved.max((0..3).map(|k| (a[k] - b[k]).abs()).fold(0.0, f64::max));
+        }
+        base_moved = base_moved.max((0..3).map(|k| (qk[k] - q[0][k]).abs()).fold(0.0, f64::max));
+    }
+    // The feet start on the ground.
+    for i in 0..feet {
+        assert!(
+            mech.contact_position(i, &q[0])[2].abs() < 1e-12,
+            "{name}: foot {i}"
+        );
+    }
+    eprintln!("{name}: feet moved {foot_moved:.3e}, base {base_moved:.3e}");
+    (foot_moved, base_moved)
+}
+
+#[test]
+fn a_quadruped_starter_stands_in_place() {
+    let t = TestDir::new("a_quadruped_starter_stands_in_place");
+    let (feet, base) = init_and_stand(&t, "quadruped", &quadruped(), 4);
+    assert!(
+        feet <= 1e-3 && base <= 1e-2,
+        "feet moved {feet:e} m, base {base:e} m"
+    );
+}
+
+#[test]
+fn a_biped_starter_stands_in_place() {
+    let t = TestDir::new("a_biped_starter_stands_in_place");
+    let (feet, base) = init_and_stand(&t, "biped", &biped(), 2);
+    assert!(
+        feet <= 1e-3 && base <= 1e-2,
+        "feet moved {feet:e} m, base {base:e} m"
+    );
+}
+
+/// Printed to stdout redirected into a file, the starter names the URDF relative to that
+/// file; printed to a pipe, by its absolute path.
+#[test]
+fn a_printed_starter_names_the_urdf_from_where_it_is_saved() {
+    let t = TestDir::new("a_printed_starter_names_the_urdf");
+    std::fs::create_dir_all(t.path().join("robots")).unwrap();
+    std::fs::create_dir_all(t.path().join("problems")).unwrap();
+    t.write("robots/biped.urdf", &biped());
+    let file = std::fs::File::create(t.path().join("problems/biped.toml")).unwrap();
+    let status = std::process::Command::new(env!("CARGO_BIN_EXE_vito"))
+        .current_dir(t.path())
+        .args(["init", "robots/biped.urdf", "--base", "floating"])
+        .stdout(file)
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let text = std::fs::read_to_string(t.path().join("problems/biped.toml")).unwrap();
+    assert!(text.contains("urdf = \"../robots/biped.urdf\""), "{text}");
+    let run = t
+        .vito()
+        .args(["init", "robots/biped.urdf", "--base", "floating"])
+        .assert_exit(0);
+    let absolute = std::path::absolute(t.path().join("robots/biped.urdf")).unwrap();
+    assert!(
+        run.stdout
+            .contains(&format!("urdf = {:?}", absolute.display().to_string())),
+        "{}",
+        run.stdout
+    );
+}

@@ -222,3 +222,43 @@ fn a_negative_radius_is_an_input_error() {
         "radius must be a finite number",
     );
 }
+
+/// `vito check` shows each contact's distance to the terrain and warns, naming the contact,
+/// when it starts below the terrain (46 µm here), when a free base has no inputs, and when
+/// the pose nears pitch ±π/2.
+#[test]
+fn check_shows_distances_and_warns_about_infeasible_starts() {
+    let t = TestDir::new("check_warns_about_infeasible_starts");
+    t.write("ball.urdf", &ball_urdf());
+    let below = resting_problem("from_urdf = \"all\"").replace(
+        &format!("q = [0.0, 0.0, {RADIUS}, 0.0, 0.0, 0.0]"),
+        "q = [0.0, 0.0, 0.099954, 0.0, 1.5, 0.0]",
+    );
+    t.write("below.toml", &below);
+    let run = t.vito().args(["check", "below.toml"]).assert_exit(0);
+    assert!(
+        run.stdout.contains("distance to the terrain [m]")
+            && run.stdout.contains("shell                 -4.6000e-5"),
+        "{}",
+        run.stdout
+    );
+    for says in [
+        "contact `shell` starts 4.600e-5 below the terrain",
+        "a free base but no inputs",
+        "base_pitch 1.5 at knot 1 is within 0.2 rad of ±π/2",
+    ] {
+        assert!(run.stderr.contains(says), "{says}:\n{}", run.stderr);
+    }
+    // No contacts at all: nothing holds a free base up.
+    t.write("none.toml", &resting_problem("from_urdf = \"none\""));
+    let run = t.vito().args(["check", "none.toml"]).assert_exit(0);
+    assert!(
+        run.stderr.contains("a free base but no contacts"),
+        "{}",
+        run.stderr
+    );
+    // At rest on the ground: no warning about the start.
+    t.write("rest.toml", &resting_problem("from_urdf = \"all\""));
+    let run = t.vito().args(["check", "rest.toml"]).assert_exit(0);
+    assert!(!run.stderr.contains("below the terrain"), "{}", run.stderr);
+}
