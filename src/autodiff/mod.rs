@@ -17,12 +17,14 @@
 //! Unseeded derivative parts of `num-dual` are `None` and cost nothing, so a pass only pays for
 //! the inputs of its chunks.
 
+mod coloring;
 mod directional;
 mod hessian;
 mod jacobian;
 mod restrict;
 mod third;
 
+pub use coloring::{SymmetricGroups, grouped_hessian};
 pub use directional::*;
 pub use hessian::*;
 pub use jacobian::*;

@@ -8,8 +8,8 @@ use nalgebra::DMatrix;
 
 use super::Mechanics;
 use crate::autodiff::{
-    ScalarFunction, ThirdOrder, VectorFunction, gradient, gradient_hessian, gradient_hessian_third,
-    jacobian, weighted_hessian,
+    ScalarFunction, SymmetricGroups, ThirdOrder, VectorFunction, gradient, gradient_hessian,
+    gradient_hessian_third, jacobian, weighted_hessian,
 };
 use crate::model::{LoopJet, PointJet};
 use crate::scalar::Scalar;
@@ -40,6 +40,29 @@ pub trait MechanicsDerivatives: Mechanics + Sized {
     fn segment_third_order(&self, z: &[f64], dir: &[f64], columns: Option<&[bool]>) -> ThirdOrder {
         let _ = columns;
         gradient_hessian_third(&SegmentLagrangian { mech: self }, z, dir)
+    }
+    /// [`MechanicsDerivatives::segment_gradient_hessian`] with the input columns seeded
+    /// together by `groups` (of the dependency pattern of the Hessian of Ld); the default
+    /// ignores them.
+    fn segment_gradient_hessian_grouped(
+        &self,
+        z: &[f64],
+        groups: &SymmetricGroups,
+    ) -> (Vec<f64>, DMatrix<f64>) {
+        let _ = groups;
+        self.segment_gradient_hessian(z)
+    }
+    /// [`MechanicsDerivatives::segment_third_order`] with the input columns seeded together
+    /// by `groups`; entries with an input outside every group (a fixed variable) need not be
+    /// exact. The default ignores the groups.
+    fn segment_third_order_grouped(
+        &self,
+        z: &[f64],
+        dir: &[f64],
+        groups: &SymmetricGroups,
+    ) -> ThirdOrder {
+        let _ = groups;
+        self.segment_third_order(z, dir, None)
     }
     /// The loop-closure residual [`Mechanics::loop_residual`] at q and its derivatives up to
     /// `order` (1 to 3), the third contracted with `along` (length n, read at order 3), as

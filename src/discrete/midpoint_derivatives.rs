@@ -8,7 +8,7 @@ use nalgebra::DMatrix;
 use num_dual::{Dual, Dual64};
 
 use super::midpoint::midpoint_state;
-use crate::autodiff::{ThirdOrder, VectorFunction};
+use crate::autodiff::{SymmetricGroups, ThirdOrder, VectorFunction};
 use crate::model::kinematics::check_len;
 use crate::model::{Model, lagrangian_gradient};
 use crate::scalar::Scalar;
@@ -171,6 +171,102 @@ pub fn midpoint_third_order_columns(
     out.value = value.re.re;
     symmetrise(&mut out.hessian, columns);
     symmetrise(&mut out.contracted, columns);
+}
+
+/// [`midpoint_gradient_hessian`] with the columns seeded by `groups` (of the Hessian of
+/// Ld's dependency pattern): one [`Dual64`] pass per group, each entry read where its group
+/// shows it alone (see [`SymmetricGroups`]).
+pub fn midpoint_gradient_hessian_grouped(
+    model: &Model,
+    z: &[f64],
+    groups: &SymmetricGroups,
+) -> (Vec<f64>, DMatrix<f64>) {
+    let dim = check_segment(model, z, "midpoint_gradient_hessian_grouped");
+    let mut gradient = vec![0.0; dim];
+    let mut products = DMatrix::zeros(dim, groups.groups().len());
+    for_each_group(
+        model,
+        groups,
+        |i, seeded| Dual64::new(z[i], if seeded { 1.0 } else { 0.0 }),
+        |row, g, y| {
+            gradient[row] = y.re;
+            products[(row, g)] = y.eps;
+        },
+    );
+    let mut hessian = DMatrix::zeros(dim, dim);
+    groups.recover(&products, &mut hessian);
+    (gradient, hessian)
+}
+
+/// [`midpoint_third_order`] with the columns seeded by `groups` (see
+/// [`midpoint_gradient_hessian_grouped`]); entries with a column outside every group are
+/// zero (where [`midpoint_third_order_columns`] reads those with one marked column).
+pub fn midpoint_third_order_grouped(
+    model: &Model,
+    z: &[f64],
+    dir: &[f64],
+    groups: &SymmetricGroups,
+) -> ThirdOrder {
+    let dim = check_segment(model, z, "midpoint_third_order_grouped");
+    assert_eq!(
+        dir.len(),
+        dim,
+        "midpoint_third_order: dir must have length 2 nq + 1"
+    );
+    let mut out = ThirdOrder::zeros(dim);
+    let count = groups.groups().len();
+    let (mut first, mut second) = (DMatrix::zeros(dim, count), DMatrix::zeros(dim, count));
+    let gradient = &mut out.gradient;
+    let value = for_each_group(
+        model,
+        groups,
+        |i, seeded| {
+            Dual::new(
+                Dual64::new(z[i], if seeded { 1.0 } else { 0.0 }),
+                Dual64::from(dir[i]),
+            )
+        },
+        |row, g, y| {
+            gradient[row] = y.re.re;
+            first[(row, g)] = y.re.eps;
+            second[(row, g)] = y.eps.eps;
+        },
+    );
+    out.value = value.map_or(0.0, |v| v.re.re);
+    groups.recover(&first, &mut out.hessian);
+    groups.recover(&second, &mut out.contracted);
+    out
+}
+
+/// [`for_each_column`] with one pass per column group, all of the group's inputs seeded;
+/// `store` gets (row, group, value). Returns Ld from the last pass (`None` without groups).
+fn for_each_group<S: Scalar>(
+    model: &Model,
+    groups: &SymmetricGroups,
+    lift: impl Fn(usize, bool) -> S,
+    mut store: impl FnMut(usize, usize, &S),
+) -> Option<S> {
+    let n = model.nq();
+    let dim = 2 * n + 1;
+    let mut zd: Vec<S> = (0..dim).map(|i| lift(i, false)).collect();
+    let mut d1 = vec![S::from(0.0); n];
+    let mut d2 = d1.clone();
+    let mut value = None;
+    for (g, members) in groups.groups().iter().enumerate() {
+        for &c in members {
+            zd[c] = lift(c, true);
+        }
+        let (ld, dh) =
+            midpoint_ld_gradient(model, &zd[..n], &zd[n..2 * n], zd[2 * n], &mut d1, &mut d2);
+        for &c in members {
+            zd[c] = lift(c, false);
+        }
+        for (row, y) in d1.iter().chain(&d2).chain(std::iter::once(&dh)).enumerate() {
+            store(row, g, y);
+        }
+        value = Some(ld);
+    }
+    value
 }
 
 /// Checks the segment length 2n+1 (a caller's programming error otherwise) and returns it.

@@ -5,10 +5,10 @@
 use nalgebra::DMatrix;
 
 use super::{
-    Mechanics, MechanicsDerivatives, midpoint_gradient_hessian, midpoint_ld_gradient,
-    midpoint_third_order_columns,
+    Mechanics, MechanicsDerivatives, midpoint_gradient_hessian, midpoint_gradient_hessian_grouped,
+    midpoint_ld_gradient, midpoint_third_order_columns, midpoint_third_order_grouped,
 };
-use crate::autodiff::ThirdOrder;
+use crate::autodiff::{SymmetricGroups, ThirdOrder};
 use crate::model::{
     LinkId, LoopJet, Model, PointJet, generalized_momentum, loop_closure_jets, loop_residual,
     point_jet, point_position,
@@ -160,6 +160,21 @@ impl MechanicsDerivatives for ModelMechanics {
         let mut out = ThirdOrder::zeros(z.len());
         midpoint_third_order_columns(&self.model, z, dir, columns, &mut out);
         out
+    }
+    fn segment_gradient_hessian_grouped(
+        &self,
+        z: &[f64],
+        groups: &SymmetricGroups,
+    ) -> (Vec<f64>, DMatrix<f64>) {
+        midpoint_gradient_hessian_grouped(&self.model, z, groups)
+    }
+    fn segment_third_order_grouped(
+        &self,
+        z: &[f64],
+        dir: &[f64],
+        groups: &SymmetricGroups,
+    ) -> ThirdOrder {
+        midpoint_third_order_grouped(&self.model, z, dir, groups)
     }
     fn loop_jets(&self, q: &[f64], order: usize, along: &[f64]) -> Vec<LoopJet> {
         loop_closure_jets(&self.model, q, order, along)

@@ -16,8 +16,8 @@ use super::blocks::{
 use super::structure::NO_SLOT;
 use super::{InitialGuessReport, Transcription};
 use crate::autodiff::{
-    Restricted, ThirdOrder, gradient, gradient_hessian, gradient_hessian_third, jacobian,
-    weighted_hessian,
+    Restricted, SymmetricGroups, ThirdOrder, gradient, gradient_hessian, gradient_hessian_third,
+    grouped_hessian, jacobian, weighted_hessian,
 };
 use crate::discrete::MechanicsDerivatives;
 
@@ -195,7 +195,8 @@ impl<M: MechanicsDerivatives> Transcription<M> {
 
     /// Seconds spent on one Jacobian plus Lagrangian-Hessian evaluation per block kind
     /// (serial, at x with constraint multipliers `lambda`), named like the block kinds
-    /// ("Segment", "ContactWork", "TangentialRate", …); for benchmarks.
+    /// ("Segment", "ContactWork", "TangentialRate", …, "Cost" for the cost Hessians); for
+    /// benchmarks.
     pub fn derivative_time_by_kind(&self, x: &[f64], lambda: &[f64]) -> Vec<(String, f64)> {
         let mut times: Vec<(String, f64)> = Vec::new();
         let mut add = |name: String, secs: f64| match times.iter_mut().find(|(n, _)| *n == name) {
@@ -225,6 +226,12 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                 kind_name(format!("{:?}", b.kind)),
                 start.elapsed().as_secs_f64(),
             );
+        }
+        for b in self.cost_blocks.iter().filter(|b| b.nonlinear > 0) {
+            let z = gather(x, &b.vars);
+            let start = std::time::Instant::now();
+            std::hint::black_box(self.cost_block_hessian(b, &z));
+            add("Cost".into(), start.elapsed().as_secs_f64());
         }
         for b in &self.gradient_blocks {
             let z = gather(x, &b.vars);
@@ -306,6 +313,9 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         contacts: ContactDerivatives,
     ) -> DMatrix<f64> {
         if b.kind == ScalarKind::Segment {
+            if let Some(groups) = &b.second_derivative_groups {
+                return self.mech.segment_gradient_hessian_grouped(z, groups).1;
+            }
             return self.mech.segment_gradient_hessian(z).1;
         }
         if let ScalarKind::ContactWork { contact } = b.kind
@@ -328,6 +338,9 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         contacts: ContactDerivatives,
     ) -> ThirdOrder {
         if b.kind == ScalarKind::Segment {
+            if let Some(groups) = self.second_derivative_groups(b) {
+                return self.mech.segment_third_order_grouped(z, dir, groups);
+            }
             let columns = self.skip_fixed.then_some(b.free_input_mask.as_slice());
             return self.mech.segment_third_order(z, dir, columns);
         }
@@ -426,10 +439,29 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         }
     }
 
-    /// Hessian of a cost block at z, over the inputs in the Hessian pattern only.
+    /// The column groups of `b`'s second derivative for the inputs its Hessian runs over
+    /// (the free ones when [`Transcription::set_skip_fixed_variables`] is on), if any.
+    fn second_derivative_groups<'b, K>(&self, b: &'b Block<K>) -> Option<&'b SymmetricGroups> {
+        if self.skip_fixed {
+            b.free_second_derivative_groups.as_deref()
+        } else {
+            b.second_derivative_groups.as_deref()
+        }
+    }
+
+    /// Hessian of a cost block at z, over the inputs in the Hessian pattern only (columns
+    /// seeded by groups where its dependency pattern allows).
     pub(super) fn cost_block_hessian(&self, b: &Block<ScalarKind>, z: &[f64]) -> DMatrix<f64> {
         let f = self.scalar_fn(b);
         let inputs = self.hessian_inputs(b);
+        if let Some(groups) = self.second_derivative_groups(b) {
+            let r = Restricted {
+                f: &f,
+                at: z,
+                free: inputs,
+            };
+            return expand_hessian(&grouped_hessian(&r, &r.point(), groups), inputs, z.len());
+        }
         if inputs.len() == b.nonlinear {
             return gradient_hessian(&f, z).2;
         }

@@ -15,14 +15,15 @@
 //! what they write outside it is round-off on a structural zero, and is dropped.
 
 use std::collections::HashMap;
+use std::sync::Arc;
 
 use num_dual::Dual;
 
 use super::Transcription;
-use super::blocks::Block;
+use super::blocks::{Block, ScalarKind};
 use super::evaluate::gather;
 use super::pattern::PatternBuilder;
-use crate::autodiff::{ScalarFunction, VectorFunction};
+use crate::autodiff::{ScalarFunction, SymmetricGroups, VectorFunction};
 use crate::dependency::{DependencyScalar, Trace};
 use crate::discrete::MechanicsDerivatives;
 
@@ -137,6 +138,41 @@ fn gradient_mask(f: &impl ScalarFunction, z: &[f64], live: &[bool]) -> BlockMask
     (jac, lower(pairs, nv))
 }
 
+/// Column groups of second-derivative patterns, computed once per distinct pattern.
+#[derive(Default)]
+struct GroupCache(HashMap<PatternKey, Option<Arc<SymmetricGroups>>>);
+
+/// A pattern and the columns grouped over.
+type PatternKey = (Vec<bool>, Vec<bool>);
+
+impl GroupCache {
+    /// Groups of the symmetric `nv × nv` pattern `mask` (either triangle) over the marked
+    /// columns, when they compress.
+    fn over(&mut self, mask: &[bool], nv: usize, columns: &[bool]) -> Option<Arc<SymmetricGroups>> {
+        self.0
+            .entry((mask.to_vec(), columns.to_vec()))
+            .or_insert_with(|| {
+                let groups = SymmetricGroups::new(nv, mask, Some(columns));
+                groups.compresses().then(|| Arc::new(groups))
+            })
+            .clone()
+    }
+
+    /// Groups of `mask` (`nv × nv`) restricted to the inputs `inputs`.
+    fn restricted(
+        &mut self,
+        mask: &[bool],
+        nv: usize,
+        inputs: &[usize],
+    ) -> Option<Arc<SymmetricGroups>> {
+        let k = inputs.len();
+        let sub: Vec<bool> = (0..k * k)
+            .map(|e| mask[inputs[e / k] * nv + inputs[e % k]])
+            .collect();
+        self.over(&sub, k, &vec![true; k])
+    }
+}
+
 impl<M: MechanicsDerivatives> Transcription<M> {
     /// Sparsity patterns of the whole NLP: the structure of every block, placed.
     pub(super) fn build_patterns(&mut self) {
@@ -244,6 +280,22 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         }
         for (b, m) in self.vector_blocks.iter_mut().zip(&structure.vector) {
             place(b, m, &fixed, &mut jac, &mut hess);
+        }
+        let mut groups = GroupCache::default();
+        for (b, (_, hmask)) in self.cost_blocks.iter_mut().zip(&structure.cost) {
+            let nv = b.vars.len();
+            b.second_derivative_groups = groups.restricted(hmask, nv, &b.hessian_inputs);
+            b.free_second_derivative_groups = groups.restricted(hmask, nv, &b.hessian_free_inputs);
+        }
+        for (b, (jmask, _)) in self.gradient_blocks.iter_mut().zip(&structure.gradient) {
+            if b.kind == ScalarKind::Segment {
+                // The segment's rows are the gradient of Ld: their Jacobian mask is the
+                // pattern of the Hessian of Ld.
+                let all = vec![true; b.vars.len()];
+                b.second_derivative_groups = groups.over(jmask, b.vars.len(), &all);
+                b.free_second_derivative_groups =
+                    groups.over(jmask, b.vars.len(), &b.free_input_mask);
+            }
         }
         self.jacobian = jac.finish();
         self.hessian = hess.finish();

@@ -21,9 +21,11 @@ pub(crate) use loops::{
     loop_work_third,
 };
 
+use std::sync::Arc;
+
 use num_dual::Dual;
 
-use crate::autodiff::{ScalarFunction, VectorFunction};
+use crate::autodiff::{ScalarFunction, SymmetricGroups, VectorFunction};
 use crate::contact::{FrictionBasis, Terrain, tangential_coordinates};
 use crate::discrete::{
     Mechanics, SegmentLagrangian, euler_knot, half_force, initial_momentum, loop_work,
@@ -152,6 +154,12 @@ pub struct Block<K> {
     pub hessian_free_inputs: Vec<usize>,
     /// For each input: whether its variable is free (not fixed by its bounds).
     pub free_input_mask: Vec<bool>,
+    /// Column groups of the block's second derivative (a cost's Hessian over
+    /// [`Block::hessian_inputs`]; a DEL segment's Hessian of Ld over all inputs) when its
+    /// dependency structure lets columns share a pass; `None` when every group would hold one.
+    pub second_derivative_groups: Option<Arc<SymmetricGroups>>,
+    /// The same over [`Block::hessian_free_inputs`] (cost) or the free inputs (segment).
+    pub free_second_derivative_groups: Option<Arc<SymmetricGroups>>,
 }
 
 impl<K> Block<K> {
@@ -173,6 +181,8 @@ impl<K> Block<K> {
             hessian_inputs: Vec::new(),
             hessian_free_inputs: Vec::new(),
             free_input_mask: Vec::new(),
+            second_derivative_groups: None,
+            free_second_derivative_groups: None,
         }
     }
 }
