@@ -154,6 +154,12 @@ pub enum Command {
         #[arg(long, short)]
         quiet: bool,
     },
+    /// The paper's accuracy studies: first-order against variational time stepping.
+    #[command(after_help = EXIT_CODES)]
+    Study {
+        #[command(subcommand)]
+        study: StudyKind,
+    },
     /// Check a problem file without solving and print its size.
     #[command(after_help = EXIT_CODES)]
     Check {
@@ -227,6 +233,45 @@ pub enum Command {
         record: PathBuf,
         /// Problems to check or add (relative to the working directory); default: the record's.
         files: Vec<PathBuf>,
+    },
+}
+
+/// `vito study ...`.
+#[derive(Debug, Subcommand)]
+pub enum StudyKind {
+    /// Figure 5: a tumbling brick from seeded random states, each method at K knots over the
+    /// horizon (h = T/(K − 1)) against a first-order reference at 2 kHz; RMS configuration
+    /// error per K and method (brick_accuracy.csv, brick_accuracy_runs.csv, brick_accuracy.svg).
+    BrickAccuracy {
+        /// The brick's problem file (robot, contacts, terrain, gravity; its initial state is
+        /// replaced by the seeded ones).
+        #[arg(long, default_value = "problems/brick_3d.toml")]
+        problem: PathBuf,
+        /// Random initial states (seeds 0..N).
+        #[arg(long, default_value_t = 20)]
+        seeds: usize,
+        /// Knot counts (comma-separated).
+        #[arg(
+            long,
+            value_delimiter = ',',
+            default_value = "3,4,5,6,7,8,9,10,11,12,13,14,15,16"
+        )]
+        knots: Vec<usize>,
+        /// Horizon T (s).
+        #[arg(long, default_value_t = 0.5)]
+        horizon: f64,
+        /// Largest initial rate of each roll–pitch–yaw angle (rad/s).
+        #[arg(long, default_value_t = 0.5)]
+        spin: f64,
+        /// Largest initial roll and pitch (rad).
+        #[arg(long, default_value_t = 0.2)]
+        tilt: f64,
+        /// Output directory.
+        #[arg(long, default_value = "out/brick_accuracy")]
+        out: PathBuf,
+        /// No progress bar.
+        #[arg(long, short)]
+        quiet: bool,
     },
 }
 
@@ -311,6 +356,8 @@ pub enum CliError {
     Simulation(#[from] vito::sim::SimulationError),
     #[error(transparent)]
     Transcription(#[from] vito::transcription::TranscriptionError),
+    #[error("study: {0}")]
+    Study(#[from] vito::study::StudyError),
 }
 
 impl CliError {
@@ -340,6 +387,12 @@ impl CliError {
             },
             CliError::Report(_) | CliError::Internal(_) => 3,
             CliError::Simulation(_) => 1,
+            CliError::Study(e) => match e {
+                vito::study::StudyError::Invalid { .. }
+                | vito::study::StudyError::Transcription(_) => 2,
+                vito::study::StudyError::Write { .. } => 3,
+                _ => 1,
+            },
         }
     }
 }
@@ -414,6 +467,28 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
             };
             simulate(&file, &set, &request, out.as_deref(), quiet)
         }
+        Command::Study { study } => match study {
+            StudyKind::BrickAccuracy {
+                problem,
+                seeds,
+                knots,
+                horizon,
+                spin,
+                tilt,
+                out,
+                quiet,
+            } => {
+                let study = vito::study::brick::BrickAccuracy {
+                    seeds,
+                    knots,
+                    horizon,
+                    spin,
+                    tilt,
+                    ..Default::default()
+                };
+                brick_accuracy(&problem, &study, &out, quiet)
+            }
+        },
         Command::Init { urdf, base, out } => init(&urdf, base.into(), out.as_deref()),
         Command::Inspect { urdf, base, json } => inspect(&urdf, base.into(), json),
         Command::Bench { files, set } => bench(&files, &set),
@@ -749,6 +824,77 @@ fn simulate(
         summary["newton_iterations"]["mean"]
     );
     out!("written to     {}", written.display());
+    Ok(0)
+}
+
+/// A progress bar counting runs (hidden when `quiet`).
+fn study_bar(quiet: bool, what: &str) -> indicatif::ProgressBar {
+    let bar = if quiet {
+        indicatif::ProgressBar::hidden()
+    } else {
+        indicatif::ProgressBar::new(0)
+    };
+    if let Ok(style) = indicatif::ProgressStyle::with_template(&format!(
+        "{what} {{bar:40}} {{pos}}/{{len}} runs, ETA {{eta}}"
+    )) {
+        bar.set_style(style);
+    }
+    bar
+}
+
+/// Prints a study's table with each method's log-log slope of error against knot count.
+fn print_study(table: &vito::study::StudyTable) -> Result<(), CliError> {
+    use vito::study::{Method, log_log_slope};
+    out!("knots  first_order mean ± std     variational mean ± std");
+    let mut knots: Vec<usize> = table.rows.iter().map(|r| r.knots).collect();
+    knots.dedup();
+    for k in knots {
+        let cell = |m| {
+            table.row(k, m).map_or_else(String::new, |r| {
+                format!("{:.4e} ± {:.2e}", r.mean(), r.std())
+            })
+        };
+        out!(
+            "{k:>5}  {:<26} {}",
+            cell(Method::FirstOrder),
+            cell(Method::Variational)
+        );
+    }
+    for m in Method::BOTH {
+        if let Some(slope) = log_log_slope(&table.means(m)) {
+            out!("{:<12} log-log slope {slope:.3}", m.name());
+        }
+    }
+    Ok(())
+}
+
+fn brick_accuracy(
+    file: &Path,
+    study: &vito::study::brick::BrickAccuracy,
+    out: &Path,
+    quiet: bool,
+) -> Result<u8, CliError> {
+    study.check()?;
+    let problem = load(file, &[])?;
+    let protected = [problem.file.as_path(), problem.spec.robot.urdf.as_path()];
+    let target = report::OutputTarget::check(out, &protected).map_err(report::ReportError::from)?;
+    let bar = study_bar(quiet, "brick study");
+    let table = study.run(&problem.spec, |done, total| {
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+    });
+    bar.finish_and_clear();
+    let table = table?;
+    let staged = target.stage().map_err(report::ReportError::from)?;
+    table.write(
+        staged.path(),
+        "brick_accuracy",
+        "Tumbling brick: RMS configuration error against the 2 kHz first-order reference",
+        "RMS error (m, rad)",
+    )?;
+    let written = staged.commit().map_err(report::ReportError::from)?;
+    print_study(&table)?;
+    out!("written to {}", written.display());
     Ok(0)
 }
 

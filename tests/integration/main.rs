@@ -15,6 +15,7 @@ mod model_mechanics;
 mod model_point_jet;
 mod model_robots;
 mod sim;
+mod study;
 mod transcription_derivative_check;
 mod transcription_derivatives;
 mod transcription_initial_guess;
