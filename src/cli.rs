@@ -273,6 +273,29 @@ pub enum StudyKind {
         #[arg(long, short)]
         quiet: bool,
     },
+    /// Figure 6: plans of a problem solved at K knots by each method, each tracked by PD
+    /// feedback (the plan's inputs as feedforward) in a first-order simulation at 2 kHz; RMS
+    /// state error per K and method (tracking.csv, tracking_runs.csv, tracking.svg).
+    Tracking {
+        /// The problem file planned (its horizon kept: a fixed step becomes T/(K − 1)).
+        #[arg(long, default_value = "problems/hopper_2d.toml")]
+        problem: PathBuf,
+        /// Overrides of the problem, as for `solve` (repeatable).
+        #[arg(long = "set", value_name = "KEY.PATH=VALUE")]
+        set: Vec<String>,
+        /// Knot counts (comma-separated).
+        #[arg(long, value_delimiter = ',', default_value = "10,15,20,25,30,35,40")]
+        knots: Vec<usize>,
+        /// PD gains by input name, `NAME=KP,KD` or `all=KP,KD` (repeatable).
+        #[arg(long, value_name = "NAME=KP,KD", default_values_t = ["all=100,10".to_string()])]
+        gains: Vec<String>,
+        /// Output directory.
+        #[arg(long, default_value = "out/tracking")]
+        out: PathBuf,
+        /// No progress bar.
+        #[arg(long, short)]
+        quiet: bool,
+    },
 }
 
 /// `vito sweep FILE --grid ...`.
@@ -467,28 +490,47 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
             };
             simulate(&file, &set, &request, out.as_deref(), quiet)
         }
-        Command::Study { study } => match study {
-            StudyKind::BrickAccuracy {
-                problem,
-                seeds,
-                knots,
-                horizon,
-                spin,
-                tilt,
-                out,
-                quiet,
-            } => {
-                let study = vito::study::brick::BrickAccuracy {
+        Command::Study {
+            study:
+                StudyKind::BrickAccuracy {
+                    problem,
                     seeds,
                     knots,
                     horizon,
                     spin,
                     tilt,
-                    ..Default::default()
-                };
-                brick_accuracy(&problem, &study, &out, quiet)
-            }
-        },
+                    out,
+                    quiet,
+                },
+        } => {
+            let study = vito::study::brick::BrickAccuracy {
+                seeds,
+                knots,
+                horizon,
+                spin,
+                tilt,
+                ..Default::default()
+            };
+            brick_accuracy(&problem, &study, &out, quiet)
+        }
+        Command::Study {
+            study:
+                StudyKind::Tracking {
+                    problem,
+                    set,
+                    knots,
+                    gains,
+                    out,
+                    quiet,
+                },
+        } => {
+            let study = vito::study::tracking::Tracking {
+                knots,
+                gains,
+                rate: 2000.0,
+            };
+            tracking(&problem, &set, &study, &out, quiet)
+        }
         Command::Init { urdf, base, out } => init(&urdf, base.into(), out.as_deref()),
         Command::Inspect { urdf, base, json } => inspect(&urdf, base.into(), json),
         Command::Bench { files, set } => bench(&files, &set),
@@ -894,6 +936,55 @@ fn brick_accuracy(
     )?;
     let written = staged.commit().map_err(report::ReportError::from)?;
     print_study(&table)?;
+    out!("written to {}", written.display());
+    Ok(0)
+}
+
+fn tracking(
+    file: &Path,
+    set: &[String],
+    study: &vito::study::tracking::Tracking,
+    out: &Path,
+    quiet: bool,
+) -> Result<u8, CliError> {
+    study.check()?;
+    let overrides = parse_overrides(set)?;
+    let problem = load(file, &overrides)?;
+    let protected = [problem.file.as_path(), problem.spec.robot.urdf.as_path()];
+    let target = report::OutputTarget::check(out, &protected).map_err(report::ReportError::from)?;
+    let bar = study_bar(quiet, "tracking study");
+    let table = study.run(file, &overrides, |done, total| {
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+    });
+    bar.finish_and_clear();
+    let result = table?;
+    let table = &result.table;
+    let staged = target.stage().map_err(report::ReportError::from)?;
+    let plans_csv = staged.path().join("tracking_plans.csv");
+    report::write_file_atomic(&plans_csv, result.plans_csv().as_bytes())
+        .map_err(|e| CliError::Internal(format!("{}: {e}", plans_csv.display())))?;
+    table.write(
+        staged.path(),
+        "tracking",
+        &format!(
+            "{}: RMS state error of PD tracking at 2 kHz",
+            problem.spec.name
+        ),
+        "RMS state error (q and v, problem units)",
+    )?;
+    let written = staged.commit().map_err(report::ReportError::from)?;
+    print_study(table)?;
+    for p in &result.plans {
+        out!(
+            "plan {:>3} knots {:<12} objective {:.6e}, max slack {:.2e}, {} iterations",
+            p.knots,
+            p.method.name(),
+            p.objective,
+            p.max_slack,
+            p.iterations
+        );
+    }
     out!("written to {}", written.display());
     Ok(0)
 }

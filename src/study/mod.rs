@@ -3,10 +3,12 @@
 //!
 //! Where things are: `brick` (figure 5: open-loop tumbling brick against a 2 kHz first-order
 //! reference), `table` (the per-knot-count table, its CSV and its SVG, and the log-log slope
-//! fit). Figure 6 (tracking) is not built yet.
+//! fit), `tracking` (figure 6: plans of both methods tracked by PD control in a 2 kHz
+//! first-order simulation).
 
 pub mod brick;
 pub mod table;
+pub mod tracking;
 
 pub use table::{Method, StudyRow, StudyTable, log_log_slope};
 
@@ -32,6 +34,14 @@ pub enum StudyError {
         what: String,
         /// Why.
         source: crate::sim::SimulationError,
+    },
+    /// A plan was not solved.
+    #[error("{what}: {message}")]
+    Plan {
+        /// Which plan.
+        what: String,
+        /// Why.
+        message: String,
     },
     /// Writing the table or plot failed.
     #[error("{path}: {message}")]
