@@ -154,6 +154,12 @@ pub enum Command {
         #[arg(long, short)]
         quiet: bool,
     },
+    /// The paper's accuracy studies: first-order against variational time stepping.
+    #[command(after_help = EXIT_CODES)]
+    Study {
+        #[command(subcommand)]
+        study: StudyKind,
+    },
     /// Check a problem file without solving and print its size.
     #[command(after_help = EXIT_CODES)]
     Check {
@@ -227,6 +233,68 @@ pub enum Command {
         record: PathBuf,
         /// Problems to check or add (relative to the working directory); default: the record's.
         files: Vec<PathBuf>,
+    },
+}
+
+/// `vito study ...`.
+#[derive(Debug, Subcommand)]
+pub enum StudyKind {
+    /// Figure 5: a tumbling brick from seeded random states, each method at K knots over the
+    /// horizon (h = T/(K − 1)) against a first-order reference at 2 kHz; RMS configuration
+    /// error per K and method (brick_accuracy.csv, brick_accuracy_runs.csv, brick_accuracy.svg).
+    BrickAccuracy {
+        /// The brick's problem file (robot, contacts, terrain, gravity; its initial state is
+        /// replaced by the seeded ones).
+        #[arg(long, default_value = "problems/brick_3d.toml")]
+        problem: PathBuf,
+        /// Random initial states (seeds 0..N).
+        #[arg(long, default_value_t = 20)]
+        seeds: usize,
+        /// Knot counts (comma-separated).
+        #[arg(
+            long,
+            value_delimiter = ',',
+            default_value = "3,4,5,6,7,8,9,10,11,12,13,14,15,16"
+        )]
+        knots: Vec<usize>,
+        /// Horizon T (s).
+        #[arg(long, default_value_t = 0.5)]
+        horizon: f64,
+        /// Largest initial rate of each roll–pitch–yaw angle (rad/s).
+        #[arg(long, default_value_t = 0.5)]
+        spin: f64,
+        /// Largest initial roll and pitch (rad).
+        #[arg(long, default_value_t = 0.2)]
+        tilt: f64,
+        /// Output directory.
+        #[arg(long, default_value = "out/brick_accuracy")]
+        out: PathBuf,
+        /// No progress bar.
+        #[arg(long, short)]
+        quiet: bool,
+    },
+    /// Figure 6: plans of a problem solved at K knots by each method, each tracked by PD
+    /// feedback (the plan's inputs as feedforward) in a first-order simulation at 2 kHz; RMS
+    /// state error per K and method (tracking.csv, tracking_runs.csv, tracking.svg).
+    Tracking {
+        /// The problem file planned (its horizon kept: a fixed step becomes T/(K − 1)).
+        #[arg(long, default_value = "problems/hopper_2d.toml")]
+        problem: PathBuf,
+        /// Overrides of the problem, as for `solve` (repeatable).
+        #[arg(long = "set", value_name = "KEY.PATH=VALUE")]
+        set: Vec<String>,
+        /// Knot counts (comma-separated).
+        #[arg(long, value_delimiter = ',', default_value = "10,15,20,25,30,35,40")]
+        knots: Vec<usize>,
+        /// PD gains by input name, `NAME=KP,KD` or `all=KP,KD` (repeatable).
+        #[arg(long, value_name = "NAME=KP,KD", default_values_t = ["all=100,10".to_string()])]
+        gains: Vec<String>,
+        /// Output directory.
+        #[arg(long, default_value = "out/tracking")]
+        out: PathBuf,
+        /// No progress bar.
+        #[arg(long, short)]
+        quiet: bool,
     },
 }
 
@@ -311,6 +379,8 @@ pub enum CliError {
     Simulation(#[from] vito::sim::SimulationError),
     #[error(transparent)]
     Transcription(#[from] vito::transcription::TranscriptionError),
+    #[error("study: {0}")]
+    Study(#[from] vito::study::StudyError),
 }
 
 impl CliError {
@@ -340,6 +410,12 @@ impl CliError {
             },
             CliError::Report(_) | CliError::Internal(_) => 3,
             CliError::Simulation(_) => 1,
+            CliError::Study(e) => match e {
+                vito::study::StudyError::Invalid { .. }
+                | vito::study::StudyError::Transcription(_) => 2,
+                vito::study::StudyError::Write { .. } => 3,
+                _ => 1,
+            },
         }
     }
 }
@@ -413,6 +489,47 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
                 integrator: integrator.map(Into::into),
             };
             simulate(&file, &set, &request, out.as_deref(), quiet)
+        }
+        Command::Study {
+            study:
+                StudyKind::BrickAccuracy {
+                    problem,
+                    seeds,
+                    knots,
+                    horizon,
+                    spin,
+                    tilt,
+                    out,
+                    quiet,
+                },
+        } => {
+            let study = vito::study::brick::BrickAccuracy {
+                seeds,
+                knots,
+                horizon,
+                spin,
+                tilt,
+                ..Default::default()
+            };
+            brick_accuracy(&problem, &study, &out, quiet)
+        }
+        Command::Study {
+            study:
+                StudyKind::Tracking {
+                    problem,
+                    set,
+                    knots,
+                    gains,
+                    out,
+                    quiet,
+                },
+        } => {
+            let study = vito::study::tracking::Tracking {
+                knots,
+                gains,
+                rate: 2000.0,
+            };
+            tracking(&problem, &set, &study, &out, quiet)
         }
         Command::Init { urdf, base, out } => init(&urdf, base.into(), out.as_deref()),
         Command::Inspect { urdf, base, json } => inspect(&urdf, base.into(), json),
@@ -762,6 +879,126 @@ fn simulate(
         summary["newton_iterations"]["mean"]
     );
     out!("written to     {}", written.display());
+    Ok(0)
+}
+
+/// A progress bar counting runs (hidden when `quiet`).
+fn study_bar(quiet: bool, what: &str) -> indicatif::ProgressBar {
+    let bar = if quiet {
+        indicatif::ProgressBar::hidden()
+    } else {
+        indicatif::ProgressBar::new(0)
+    };
+    if let Ok(style) = indicatif::ProgressStyle::with_template(&format!(
+        "{what} {{bar:40}} {{pos}}/{{len}} runs, ETA {{eta}}"
+    )) {
+        bar.set_style(style);
+    }
+    bar
+}
+
+/// Prints a study's table with each method's log-log slope of error against knot count.
+fn print_study(table: &vito::study::StudyTable) -> Result<(), CliError> {
+    use vito::study::{Method, log_log_slope};
+    out!("knots  first_order mean ± std     variational mean ± std");
+    let mut knots: Vec<usize> = table.rows.iter().map(|r| r.knots).collect();
+    knots.dedup();
+    for k in knots {
+        let cell = |m| {
+            table.row(k, m).map_or_else(String::new, |r| {
+                format!("{:.4e} ± {:.2e}", r.mean(), r.std())
+            })
+        };
+        out!(
+            "{k:>5}  {:<26} {}",
+            cell(Method::FirstOrder),
+            cell(Method::Variational)
+        );
+    }
+    for m in Method::BOTH {
+        if let Some(slope) = log_log_slope(&table.means(m)) {
+            out!("{:<12} log-log slope {slope:.3}", m.name());
+        }
+    }
+    Ok(())
+}
+
+fn brick_accuracy(
+    file: &Path,
+    study: &vito::study::brick::BrickAccuracy,
+    out: &Path,
+    quiet: bool,
+) -> Result<u8, CliError> {
+    study.check()?;
+    let problem = load(file, &[])?;
+    let protected = [problem.file.as_path(), problem.spec.robot.urdf.as_path()];
+    let target = report::OutputTarget::check(out, &protected).map_err(report::ReportError::from)?;
+    let bar = study_bar(quiet, "brick study");
+    let table = study.run(&problem.spec, |done, total| {
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+    });
+    bar.finish_and_clear();
+    let table = table?;
+    let staged = target.stage().map_err(report::ReportError::from)?;
+    table.write(
+        staged.path(),
+        "brick_accuracy",
+        "Tumbling brick: RMS configuration error against the 2 kHz first-order reference",
+        "RMS error (m, rad)",
+    )?;
+    let written = staged.commit().map_err(report::ReportError::from)?;
+    print_study(&table)?;
+    out!("written to {}", written.display());
+    Ok(0)
+}
+
+fn tracking(
+    file: &Path,
+    set: &[String],
+    study: &vito::study::tracking::Tracking,
+    out: &Path,
+    quiet: bool,
+) -> Result<u8, CliError> {
+    study.check()?;
+    let overrides = parse_overrides(set)?;
+    let problem = load(file, &overrides)?;
+    let protected = [problem.file.as_path(), problem.spec.robot.urdf.as_path()];
+    let target = report::OutputTarget::check(out, &protected).map_err(report::ReportError::from)?;
+    let bar = study_bar(quiet, "tracking study");
+    let table = study.run(file, &overrides, |done, total| {
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+    });
+    bar.finish_and_clear();
+    let result = table?;
+    let table = &result.table;
+    let staged = target.stage().map_err(report::ReportError::from)?;
+    let plans_csv = staged.path().join("tracking_plans.csv");
+    report::write_file_atomic(&plans_csv, result.plans_csv().as_bytes())
+        .map_err(|e| CliError::Internal(format!("{}: {e}", plans_csv.display())))?;
+    table.write(
+        staged.path(),
+        "tracking",
+        &format!(
+            "{}: RMS state error of PD tracking at 2 kHz",
+            problem.spec.name
+        ),
+        "RMS state error (q and v, problem units)",
+    )?;
+    let written = staged.commit().map_err(report::ReportError::from)?;
+    print_study(table)?;
+    for p in &result.plans {
+        out!(
+            "plan {:>3} knots {:<12} objective {:.6e}, max slack {:.2e}, {} iterations",
+            p.knots,
+            p.method.name(),
+            p.objective,
+            p.max_slack,
+            p.iterations
+        );
+    }
+    out!("written to {}", written.display());
     Ok(0)
 }
 

@@ -22,7 +22,8 @@
 //! - `problem`: TOML schema, validation into a checked `ProblemSpec`.
 //! - `report`: trajectory CSV, summary JSON, SVG plots, regression records.
 //! - `sim`: forward simulation with the same DEL and contact rows as the NLP (each step a
-//!   small complementarity problem), the inputs of `vito simulate` and the accuracy studies.
+//!   small complementarity problem), the inputs of `vito simulate`.
+//! - `study`: the paper's accuracy studies (figures 5 and 6) over `sim` and `pipeline`.
 //! - `testing`: the seeded generator of test and benchmark inputs.
 //! - `pipeline`: the steps the commands run on a loaded problem (Ipopt's option check, the
 //!   solver's NLP and its size, solve, bench), so that `check` reports what `solve` builds.
@@ -53,6 +54,7 @@ pub mod regress;
 pub mod report;
 pub mod scalar;
 pub mod sim;
+pub mod study;
 pub mod sweep;
 pub mod testing;
 pub mod trajectory_csv;

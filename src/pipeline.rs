@@ -291,7 +291,7 @@ pub fn prepare_simulation(
 }
 
 /// `NAME=KP,KD` per input (`all=KP,KD` for every input; later entries win).
-fn parse_gains(
+pub fn parse_gains(
     gains: &[String],
     robot: &crate::problem::RobotInfo,
 ) -> Result<Vec<crate::sim::Gain>, TranscriptionError> {

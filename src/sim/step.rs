@@ -288,6 +288,13 @@ impl<M: MechanicsDerivatives> ContactStep<'_, M> {
         let mut jac = DMatrix::zeros(dim, dim);
         if let Some(knot_jac) = knot_jac {
             jac.view_mut((0, 0), (n, n)).copy_from(&knot_jac);
+            // Proximal term on q as on the impulses: a coordinate chart singular at a
+            // configuration (roll–pitch–yaw at pitch ±π/2, where a brick rests on its end
+            // face) leaves a direction of q undetermined; the root is unchanged.
+            for r in 0..n {
+                let d = knot_jac[(r, r)].abs();
+                jac[(r, r)] += PROXIMAL * d.max(f64::MIN_POSITIVE);
+            }
         }
         let mut plain = 0.0_f64;
         let mut complementarity = 0.0_f64;
@@ -518,24 +525,39 @@ impl<M: MechanicsDerivatives> ContactStep<'_, M> {
             })
             .collect();
         let mut total = 0;
+        // Each round may drop contacts a failed solve found clear of the ground, or add ones
+        // that ended below it; bounded so that the two cannot alternate for ever.
+        let mut rounds = 0;
         loop {
+            rounds += 1;
             for i in (0..nc).filter(|&i| !active[i]) {
                 let base = n + i * stride;
                 x[base..base + stride].iter_mut().for_each(|v| *v = 0.0);
             }
-            let (solved, iterations) =
-                match self.newton(x.clone(), &active, &scale, tolerance, options) {
-                    Ok(found) => found,
-                    // Once more from q_k at rest with no impulses: a long step's extrapolated
-                    // guess can start Newton in the wrong contact mode.
-                    Err(first) => {
-                        let mut cold = x.clone();
-                        cold[..n].copy_from_slice(self.q_curr);
-                        cold[n..].iter_mut().for_each(|v| *v = 0.0);
-                        self.newton(cold, &active, &scale, tolerance, options)
-                            .map_err(|_| first)?
+            let attempt = self.attempt(&x, &active, &scale, tolerance, momentum_scale, options);
+            let (solved, iterations) = match attempt {
+                Ok(found) => found,
+                Err((failure, last)) => {
+                    // A contact in flight carries no impulse, and its ψ (the sliding speed
+                    // bound) is then undetermined: Newton can wander along it for ever (ψ of
+                    // 1e9 with a singular matrix). Drop the contacts the failed solve ended
+                    // clear of the ground, and solve again; the check below adds back any
+                    // that end up below it.
+                    let e = self.evaluate(&last, 0.0, &scale, &active, false);
+                    let clearance = options.gravity * self.h * self.h * 1e-3;
+                    let flying: Vec<usize> = (0..nc)
+                        .filter(|&i| active[i] && e.distance[i] > clearance)
+                        .collect();
+                    if flying.is_empty() || rounds > 2 * nc + 2 {
+                        return Err(failure);
                     }
-                };
+                    for i in flying {
+                        active[i] = false;
+                    }
+                    x = last;
+                    continue;
+                }
+            };
             total += iterations;
             x = solved;
             let e = self.evaluate(&x, 0.0, &scale, &active, false);
@@ -545,10 +567,172 @@ impl<M: MechanicsDerivatives> ContactStep<'_, M> {
             if missed.is_empty() {
                 return Ok(self.outcome(&x, e, total));
             }
+            if rounds > 2 * nc + 2 {
+                return Err(StepFailure::NotConverged {
+                    iterations: total,
+                    residual: -e.distance.iter().cloned().fold(0.0, f64::min),
+                    tolerance,
+                });
+            }
             for i in missed {
                 active[i] = true;
             }
         }
+    }
+
+    /// Newton from x; once more from q_k at rest with no impulses (a long step's
+    /// extrapolated guess can start Newton in the wrong contact mode); last, path following
+    /// from far inside ([`Self::path_following`]), which large, strongly nonlinear steps
+    /// need. On failure, the first failure and the first attempt's last iterate.
+    fn attempt(
+        &self,
+        x: &[f64],
+        active: &[bool],
+        scale: &[f64],
+        tolerance: f64,
+        momentum_scale: f64,
+        options: &StepOptions,
+    ) -> Result<(Vec<f64>, usize), (StepFailure, Vec<f64>)> {
+        let n = self.n();
+        let (first, last) = match self.newton(x.to_vec(), active, scale, tolerance, options) {
+            Ok(found) => return Ok(found),
+            Err(failed) => failed,
+        };
+        let mut cold = x.to_vec();
+        cold[..n].copy_from_slice(self.q_curr);
+        cold[n..].iter_mut().for_each(|v| *v = 0.0);
+        if let Ok(found) = self.newton(cold, active, scale, tolerance, options) {
+            return Ok(found);
+        }
+        self.path_following(
+            x.to_vec(),
+            active,
+            scale,
+            tolerance,
+            momentum_scale,
+            options,
+        )
+        .map_err(|_| (first, last))
+    }
+
+    /// Armijo backtracking on ½‖Φ_ε‖² from x along `direction` (halving up to `trials`
+    /// times): the accepted point, its step length and its evaluation.
+    #[allow(clippy::too_many_arguments)]
+    fn armijo(
+        &self,
+        x: &[f64],
+        direction: &DVector<f64>,
+        merit: f64,
+        eps: f64,
+        scale: &[f64],
+        active: &[bool],
+        trials: usize,
+    ) -> Option<(Vec<f64>, f64, Evaluation)> {
+        let mut t = 1.0;
+        for _ in 0..trials {
+            let trial: Vec<f64> = x
+                .iter()
+                .zip(direction.iter())
+                .map(|(a, d)| a + t * d)
+                .collect();
+            let e = self.evaluate(&trial, eps, scale, active, false);
+            let value = 0.5 * e.residual.norm_squared();
+            if value.is_finite() && value <= (1.0 - 1e-4 * t) * merit {
+                return Some((trial, t, e));
+            }
+            t *= 0.5;
+        }
+        None
+    }
+
+    /// Path following on the smoothing: ε from the step's momentum scale squared (every
+    /// complementarity pair far inside, ab = ε, where Φ_ε is smooth and Newton's basin wide)
+    /// down to the floor, Newton converging each level to within its own smoothing before ε
+    /// falls by 10; a level that fails restarts from the last solved one with a gentler
+    /// decrease (down to 1.5). The interior-point central path of the step's NCP. Returns the
+    /// solution and the iterations.
+    fn path_following(
+        &self,
+        x0: Vec<f64>,
+        active: &[bool],
+        scale: &[f64],
+        tolerance: f64,
+        momentum_scale: f64,
+        options: &StepOptions,
+    ) -> Result<(Vec<f64>, usize), StepFailure> {
+        let eps_floor = (0.01 * tolerance).powi(2);
+        let budget = 10 * options.max_iterations;
+        let mut eps = momentum_scale.powi(2).max(eps_floor);
+        let mut factor = 0.1;
+        let mut x = x0;
+        let mut solved_x = x.clone();
+        let mut solved_eps = f64::INFINITY;
+        let mut iterations = 0;
+        let mut last = f64::INFINITY;
+        while iterations < budget {
+            // Converge the level: smoothed residual below a small fraction of √ε (or the
+            // tolerance at the floor).
+            let target = if eps <= eps_floor {
+                tolerance
+            } else {
+                (0.01 * eps.sqrt()).max(tolerance)
+            };
+            let mut converged = false;
+            for _ in 0..options.max_iterations {
+                let e = self.evaluate(&x, eps, scale, active, true);
+                let size = e.residual.amax();
+                last = e.plain;
+                if eps <= eps_floor && e.plain <= tolerance {
+                    return Ok((x, iterations));
+                }
+                if size <= target {
+                    converged = true;
+                    break;
+                }
+                if !e
+                    .residual
+                    .iter()
+                    .chain(e.jacobian.iter())
+                    .all(|v| v.is_finite())
+                {
+                    break;
+                }
+                iterations += 1;
+                let Some(direction) = e.jacobian.clone().lu().solve(&(-&e.residual)) else {
+                    break;
+                };
+                let merit = 0.5 * e.residual.norm_squared();
+                let Some((trial, _, _)) =
+                    self.armijo(&x, &direction, merit, eps, scale, active, 40)
+                else {
+                    break;
+                };
+                x = trial;
+            }
+            if converged {
+                solved_x.clone_from(&x);
+                solved_eps = eps;
+                if eps <= eps_floor {
+                    // Converged at the floor by the smoothed residual: polish with Newton.
+                    return self
+                        .newton(x, active, scale, tolerance, options)
+                        .map(|(x, k)| (x, iterations + k))
+                        .map_err(|(failure, _)| failure);
+                }
+                eps = (factor * eps).max(eps_floor);
+            } else if solved_eps.is_finite() && factor < 0.66 {
+                factor = factor.sqrt();
+                x.clone_from(&solved_x);
+                eps = (factor * solved_eps).max(eps_floor);
+            } else {
+                break;
+            }
+        }
+        Err(StepFailure::NotConverged {
+            iterations,
+            residual: last,
+            tolerance,
+        })
     }
 
     /// Newton's method on the smoothed system from x with the contacts marked `active`;
@@ -560,7 +744,7 @@ impl<M: MechanicsDerivatives> ContactStep<'_, M> {
         scale: &[f64],
         tolerance: f64,
         options: &StepOptions,
-    ) -> Result<(Vec<f64>, usize), StepFailure> {
+    ) -> Result<(Vec<f64>, usize), (StepFailure, Vec<f64>)> {
         // Smoothing continuation: ε starts at the size of the residual, and falls (by 10, or
         // at once to the residual's size) whenever Newton is on the smoothed path, i.e. its
         // residual is below √(2ε); a failed or tiny line-search step raises it again.
@@ -588,45 +772,39 @@ impl<M: MechanicsDerivatives> ContactStep<'_, M> {
                 .chain(e.jacobian.iter())
                 .all(|v| v.is_finite());
             if !finite {
-                return Err(StepFailure::NonFinite { iteration });
+                return Err((StepFailure::NonFinite { iteration }, x));
             }
             let direction = e
                 .jacobian
                 .clone()
                 .lu()
                 .solve(&(-&e.residual))
-                .ok_or(StepFailure::Singular { iteration })?;
-            // Armijo backtracking on ½‖Φ_ε‖².
+                .ok_or(StepFailure::Singular { iteration });
+            let direction = match direction {
+                Ok(d) => d,
+                Err(failure) => return Err((failure, x)),
+            };
             let merit = 0.5 * e.residual.norm_squared();
-            let mut t = 1.0;
-            let mut accepted = false;
-            for _ in 0..30 {
-                let trial: Vec<f64> = x
-                    .iter()
-                    .zip(direction.iter())
-                    .map(|(a, d)| a + t * d)
-                    .collect();
-                let trial_eval = self.evaluate(&trial, eps, scale, active, false);
-                let value = 0.5 * trial_eval.residual.norm_squared();
-                if value.is_finite() && value <= (1.0 - 1e-4 * t) * merit {
-                    x = trial;
-                    current = trial_eval;
-                    accepted = true;
-                    break;
-                }
-                t *= 0.5;
+            let step = self.armijo(&x, &direction, merit, eps, scale, active, 30);
+            let short = step.as_ref().is_none_or(|(_, t, _)| *t < 1e-2);
+            if let Some((trial, _, trial_eval)) = step {
+                x = trial;
+                current = trial_eval;
             }
-            if !accepted || t < 1e-2 {
+            if short {
                 // Stalled on a nonsmooth valley (or jammed at an impulse's bound): smooth
                 // more and go on from here.
                 eps = (100.0 * eps).max((0.1 * e.plain).powi(2));
                 current = self.evaluate(&x, eps, scale, active, false);
             }
         }
-        Err(StepFailure::NotConverged {
-            iterations: options.max_iterations,
-            residual: current.plain,
-            tolerance,
-        })
+        Err((
+            StepFailure::NotConverged {
+                iterations: options.max_iterations,
+                residual: current.plain,
+                tolerance,
+            },
+            x,
+        ))
     }
 }

@@ -17,6 +17,7 @@ mod model_point_jet;
 mod model_robots;
 mod model_user_urdfs;
 mod sim;
+mod study;
 mod transcription_derivative_check;
 mod transcription_derivatives;
 mod transcription_initial_guess;

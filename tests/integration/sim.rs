@@ -250,3 +250,59 @@ fn replayed_hopper_plan_reproduces_its_states() {
         );
     }
 }
+
+/// Loop-closure rows in a simulated step: the four-bar (`sample::four_bar`, two closure rows)
+/// started closed with the crank at 1 rad/s along the closure's null space, 1,000 steps of
+/// 0.01 s by each method. The closure residual stays below 1e-9 m at every knot, the loop
+/// impulses carry the linkage's load, and the linkage moves.
+#[test]
+fn four_bar_stays_closed_in_simulated_steps() {
+    use vito::autodiff::jacobian;
+    use vito::discrete::LoopClosure;
+    use vito::model::{self, BaseType, Model, sample};
+
+    let model = Model::from_urdf_str(&sample::four_bar(), BaseType::Fixed).expect("loads");
+    let (_, g) = jacobian(&LoopClosure { model: &model }, &[0.0; 3]);
+    let null = g.row(0).transpose().cross(&g.row(1).transpose());
+    let v0: Vec<f64> = null.iter().map(|x| x / null[0]).collect();
+    let mech = ModelMechanics::with_contacts(model, Vec::new());
+    let mut spec = reference::brick_3d();
+    spec.contacts.clear();
+    let ctx = Context::new(&mech, &spec);
+    assert_eq!(ctx.nl, 2);
+    for integrator in [Integrator::Midpoint, Integrator::Euler] {
+        let options = SimulationOptions {
+            integrator,
+            h: 0.01,
+            steps: 1000,
+            step: StepOptions::default(),
+        };
+        let sim = simulate(
+            &mech,
+            &ctx,
+            &[0.0; 3],
+            &v0,
+            &options,
+            |_, _, _, _| vec![0.0; mech.nu()],
+            |_| {},
+        )
+        .expect("simulates");
+        let worst = sim
+            .q
+            .iter()
+            .flat_map(|q| model::loop_residual(mech.model(), q))
+            .fold(0.0_f64, |a, r: f64| a.max(r.abs()));
+        let load = sim
+            .impulses
+            .iter()
+            .flat_map(|i| i.loops.iter())
+            .fold(0.0_f64, |a, x| a.max(x.abs()));
+        let travel = sim.q.iter().map(|q| q[0].abs()).fold(0.0, f64::max);
+        println!(
+            "{integrator:?}: closure residual {worst:.3e} m, largest loop impulse {load:.3e} N·s, crank swing {travel:.3} rad"
+        );
+        assert!(worst < 1e-9, "{integrator:?}: closure residual {worst:e}");
+        assert!(load > 1e-3, "{integrator:?}: loop impulses {load:e}");
+        assert!(travel > 0.1, "{integrator:?}: crank swung {travel} rad");
+    }
+}

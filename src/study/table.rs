@@ -1,0 +1,262 @@
+//! A study's result: RMS error per knot count and method (mean and standard deviation over
+//! runs), its CSV `knots,method,rms_mean,rms_std` and its SVG (mean with ±std bars, like the
+//! paper's figures), and the log-log slope of error against knot count.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use plotters::prelude::*;
+
+use super::StudyError;
+use crate::discrete::Integrator;
+
+/// The two methods compared.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Method {
+    /// Semi-implicit Euler time stepping (Posa et al.; Stewart and Trinkle).
+    FirstOrder,
+    /// The midpoint variational method of the paper.
+    Variational,
+}
+
+impl Method {
+    /// Both, first order first.
+    pub const BOTH: [Method; 2] = [Method::FirstOrder, Method::Variational];
+
+    /// The integrator that implements the method.
+    pub fn integrator(self) -> Integrator {
+        match self {
+            Method::FirstOrder => Integrator::Euler,
+            Method::Variational => Integrator::Midpoint,
+        }
+    }
+
+    /// The CSV's name of the method.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::FirstOrder => "first_order",
+            Method::Variational => "variational",
+        }
+    }
+}
+
+/// One knot count and method.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StudyRow {
+    /// Knot count K (K − 1 steps over the horizon).
+    pub knots: usize,
+    /// The method.
+    pub method: Method,
+    /// RMS error per run (seed or plan), in the order run.
+    pub runs: Vec<f64>,
+}
+
+impl StudyRow {
+    /// Mean over runs.
+    pub fn mean(&self) -> f64 {
+        self.runs.iter().sum::<f64>() / self.runs.len().max(1) as f64
+    }
+
+    /// Population standard deviation over runs.
+    pub fn std(&self) -> f64 {
+        let m = self.mean();
+        let var = self.runs.iter().map(|x| (x - m) * (x - m)).sum::<f64>()
+            / self.runs.len().max(1) as f64;
+        var.sqrt()
+    }
+}
+
+/// A study's rows, knot counts ascending, first order before variational at each.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct StudyTable {
+    /// The rows.
+    pub rows: Vec<StudyRow>,
+}
+
+impl StudyTable {
+    /// The row of (knots, method).
+    pub fn row(&self, knots: usize, method: Method) -> Option<&StudyRow> {
+        self.rows
+            .iter()
+            .find(|r| r.knots == knots && r.method == method)
+    }
+
+    /// (knots, mean) of one method, knot counts ascending.
+    pub fn means(&self, method: Method) -> Vec<(f64, f64)> {
+        self.rows
+            .iter()
+            .filter(|r| r.method == method)
+            .map(|r| (r.knots as f64, r.mean()))
+            .collect()
+    }
+
+    /// The CSV: `knots,method,rms_mean,rms_std`, one line per row.
+    pub fn csv(&self) -> String {
+        let mut s = String::from("knots,method,rms_mean,rms_std\n");
+        for r in &self.rows {
+            // Infallible: writing to a String.
+            let _ = writeln!(
+                s,
+                "{},{},{:.6e},{:.6e}",
+                r.knots,
+                r.method.name(),
+                r.mean(),
+                r.std()
+            );
+        }
+        s
+    }
+
+    /// Writes `<stem>.csv`, `<stem>_runs.csv` (every run's error) and `<stem>.svg` into `dir`.
+    pub fn write(
+        &self,
+        dir: &Path,
+        stem: &str,
+        title: &str,
+        y_label: &str,
+    ) -> Result<(), StudyError> {
+        let fail = |path: &Path, e: &dyn std::fmt::Display| StudyError::Write {
+            path: path.to_owned(),
+            message: e.to_string(),
+        };
+        let csv = dir.join(format!("{stem}.csv"));
+        crate::report::write_file_atomic(&csv, self.csv().as_bytes())
+            .map_err(|e| fail(&csv, &e))?;
+        let mut runs = String::from("knots,method,run,rms\n");
+        for r in &self.rows {
+            for (i, x) in r.runs.iter().enumerate() {
+                let _ = writeln!(runs, "{},{},{i},{x:.6e}", r.knots, r.method.name());
+            }
+        }
+        let runs_path = dir.join(format!("{stem}_runs.csv"));
+        crate::report::write_file_atomic(&runs_path, runs.as_bytes())
+            .map_err(|e| fail(&runs_path, &e))?;
+        let svg = dir.join(format!("{stem}.svg"));
+        let staging = dir.join(format!("{stem}.svg.tmp"));
+        self.svg(&staging, title, y_label)
+            .map_err(|e| fail(&svg, &e))?;
+        std::fs::rename(&staging, &svg).map_err(|e| fail(&svg, &e))?;
+        Ok(())
+    }
+
+    /// Mean per knot count with ±std bars, one colour per method (the paper's figures).
+    fn svg(&self, path: &Path, title: &str, y_label: &str) -> Result<(), String> {
+        let e = |e: &dyn std::fmt::Display| e.to_string();
+        let finite = |x: &f64| x.is_finite();
+        let x_max = self.rows.iter().map(|r| r.knots).max().unwrap_or(2) as f64 + 1.0;
+        let x_min = (self.rows.iter().map(|r| r.knots).min().unwrap_or(1) as f64 - 1.0).max(0.0);
+        let y_max = self
+            .rows
+            .iter()
+            .map(|r| r.mean() + r.std())
+            .filter(finite)
+            .fold(0.0_f64, f64::max)
+            * 1.05;
+        let y_max = if y_max > 0.0 { y_max } else { 1.0 };
+        let root = SVGBackend::new(path, (800, 480)).into_drawing_area();
+        root.fill(&WHITE).map_err(|x| e(&x))?;
+        let mut chart = ChartBuilder::on(&root)
+            .caption(title, ("sans-serif", 20))
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(70)
+            .build_cartesian_2d(x_min..x_max, 0.0..y_max)
+            .map_err(|x| e(&x))?;
+        chart
+            .configure_mesh()
+            .x_desc("knot points")
+            .y_desc(y_label)
+            .draw()
+            .map_err(|x| e(&x))?;
+        for (method, colour, offset) in [
+            (Method::FirstOrder, RGBColor(200, 60, 40), -0.08),
+            (Method::Variational, RGBColor(40, 90, 200), 0.08),
+        ] {
+            let rows: Vec<&StudyRow> = self.rows.iter().filter(|r| r.method == method).collect();
+            let points: Vec<(f64, f64)> = rows
+                .iter()
+                .map(|r| (r.knots as f64 + offset, r.mean()))
+                .filter(|p| p.1.is_finite())
+                .collect();
+            let label = match method {
+                Method::FirstOrder => "first order",
+                Method::Variational => "variational",
+            };
+            chart
+                .draw_series(LineSeries::new(points.clone(), colour.stroke_width(2)))
+                .map_err(|x| e(&x))?
+                .label(label)
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(2))
+                });
+            chart
+                .draw_series(points.iter().map(|&p| Circle::new(p, 3, colour.filled())))
+                .map_err(|x| e(&x))?;
+            chart
+                .draw_series(rows.iter().filter(|r| r.mean().is_finite()).map(|r| {
+                    let x = r.knots as f64 + offset;
+                    let (m, s) = (r.mean(), r.std());
+                    PathElement::new(
+                        vec![(x, (m - s).max(0.0)), (x, m + s)],
+                        colour.stroke_width(1),
+                    )
+                }))
+                .map_err(|x| e(&x))?;
+        }
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .position(SeriesLabelPosition::UpperRight)
+            .draw()
+            .map_err(|x| e(&x))?;
+        root.present().map_err(|x| e(&x))?;
+        Ok(())
+    }
+}
+
+/// The least-squares slope of log(error) against log(knots): the observed order of
+/// convergence with knot count (negative when the error falls). None for fewer than two
+/// positive points.
+pub fn log_log_slope(points: &[(f64, f64)]) -> Option<f64> {
+    let logs: Vec<(f64, f64)> = points
+        .iter()
+        .filter(|(x, y)| *x > 0.0 && *y > 0.0 && y.is_finite())
+        .map(|(x, y)| (x.ln(), y.ln()))
+        .collect();
+    if logs.len() < 2 {
+        return None;
+    }
+    let n = logs.len() as f64;
+    let (mx, my) = (
+        logs.iter().map(|p| p.0).sum::<f64>() / n,
+        logs.iter().map(|p| p.1).sum::<f64>() / n,
+    );
+    let sxy: f64 = logs.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    let sxx: f64 = logs.iter().map(|p| (p.0 - mx) * (p.0 - mx)).sum();
+    (sxx > 0.0).then(|| sxy / sxx)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Errors ∝ K^−2 give slope −2; the CSV has one line per row in the documented columns.
+    #[test]
+    fn slope_of_a_power_law_and_csv_columns() {
+        let points: Vec<(f64, f64)> = (3..10).map(|k| (k as f64, 5.0 / (k * k) as f64)).collect();
+        let slope = log_log_slope(&points).unwrap();
+        assert!((slope + 2.0).abs() < 1e-12, "{slope}");
+        let table = StudyTable {
+            rows: vec![StudyRow {
+                knots: 3,
+                method: Method::Variational,
+                runs: vec![1.0, 3.0],
+            }],
+        };
+        assert_eq!(
+            table.csv(),
+            "knots,method,rms_mean,rms_std\n3,variational,2.000000e0,1.000000e0\n"
+        );
+    }
+}

@@ -1,0 +1,240 @@
+//! Figure 6 of the paper: plans of a problem solved at K knots over its horizon by each
+//! method (first order: `integrator = "euler"`, variational: `"midpoint"`), each tracked from
+//! the plan's initial state by PD feedback on its joints (the plan's inputs as feedforward)
+//! in a first-order simulation at 2 kHz. A plan's error is the RMS over the simulation's
+//! knots of ‖x − x_plan(t)‖, x = (q, v) in the problem's units, q_plan linear between the
+//! plan's knots and v_plan its slope (the reference the PD controller tracks).
+
+use std::path::Path;
+
+use super::{Method, StudyError, StudyRow, StudyTable};
+use crate::discrete::Mechanics;
+use crate::problem::{Override, TimeSteps, load};
+use crate::sim::{InputSource, Simulation, SimulationOptions, StepOptions, simulate};
+use crate::trajectory_csv::RecordedTrajectory;
+use crate::transcription::{Context, SolveOptions};
+
+/// One solved plan of the study.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlanRecord {
+    /// Knot count.
+    pub knots: usize,
+    /// Method.
+    pub method: Method,
+    /// Objective (with the slack penalty).
+    pub objective: f64,
+    /// Largest complementarity slack: a plan with slack above the solver's tolerance relaxes
+    /// contact, and no simulation can follow it.
+    pub max_slack: f64,
+    /// Ipopt iterations.
+    pub iterations: usize,
+}
+
+/// The study's result: the table and each plan's record.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TrackingResult {
+    /// RMS state error per knot count and method.
+    pub table: StudyTable,
+    /// The plans, in the table's order.
+    pub plans: Vec<PlanRecord>,
+}
+
+impl TrackingResult {
+    /// The plans as CSV: `knots,method,objective,max_slack,iterations`.
+    pub fn plans_csv(&self) -> String {
+        let mut s = String::from("knots,method,objective,max_slack,iterations\n");
+        for p in &self.plans {
+            s += &format!(
+                "{},{},{:.10e},{:.3e},{}\n",
+                p.knots,
+                p.method.name(),
+                p.objective,
+                p.max_slack,
+                p.iterations
+            );
+        }
+        s
+    }
+}
+
+/// The study's settings.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Tracking {
+    /// Knot counts K of the plans (each ≥ 3).
+    pub knots: Vec<usize>,
+    /// PD gains, `NAME=KP,KD` or `all=KP,KD` (as `vito simulate --gains`).
+    pub gains: Vec<String>,
+    /// Steps per time unit of the tracking simulation.
+    pub rate: f64,
+}
+
+impl Tracking {
+    /// Checks the settings (one error naming the option).
+    pub fn check(&self) -> Result<(), StudyError> {
+        let invalid = |field: &str, message: &str| {
+            Err(StudyError::Invalid {
+                field: field.into(),
+                message: message.into(),
+            })
+        };
+        if self.knots.is_empty() || self.knots.iter().any(|&k| !(3..=10_000).contains(&k)) {
+            return invalid("--knots", "give knot counts from 3 to 10000, e.g. 10,15,20");
+        }
+        if self.gains.is_empty() {
+            return invalid("--gains", "give PD gains, e.g. --gains all=50,5");
+        }
+        if !(self.rate.is_finite() && self.rate > 0.0 && self.rate <= 1e6) {
+            return invalid(
+                "--rate",
+                "give a positive rate of at most 1e6 steps per time unit",
+            );
+        }
+        Ok(())
+    }
+
+    /// Runs the study on the problem `file` (with `overrides`): for each knot count and
+    /// method, a solve with `horizon.knots = K` (and, for a fixed step, the step that keeps
+    /// the file's horizon), then the tracking simulation. `progress(done, total)` after each
+    /// plan.
+    pub fn run(
+        &self,
+        file: &Path,
+        overrides: &[Override],
+        mut progress: impl FnMut(usize, usize),
+    ) -> Result<TrackingResult, StudyError> {
+        self.check()?;
+        let base = load(file, overrides).map_err(|e| StudyError::Invalid {
+            field: file.display().to_string(),
+            message: e.to_string(),
+        })?;
+        let horizon = match base.spec.time_steps {
+            TimeSteps::Fixed(h) => Some(h * (base.spec.knots - 1) as f64),
+            TimeSteps::FreeEqual { .. } => None,
+        };
+        let gains = crate::pipeline::parse_gains(&self.gains, &base.robot)?;
+        let mut rows = Vec::new();
+        let mut plans = Vec::new();
+        let total = 2 * self.knots.len();
+        for &knots in &self.knots {
+            for method in Method::BOTH {
+                let what = format!("{} with {knots} knots", method.name());
+                let mut set = overrides.to_vec();
+                let integrator = match method {
+                    Method::FirstOrder => "\"euler\"",
+                    Method::Variational => "\"midpoint\"",
+                };
+                let mut texts = vec![
+                    format!("horizon.knots={knots}"),
+                    format!("solver.integrator={integrator}"),
+                ];
+                if let Some(t) = horizon {
+                    texts.push(format!("horizon.time_step={:e}", t / (knots - 1) as f64));
+                }
+                for text in &texts {
+                    set.push(Override::parse(text).map_err(|e| StudyError::Invalid {
+                        field: "--knots".into(),
+                        message: e.to_string(),
+                    })?);
+                }
+                let problem = load(file, &set).map_err(|e| StudyError::Invalid {
+                    field: file.display().to_string(),
+                    message: e.to_string(),
+                })?;
+                let plan = crate::pipeline::solve(&problem.spec, &SolveOptions::default())?;
+                if !crate::report::is_solved(plan.status) {
+                    return Err(StudyError::Plan {
+                        what,
+                        message: format!("Ipopt: {}", crate::report::status_name(plan.status)),
+                    });
+                }
+                plans.push(PlanRecord {
+                    knots,
+                    method,
+                    objective: plan.objective,
+                    max_slack: plan.max_slack,
+                    iterations: plan.iterations,
+                });
+                let reference = RecordedTrajectory {
+                    times: plan.times.clone(),
+                    q: plan.q.clone(),
+                    u: plan.u.clone(),
+                };
+                let mech = crate::pipeline::mechanics(&problem.spec)?;
+                let ctx = Context::new(&mech, &problem.spec);
+                let h = 1.0 / self.rate;
+                let duration = plan.times.last().copied().unwrap_or(0.0);
+                let options = SimulationOptions {
+                    integrator: Method::FirstOrder.integrator(),
+                    h,
+                    steps: (duration / h).round().max(1.0) as usize,
+                    step: StepOptions {
+                        gravity: problem
+                            .spec
+                            .robot
+                            .gravity
+                            .iter()
+                            .map(|g| g * g)
+                            .sum::<f64>()
+                            .sqrt(),
+                        ..StepOptions::default()
+                    },
+                };
+                let source = InputSource::Track {
+                    reference: reference.clone(),
+                    gains: gains.clone(),
+                };
+                let m = mech.nu();
+                let sim = simulate(
+                    &mech,
+                    &ctx,
+                    &plan.q[0],
+                    &plan.v[0],
+                    &options,
+                    |_, t, q, v| source.input(m, t, q, v),
+                    |_| {},
+                )
+                .map_err(|source| StudyError::Simulation {
+                    what: what.clone(),
+                    source,
+                })?;
+                rows.push(StudyRow {
+                    knots,
+                    method,
+                    runs: vec![rms_state_error(&sim, &reference)],
+                });
+                progress(rows.len(), total);
+            }
+        }
+        Ok(TrackingResult {
+            table: StudyTable { rows },
+            plans,
+        })
+    }
+}
+
+/// √(mean over the simulation's knots of ‖q − q_ref(t)‖² + ‖v − v_ref(t)‖²), q_ref linear
+/// between the plan's knots, v_ref its slope (0 after the plan's end).
+pub fn rms_state_error(sim: &Simulation, plan: &RecordedTrajectory) -> f64 {
+    let times = &plan.times;
+    let last = times.len() - 1;
+    let sum: f64 = sim
+        .times
+        .iter()
+        .zip(sim.q.iter().zip(&sim.v))
+        .map(|(&t, (q, v))| {
+            let j = times.partition_point(|&s| s <= t).clamp(1, last);
+            let (t0, t1) = (times[j - 1], times[j]);
+            let s = ((t - t0) / (t1 - t0)).clamp(0.0, 1.0);
+            let after = t > times[last];
+            (0..q.len())
+                .map(|i| {
+                    let (a, b) = (plan.q[j - 1][i], plan.q[j][i]);
+                    let q_ref = a + s * (b - a);
+                    let v_ref = if after { 0.0 } else { (b - a) / (t1 - t0) };
+                    (q[i] - q_ref).powi(2) + (v[i] - v_ref).powi(2)
+                })
+                .sum::<f64>()
+        })
+        .sum();
+    (sum / sim.q.len() as f64).sqrt()
+}
