@@ -53,6 +53,7 @@ pub mod regress;
 pub mod report;
 pub mod scalar;
 pub mod sim;
+pub mod simulated_guess;
 pub mod sweep;
 pub mod testing;
 pub mod trajectory_csv;

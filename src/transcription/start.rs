@@ -43,7 +43,7 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                 if k == last {
                     b = intersect(b, spec.q_final[c]);
                 }
-                if k == 0 {
+                if k == 0 && !spec.q_initial_free.get(c).copied().unwrap_or(false) {
                     b = Interval::fixed(spec.q_initial[c]);
                 }
                 if b.lower > b.upper {
@@ -129,6 +129,14 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                         x[i] = from[c] + s * (to[c] - from[c]);
                     }
                 }
+            }
+            InitialGuess::Simulation(_) => {
+                return Err(TranscriptionError::Invalid {
+                    field: "initial_guess.simulation".into(),
+                    message: "a simulated initial guess is run by \
+                              pipeline::resolve_initial_guess before the NLP is built"
+                        .into(),
+                });
             }
             InitialGuess::WarmStart(w) => {
                 // Free steps take the previous solution's duration (within the window) and

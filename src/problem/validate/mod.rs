@@ -11,6 +11,7 @@ mod endpoints;
 mod horizon;
 mod initial_guess;
 mod inputs;
+mod metrics;
 mod periodic;
 mod robot;
 mod size;
@@ -60,7 +61,8 @@ pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, Pr
     let max_slip_speed = contacts::check_max_slip_speed(ctx, &raw)?;
     let slack_continuation = slack::check_slack_continuation(ctx, &raw)?;
     let periodic = periodic::check_periodic(ctx, &raw, &robot)?;
-    let initial_guess = initial_guess::check_initial_guess(ctx, &raw, &robot, &endpoints)?;
+    let initial_guess = initial_guess::check_initial_guess(ctx, &raw, &robot, &endpoints, knots)?;
+    let metrics = metrics::check_metrics(ctx, &raw, &robot)?;
     let solver::CheckedSolver {
         integrator,
         hessian,
@@ -68,6 +70,7 @@ pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, Pr
     } = solver::check_solver(ctx, &raw)?;
     let endpoints::Endpoints {
         q_initial,
+        q_initial_free,
         v_initial,
         goal,
         q_final,
@@ -101,6 +104,7 @@ pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, Pr
         slack_continuation,
         max_slip_speed,
         q_initial,
+        q_initial_free,
         v_initial,
         q_final,
         bounds,
@@ -111,6 +115,7 @@ pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, Pr
         initial_guess,
         hessian,
         solver_options,
+        metrics,
     };
     Ok(LoadedProblem {
         spec,
