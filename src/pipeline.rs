@@ -18,11 +18,10 @@ pub fn mechanics(spec: &ProblemSpec) -> Result<ModelMechanics, TranscriptionErro
     ModelMechanics::load(spec)
 }
 
-/// The solver's NLP for `spec`, built as [`solve`] builds it.
+/// The solver's NLP for `spec`, built as [`solve`] builds it, but for a simulated initial
+/// guess, which only [`solve`] and [`bench`] run (it holds q_1 here).
 pub fn build_nlp(spec: &ProblemSpec) -> Result<Transcription<ModelMechanics>, TranscriptionError> {
-    let mech = mechanics(spec)?;
-    let spec = resolve_initial_guess(&mech, spec)?;
-    Transcription::new(mech, &spec)
+    Transcription::new(mechanics(spec)?, spec)
 }
 
 /// Solves `spec` with the robot from its URDF.

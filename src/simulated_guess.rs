@@ -20,22 +20,49 @@ pub struct SimulatedStart {
     /// Largest |q_N − q_1 − offset| over the problem's position-periodicity rows (0 without
     /// them) on the last period: how far from a periodic cycle the simulation ended.
     pub periodicity_defect: f64,
-    /// Steps simulated.
+    /// Steps simulated (in the successful run).
     pub steps: usize,
+    /// Steps per knot interval it took (the problem's, doubled after each failed step).
+    pub substeps: usize,
     /// Wall time of the simulation [s].
     pub wall_time_s: f64,
 }
 
 /// Simulates `guess` for `spec`'s robot; the step is period / ((knots − 1) · substeps), so
-/// the last period lands on the knots exactly when T equals the period.
+/// the last period lands on the knots exactly when T equals the period. When the contact
+/// solver fails on a step, the whole run is repeated at half the step, up to 8 times finer.
 pub fn simulate_guess<M: MechanicsDerivatives>(
     mech: &M,
     spec: &ProblemSpec,
     guess: &SimulatedGuess,
 ) -> Result<SimulatedStart, SimulationError> {
     let started = Instant::now();
+    let mut substeps = guess.substeps.max(1);
+    loop {
+        match simulate_with(mech, spec, guess, substeps) {
+            Ok(mut start) => {
+                start.wall_time_s = started.elapsed().as_secs_f64();
+                return Ok(start);
+            }
+            // A step the contact solver cannot take at this size: halve the step.
+            Err(SimulationError::Step { .. }) if substeps < MAX_REFINEMENT * guess.substeps => {
+                substeps *= 2;
+            }
+            Err(e) => return Err(e),
+        }
+    }
+}
+
+/// How much finer than asked the step may get after failed steps.
+const MAX_REFINEMENT: usize = 8;
+
+fn simulate_with<M: MechanicsDerivatives>(
+    mech: &M,
+    spec: &ProblemSpec,
+    guess: &SimulatedGuess,
+    substeps: usize,
+) -> Result<SimulatedStart, SimulationError> {
     let intervals = spec.knots.saturating_sub(1).max(1);
-    let substeps = guess.substeps.max(1);
     let per_period = intervals * substeps;
     let h = guess.period / per_period as f64;
     let steps = per_period * guess.cycles.max(1);
@@ -95,7 +122,8 @@ pub fn simulate_guess<M: MechanicsDerivatives>(
         },
         periodicity_defect,
         steps,
-        wall_time_s: started.elapsed().as_secs_f64(),
+        substeps,
+        wall_time_s: 0.0,
     })
 }
 

@@ -130,7 +130,7 @@ pub enum InitialGuess {
     /// A previous solution resampled to this problem's knots (times from 0 to T).
     WarmStart(WarmStart),
     /// An open-loop simulation, run by `pipeline::resolve_initial_guess` into a
-    /// [`InitialGuess::WarmStart`] before the NLP is built.
+    /// [`InitialGuess::WarmStart`] before a solve (until then, q_1 held at every knot).
     Simulation(SimulatedGuess),
 }
 
@@ -154,11 +154,18 @@ pub struct SimulatedGuess {
 }
 
 impl SimulatedGuess {
-    /// The inputs at time t, before clipping.
+    /// The inputs at time t, before clipping. With more than one period the whole signal is
+    /// ramped in linearly over the first period, so the robot is not struck at t = 0 (the
+    /// guess is a later period, which the ramp does not reach).
     pub fn input(&self, t: f64) -> Vec<f64> {
         let angle = |phase: f64| std::f64::consts::TAU * (t / self.period + phase);
+        let ramp = if self.cycles > 1 {
+            (t / self.period).clamp(0.0, 1.0)
+        } else {
+            1.0
+        };
         (self.offset.iter().zip(&self.amplitude).zip(&self.phase))
-            .map(|((o, a), p)| o + a * angle(*p).sin())
+            .map(|((o, a), p)| ramp * (o + a * angle(*p).sin()))
             .collect()
     }
 }

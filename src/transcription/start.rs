@@ -130,13 +130,15 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                     }
                 }
             }
+            // Until `pipeline::resolve_initial_guess` has run the simulation (`solve` and
+            // `bench` do; `check` does not, since sizes and structure do not depend on it):
+            // q_1 held at every knot.
             InitialGuess::Simulation(_) => {
-                return Err(TranscriptionError::Invalid {
-                    field: "initial_guess.simulation".into(),
-                    message: "a simulated initial guess is run by \
-                              pipeline::resolve_initial_guess before the NLP is built"
-                        .into(),
-                });
+                for k in 0..l.knots {
+                    for (c, i) in l.q(k).enumerate() {
+                        x[i] = spec.q_initial[c];
+                    }
+                }
             }
             InitialGuess::WarmStart(w) => {
                 // Free steps take the previous solution's duration (within the window) and

@@ -8,6 +8,7 @@ mod common;
 mod cli;
 mod discrete;
 mod fuzz;
+mod hamr;
 mod ipopt;
 mod model_adjoint;
 mod model_errors;
