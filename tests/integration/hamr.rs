@@ -76,9 +76,9 @@ fn one_leg_spring_potential_matches_hand_values() {
 }
 
 /// At q = 0 every frame is a pure translation, so each link's centre of mass sits at the
-/// sum of the joint-origin z's along its chain plus its own COM z (FLL4: −0.50169 + 0.38169
-/// + 0 − 1.07 + 3.37060 = 2.18060 mm). Σ m_i g z_i over the chassis and the eight leg links
-/// = −3.2705128194e-3 N·mm; the springs add nothing there.
+/// sum of the joint-origin z's along its chain plus its own COM z (FLL4: −0.50169 plus
+/// 0.38169, 0, −1.07 and 3.37060 is 2.18060 mm). Σ m_i g z_i over the chassis and the eight
+/// leg links is −3.2705128194e-3 N·mm; the springs add nothing there.
 #[test]
 fn one_leg_gravity_potential_at_zero_matches_the_urdf_sum() {
     let m = one_leg(9.81e-3);
@@ -134,7 +134,14 @@ fn trot_family_has_the_papers_settings() {
     assert!((t_min - 90.0).abs() < 1e-12 && (t_max - 110.0).abs() < 1e-12);
     for (name, b) in p.robot.inputs.iter().zip(&s.input_bounds) {
         let limit = if name.ends_with("qsact") { 0.28 } else { 0.36 };
-        assert_eq!(*b, Interval { lower: -limit, upper: limit }, "{name}");
+        assert_eq!(
+            *b,
+            Interval {
+                lower: -limit,
+                upper: limit
+            },
+            "{name}"
+        );
     }
     let periodic: Vec<&str> = s
         .periodic
@@ -185,7 +192,9 @@ fn simulated_trot_keeps_the_loops_closed() {
         assert!(worst < 1e-6, "knot {k}: loop residual {worst:e} mm");
     }
     // The inputs move the legs: the actuator tips leave their rest position.
-    let tips = (6..38).step_by(4).filter(|&c| model.coordinate_names()[c].ends_with("act"));
+    let tips = (6..38)
+        .step_by(4)
+        .filter(|&c| model.coordinate_names()[c].ends_with("act"));
     let moved = tips
         .flat_map(|c| w.q.iter().map(move |q| q[c].abs()))
         .fold(0.0f64, f64::max);
