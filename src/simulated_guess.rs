@@ -7,7 +7,7 @@
 use std::time::Instant;
 
 use crate::discrete::MechanicsDerivatives;
-use crate::problem::{Interval, ProblemSpec, SimulatedGuess, WarmStart};
+use crate::problem::{Constraint, Interval, ProblemSpec, SimulatedGuess, WarmStart};
 use crate::sim::{SimulationError, SimulationOptions, StepOptions, simulate};
 use crate::transcription::Context;
 
@@ -53,6 +53,11 @@ pub fn simulate_guess<M: MechanicsDerivatives>(
     }
 }
 
+/// The contact solver's residual tolerance relative to the step's momentum scale: a guess
+/// needs no more (`vito simulate` asks 1e-10), and HAMR's open-loop trot stalls at 1e-5
+/// relative on some steps of any size.
+const GUESS_TOLERANCE: f64 = 1e-4;
+
 /// How much finer than asked the step may get after failed steps.
 const MAX_REFINEMENT: usize = 8;
 
@@ -73,6 +78,7 @@ fn simulate_with<M: MechanicsDerivatives>(
         steps,
         step: StepOptions {
             gravity,
+            relative_tolerance: GUESS_TOLERANCE,
             ..StepOptions::default()
         },
     };
@@ -108,10 +114,13 @@ fn simulate_with<M: MechanicsDerivatives>(
         }
     }
     let periodicity_defect = spec
-        .periodic
+        .constraints
         .iter()
-        .filter(|p| p.position)
-        .map(|p| (q[intervals][p.coordinate] - q[0][p.coordinate] - p.offset).abs())
+        .filter_map(|c| match c {
+            Constraint::Periodic(p) => p.offset.map(|offset| (p.coordinate, offset)),
+            _ => None,
+        })
+        .map(|(c, offset)| (q[intervals][c] - q[0][c] - offset).abs())
         .fold(0.0, f64::max);
     Ok(SimulatedStart {
         warm_start: WarmStart {

@@ -3,6 +3,7 @@
 //! `load(path, overrides)` reads a problem file, applies `--set` overrides, resolves every
 //! name against the robot and returns a [`LoadedProblem`] holding the [`ProblemSpec`].
 
+pub mod constraints;
 pub mod costs;
 mod error;
 pub mod family;
@@ -17,6 +18,7 @@ mod units;
 mod validate;
 
 pub use crate::model::CoordinateKind;
+pub use constraints::Constraint;
 pub use costs::CostTerm;
 pub use error::{Location, ProblemError};
 pub use load::{LoadedProblem, load, load_from_str};

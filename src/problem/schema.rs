@@ -13,6 +13,7 @@ use std::fmt;
 use serde::de::{self, MapAccess, SeqAccess, Visitor};
 use serde::{Deserialize, Deserializer};
 
+pub use super::constraints::{ConstraintEntry, PeriodicEntry};
 pub use super::costs::CostEntry;
 
 /// A whole problem file.
@@ -49,9 +50,12 @@ pub struct ProblemFile {
     pub cost: Vec<CostEntry>,
     /// `[slack]`.
     pub slack: SlackSection,
-    /// `[[periodic]]` conditions.
+    /// `[[periodic]]` conditions (shorthand for `[[constraint]] type = "periodic"`).
     #[serde(default)]
     pub periodic: Vec<PeriodicEntry>,
+    /// `[[constraint]]`: constraints of any kind, chosen by `type`.
+    #[serde(default)]
+    pub constraint: Vec<ConstraintEntry>,
     /// `[initial_guess]`.
     #[serde(default)]
     pub initial_guess: InitialGuessSection,
@@ -410,20 +414,6 @@ pub struct SlackSection {
     /// Where a raised-weight solve starts after an optimum: `"primal"` (default: its x),
     /// `"primal_dual"` (its x and multipliers) or `"initial_guess"`.
     pub restart: Option<String>,
-}
-
-/// `[[periodic]]`: q_N[c] − q_1[c] = offset and/or equal first and last velocities.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct PeriodicEntry {
-    /// Coordinate name.
-    pub coordinate: String,
-    /// Constrain q_N − q_1 = offset (default true).
-    pub position: Option<bool>,
-    /// The offset (default 0), e.g. a stride length.
-    pub offset: Option<f64>,
-    /// Constrain the last interval's velocity to equal the first's (default false).
-    pub velocity: Option<bool>,
 }
 
 /// `[initial_guess]`: where Ipopt starts.

@@ -8,6 +8,7 @@
 
 use std::path::PathBuf;
 
+use super::constraints::Constraint;
 use super::costs::CostTerm;
 use crate::contact::Terrain;
 pub use crate::discrete::Integrator;
@@ -108,17 +109,6 @@ pub struct CoordinateBound {
     pub coordinate: usize,
     pub knots: KnotSet,
     pub bound: Interval,
-}
-
-/// Periodicity between the first and last knot for one coordinate.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Periodicity {
-    pub coordinate: usize,
-    /// q_N[c] − q_1[c] = offset.
-    pub position: bool,
-    pub offset: f64,
-    /// Finite-difference velocity of the last interval equals that of the first.
-    pub velocity: bool,
 }
 
 /// Where the solver starts.
@@ -307,7 +297,8 @@ pub struct ProblemSpec {
     /// Bounds per input (length m).
     pub input_bounds: Vec<Interval>,
     pub costs: Vec<CostTerm>,
-    pub periodic: Vec<Periodicity>,
+    /// The problem file's constraints (`[[periodic]]`, `[[constraint]]`).
+    pub constraints: Vec<Constraint>,
     pub initial_guess: InitialGuess,
     pub hessian: HessianMode,
     /// Ipopt options in the order given (checked by the wrapper).

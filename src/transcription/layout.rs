@@ -11,11 +11,12 @@
 //! all holding J(q_{j+1})ᵀλ_j), loop closure a(q_{j+1}) (nl), tangential
 //! velocity (nc·nd), non-penetration φ(q_{j+1}) (nc), friction cone (nc), complementarity
 //! (3, or 3·nc per contact); then after all intervals: N−2 equal-step rows (free steps
-//! only), the loop closure at q_0 (nl), and the periodicity rows.
+//! only), the loop closure at q_0 (nl), and the rows of the problem file's constraints
+//! (`problem::constraints`), in their order.
 
 use std::ops::Range;
 
-use crate::problem::{Periodicity, SlackMode};
+use crate::problem::SlackMode;
 
 /// The per-knot sizes a layout is built from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -51,28 +52,20 @@ pub struct Layout {
     pub slack_mode: SlackMode,
     /// Whether the N−2 equal-step rows are present.
     pub equal_steps: bool,
-    /// Periodicity rows: (coordinate, is_velocity, offset).
-    pub periodic_rows: Vec<(usize, bool, f64)>,
+    /// The label of each row of the problem file's constraints, in order.
+    pub constraint_rows: Vec<String>,
 }
 
 impl Layout {
-    /// A layout for these sizes; `periodic` lists the periodicity constraints.
+    /// A layout for these sizes; `constraint_rows` labels the rows of the problem file's
+    /// constraints.
     pub fn new(
         dims: Dims,
         knots: usize,
         slack_mode: SlackMode,
         equal_steps: bool,
-        periodic: &[Periodicity],
+        constraint_rows: Vec<String>,
     ) -> Layout {
-        let mut periodic_rows = Vec::new();
-        for p in periodic {
-            if p.position {
-                periodic_rows.push((p.coordinate, false, p.offset));
-            }
-            if p.velocity {
-                periodic_rows.push((p.coordinate, true, 0.0));
-            }
-        }
         let Dims { n, m, nc, nd, nl } = dims;
         Layout {
             n,
@@ -83,7 +76,7 @@ impl Layout {
             knots,
             slack_mode,
             equal_steps,
-            periodic_rows,
+            constraint_rows,
         }
     }
 
@@ -245,16 +238,17 @@ impl Layout {
         let a = self.intervals() * self.rows_per_interval() + self.num_equal_step_rows();
         a..a + self.nl
     }
-    /// Periodicity row number r (in `periodic_rows` order).
-    pub fn periodic_row(&self, r: usize) -> usize {
+    /// Row r of the problem file's constraints (in `constraint_rows` order).
+    pub fn constraint_row(&self, r: usize) -> usize {
         self.first_loop_rows().end + r
     }
     /// Total number of constraint rows.
     pub fn num_constraints(&self) -> usize {
-        self.periodic_row(self.periodic_rows.len())
+        self.constraint_row(self.constraint_rows.len())
     }
 
-    /// Whether row `r` is an equality (g = 0) or an inequality (g ≥ 0).
+    /// Whether row `r` of the model's own rows is an equality (g = 0) or an inequality
+    /// (g ≥ 0). The problem file's constraints carry their own bounds.
     pub fn is_equality(&self, r: usize) -> bool {
         let per = self.intervals() * self.rows_per_interval();
         if r >= per {
@@ -414,13 +408,8 @@ impl Layout {
         if local < self.nl {
             return format!("loop closure {local}, knot 0");
         }
-        let p = local - self.nl;
-        match self.periodic_rows.get(p) {
-            Some(&(coord, velocity, _)) => format!(
-                "periodic {} {}",
-                names.coordinate(coord),
-                if velocity { "velocity" } else { "position" }
-            ),
+        match self.constraint_rows.get(local - self.nl) {
+            Some(label) => label.clone(),
             None => format!("row {r}"),
         }
     }
@@ -437,7 +426,13 @@ mod tests {
     /// SPEC.md's spring-flamingo-walk: 954 variables, 695 constraints (672 + 23).
     #[test]
     fn spring_flamingo_sizes_match_spec() {
-        let l = Layout::new(dims(9, 4, 4, 2, 0), 25, SlackMode::PerInterval, true, &[]);
+        let l = Layout::new(
+            dims(9, 4, 4, 2, 0),
+            25,
+            SlackMode::PerInterval,
+            true,
+            vec![],
+        );
         assert_eq!(l.num_variables(), 954);
         assert_eq!(l.num_constraints(), 695);
         assert_eq!(l.rows_per_interval() * 24, 672);
@@ -446,25 +441,26 @@ mod tests {
     /// SPEC.md's littledog-step: 2124 variables, 1333 constraints (1305 + 28).
     #[test]
     fn littledog_sizes_match_spec() {
-        let l = Layout::new(dims(18, 12, 4, 4, 0), 30, SlackMode::PerInterval, true, &[]);
+        let l = Layout::new(
+            dims(18, 12, 4, 4, 0),
+            30,
+            SlackMode::PerInterval,
+            true,
+            vec![],
+        );
         assert_eq!(l.num_variables(), 2124);
         assert_eq!(l.num_constraints(), 1333);
     }
 
     #[test]
     fn every_variable_and_row_has_exactly_one_owner() {
-        let periodic = [Periodicity {
-            coordinate: 1,
-            position: true,
-            offset: 0.5,
-            velocity: true,
-        }];
+        let constraint_rows = vec!["position".to_string(), "velocity".to_string()];
         let l = Layout::new(
             dims(3, 2, 2, 4, 1),
             5,
             SlackMode::PerContact,
             true,
-            &periodic,
+            constraint_rows,
         );
         let mut owner = vec![0usize; l.num_variables()];
         let mut mark = |r: Range<usize>| r.for_each(|i| owner[i] += 1);
@@ -502,7 +498,7 @@ mod tests {
             mark(l.equal_step_row(j)..l.equal_step_row(j) + 1);
         }
         mark(l.first_loop_rows());
-        mark(l.periodic_row(0)..l.periodic_row(2));
+        mark(l.constraint_row(0)..l.constraint_row(2));
         assert!(rows.iter().all(|&c| c == 1));
         assert!(l.is_equality(l.tangential_rows(1, 1).start));
         assert!(!l.is_equality(l.cone_row(1, 1)));

@@ -5,6 +5,7 @@ use super::Transcription;
 use super::blocks::{Block, ScalarKind, VectorKind};
 use super::layout::Layout;
 use crate::discrete::{Integrator, MechanicsDerivatives};
+use crate::problem::constraints::{ConstraintInput, KnotRef};
 use crate::problem::costs::{self, CostInputs};
 
 pub(super) fn range_vec(r: std::ops::Range<usize>) -> Vec<usize> {
@@ -227,29 +228,20 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                 targets,
             ));
         }
-        let last_knot = l.knots - 1;
-        for (r, &(c, velocity, offset)) in l.periodic_rows.iter().enumerate() {
-            let row = vec![vec![l.periodic_row(r)]];
-            if velocity {
-                let vars = vec![
-                    l.q(0).start + c,
-                    l.q(1).start + c,
-                    l.h(0),
-                    l.q(last_knot - 1).start + c,
-                    l.q(last_knot).start + c,
-                    l.h(last_knot - 1),
-                ];
-                self.vector_blocks
-                    .push(Block::new(VectorKind::PeriodicVelocity, vars, 6, row));
-            } else {
-                let vars = vec![l.q(0).start + c, l.q(last_knot).start + c];
-                self.vector_blocks.push(Block::new(
-                    VectorKind::PeriodicPosition { offset },
-                    vars,
-                    0,
-                    row,
-                ));
-            }
+        let mut row = l.constraint_row(0);
+        for (index, constraint) in self.ctx.constraints.iter().enumerate() {
+            let vars = constraint_variables(l, &constraint.inputs());
+            let targets = (0..constraint.rows().len())
+                .map(|r| vec![row + r])
+                .collect::<Vec<_>>();
+            row += targets.len();
+            let len = vars.len();
+            self.vector_blocks.push(Block::new(
+                VectorKind::Constraint { index },
+                vars,
+                len,
+                targets,
+            ));
         }
         for (term, cost) in self.ctx.costs.iter().enumerate() {
             let declared = costs::declaration(cost);
@@ -304,4 +296,26 @@ fn cost_placements(l: &Layout, inputs: CostInputs) -> Vec<Vec<usize>> {
         CostInputs::LastConfiguration => vec![range_vec(l.q(l.knots - 1))],
         CostInputs::Step => (0..l.intervals()).map(|j| vec![l.h(j)]).collect(),
     }
+}
+
+/// The variables a constraint reads, in the order it declares them. Knots and intervals
+/// it names exist: validation requires N ≥ 2 knots, and a constraint's check requires what
+/// it reads.
+fn constraint_variables(l: &Layout, inputs: &[ConstraintInput]) -> Vec<usize> {
+    let knot = |k: KnotRef| k.resolve(l.knots).unwrap_or(0);
+    let interval = |j: KnotRef| j.resolve(l.intervals()).unwrap_or(0);
+    let mut vars = Vec::new();
+    for input in inputs {
+        match *input {
+            ConstraintInput::Coordinate {
+                knot: k,
+                coordinate,
+            } => vars.push(l.q(knot(k)).start + coordinate),
+            ConstraintInput::Configuration(k) => vars.extend(l.q(knot(k))),
+            ConstraintInput::InitialVelocity => vars.extend(l.v0()),
+            ConstraintInput::Step(j) => vars.push(l.h(interval(j))),
+            ConstraintInput::Inputs(j) => vars.extend(l.u(interval(j))),
+        }
+    }
+    vars
 }

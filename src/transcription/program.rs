@@ -98,7 +98,10 @@ impl<M: MechanicsDerivatives> Transcription<M> {
             spec.knots,
             spec.slack_mode,
             equal_steps,
-            &spec.periodic,
+            spec.constraints
+                .iter()
+                .flat_map(|c| c.rows().into_iter().map(|row| row.label))
+                .collect(),
         );
         let mut t = Transcription {
             ctx,

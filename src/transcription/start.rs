@@ -97,10 +97,15 @@ impl<M: MechanicsDerivatives> Transcription<M> {
             lo[i] = 0.0;
         }
         let nr = l.num_constraints();
-        let g_lower = vec![0.0; nr];
-        let g_upper = (0..nr)
+        let mut g_lower = vec![0.0; nr];
+        let mut g_upper: Vec<f64> = (0..nr)
             .map(|r| if l.is_equality(r) { 0.0 } else { f64::INFINITY })
             .collect();
+        let rows = spec.constraints.iter().flat_map(|c| c.rows());
+        for (r, row) in rows.enumerate() {
+            g_lower[l.constraint_row(r)] = row.lower;
+            g_upper[l.constraint_row(r)] = row.upper;
+        }
         self.x_lower = lo;
         self.x_upper = hi;
         self.g_lower = g_lower;

@@ -10,7 +10,7 @@ use vito::model::{
     BaseType, Model, generalized_input_force, loop_residual, point_position, potential_energy,
     potential_energy_gradient,
 };
-use vito::problem::{InitialGuess, Interval, Override, TimeSteps, load};
+use vito::problem::{Constraint, InitialGuess, Interval, Override, TimeSteps, load};
 
 fn problems() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("problems")
@@ -115,8 +115,8 @@ fn trot(overrides: &[(&str, &str)]) -> vito::problem::LoadedProblem {
 }
 
 /// The trot family as the paper's scripts set it: 51 knots, T within ±10 % of one stride,
-/// slack weight 50, swing ±0.28 N and lift ±0.36 N, periodicity of every coordinate and
-/// velocity but base_x, q_1 free but for base_x = 0; the stride frequency and friction
+/// slack weight 50, swing ±0.28 N and lift ±0.36 N, periodicity of every coordinate but
+/// base_x and of every velocity (through the discrete Legendre transform), q_1 free but for base_x = 0; the stride frequency and friction
 /// are `--set`-able.
 #[test]
 fn trot_family_has_the_papers_settings() {
@@ -143,14 +143,21 @@ fn trot_family_has_the_papers_settings() {
             "{name}"
         );
     }
-    let periodic: Vec<&str> = s
-        .periodic
-        .iter()
-        .filter(|p| p.position && p.velocity && p.offset == 0.0)
-        .map(|r| p.robot.coordinates[r.coordinate].as_str())
-        .collect();
+    let mut momentum = 0;
+    let mut periodic = Vec::new();
+    for c in &s.constraints {
+        match c {
+            Constraint::Periodic(r) if r.offset == Some(0.0) && !r.velocity => {
+                periodic.push(p.robot.coordinates[r.coordinate].as_str())
+            }
+            Constraint::PeriodicMomentum(r) => momentum += r.names.len(),
+            other => panic!("{other:?}"),
+        }
+    }
     assert_eq!(periodic.len(), 37);
     assert!(!periodic.contains(&"base_x"));
+    // Every velocity, base_x's too, through the discrete Legendre transform.
+    assert_eq!(momentum, 38);
     assert!(s.q_initial_free.iter().all(|&f| f));
     let InitialGuess::Simulation(guess) = &s.initial_guess else {
         panic!("{:?}", s.initial_guess)

@@ -6,6 +6,7 @@
 mod common;
 
 mod cli;
+mod constraints;
 mod discrete;
 mod fuzz;
 mod hamr;

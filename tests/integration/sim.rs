@@ -141,6 +141,7 @@ fn contact_free_midpoint_is_the_discrete_step_and_conserves_energy() {
         terrain: Terrain::flat(),
         integrator: Integrator::Midpoint,
         costs: vec![],
+        constraints: vec![],
     };
     let (h, steps) = (0.01, 10_000);
     let options = SimulationOptions {

@@ -16,11 +16,12 @@ use common::analytic::{Brick, Hopper};
 use common::reference::{brick_3d, hopper_2d, spring_flamingo_walk};
 use vito::contact::Step;
 use vito::discrete::{Mechanics, MechanicsDerivatives, ModelMechanics};
+use vito::problem::constraints::{Periodic, PeriodicMomentum};
 use vito::problem::costs::{
-    ConfigurationDifference, FinalState, Input, InputRate, StateTracking, Time,
+    ConfigurationDifference, FinalState, Input, InputRate, StateTracking, Time, VelocityDifference,
 };
 use vito::problem::{
-    CostTerm, Integrator, Interval, Periodicity, ProblemSpec, SlackMode, TimeSteps,
+    Constraint, CostTerm, Integrator, Interval, ProblemSpec, SlackMode, TimeSteps,
 };
 use vito::scalar::Scalar;
 use vito::testing::SeededRng;
@@ -116,19 +117,26 @@ fn hopper_everything(integrator: Integrator, slack_mode: SlackMode) -> ProblemSp
         weights: vec![3.0, 1.0, 1.0, 2.0],
     }));
     spec.costs.push(CostTerm::Time(Time { weight: 2.0 }));
-    spec.periodic = vec![
-        Periodicity {
+    spec.costs
+        .push(CostTerm::VelocityDifference(VelocityDifference {
+            weights: vec![0.5, 1.0, 2.0, 0.3],
+        }));
+    spec.constraints = vec![
+        Constraint::Periodic(Periodic {
             coordinate: 1,
-            position: true,
-            offset: 0.1,
+            name: "z".into(),
+            offset: Some(0.1),
             velocity: true,
-        },
-        Periodicity {
+        }),
+        Constraint::Periodic(Periodic {
             coordinate: 3,
-            position: false,
-            offset: 0.0,
+            name: "r".into(),
+            offset: None,
             velocity: true,
-        },
+        }),
+        Constraint::PeriodicMomentum(PeriodicMomentum {
+            names: ["x", "z", "theta", "r"].map(String::from).to_vec(),
+        }),
     ];
     spec
 }

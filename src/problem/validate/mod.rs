@@ -12,7 +12,6 @@ mod horizon;
 mod initial_guess;
 mod inputs;
 mod metrics;
-mod periodic;
 mod robot;
 mod size;
 mod slack;
@@ -23,7 +22,7 @@ mod values;
 use std::path::Path;
 
 pub(crate) use context::Context;
-pub(crate) use values::{nonnegative, resolve};
+pub(crate) use values::{finite, nonnegative, resolve};
 
 use crate::problem::schema::ProblemFile;
 use crate::problem::{LoadedProblem, ProblemError, ProblemSpec, RobotSpec};
@@ -60,7 +59,7 @@ pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, Pr
     let (slack_weight, slack_mode) = slack::check_slack_penalty(ctx, &raw)?;
     let max_slip_speed = contacts::check_max_slip_speed(ctx, &raw)?;
     let slack_continuation = slack::check_slack_continuation(ctx, &raw)?;
-    let periodic = periodic::check_periodic(ctx, &raw, &robot)?;
+    let constraints = crate::problem::constraints::check_constraints(ctx, &raw, &robot, knots)?;
     let initial_guess = initial_guess::check_initial_guess(ctx, &raw, &robot, &endpoints, knots)?;
     let metrics = metrics::check_metrics(ctx, &raw, &robot)?;
     let solver::CheckedSolver {
@@ -111,7 +110,7 @@ pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, Pr
         joint_limits,
         input_bounds,
         costs,
-        periodic,
+        constraints,
         initial_guess,
         hessian,
         solver_options,

@@ -13,7 +13,7 @@ pub(crate) const MAX_MAGNITUDE: f64 = 1e12;
 /// downstream overflow.
 pub(crate) const MIN_POSITIVE: f64 = 1e-12;
 
-pub(super) fn finite(ctx: &Context, field: &str, v: f64) -> Result<f64, ProblemError> {
+pub(crate) fn finite(ctx: &Context, field: &str, v: f64) -> Result<f64, ProblemError> {
     if v.is_finite() && v.abs() <= MAX_MAGNITUDE {
         Ok(v)
     } else {

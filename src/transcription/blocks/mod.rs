@@ -24,7 +24,7 @@ use crate::discrete::{
     Mechanics, SegmentLagrangian, euler_knot, half_force, initial_momentum, loop_work,
 };
 use crate::problem::costs::{CostSizes, cost_value};
-use crate::problem::{CostTerm, Integrator, ProblemSpec};
+use crate::problem::{Constraint, CostTerm, Integrator, ProblemSpec};
 use crate::scalar::Scalar;
 
 /// Problem constants the block functions need besides the mechanics.
@@ -46,6 +46,8 @@ pub struct Context {
     pub integrator: Integrator,
     /// The problem's cost terms (blocks refer to them by index).
     pub costs: Vec<CostTerm>,
+    /// The problem file's constraints (blocks refer to them by index).
+    pub constraints: Vec<Constraint>,
 }
 
 impl Context {
@@ -63,6 +65,7 @@ impl Context {
             terrain: spec.terrain.clone(),
             integrator: spec.integrator,
             costs: spec.costs.clone(),
+            constraints: spec.constraints.clone(),
         }
     }
 
@@ -99,10 +102,9 @@ pub enum VectorKind {
     LoopClosure,
     /// h_a − h_b; z = [h_a; h_b].
     EqualStep,
-    /// q_last − q_first − offset; z = [q_first; q_last].
-    PeriodicPosition { offset: f64 },
-    /// (qb' − qa')/h' − (qb − qa)/h; z = [qa; qb; h; qa'; qb'; h'].
-    PeriodicVelocity,
+    /// The rows of the problem file's constraint `index` (`problem::constraints`); z as it
+    /// declares.
+    Constraint { index: usize },
 }
 
 /// What a gradient (or cost) block computes.
@@ -213,8 +215,7 @@ impl<M: Mechanics> VectorFunction for VectorBlockFn<'_, M> {
             }
             VectorKind::LoopClosure => mech.loop_residual(z, out),
             VectorKind::EqualStep => out[0] = z[0] - z[1],
-            VectorKind::PeriodicPosition { offset } => out[0] = z[1] - z[0] - D::from(*offset),
-            VectorKind::PeriodicVelocity => out[0] = (z[4] - z[3]) / z[5] - (z[1] - z[0]) / z[2],
+            VectorKind::Constraint { index } => ctx.constraints[*index].value(mech, z, out),
         }
     }
 }

@@ -98,7 +98,7 @@ pub fn hopper_2d() -> ProblemSpec {
                 time_weighted: true,
             }),
         ],
-        periodic: vec![],
+        constraints: vec![],
         initial_guess: InitialGuess::Linear {
             from: start,
             to: goal,
@@ -157,7 +157,7 @@ pub fn brick_3d() -> ProblemSpec {
         joint_limits: false,
         input_bounds: vec![],
         costs: vec![],
-        periodic: vec![],
+        constraints: vec![],
         initial_guess: InitialGuess::Linear {
             from: start.clone(),
             to: start,
@@ -232,7 +232,7 @@ pub fn spring_flamingo_walk() -> ProblemSpec {
                 time_weighted: true,
             }),
         ],
-        periodic: vec![],
+        constraints: vec![],
         initial_guess: InitialGuess::Linear {
             from: start,
             to: goal,
@@ -315,7 +315,7 @@ pub fn littledog_step() -> ProblemSpec {
                 time_weighted: true,
             }),
         ],
-        periodic: vec![],
+        constraints: vec![],
         initial_guess: InitialGuess::Linear {
             from: start,
             to: goal,

@@ -1,0 +1,109 @@
+//! Problem-file constraint kinds (`problem::constraints`): `[[periodic]]` and its general
+//! spelling `[[constraint]] type = "periodic"`, from the file to a solved trajectory.
+
+use std::path::{Path, PathBuf};
+
+use vito::discrete::ModelMechanics;
+use vito::problem::{LoadedProblem, ProblemError, load_from_str};
+use vito::transcription::{SolveOptions, Transcription, solve};
+
+fn hopper_file() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/hopper_2d.toml")
+}
+
+/// The hopper reference problem with `extra` appended.
+fn hopper_with(extra: &str) -> Result<LoadedProblem, ProblemError> {
+    let file = hopper_file();
+    let text = std::fs::read_to_string(&file).unwrap() + extra;
+    let urdf = std::fs::read_to_string(file.with_file_name("robots/hopper_2d.urdf")).unwrap();
+    load_from_str(&file, &text, &urdf, &[])
+}
+
+const SHORTHAND: &str = r#"
+[[periodic]]
+coordinate = "r"
+position = false
+velocity = true
+
+[[periodic]]
+coordinate = "theta"
+position = false
+velocity = true
+"#;
+
+const GENERAL: &str = r#"
+[[constraint]]
+type = "periodic"
+coordinate = "r"
+position = false
+velocity = true
+
+[[constraint]]
+type = "periodic"
+coordinate = "theta"
+position = false
+velocity = true
+"#;
+
+#[test]
+fn both_spellings_build_the_same_nlp() {
+    let a = hopper_with(SHORTHAND).unwrap().spec;
+    let b = hopper_with(GENERAL).unwrap().spec;
+    assert_eq!(a.constraints, b.constraints);
+    let plain = hopper_with("").unwrap().spec;
+    let size = |spec| {
+        let t = Transcription::new(ModelMechanics::load(spec).unwrap(), spec).unwrap();
+        (t.size(), t.layout().constraint_rows.clone())
+    };
+    let (with, names) = size(&a);
+    let (without, _) = size(&plain);
+    assert_eq!(with.n_variables, without.n_variables);
+    assert_eq!(with.n_constraints, without.n_constraints + 2);
+    // Each velocity row reads q_1, q_2, h_1, q_{N−1}, q_N, h_{N−1} of its coordinate: 6
+    // Jacobian entries; the hopper's steps are fixed, so Ipopt sees them all anyway.
+    assert_eq!(with.nnz_jacobian, without.nnz_jacobian + 12);
+    assert_eq!(names, ["periodic r velocity", "periodic theta velocity"]);
+}
+
+#[test]
+fn a_solve_meets_the_periodic_rows() {
+    let spec = hopper_with(
+        &(GENERAL.to_owned()
+            + "\n[[constraint]]\ntype = \"periodic\"\ncoordinate = \"x\"\noffset = 0.5\n"),
+    )
+    .unwrap()
+    .spec;
+    let solution = solve(&spec, &SolveOptions::default()).unwrap();
+    assert!(solution.status.is_success(), "{:?}", solution.status);
+    let (q, h) = (&solution.q, &solution.time_steps);
+    let last = q.len() - 1;
+    let velocity = |k: usize, c: usize| (q[k + 1][c] - q[k][c]) / h[k];
+    for c in [2, 3] {
+        let gap = velocity(last - 1, c) - velocity(0, c);
+        assert!(gap.abs() < 1e-7, "coordinate {c}: velocity gap {gap}");
+    }
+    assert!((q[last][0] - q[0][0] - 0.5).abs() < 1e-9);
+    // The constraints change the optimum: the free hopper ends its hop with another leg
+    // velocity than it starts with.
+    let free = solve(&hopper_with("").unwrap().spec, &SolveOptions::default()).unwrap();
+    let (fq, fh) = (&free.q, &free.time_steps);
+    let free_gap = (fq[last][3] - fq[last - 1][3]) / fh[last - 1] - (fq[1][3] - fq[0][3]) / fh[0];
+    assert!(free_gap.abs() > 1e-3, "free leg-velocity gap {free_gap}");
+}
+
+#[test]
+fn bad_constraint_entries_name_the_field() {
+    let unknown = hopper_with("\n[[constraint]]\ntype = \"periodic\"\ncoordinate = \"rr\"\n")
+        .unwrap_err()
+        .to_string();
+    assert!(unknown.contains("constraint[0].coordinate"), "{unknown}");
+    assert!(unknown.contains("`r`"), "{unknown}");
+    let kind = hopper_with("\n[[constraint]]\ntype = \"perodic\"\ncoordinate = \"r\"\n")
+        .unwrap_err()
+        .to_string();
+    assert!(kind.contains("periodic"), "{kind}");
+    let offset = hopper_with("\n[[periodic]]\ncoordinate = \"x\"\noffset = nan\n")
+        .unwrap_err()
+        .to_string();
+    assert!(offset.contains("periodic[0].offset"), "{offset}");
+}
