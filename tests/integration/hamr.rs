@@ -172,9 +172,10 @@ fn trot_family_has_the_papers_settings() {
     assert!(p.spec.contacts.iter().all(|c| c.friction == 0.29));
 }
 
-/// Along the open-loop trot of `[initial_guess.simulation]` (here two 20 ms periods at a
-/// 1 ms step, the first ramping the inputs in), every knot of the guess closes all 24 loop
-/// rows to below 1e-6 mm, starts at base_x = 0 and lies on the knots of one period.
+/// Along the open-loop trot of `[initial_guess.simulation]` (two 20 ms periods at a 1 ms
+/// step, the first ramping the inputs in), simulated as `vito simulate` does (steps solved
+/// to 1e-10 relative), every knot closes all 24 loop rows to below 1e-6 mm, and the inputs
+/// move the actuator tips.
 #[test]
 fn simulated_trot_keeps_the_loops_closed() {
     let mut p = trot(&[("horizon.knots", "21"), ("stride_hz", "50")]);
@@ -184,28 +185,57 @@ fn simulated_trot_keeps_the_loops_closed() {
     guess.cycles = 2;
     let guess = guess.clone();
     let mech = vito::pipeline::mechanics(&p.spec).unwrap_or_else(|e| panic!("{e}"));
-    let start = vito::simulated_guess::simulate_guess(&mech, &p.spec, &guess)
-        .unwrap_or_else(|e| panic!("{e}"));
-    let w = &start.warm_start;
-    assert_eq!(w.q.len(), 21);
-    assert_eq!(w.u.len(), 20);
-    assert!((w.times[20] - 20.0).abs() < 1e-9, "{:?}", w.times);
-    assert_eq!(w.q[0][0], 0.0);
+    let ctx = vito::transcription::Context::new(&mech, &p.spec);
+    let options = vito::sim::SimulationOptions {
+        integrator: p.spec.integrator,
+        h: 1.0,
+        steps: 40,
+        step: vito::sim::StepOptions {
+            gravity: 9.81e-3,
+            ..Default::default()
+        },
+    };
+    let sim = vito::sim::simulate(
+        &mech,
+        &ctx,
+        &p.spec.q_initial,
+        &[0.0; 38],
+        &options,
+        |_, t, _, _| guess.input(t),
+        |_| {},
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
     let model = mech.model();
-    for (k, q) in w.q.iter().enumerate() {
+    for (k, q) in sim.q.iter().enumerate() {
         let worst = loop_residual(model, q)
             .iter()
             .fold(0.0f64, |a, r| a.max(r.abs()));
         assert!(worst < 1e-6, "knot {k}: loop residual {worst:e} mm");
     }
-    // The inputs move the legs: the actuator tips leave their rest position.
-    let tips = (6..38)
-        .step_by(4)
-        .filter(|&c| model.coordinate_names()[c].ends_with("act"));
-    let moved = tips
-        .flat_map(|c| w.q.iter().map(move |q| q[c].abs()))
+    let moved = (0..38)
+        .filter(|&c| model.coordinate_names()[c].ends_with("act"))
+        .flat_map(|c| sim.q.iter().map(move |q| q[c].abs()))
         .fold(0.0f64, f64::max);
     assert!(moved > 1e-3, "{moved}");
+}
+
+/// The simulated guess is one period on the knots: N knots from t = 0 to the period, N − 1
+/// inputs, base_x moved to q_1's 0, and a finite periodicity defect.
+#[test]
+fn simulated_guess_is_the_last_period_on_the_knots() {
+    let p = trot(&[("horizon.knots", "11"), ("stride_hz", "100")]);
+    let InitialGuess::Simulation(guess) = &p.spec.initial_guess else {
+        panic!()
+    };
+    let mech = vito::pipeline::mechanics(&p.spec).unwrap_or_else(|e| panic!("{e}"));
+    let start = vito::simulated_guess::simulate_guess(&mech, &p.spec, guess)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let w = &start.warm_start;
+    assert_eq!((w.q.len(), w.u.len()), (11, 10));
+    assert!((w.times[10] - 10.0).abs() < 1e-9, "{:?}", w.times);
+    assert_eq!(w.q[0][0], 0.0);
+    assert_eq!(start.steps, 30 * start.substeps);
     assert!(start.periodicity_defect.is_finite());
-    assert!(mech.nq() == 38);
+    // The inputs are the mean over each interval of the clipped sinusoid.
+    assert!(w.u.iter().flatten().all(|u| u.abs() <= 0.36));
 }
