@@ -5,7 +5,6 @@
 
 use std::path::{Path, PathBuf};
 
-use vito::discrete::Mechanics;
 use vito::model::{
     BaseType, Model, generalized_input_force, loop_residual, point_position, potential_energy,
     potential_energy_gradient,
