@@ -792,6 +792,12 @@ fn solve(
         });
     }
     if !quiet {
+        if let vito::problem::InitialGuess::Simulation(g) = &problem.spec.initial_guess {
+            eprintln!(
+                "simulating the initial guess: {} periods of {} {} on {} knots",
+                g.cycles, g.period, problem.units.time, problem.spec.knots
+            );
+        }
         eprintln!(
             "solving {} ({} knots)",
             problem.spec.name, problem.spec.knots

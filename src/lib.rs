@@ -54,6 +54,7 @@ pub mod regress;
 pub mod report;
 pub mod scalar;
 pub mod sim;
+pub mod simulated_guess;
 pub mod study;
 pub mod sweep;
 pub mod testing;

@@ -2,11 +2,12 @@
 //! so that what `check` reports is what `solve` builds: Ipopt's verdict on the problem's
 //! options, the robot's mechanics, the solver's NLP and its size, the solve itself.
 
+use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 
 use crate::discrete::Mechanics;
 use crate::ipopt;
-use crate::problem::{LoadedProblem, ProblemError, ProblemSpec, TimeSteps};
+use crate::problem::{InitialGuess, LoadedProblem, ProblemError, ProblemSpec, TimeSteps};
 use crate::transcription::{
     self, BenchRow, MechanicsDerivatives, ModelMechanics, Solution, SolveOptions, Transcription,
     TranscriptionError,
@@ -17,14 +18,37 @@ pub fn mechanics(spec: &ProblemSpec) -> Result<ModelMechanics, TranscriptionErro
     ModelMechanics::load(spec)
 }
 
-/// The solver's NLP for `spec`, built as [`solve`] builds it.
+/// The solver's NLP for `spec`, built as [`solve`] builds it, but for a simulated initial
+/// guess, which only [`solve`] and [`bench`] run (it holds q_1 here).
 pub fn build_nlp(spec: &ProblemSpec) -> Result<Transcription<ModelMechanics>, TranscriptionError> {
     Transcription::new(mechanics(spec)?, spec)
 }
 
 /// Solves `spec` with the robot from its URDF.
 pub fn solve(spec: &ProblemSpec, options: &SolveOptions) -> Result<Solution, TranscriptionError> {
-    transcription::solve_with(mechanics(spec)?, spec, options)
+    let mech = mechanics(spec)?;
+    let spec = resolve_initial_guess(&mech, spec)?;
+    transcription::solve_with(mech, &spec, options)
+}
+
+/// `spec` with a simulated initial guess run into the warm start it stands for
+/// ([`crate::simulated_guess`]); every other guess as it is.
+pub fn resolve_initial_guess<'a>(
+    mech: &ModelMechanics,
+    spec: &'a ProblemSpec,
+) -> Result<Cow<'a, ProblemSpec>, TranscriptionError> {
+    let InitialGuess::Simulation(guess) = &spec.initial_guess else {
+        return Ok(Cow::Borrowed(spec));
+    };
+    let start = crate::simulated_guess::simulate_guess(mech, spec, guess).map_err(|e| {
+        TranscriptionError::Invalid {
+            field: "initial_guess.simulation".into(),
+            message: format!("the simulation of the initial guess failed: {e}"),
+        }
+    })?;
+    let mut resolved = spec.clone();
+    resolved.initial_guess = InitialGuess::WarmStart(start.warm_start);
+    Ok(Cow::Owned(resolved))
 }
 
 /// The reference problems of SPEC.md, as `vito bench` runs them by default.
@@ -38,7 +62,9 @@ pub const REFERENCE_PROBLEMS: [&str; 4] = [
 /// Benchmarks `spec` (sizes, one derivative evaluation, a full solve) with the robot from its
 /// URDF.
 pub fn bench(spec: &ProblemSpec) -> Result<BenchRow, TranscriptionError> {
-    transcription::bench_with(mechanics(spec)?, spec)
+    let mech = mechanics(spec)?;
+    let spec = resolve_initial_guess(&mech, spec)?;
+    transcription::bench_with(mech, &spec)
 }
 
 /// Asks Ipopt whether it takes every option of the problem (name, type, range), so that a

@@ -132,8 +132,10 @@ fn check_text(
 
 /// Keys of which a file gives one or the other: overriding one removes the other from the
 /// file's table, so `--set initial_guess.warm_start=prev.csv` works on a file with `to`.
-const ALTERNATIVES: [(&str, &str, &str); 2] = [
+const ALTERNATIVES: [(&str, &str, &str); 4] = [
     ("initial_guess", "warm_start", "to"),
+    ("initial_guess", "warm_start", "simulation"),
+    ("initial_guess", "to", "simulation"),
     ("horizon", "time_step", "total_time"),
 ];
 

@@ -65,6 +65,9 @@ pub struct ProblemFile {
     /// `[output]`.
     #[serde(default)]
     pub output: OutputSection,
+    /// `[metrics]`: what the summary reports beyond the solver's numbers.
+    #[serde(default)]
+    pub metrics: MetricsSection,
 }
 
 /// `[robot]`: the model and its environment constants.
@@ -206,7 +209,13 @@ pub struct InitialSection {
     pub q: NamedVector,
     /// v_0 [length/time or rad/time]: `"zero"`, `"free"`, or a vector like `q` (default zero).
     pub v: Option<VelocitySpec>,
+    /// Coordinates whose q_1 is a variable (`q` is then only its guess), `"all"` or a list
+    /// of names (default: none, q_1 fixed). Bounds and joint limits still apply to them.
+    pub free: Option<CoordinateSelection>,
 }
+
+/// `"all"`, `"none"` or a list of coordinate names (the same three forms as contacts).
+pub type CoordinateSelection = ContactSelection;
 
 /// `[inputs] actuated`: a rule by name, or joints by name.
 #[derive(Debug, Clone, PartialEq)]
@@ -418,6 +427,46 @@ pub struct InitialGuessSection {
     pub to: Option<GuessTarget>,
     /// A previous `trajectory.csv` (relative to the problem file), resampled to the knots.
     pub warm_start: Option<String>,
+    /// `[initial_guess.simulation]`: an open-loop simulation under sinusoidal inputs.
+    pub simulation: Option<SimulationGuessEntry>,
+}
+
+/// `[initial_guess.simulation]`: simulate the robot from `[initial]` under the open-loop
+/// inputs u_i(t) = offset_i + amplitude_i · sin(2π (t / period + phase_i)) (clipped to the
+/// input bounds) for `cycles` periods at the step period / ((knots − 1) · substeps), and
+/// start the solve from the last period, on the knots.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SimulationGuessEntry {
+    /// The period [time], e.g. one stride.
+    pub period: f64,
+    /// Periods simulated; the last is the guess (default 3: the first ones let it settle).
+    pub cycles: Option<i64>,
+    /// Simulation steps per knot interval (default 1: the NLP's own step). More resolve
+    /// stiff transients the contact solver cannot take in one step; the guess keeps every
+    /// `substeps`-th knot and the mean input of each interval.
+    pub substeps: Option<i64>,
+    /// Amplitude per input [input units] (a table by input name, `default` allowed).
+    pub amplitude: NamedVector,
+    /// Phase per input [fraction of a period] (default 0).
+    pub phase: Option<NamedVector>,
+    /// Constant part per input [input units] (default 0).
+    pub offset: Option<NamedVector>,
+}
+
+/// `[metrics]`: quantities of a solution reported in `summary.json` under `metrics` (and
+/// so in a sweep's table).
+#[derive(Debug, Clone, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct MetricsSection {
+    /// Names from [`crate::problem::Metric`]: `"forward_per_cycle"`, `"forward_speed"`,
+    /// `"slip"`, `"jump_height"`.
+    #[serde(default)]
+    pub report: Vec<String>,
+    /// The forward coordinate (default `base_x`).
+    pub forward: Option<String>,
+    /// The vertical coordinate (default `base_z`).
+    pub vertical: Option<String>,
 }
 
 /// `"initial"`, `"final"` or a pose.

@@ -122,6 +122,90 @@ pub enum InitialGuess {
     Linear { from: Vec<f64>, to: Vec<f64> },
     /// A previous solution resampled to this problem's knots (times from 0 to T).
     WarmStart(WarmStart),
+    /// An open-loop simulation, run by `pipeline::resolve_initial_guess` into a
+    /// [`InitialGuess::WarmStart`] before a solve (until then, q_1 held at every knot).
+    Simulation(SimulatedGuess),
+}
+
+/// `[initial_guess.simulation]`, checked: u_i(t) = offset_i + amplitude_i · sin(2π (t /
+/// period + phase_i)), clipped to the input bounds, from q_1 with v_0 (zero when free) for
+/// `cycles` periods at the step period / ((N − 1) · substeps); the guess is the last period.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SimulatedGuess {
+    /// Period [time] (> 0).
+    pub period: f64,
+    /// Periods simulated (≥ 1).
+    pub cycles: usize,
+    /// Simulation steps per knot interval (≥ 1).
+    pub substeps: usize,
+    /// Per input (length m).
+    pub amplitude: Vec<f64>,
+    /// Per input, in periods (length m).
+    pub phase: Vec<f64>,
+    /// Per input (length m).
+    pub offset: Vec<f64>,
+}
+
+impl SimulatedGuess {
+    /// The inputs at time t, before clipping. With more than one period the whole signal is
+    /// ramped in linearly over the first period, so the robot is not struck at t = 0 (the
+    /// guess is a later period, which the ramp does not reach).
+    pub fn input(&self, t: f64) -> Vec<f64> {
+        let angle = |phase: f64| std::f64::consts::TAU * (t / self.period + phase);
+        let ramp = if self.cycles > 1 {
+            (t / self.period).clamp(0.0, 1.0)
+        } else {
+            1.0
+        };
+        (self.offset.iter().zip(&self.amplitude).zip(&self.phase))
+            .map(|((o, a), p)| ramp * (o + a * angle(*p).sin()))
+            .collect()
+    }
+}
+
+/// A quantity of a solution that `summary.json` reports under `metrics`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Metric {
+    /// q_N − q_1 of the forward coordinate: the distance per cycle when the horizon is one
+    /// period [length per cycle].
+    ForwardPerCycle,
+    /// The same over the total time T [length/time].
+    ForwardSpeed,
+    /// The paper's eq. 38: the distance each contact point moves backwards (world frame,
+    /// intervals where its forward displacement is negative) over the body's forward
+    /// distance, averaged over the contacts [dimensionless].
+    Slip,
+    /// max_k q_k − q_1 of the vertical coordinate [length].
+    JumpHeight,
+}
+
+impl Metric {
+    /// Every metric, by its name in `[metrics] report` and in `summary.json`.
+    pub const ALL: [(&'static str, Metric); 4] = [
+        ("forward_per_cycle", Metric::ForwardPerCycle),
+        ("forward_speed", Metric::ForwardSpeed),
+        ("slip", Metric::Slip),
+        ("jump_height", Metric::JumpHeight),
+    ];
+
+    /// Its name.
+    pub fn name(self) -> &'static str {
+        Metric::ALL
+            .iter()
+            .find(|(_, m)| *m == self)
+            .map_or("", |(name, _)| name)
+    }
+}
+
+/// `[metrics]`, checked.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct MetricsSpec {
+    /// What to report, in file order.
+    pub report: Vec<Metric>,
+    /// Index of the forward coordinate.
+    pub forward: usize,
+    /// Index of the vertical coordinate.
+    pub vertical: usize,
 }
 
 /// A previous trajectory to start from, by knot times.
@@ -201,8 +285,10 @@ pub struct ProblemSpec {
     pub max_slip_speed: Option<f64>,
     /// Re-solve with a growing slack weight until the largest slack is below a target.
     pub slack_continuation: Option<SlackContinuation>,
-    /// q_1, fixed (length n).
+    /// q_1 (length n): fixed, except where `q_initial_free` is set (there only the guess).
     pub q_initial: Vec<f64>,
+    /// Coordinates whose q_1 is a variable (length n).
+    pub q_initial_free: Vec<bool>,
     /// v_0 fixed to this value when set (length n); free otherwise.
     pub v_initial: Option<Vec<f64>>,
     /// Bounds on q_N per coordinate (length n); `Interval::fixed` for a fixed goal.
@@ -220,4 +306,6 @@ pub struct ProblemSpec {
     pub hessian: HessianMode,
     /// Ipopt options in the order given (checked by the wrapper).
     pub solver_options: Vec<(String, OptionValue)>,
+    /// What the summary reports under `metrics`.
+    pub metrics: MetricsSpec,
 }

@@ -5,6 +5,7 @@
 
 mod csv;
 mod golden;
+mod metrics;
 mod modes;
 mod outdir;
 mod plot;
@@ -13,6 +14,7 @@ mod summary;
 
 pub use csv::*;
 pub use golden::*;
+pub use metrics::{MetricInputs, metric_unit, metric_value, metrics_json};
 pub use modes::*;
 pub use outdir::*;
 pub use plot::{contact_modes_svg, coordinates_svg, inputs_svg, line_plot};
@@ -180,6 +182,16 @@ mod tests {
                 vec![vec![0.0, 1.0], vec![0.0, 0.0]],
             ],
             signed_distance: vec![vec![0.1, 0.0], vec![0.0, 0.05], vec![0.0, 0.2]],
+            // The toe moves back 0.05 on the first interval, the heel only forwards.
+            contact_positions: [[0.0, -0.05, 0.1, 0.2], [0.0, 0.1, 0.2, 0.3]].iter().fold(
+                vec![Vec::new(); 4],
+                |mut knots, xs| {
+                    for (k, &x) in xs.iter().enumerate() {
+                        knots[k].push([x, 0.0, 0.0]);
+                    }
+                    knots
+                },
+            ),
             slack: vec![vec![1e-9], vec![2e-9], vec![3e-9]],
             max_slack: 3e-9,
             max_complementarity: 1e-9,
@@ -247,6 +259,7 @@ mod output_tests {
         s.normal_impulse = vec![vec![1.0]; 3];
         s.friction_impulse = vec![vec![vec![0.1, 0.0]]; 3];
         s.signed_distance = vec![vec![0.0]; 3];
+        s.contact_positions = vec![vec![[0.0; 3]]; 4];
         s
     }
 

@@ -85,6 +85,17 @@ pub fn summary_json(problem: &LoadedProblem, solution: &Solution) -> Value {
             "slide_at_fraction_of_friction_cone": SLIDE_CONE_FRACTION,
         },
     });
+    let (metrics, metric_units) = super::metrics_json(
+        &problem.spec.metrics,
+        &problem.units,
+        &super::MetricInputs {
+            times: &s.times,
+            q: &s.q,
+            contact_positions: &s.contact_positions,
+        },
+    );
+    summary["metrics"] = metrics;
+    summary["metric_units"] = metric_units;
     if !s.starts.is_empty() {
         // A multi-start solve: every start, and which one this summary describes.
         let starts: Vec<Value> = s

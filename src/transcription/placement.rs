@@ -284,6 +284,15 @@ fn cost_placements(l: &Layout, inputs: CostInputs) -> Vec<Vec<usize>> {
                 vars
             })
             .collect(),
+        CostInputs::AdjacentIntervals => (1..l.intervals())
+            .map(|j| {
+                let mut vars = range_vec(l.q(j - 1));
+                vars.extend(l.q(j));
+                vars.extend(l.q(j + 1));
+                vars.extend([l.h(j - 1), l.h(j)]);
+                vars
+            })
+            .collect(),
         CostInputs::LastConfiguration => vec![range_vec(l.q(l.knots - 1))],
         CostInputs::Step => (0..l.intervals()).map(|j| vec![l.h(j)]).collect(),
     }

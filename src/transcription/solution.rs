@@ -48,6 +48,8 @@ pub struct Solution {
     pub friction_impulse: Vec<Vec<Vec<f64>>>,
     /// Signed distance φ_i(q_{k+1}) per interval (N−1 × nc).
     pub signed_distance: Vec<Vec<f64>>,
+    /// World position of every contact point at every knot (N × nc).
+    pub contact_positions: Vec<Vec<[f64; 3]>>,
     /// Slacks per interval (N−1 × slacks per interval: 1, or 3·nc in per-contact mode).
     pub slack: Vec<Vec<f64>>,
     /// Largest slack value.

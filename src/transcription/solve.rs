@@ -471,6 +471,14 @@ fn fill_solution<M: MechanicsDerivatives>(
         slack.push(x[l.slack(j)].to_vec());
     }
     let max_slack = x[l.slacks()].iter().fold(0.0_f64, |a, &b| a.max(b));
+    let contact_positions = q
+        .iter()
+        .map(|qk| {
+            (0..l.nc)
+                .map(|i| t.mechanics().contact_position(i, qk))
+                .collect()
+        })
+        .collect();
     Solution {
         status: report.status,
         objective: report.objective,
@@ -492,6 +500,7 @@ fn fill_solution<M: MechanicsDerivatives>(
         normal_impulse,
         friction_impulse,
         signed_distance,
+        contact_positions,
         slack,
         max_slack,
         max_complementarity,

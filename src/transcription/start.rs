@@ -43,7 +43,7 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                 if k == last {
                     b = intersect(b, spec.q_final[c]);
                 }
-                if k == 0 {
+                if k == 0 && !spec.q_initial_free.get(c).copied().unwrap_or(false) {
                     b = Interval::fixed(spec.q_initial[c]);
                 }
                 if b.lower > b.upper {
@@ -132,6 +132,16 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                     let s = k as f64 / last as f64;
                     for (c, i) in l.q(k).enumerate() {
                         x[i] = from[c] + s * (to[c] - from[c]);
+                    }
+                }
+            }
+            // Until `pipeline::resolve_initial_guess` has run the simulation (`solve` and
+            // `bench` do; `check` does not, since sizes and structure do not depend on it):
+            // q_1 held at every knot.
+            InitialGuess::Simulation(_) => {
+                for k in 0..l.knots {
+                    for (c, i) in l.q(k).enumerate() {
+                        x[i] = spec.q_initial[c];
                     }
                 }
             }

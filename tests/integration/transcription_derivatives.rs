@@ -16,9 +16,9 @@ use common::analytic::{Brick, Hopper};
 use common::reference::{brick_3d, hopper_2d, spring_flamingo_walk};
 use vito::contact::Step;
 use vito::discrete::{Mechanics, MechanicsDerivatives, ModelMechanics};
-use vito::problem::constraints::Periodic;
+use vito::problem::constraints::{Periodic, PeriodicMomentum};
 use vito::problem::costs::{
-    ConfigurationDifference, FinalState, Input, InputRate, StateTracking, Time,
+    ConfigurationDifference, FinalState, Input, InputRate, StateTracking, Time, VelocityDifference,
 };
 use vito::problem::{
     Constraint, CostTerm, Integrator, Interval, ProblemSpec, SlackMode, TimeSteps,
@@ -117,6 +117,10 @@ fn hopper_everything(integrator: Integrator, slack_mode: SlackMode) -> ProblemSp
         weights: vec![3.0, 1.0, 1.0, 2.0],
     }));
     spec.costs.push(CostTerm::Time(Time { weight: 2.0 }));
+    spec.costs
+        .push(CostTerm::VelocityDifference(VelocityDifference {
+            weights: vec![0.5, 1.0, 2.0, 0.3],
+        }));
     spec.constraints = vec![
         Constraint::Periodic(Periodic {
             coordinate: 1,
@@ -129,6 +133,9 @@ fn hopper_everything(integrator: Integrator, slack_mode: SlackMode) -> ProblemSp
             name: "r".into(),
             offset: None,
             velocity: true,
+        }),
+        Constraint::PeriodicMomentum(PeriodicMomentum {
+            names: ["x", "z", "theta", "r"].map(String::from).to_vec(),
         }),
     ];
     spec

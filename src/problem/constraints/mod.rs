@@ -14,8 +14,10 @@
 //! not problem-file constraints; they live in `transcription/blocks/`.
 
 mod periodic;
+mod periodic_momentum;
 
 pub use periodic::{Entry as PeriodicEntry, Periodic};
+pub use periodic_momentum::PeriodicMomentum;
 
 use serde::Deserialize;
 
@@ -93,6 +95,7 @@ macro_rules! constraint_kinds {
 
 constraint_kinds! {
     Periodic in periodic,
+    PeriodicMomentum in periodic_momentum,
 }
 
 /// A knot counted from the first (`First(0)` is q_1) or from the last (`Last(0)` is q_N).
@@ -202,6 +205,11 @@ impl ConstraintCheck<'_> {
                 &self.robot.coordinates,
             )
         })
+    }
+
+    /// The robot's coordinate names (length n).
+    pub fn coordinate_names(&self) -> &[String] {
+        &self.robot.coordinates
     }
 
     /// A finite number.

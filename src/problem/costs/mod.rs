@@ -16,6 +16,7 @@ mod input;
 mod input_rate;
 mod state_tracking;
 mod time;
+mod velocity_difference;
 
 pub use configuration_difference::ConfigurationDifference;
 pub use final_state::FinalState;
@@ -23,6 +24,7 @@ pub use input::Input;
 pub use input_rate::InputRate;
 pub use state_tracking::StateTracking;
 pub use time::Time;
+pub use velocity_difference::VelocityDifference;
 
 use serde::Deserialize;
 
@@ -84,6 +86,7 @@ cost_terms! {
     ConfigurationDifference in configuration_difference,
     FinalState in final_state,
     Time in time,
+    VelocityDifference in velocity_difference,
 }
 
 /// The knot-local variables a cost term reads, in the order of its input z, and where.
@@ -97,6 +100,8 @@ pub enum CostInputs {
     InputWithStep,
     /// z = [u_{j−1}; u_j] on every pair of adjacent intervals.
     AdjacentInputs,
+    /// z = [q_{j−1}; q_j; q_{j+1}; h_{j−1}; h_j] on every pair of adjacent intervals.
+    AdjacentIntervals,
     /// z = [q_N], the last knot, once.
     LastConfiguration,
     /// z = [h_j] on every interval j.

@@ -2,12 +2,13 @@
 
 use super::context::Context;
 use super::values::{nonnegative, resolve};
-use crate::problem::schema::{ProblemFile, VelocitySpec};
+use crate::problem::schema::{ContactSelection, ProblemFile, VelocitySpec};
 use crate::problem::{Interval, ProblemError, RobotInfo};
 
 /// The checked initial and final conditions.
 pub(super) struct Endpoints {
     pub(super) q_initial: Vec<f64>,
+    pub(super) q_initial_free: Vec<bool>,
     pub(super) v_initial: Option<Vec<f64>>,
     /// The goal pose (the centre of the q_N box; q_1 when the file has none).
     pub(super) goal: Vec<f64>,
@@ -22,6 +23,20 @@ pub(super) fn check_endpoints(
     let n = robot.coordinates.len();
     let coords = &robot.coordinates;
     let q_initial = resolve(ctx, "initial.q", "coordinate", coords, &raw.initial.q, None)?;
+    let mut q_initial_free = vec![false; n];
+    match &raw.initial.free {
+        None | Some(ContactSelection::None) => {}
+        Some(ContactSelection::All) => q_initial_free.fill(true),
+        Some(ContactSelection::Names(names)) => {
+            for (i, name) in names.iter().enumerate() {
+                let field = format!("initial.free[{i}]");
+                let c = robot
+                    .coordinate_index(name)
+                    .ok_or_else(|| ctx.unknown_name(&field, "coordinate", name, coords))?;
+                q_initial_free[c] = true;
+            }
+        }
+    }
     let v_initial = match &raw.initial.v {
         None | Some(VelocitySpec::Zero) => Some(vec![0.0; n]),
         Some(VelocitySpec::Free) => None,
@@ -58,6 +73,7 @@ pub(super) fn check_endpoints(
     };
     Ok(Endpoints {
         q_initial,
+        q_initial_free,
         v_initial,
         goal,
         q_final,

@@ -1,23 +1,35 @@
-//! `[initial_guess]`: a linear guess towards a pose, or a previous `trajectory.csv`.
+//! `[initial_guess]`: a linear guess towards a pose, a previous `trajectory.csv`, or an
+//! open-loop simulation under sinusoidal inputs.
 
 use std::path::Path;
 
 use super::context::Context;
 use super::endpoints::Endpoints;
-use super::values::{MAX_MAGNITUDE, resolve};
-use crate::problem::schema::{GuessTarget, ProblemFile};
-use crate::problem::{InitialGuess, ProblemError, RobotInfo, WarmStart};
+use super::values::{MAX_MAGNITUDE, positive, resolve};
+use crate::problem::schema::{GuessTarget, ProblemFile, SimulationGuessEntry};
+use crate::problem::{InitialGuess, ProblemError, RobotInfo, SimulatedGuess, WarmStart};
 
 pub(super) fn check_initial_guess(
     ctx: &Context,
     raw: &ProblemFile,
     robot: &RobotInfo,
     endpoints: &Endpoints,
+    knots: usize,
 ) -> Result<InitialGuess, ProblemError> {
     let coords = &robot.coordinates;
     let dir = ctx.file.parent().unwrap_or(Path::new(""));
     let (q_initial, goal) = (&endpoints.q_initial, &endpoints.goal);
-    let initial_guess = match (&raw.initial_guess.warm_start, &raw.initial_guess.to) {
+    let guess = &raw.initial_guess;
+    if let Some(simulation) = &guess.simulation {
+        return match (&guess.warm_start, &guess.to) {
+            (None, None) => check_simulation(ctx, simulation, robot, knots),
+            _ => Err(ctx.invalid(
+                "initial_guess.simulation",
+                "give one of `simulation`, `warm_start` or `to`",
+            )),
+        };
+    }
+    let initial_guess = match (&guess.warm_start, &guess.to) {
         (Some(_), Some(_)) => {
             return Err(ctx.invalid(
                 "initial_guess.warm_start",
@@ -42,6 +54,52 @@ pub(super) fn check_initial_guess(
         },
     };
     Ok(initial_guess)
+}
+
+/// Simulated periods above which a guess would take longer than the solve it starts.
+const MAX_CYCLES: i64 = 1000;
+/// Simulation steps per knot interval, at most.
+const MAX_SUBSTEPS: i64 = 1000;
+
+fn check_simulation(
+    ctx: &Context,
+    entry: &SimulationGuessEntry,
+    robot: &RobotInfo,
+    knots: usize,
+) -> Result<InitialGuess, ProblemError> {
+    let field = |key: &str| format!("initial_guess.simulation.{key}");
+    let period = positive(ctx, &field("period"), entry.period)?;
+    let cycles = entry.cycles.unwrap_or(3);
+    if !(1..=MAX_CYCLES).contains(&cycles) {
+        return Err(ctx.invalid(
+            &field("cycles"),
+            format!("is {cycles}; simulate 1 to {MAX_CYCLES} periods"),
+        ));
+    }
+    let substeps = entry.substeps.unwrap_or(1);
+    if !(1..=MAX_SUBSTEPS).contains(&substeps) {
+        return Err(ctx.invalid(
+            &field("substeps"),
+            format!("is {substeps}; take 1 to {MAX_SUBSTEPS} steps per knot interval"),
+        ));
+    }
+    if knots < 2 {
+        return Err(ctx.invalid("horizon.knots", "a simulated guess needs 2 knots or more"));
+    }
+    let inputs = &robot.inputs;
+    let zeros = vec![0.0; inputs.len()];
+    let per_input = |key: &str, v: Option<&crate::problem::schema::NamedVector>| match v {
+        Some(v) => resolve(ctx, &field(key), "input", inputs, v, Some(&zeros)),
+        None => Ok(zeros.clone()),
+    };
+    Ok(InitialGuess::Simulation(SimulatedGuess {
+        period,
+        cycles: cycles as usize,
+        substeps: substeps as usize,
+        amplitude: per_input("amplitude", Some(&entry.amplitude))?,
+        phase: per_input("phase", entry.phase.as_ref())?,
+        offset: per_input("offset", entry.offset.as_ref())?,
+    }))
 }
 
 /// Reads a `trajectory.csv` written by vito: the time column, one column per coordinate

@@ -11,6 +11,7 @@ mod endpoints;
 mod horizon;
 mod initial_guess;
 mod inputs;
+mod metrics;
 mod robot;
 mod size;
 mod slack;
@@ -59,7 +60,8 @@ pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, Pr
     let max_slip_speed = contacts::check_max_slip_speed(ctx, &raw)?;
     let slack_continuation = slack::check_slack_continuation(ctx, &raw)?;
     let constraints = crate::problem::constraints::check_constraints(ctx, &raw, &robot, knots)?;
-    let initial_guess = initial_guess::check_initial_guess(ctx, &raw, &robot, &endpoints)?;
+    let initial_guess = initial_guess::check_initial_guess(ctx, &raw, &robot, &endpoints, knots)?;
+    let metrics = metrics::check_metrics(ctx, &raw, &robot)?;
     let solver::CheckedSolver {
         integrator,
         hessian,
@@ -67,6 +69,7 @@ pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, Pr
     } = solver::check_solver(ctx, &raw)?;
     let endpoints::Endpoints {
         q_initial,
+        q_initial_free,
         v_initial,
         goal,
         q_final,
@@ -100,6 +103,7 @@ pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, Pr
         slack_continuation,
         max_slip_speed,
         q_initial,
+        q_initial_free,
         v_initial,
         q_final,
         bounds,
@@ -110,6 +114,7 @@ pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, Pr
         initial_guess,
         hessian,
         solver_options,
+        metrics,
     };
     Ok(LoadedProblem {
         spec,

@@ -263,3 +263,55 @@ fn solve_multi_start_keeps_the_best_feasible_and_lists_all() {
         "give at least 1",
     );
 }
+
+/// `[metrics]` on the hopper (forward = x, vertical = z): `summary.json` holds each metric
+/// with its unit, equal to what trajectory.csv gives by hand: the forward distance, over T,
+/// the highest z above its start, and eq. 38's slip of the foot at (x + r sin θ, z − r cos θ).
+#[test]
+fn solve_reports_the_problems_metrics_with_units() {
+    let t = TestDir::with_hopper("solve_reports_the_problems_metrics_with_units");
+    let text = crate::cli::util::hopper_text()
+        + "\n[metrics]\nreport = [\"forward_per_cycle\", \"forward_speed\", \"jump_height\", \"slip\"]\nforward = \"x\"\nvertical = \"z\"\n";
+    t.write("hopper.toml", &text);
+    t.vito()
+        .args(["solve", "hopper.toml", "-q", "--out", "out"])
+        .assert_exit(0);
+    let s = summary(&t.path().join("out"));
+    let csv = std::fs::read_to_string(t.path().join("out/trajectory.csv")).unwrap();
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| h.starts_with(name)).unwrap();
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| {
+            l.split(',')
+                .map(|c| c.parse().unwrap_or(f64::NAN))
+                .collect()
+        })
+        .collect();
+    let (x, z, theta, r, time) = (
+        col("x ["),
+        col("z ["),
+        col("theta ["),
+        col("r ["),
+        col("time"),
+    );
+    let forward = rows.last().unwrap()[x] - rows[0][x];
+    let duration = rows.last().unwrap()[time];
+    let rise = rows
+        .iter()
+        .map(|q| q[z] - rows[0][z])
+        .fold(f64::MIN, f64::max);
+    let foot: Vec<f64> = rows.iter().map(|q| q[x] + q[r] * q[theta].sin()).collect();
+    let backward: f64 = foot.windows(2).map(|w| (w[0] - w[1]).max(0.0)).sum();
+    let metric = |name: &str| s["metrics"][name].as_f64().unwrap();
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * (1.0 + b.abs());
+    assert!(forward > 0.4, "{forward}");
+    assert!(close(metric("forward_per_cycle"), forward), "{s}");
+    assert!(close(metric("forward_speed"), forward / duration), "{s}");
+    assert!(close(metric("jump_height"), rise), "{s}");
+    assert!(close(metric("slip"), backward / forward), "{s}");
+    assert_eq!(s["metric_units"]["forward_per_cycle"], "m per cycle");
+    assert_eq!(s["metric_units"]["forward_speed"], "m/s");
+    assert_eq!(s["metric_units"]["jump_height"], "m");
+    assert_eq!(s["metric_units"]["slip"], "1");
+}

@@ -53,6 +53,7 @@ pub fn hopper_2d() -> ProblemSpec {
         slack_mode: SlackMode::PerInterval,
         slack_continuation: None,
         max_slip_speed: None,
+        q_initial_free: vec![false; start.len()],
         q_initial: start.clone(),
         v_initial: Some(vec![0.0; 4]),
         q_final: goal.iter().map(|&g| Interval::fixed(g)).collect(),
@@ -105,6 +106,7 @@ pub fn hopper_2d() -> ProblemSpec {
         },
         hessian: HessianMode::Exact,
         solver_options: spec_options(),
+        metrics: Default::default(),
     }
 }
 
@@ -149,6 +151,7 @@ pub fn brick_3d() -> ProblemSpec {
         slack_mode: SlackMode::PerInterval,
         slack_continuation: None,
         max_slip_speed: None,
+        q_initial_free: vec![false; start.len()],
         q_initial: start.clone(),
         v_initial: Some(vec![1.0, 0.0, 0.0, 2.0, 1.0, 0.0]),
         q_final: vec![Interval::FREE; 6],
@@ -163,6 +166,7 @@ pub fn brick_3d() -> ProblemSpec {
         },
         hessian: HessianMode::Exact,
         solver_options: spec_options(),
+        metrics: Default::default(),
     }
 }
 
@@ -206,6 +210,7 @@ pub fn spring_flamingo_walk() -> ProblemSpec {
         slack_mode: SlackMode::PerInterval,
         slack_continuation: None,
         max_slip_speed: None,
+        q_initial_free: vec![false; start.len()],
         q_initial: start.clone(),
         v_initial: Some(vec![0.0; 9]),
         q_final: goal.iter().map(|&g| Interval::fixed(g)).collect(),
@@ -237,6 +242,7 @@ pub fn spring_flamingo_walk() -> ProblemSpec {
         },
         hessian: HessianMode::Exact,
         solver_options: spec_options(),
+        metrics: Default::default(),
     }
 }
 
@@ -286,6 +292,7 @@ pub fn littledog_step() -> ProblemSpec {
         slack_mode: SlackMode::PerInterval,
         slack_continuation: None,
         max_slip_speed: None,
+        q_initial_free: vec![false; start.len()],
         q_initial: start.clone(),
         v_initial: Some(vec![0.0; 18]),
         q_final: goal
@@ -319,5 +326,6 @@ pub fn littledog_step() -> ProblemSpec {
         },
         hessian: HessianMode::Exact,
         solver_options: spec_options(),
+        metrics: Default::default(),
     }
 }
