@@ -1281,23 +1281,9 @@ fn sweep(args: SweepRunArgs) -> Result<u8, CliError> {
     if args.jobs == Some(0) {
         return Err(CliError::Input("--jobs 0: give at least 1".into()));
     }
-    // Every point is checked before any run: a typo in a key or value fails here, once.
     let overrides = parse_overrides(&args.set)?;
     let problem = load(&file, &overrides)?;
-    for point in grid.points() {
-        let mut all = overrides.clone();
-        all.extend(parse_overrides(&point.set_args())?);
-        if let Err(e) = load(&file, &all) {
-            // Values the checks reject are results of the sweep (a failed run), but keys
-            // that do not exist are usage errors.
-            if matches!(
-                e,
-                ProblemError::UnknownKey { .. } | ProblemError::Override { .. }
-            ) {
-                return Err(e.into());
-            }
-        }
-    }
+    vito::sweep::check_grid_keys(&file, &overrides, &grid)?;
     let out = args.out.unwrap_or_else(|| {
         let stem = file
             .file_stem()

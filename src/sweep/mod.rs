@@ -75,3 +75,26 @@ pub enum SweepError {
     #[error("internal error: {0}")]
     Internal(String),
 }
+
+/// Loads the problem `file` with `overrides` at every point of `grid`, before any run. Keys
+/// that do not exist (a typo in an axis or a `--set`) are usage errors, returned once here;
+/// values the checks reject are results of the sweep (that point's run fails), so they pass.
+pub fn check_grid_keys(
+    file: &std::path::Path,
+    overrides: &[crate::problem::Override],
+    grid: &Grid,
+) -> Result<(), crate::problem::ProblemError> {
+    use crate::problem::{Override, ProblemError, load};
+    for point in grid.points() {
+        let mut all = overrides.to_vec();
+        for arg in point.set_args() {
+            all.push(Override::parse(&arg)?);
+        }
+        if let Err(e @ (ProblemError::UnknownKey { .. } | ProblemError::Override { .. })) =
+            load(file, &all)
+        {
+            return Err(e);
+        }
+    }
+    Ok(())
+}
