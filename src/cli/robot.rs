@@ -1,0 +1,70 @@
+//! `vito init` and `vito inspect`: a starter problem and a robot's summary from a URDF.
+
+use super::*;
+
+/// The regular file standard output is redirected to, if it is one (Linux's /proc).
+pub(super) fn stdout_file() -> Option<PathBuf> {
+    let target = std::fs::read_link("/proc/self/fd/1").ok()?;
+    std::fs::metadata(&target)
+        .ok()
+        .filter(std::fs::Metadata::is_file)
+        .map(|_| target)
+}
+
+pub(super) fn init(urdf: &Path, base: BaseType, out: Option<&Path>) -> Result<u8, CliError> {
+    let robot = RobotInfo::read(urdf, base, &vito::model::Actuation::Default)
+        .map_err(|e| CliError::Input(e.to_string()))?;
+    let model = vito::model::Model::from_urdf_file(urdf, base)
+        .map_err(|e| CliError::Input(vito::model::describe(urdf, &e)))?;
+    let urdf_text = match out {
+        Some(_) => vito::paths::reference_from(urdf, out),
+        // Printed: relative to the file stdout goes to, when it is one; else absolute, so
+        // that the text names the URDF wherever it is saved.
+        None => match stdout_file() {
+            Some(file) => vito::paths::reference_from(urdf, Some(&file)),
+            None => std::path::absolute(urdf)
+                .unwrap_or_else(|_| urdf.to_owned())
+                .display()
+                .to_string(),
+        },
+    };
+    let text = vito::problem::starter_problem(&model, &robot, base, &urdf_text);
+    match out {
+        None => {
+            let mut stdout = std::io::stdout().lock();
+            let written = stdout
+                .write_all(vito::names::escape_controls(&text).as_bytes())
+                .and_then(|()| stdout.flush());
+            if let Err(e) = written {
+                exit_quietly_on_broken_pipe(&e);
+                return Err(CliError::Output(e.to_string()));
+            }
+        }
+        Some(path) => {
+            if path.exists() {
+                return Err(CliError::Input(format!(
+                    "{} exists; vito init never overwrites a file (choose another --out)",
+                    path.display()
+                )));
+            }
+            std::fs::write(path, text)
+                .map_err(|e| CliError::Input(format!("cannot write {}: {e}", path.display())))?;
+            eprintln!("wrote {}", path.display());
+        }
+    }
+    Ok(0)
+}
+
+pub(super) fn inspect(urdf: &Path, base: BaseType, json: bool) -> Result<u8, CliError> {
+    let model = vito::model::Model::from_urdf_file(urdf, base)
+        .map_err(|e| CliError::Input(vito::model::describe(urdf, &e)))?;
+    let inspection = vito::model::inspect(&model);
+    if json {
+        let text = serde_json::to_string_pretty(&inspection)
+            .map_err(|e| CliError::Internal(e.to_string()))?;
+        out!("{text}");
+    } else {
+        out!("{inspection}");
+    }
+    Ok(0)
+}

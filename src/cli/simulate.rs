@@ -1,0 +1,77 @@
+//! `vito simulate`: a forward simulation of a problem file.
+
+use super::*;
+
+pub(super) fn simulate(
+    file: &Path,
+    set: &[String],
+    request: &pipeline::SimulateRequest,
+    out: Option<&Path>,
+    quiet: bool,
+) -> Result<u8, CliError> {
+    let overrides = parse_overrides(set)?;
+    let problem = load(file, &overrides)?;
+    let prepared = pipeline::prepare_simulation(&problem, request)?;
+    let target = out.map_or_else(
+        || PathBuf::from("out").join(format!("{}-simulate", problem.spec.name)),
+        Path::to_owned,
+    );
+    let protected: Vec<&Path> = prepared.inputs.iter().map(PathBuf::as_path).collect();
+    let target =
+        report::OutputTarget::check(&target, &protected).map_err(report::ReportError::from)?;
+    let steps = prepared.options.steps;
+    let bar = if quiet {
+        indicatif::ProgressBar::hidden()
+    } else {
+        indicatif::ProgressBar::new(steps as u64)
+    };
+    if let Ok(style) = indicatif::ProgressStyle::with_template(
+        "simulating {bar:40} {pos}/{len} steps, {per_sec}, ETA {eta}",
+    ) {
+        bar.set_style(style);
+    }
+    let start = std::time::Instant::now();
+    let sim = pipeline::run_simulation(&prepared, |_| bar.inc(1));
+    bar.finish_and_clear();
+    let sim = sim?;
+    let wall = start.elapsed().as_secs_f64();
+    let energies = pipeline::conservative_energies(&prepared, &sim);
+    let summary = report::simulation_summary_json(
+        &problem,
+        &sim,
+        prepared.options.integrator,
+        energies.as_deref(),
+        wall,
+    );
+    let columns = report::SimulationColumns::new(&problem, &sim, prepared.ctx.nd());
+    let staged = target.stage().map_err(report::ReportError::from)?;
+    let written =
+        report::write_trajectory_outputs(staged, &problem, &columns.trajectory(&sim), &summary)?;
+    out!("problem        {}", problem.spec.name);
+    out!(
+        "steps          {steps} of h = {} {} ({:?})",
+        prepared.options.h,
+        problem.units.time,
+        prepared.options.integrator
+    );
+    let largest = |v: &[f64]| v.iter().cloned().fold(0.0_f64, f64::max);
+    out!("max residual   {:.3e}", largest(&sim.dynamics_residual));
+    out!("max compl.     {:.3e}", largest(&sim.complementarity));
+    out!(
+        "max penetr.    {:.3e} {}",
+        sim.max_penetration(),
+        problem.units.length
+    );
+    if let Some(e) = &energies {
+        let e0 = e.first().copied().unwrap_or(0.0);
+        let drift = e.iter().fold(0.0_f64, |a, x| a.max((x - e0).abs()));
+        out!("energy drift   {drift:.3e} (max |E − E0|)");
+    }
+    out!(
+        "time           {wall:.3} s wall ({:.1} µs per step, {:.2} Newton iterations per step)",
+        1e6 * wall / steps as f64,
+        summary["newton_iterations"]["mean"]
+    );
+    out!("written to     {}", written.display());
+    Ok(0)
+}

@@ -1,0 +1,162 @@
+//! `vito solve`: progress, the solve, its summary.
+
+use super::*;
+
+/// Progress line printed on stderr at each Ipopt iteration.
+pub(super) fn progress_line(
+    iteration: usize,
+    objective: f64,
+    inf_pr: f64,
+    inf_du: f64,
+    max_slack: f64,
+) -> String {
+    format!("{iteration:>5}  {objective:>14.7e}  {inf_pr:>9.2e}  {inf_du:>9.2e}  {max_slack:>9.2e}")
+}
+
+pub(super) fn solve(
+    file: &Path,
+    set: &[String],
+    out: Option<&Path>,
+    quiet: bool,
+    ipopt_log: bool,
+    multi_start: vito::transcription::MultiStart,
+) -> Result<u8, CliError> {
+    vito::sweep::die_with_sweep();
+    let overrides = parse_overrides(set)?;
+    let problem = load(file, &overrides)?;
+    print_model_warnings(&problem.robot);
+    pipeline::check_solver_options(&problem)?;
+    let target = pipeline::checked_output_dir(&problem, out).map_err(report::ReportError::from)?;
+    // With --ipopt-log, staged before solving so that Ipopt's log goes straight into the
+    // directory that replaces the target atomically; otherwise staged once there is
+    // something to write, so a run killed while solving leaves nothing behind.
+    let mut staged = None;
+    let mut ipopt_options = Vec::new();
+    if ipopt_log {
+        let dir = staged.insert(target.stage().map_err(report::ReportError::from)?);
+        let log = dir.path().join("ipopt.log");
+        let log = log.to_str().ok_or_else(|| {
+            CliError::Input(format!(
+                "--ipopt-log: the output path {} is not UTF-8, which Ipopt cannot take",
+                log.display()
+            ))
+        })?;
+        ipopt_options.push(("output_file".to_owned(), OptionValue::Str(log.to_owned())));
+        ipopt_options.push(("file_print_level".to_owned(), OptionValue::Int(5)));
+    }
+    let cancel = Arc::new(AtomicBool::new(false));
+    {
+        let cancel = cancel.clone();
+        // First Ctrl-C: stop at the next iteration and write the best iterate. A second one
+        // exits at once (exit 1) without writing, leaving any previous output untouched.
+        // A second handler cannot be installed in one process; ignoring that error keeps the
+        // first (which sets the same kind of flag) in place.
+        let _ = ctrlc::set_handler(move || {
+            if cancel.swap(true, Ordering::SeqCst) {
+                eprintln!("interrupted again: exiting without writing results");
+                std::process::exit(1);
+            }
+            eprintln!("interrupted: stopping after this iteration (Ctrl-C again to quit now)");
+        });
+    }
+    if !quiet {
+        if let vito::problem::InitialGuess::Simulation(g) = &problem.spec.initial_guess {
+            eprintln!(
+                "simulating the initial guess: {} periods of {} {} on {} knots",
+                g.cycles, g.period, problem.units.time, problem.spec.knots
+            );
+        }
+        eprintln!(
+            "solving {} ({} knots)",
+            problem.spec.name, problem.spec.knots
+        );
+        eprintln!(" iter       objective     inf_pr     inf_du  max_slack");
+    }
+    let solution = run_solver(&problem, cancel.clone(), quiet, ipopt_options, multi_start)?;
+    let staged = match staged {
+        Some(staged) => staged,
+        None => target.stage().map_err(report::ReportError::from)?,
+    };
+    let written = report::write_outputs(staged, &problem, &solution)?;
+    print_summary(&problem, &solution, &written)?;
+    Ok(if is_solved(solution.status) { 0 } else { 1 })
+}
+
+/// Calls the transcription's solver with live progress (stderr) and the cancel flag.
+pub(super) fn run_solver(
+    problem: &LoadedProblem,
+    cancel: Arc<AtomicBool>,
+    quiet: bool,
+    ipopt_options: Vec<(String, OptionValue)>,
+    multi_start: vito::transcription::MultiStart,
+) -> Result<Solution, CliError> {
+    let progress = move |p: &vito::transcription::Progress| {
+        if !quiet {
+            eprintln!(
+                "{}",
+                progress_line(p.iteration, p.objective, p.inf_pr, p.inf_du, p.max_slack)
+            );
+        }
+    };
+    let options = vito::transcription::SolveOptions {
+        progress: Some(Box::new(progress)),
+        cancel: Some(cancel),
+        ipopt_options,
+        multi_start: Some(multi_start),
+    };
+    pipeline::solve(&problem.spec, &options).map_err(CliError::Transcription)
+}
+
+pub(super) fn print_summary(
+    problem: &LoadedProblem,
+    s: &Solution,
+    dir: &Path,
+) -> Result<(), CliError> {
+    out!("problem      {}", problem.spec.name);
+    out!("status       {}", status_name(s.status));
+    out!("objective    {:.10e}", s.objective);
+    for (name, value) in &s.objective_terms {
+        out!("  {name:<22} {value:.6e}");
+    }
+    out!("iterations   {}", s.iterations);
+    out!(
+        "time         {:.3} s wall ({:.3} s in vito callbacks, {:.3} s in Ipopt)",
+        s.wall_time_s,
+        s.callback_time_s,
+        s.ipopt_time_s
+    );
+    if s.solves > 1 {
+        out!(
+            "max slack    {:.3e} after {} solves (slack weight raised to {:e})",
+            s.max_slack,
+            s.solves,
+            s.slack_weight
+        );
+    } else {
+        out!("max slack    {:.3e}", s.max_slack);
+    }
+    for (k, r) in s.starts.iter().enumerate() {
+        out!(
+            "  start {k:<3} {:<28} objective {:.10e}  max slack {:.3e}  {} iterations{}",
+            status_name(r.status),
+            r.objective,
+            r.max_slack,
+            r.iterations,
+            if k == s.best_start { "  (best)" } else { "" }
+        );
+    }
+    out!("max compl.   {:.3e}", s.max_complementarity);
+    out!("max viol.    {:.3e}", s.max_constraint_violation);
+    out!(
+        "size         {} variables, {} constraints, nnz J {}, nnz H {}",
+        s.size.n_variables,
+        s.size.n_constraints,
+        s.size.nnz_jacobian,
+        s.size.nnz_hessian
+    );
+    if let Some(t) = s.times.last() {
+        out!("horizon      T = {t:.6} {}", problem.units.time);
+    }
+    out!("written to   {}", dir.display());
+    Ok(())
+}

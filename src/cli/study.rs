@@ -1,0 +1,123 @@
+//! `vito study`: the accuracy studies (paper figures 5 and 6).
+
+use super::*;
+
+/// A progress bar counting runs (hidden when `quiet`).
+pub(super) fn study_bar(quiet: bool, what: &str) -> indicatif::ProgressBar {
+    let bar = if quiet {
+        indicatif::ProgressBar::hidden()
+    } else {
+        indicatif::ProgressBar::new(0)
+    };
+    if let Ok(style) = indicatif::ProgressStyle::with_template(&format!(
+        "{what} {{bar:40}} {{pos}}/{{len}} runs, ETA {{eta}}"
+    )) {
+        bar.set_style(style);
+    }
+    bar
+}
+
+/// Prints a study's table with each method's log-log slope of error against knot count.
+pub(super) fn print_study(table: &vito::study::StudyTable) -> Result<(), CliError> {
+    use vito::study::{Method, log_log_slope};
+    out!("knots  first_order mean ± std     variational mean ± std");
+    let mut knots: Vec<usize> = table.rows.iter().map(|r| r.knots).collect();
+    knots.dedup();
+    for k in knots {
+        let cell = |m| {
+            table.row(k, m).map_or_else(String::new, |r| {
+                format!("{:.4e} ± {:.2e}", r.mean(), r.std())
+            })
+        };
+        out!(
+            "{k:>5}  {:<26} {}",
+            cell(Method::FirstOrder),
+            cell(Method::Variational)
+        );
+    }
+    for m in Method::BOTH {
+        if let Some(slope) = log_log_slope(&table.means(m)) {
+            out!("{:<12} log-log slope {slope:.3}", m.name());
+        }
+    }
+    Ok(())
+}
+
+pub(super) fn brick_accuracy(
+    file: &Path,
+    study: &vito::study::brick::BrickAccuracy,
+    out: &Path,
+    quiet: bool,
+) -> Result<u8, CliError> {
+    study.check()?;
+    let problem = load(file, &[])?;
+    let protected = [problem.file.as_path(), problem.spec.robot.urdf.as_path()];
+    let target = report::OutputTarget::check(out, &protected).map_err(report::ReportError::from)?;
+    let bar = study_bar(quiet, "brick study");
+    let table = study.run(&problem.spec, |done, total| {
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+    });
+    bar.finish_and_clear();
+    let table = table?;
+    let staged = target.stage().map_err(report::ReportError::from)?;
+    table.write(
+        staged.path(),
+        "brick_accuracy",
+        "Tumbling brick: RMS configuration error against the 2 kHz first-order reference",
+        "RMS error (m, rad)",
+    )?;
+    let written = staged.commit().map_err(report::ReportError::from)?;
+    print_study(&table)?;
+    out!("written to {}", written.display());
+    Ok(0)
+}
+
+pub(super) fn tracking(
+    file: &Path,
+    set: &[String],
+    study: &vito::study::tracking::Tracking,
+    out: &Path,
+    quiet: bool,
+) -> Result<u8, CliError> {
+    study.check()?;
+    let overrides = parse_overrides(set)?;
+    let problem = load(file, &overrides)?;
+    let protected = [problem.file.as_path(), problem.spec.robot.urdf.as_path()];
+    let target = report::OutputTarget::check(out, &protected).map_err(report::ReportError::from)?;
+    let bar = study_bar(quiet, "tracking study");
+    let table = study.run(file, &overrides, |done, total| {
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+    });
+    bar.finish_and_clear();
+    let result = table?;
+    let table = &result.table;
+    let staged = target.stage().map_err(report::ReportError::from)?;
+    let plans_csv = staged.path().join("tracking_plans.csv");
+    report::write_file_atomic(&plans_csv, result.plans_csv().as_bytes())
+        .map_err(|e| CliError::Internal(format!("{}: {e}", plans_csv.display())))?;
+    table.write(
+        staged.path(),
+        "tracking",
+        &format!(
+            "{}: RMS state error of PD tracking at 2 kHz",
+            problem.spec.name
+        ),
+        "RMS state error (q and v, problem units)",
+    )?;
+    let written = staged.commit().map_err(report::ReportError::from)?;
+    print_study(table)?;
+    for p in &result.plans {
+        out!(
+            "plan {:>3} knots {:<12} objective {:.6e}, max slack {:.2e}, {} iterations",
+            p.knots,
+            p.method.name(),
+            p.objective,
+            p.max_slack,
+            p.iterations
+        );
+    }
+    out!("written to {}", written.display());
+    Ok(0)
+}
