@@ -299,8 +299,8 @@ fn cost_placements(l: &Layout, inputs: CostInputs) -> Vec<Vec<usize>> {
 }
 
 /// The variables a constraint reads, in the order it declares them. Knots and intervals
-/// it names exist: validation requires N ≥ 2 knots, and a constraint's check requires what
-/// it reads.
+/// it names exist: `Transcription::new` refuses a constraint that reads a missing one
+/// (`Constraint::missing_knot`).
 fn constraint_variables(l: &Layout, inputs: &[ConstraintInput]) -> Vec<usize> {
     let knot = |k: KnotRef| k.resolve(l.knots).unwrap_or(0);
     let interval = |j: KnotRef| j.resolve(l.intervals()).unwrap_or(0);

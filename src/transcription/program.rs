@@ -92,6 +92,15 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                 });
             }
         }
+        // Validation checks this for problem files; a spec built in code is checked here.
+        for (c, constraint) in spec.constraints.iter().enumerate() {
+            if let Some(message) = constraint.missing_knot(spec.knots) {
+                return Err(TranscriptionError::Invalid {
+                    field: format!("constraints[{c}]"),
+                    message,
+                });
+            }
+        }
         let equal_steps = matches!(spec.time_steps, TimeSteps::FreeEqual { .. });
         let layout = Layout::new(
             Dims { n, m, nc, nd, nl },

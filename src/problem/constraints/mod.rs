@@ -247,32 +247,39 @@ pub(crate) fn check_constraints(
         .collect()
 }
 
+impl Constraint {
+    /// Why the constraint cannot be placed among `knots` knots (a knot or interval it reads
+    /// does not exist), or `None`.
+    pub fn missing_knot(&self, knots: usize) -> Option<String> {
+        self.inputs().into_iter().find_map(|input| {
+            let (what, reference, count) = match input {
+                ConstraintInput::Coordinate { knot, .. } | ConstraintInput::Configuration(knot) => {
+                    ("knot", knot, knots)
+                }
+                ConstraintInput::Step(j) | ConstraintInput::Inputs(j) => {
+                    ("interval", j, knots.saturating_sub(1))
+                }
+                ConstraintInput::InitialVelocity => return None,
+            };
+            reference.resolve(count).is_none().then(|| {
+                format!(
+                    "this `{}` constraint reads {what} {reference:?}, but the problem has \
+                     {knots} knots; raise `knots`",
+                    self.name()
+                )
+            })
+        })
+    }
+}
+
 /// Every knot and interval `constraint` reads exists among `knots` knots.
 fn reads_existing_knots(
     constraint: &Constraint,
     at: &ConstraintCheck,
     knots: usize,
 ) -> Result<(), ProblemError> {
-    for input in constraint.inputs() {
-        let (what, reference, count) = match input {
-            ConstraintInput::Coordinate { knot, .. } | ConstraintInput::Configuration(knot) => {
-                ("knot", knot, knots)
-            }
-            ConstraintInput::Step(j) | ConstraintInput::Inputs(j) => {
-                ("interval", j, knots.saturating_sub(1))
-            }
-            ConstraintInput::InitialVelocity => continue,
-        };
-        if reference.resolve(count).is_none() {
-            return Err(at.ctx.invalid(
-                &at.entry,
-                format!(
-                    "this `{}` constraint reads {what} {reference:?}, but the problem has \
-                     {knots} knots; raise `knots`",
-                    constraint.name()
-                ),
-            ));
-        }
+    match constraint.missing_knot(knots) {
+        Some(message) => Err(at.ctx.invalid(&at.entry, message)),
+        None => Ok(()),
     }
-    Ok(())
 }
