@@ -53,6 +53,21 @@ pub trait Mechanics: Sync {
     fn momentum<D: Scalar>(&self, q: &[D], v: &[D], out: &mut [D]);
     /// World position of contact point `contact` at configuration q (length units).
     fn contact_position<D: Scalar>(&self, contact: usize, q: &[D]) -> [D; 3];
+    /// Whether contact `contact` is a sphere that rolls: friction acts at its lowest
+    /// material point, which moves with [`Mechanics::contact_position`]'s point plus the
+    /// spin term of [`Mechanics::contact_spin_columns`]. False for points (the default).
+    fn contact_rolls(&self, _contact: usize) -> bool {
+        false
+    }
+    /// Velocity of the contact's lowest material point relative to the point of
+    /// [`Mechanics::contact_position`], per unit rate of the coordinates, as (coordinate,
+    /// velocity) pairs to add up: r·ẑ × ∂ω/∂q̇ for a sphere of radius r on a link turning
+    /// with ω (the material point at −r·ẑ from the centre moves with ω × (−r·ẑ)). Linear in
+    /// q̇ but, unlike the point's velocity, not the rate of a function of q: friction along
+    /// it is a generalized force Dᵀβ that is no gradient. Empty for contacts that do not roll.
+    fn contact_spin_columns<D: Scalar>(&self, _contact: usize, _q: &[D]) -> Vec<(usize, [D; 3])> {
+        Vec::new()
+    }
     /// Semi-implicit Euler residual at knot k (eq. 1 of the paper; Posa et al. 2014) into
     /// `out` (length n, impulse units, sign as the DEL rows: momentum before − momentum
     /// after + impulses): M(q_k)(v_k − v⁺) + h·(B(q_k)u − C(q_k, v⁺)v⁺ − ∂V/∂q(q_k)

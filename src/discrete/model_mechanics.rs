@@ -10,8 +10,8 @@ use super::{
 };
 use crate::autodiff::{SymmetricGroups, ThirdOrder};
 use crate::model::{
-    LinkId, LoopJet, Model, PointJet, generalized_momentum, loop_closure_jets, loop_residual,
-    point_jet, point_position,
+    LinkId, LoopJet, Model, PointJet, generalized_momentum, link_angular_jacobian,
+    loop_closure_jets, loop_residual, point_jet, point_position,
 };
 use crate::scalar::Scalar;
 
@@ -113,9 +113,9 @@ impl Mechanics for ModelMechanics {
     }
     /// A sphere's lowest point, centre − r·ẑ: the terrain's normal is +z wherever the
     /// signed distance is exact (it is the vertical distance, `contact::signed_distance`),
-    /// so φ is the centre's distance minus r. Friction acts at this point as it moves with
-    /// the centre (tangential coordinates of a potential, as for points): it exerts no
-    /// torque about the centre, as a ball rolling without resistance.
+    /// so φ is the centre's distance minus r. This point moves with the centre; friction
+    /// acts at the lowest *material* point, whose velocity adds the spin term
+    /// ([`Mechanics::contact_spin_columns`]), so that friction turns the sphere.
     fn contact_position<D: Scalar>(&self, contact: usize, q: &[D]) -> [D; 3] {
         let c = &self.contacts[contact];
         let mut p = point_position(&self.model, c.link, &c.centre, q);
@@ -123,6 +123,21 @@ impl Mechanics for ModelMechanics {
             p[2] -= D::from(c.radius);
         }
         p
+    }
+    fn contact_rolls(&self, contact: usize) -> bool {
+        self.contacts[contact].radius != 0.0
+    }
+    /// r·ẑ × ∂ω/∂q̇ = r·(−∂ω_y/∂q̇, ∂ω_x/∂q̇, 0) per coordinate on the link's path.
+    fn contact_spin_columns<D: Scalar>(&self, contact: usize, q: &[D]) -> Vec<(usize, [D; 3])> {
+        let c = &self.contacts[contact];
+        if c.radius == 0.0 {
+            return Vec::new();
+        }
+        let r = D::from(c.radius);
+        link_angular_jacobian(&self.model, c.link, q)
+            .into_iter()
+            .map(|(i, w)| (i, [-(r * w[1]), r * w[0], D::from(0.0)]))
+            .collect()
     }
     fn loop_residual<D: Scalar>(&self, q: &[D], out: &mut [D]) {
         out.copy_from_slice(&loop_residual(&self.model, q));

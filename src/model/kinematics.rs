@@ -121,6 +121,36 @@ pub fn link_pose<D: Scalar>(model: &Model, link: LinkId, q: &[D]) -> ([[D; 3]; 3
     )
 }
 
+/// World angular velocity of `link` per unit rate of the coordinates: one (coordinate,
+/// ∂ω/∂q̇_coordinate) pair per revolute joint on the link's path (its world axis, times the
+/// multiplier of a mimic joint, whose coordinate is its leader's), root to leaf; a coordinate
+/// can appear more than once (add the pairs). ω = Σ pairs·q̇[coordinate]: the rotation of
+/// the link at q moving with q̇ (prismatic and fixed joints do not turn it).
+pub fn link_angular_jacobian<D: Scalar>(
+    model: &Model,
+    link: LinkId,
+    q: &[D],
+) -> Vec<(usize, [D; 3])> {
+    check_len(model, q.len(), "q");
+    let mut path = Vec::with_capacity(16);
+    let mut cursor = Some(model.link_frame[link.0].frame);
+    while let Some(i) = cursor {
+        path.push(i);
+        cursor = model.frames[i].parent;
+    }
+    let mut pose = Pose::world();
+    let mut columns = Vec::with_capacity(path.len());
+    for &i in path.iter().rev() {
+        let frame = &model.frames[i];
+        pose = child_pose(frame, &pose, q);
+        if frame.motion == Motion::Revolute {
+            let rate = frame.mimic.map_or(1.0, |m| m.multiplier);
+            columns.push((frame.coordinate, scale(D::from(rate), pose.axis)));
+        }
+    }
+    columns
+}
+
 /// World position of `point` (given in the `link` frame) at configuration `q` (length `nq`).
 pub fn point_position<D: Scalar>(model: &Model, link: LinkId, point: &[f64; 3], q: &[D]) -> [D; 3] {
     check_len(model, q.len(), "q");

@@ -29,7 +29,7 @@ pub use energy::{generalized_momentum, kinetic_energy, mass_matrix, potential_en
 pub use energy_adjoint::{kinetic_energy_gradient, lagrangian_gradient, potential_energy_gradient};
 pub use error::{ModelError, describe};
 pub use inspect::{CoordinateInfo, Inspection, LoopInfo, SpringInfo, inspect};
-pub use kinematics::{link_pose, point_position};
+pub use kinematics::{link_angular_jacobian, link_pose, point_position};
 pub use loops::{LoopJet, loop_closure_jets, loop_residual};
 pub use point_jet::{PointJet, point_jet, vector_jet};
 

@@ -3,7 +3,8 @@
 //!
 //! Unknowns x = [q_{k+1} (n); per contact (c, β (nd), ψ); loop impulses ν (nl)]. Equations:
 //! - the knot's discrete equations (midpoint DEL or Euler residual, `crate::discrete::del`)
-//!   plus the contact impulses J(q_{k+1})ᵀλ (the NLP's contact-work gradient) and Gᵀν;
+//!   plus the contact impulses J(q_{k+1})ᵀλ (the NLP's contact-work gradient, and its spin
+//!   friction for rolling spheres) and Gᵀν;
 //! - per contact, with η = P(q_{k+1})(q_{k+1} − q_k)/h + ψe (the NLP's tangential-velocity
 //!   rows solved for η): 0 ≤ c ⊥ φ(q_{k+1}) ≥ 0, 0 ≤ β ⊥ η ≥ 0, 0 ≤ ψ ⊥ μc − eᵀβ ≥ 0;
 //! - the loop closures a(q_{k+1}) = 0.
@@ -22,7 +23,8 @@ use crate::discrete::{
 };
 use crate::scalar::Scalar;
 use crate::transcription::{
-    Context, contact_work_gradient, contact_work_hessian, tangential_rate, tangential_rate_jacobian,
+    Context, contact_work_gradient, contact_work_hessian, spin_friction_jacobian, tangential_rate,
+    tangential_rate_jacobian,
 };
 
 /// Settings of the per-step solver.
@@ -317,6 +319,19 @@ impl<M: MechanicsDerivatives> ContactStep<'_, M> {
                 for col in 0..n + 1 + nd {
                     let target = if col < n { col } else { base + col - n };
                     jac[(r, target)] += work_hessian[(r, col)];
+                }
+            }
+            if self.mech.contact_rolls(i) {
+                // A rolling sphere's friction also turns it (the NLP's SpinFriction rows).
+                let (spin, spin_jacobian) = spin_friction_jacobian(self.mech, self.ctx, i, &z);
+                for r in 0..n {
+                    residual[r] += spin[r];
+                    if with_jacobian && active[i] {
+                        for col in 0..n + 1 + nd {
+                            let target = if col < n { col } else { base + col - n };
+                            jac[(r, target)] += spin_jacobian[(r, col)];
+                        }
+                    }
                 }
             }
             let phi = work[n];

@@ -400,7 +400,9 @@ impl<M: MechanicsDerivatives> Transcription<M> {
     ) -> DMatrix<f64> {
         if contacts == ContactDerivatives::ChainRule {
             match &b.kind {
-                &VectorKind::TangentialRate { contact } => {
+                // A rolling contact's rate has no chain rule: generic AD below, over the
+                // block's Hessian inputs only.
+                &VectorKind::TangentialRate { contact } if !self.mech.contact_rolls(contact) => {
                     return tangential_rate_hessian(&self.mech, &self.ctx, contact, z, w);
                 }
                 VectorKind::Complementarity { contacts, .. } => {

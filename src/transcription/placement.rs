@@ -99,6 +99,17 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                 vars.extend(l.beta(j, i));
                 let len = vars.len();
                 let targets = q_next_targets(len - n);
+                if self.mech.contact_rolls(i) {
+                    let rows = dyn_rows.iter().map(|&r| vec![r]).collect();
+                    let mut block = Block::new(
+                        VectorKind::SpinFriction { contact: i },
+                        vars.clone(),
+                        len,
+                        rows,
+                    );
+                    block.linear_from = n;
+                    self.vector_blocks.push(block);
+                }
                 let mut block =
                     Block::new(ScalarKind::ContactWork { contact: i }, vars, len, targets);
                 block.linear_from = n;

@@ -8,12 +8,13 @@
 //!
 //! Variants cover: midpoint and Euler mechanics, fixed and free equal steps, per-interval
 //! and per-contact slacks, every cost term, periodicity of position and velocity, a
-//! smoothed step in the terrain, and a loop closure (with its impulses in the DEL rows).
+//! smoothed step in the terrain, a loop closure (with its impulses in the DEL rows), and
+//! rolling sphere contacts (friction at the lowest material point: spin rows by generic AD).
 
 use crate::common;
 
 use common::analytic::{Brick, Hopper};
-use common::reference::{brick_3d, hopper_2d, spring_flamingo_walk};
+use common::reference::{brick_3d, hopper_2d, littledog_step, spring_flamingo_walk};
 use vito::contact::Step;
 use vito::discrete::{Mechanics, MechanicsDerivatives, ModelMechanics};
 use vito::problem::constraints::{Periodic, PeriodicMomentum};
@@ -354,6 +355,44 @@ fn spring_flamingo_from_urdf_short_horizon() {
         spec.integrator = integrator;
         let t = Transcription::new(ModelMechanics::load(&spec).unwrap(), &spec).unwrap();
         check_derivatives(&format!("spring flamingo (URDF) {integrator:?}"), &t, seed);
+    }
+}
+
+/// Sphere contacts of radius > 0 roll: their friction directions add the spin columns
+/// (no gradient of a potential), in the SpinFriction rows and the tangential rates. On a
+/// floating brick whose corners are balls, on the planar Spring Flamingo with ball feet
+/// (the spin from base pitch and three joints), and on LittleDog's 3-D legs, both integrators.
+#[test]
+fn rolling_sphere_contacts_have_exact_derivatives() {
+    let with_radius = |mut spec: ProblemSpec, r: f64| {
+        spec.knots = 3;
+        for c in &mut spec.contacts {
+            c.radius = r;
+        }
+        spec
+    };
+    let mut brick = with_radius(brick_3d(), 0.01);
+    brick.terrain.steps.push(Step {
+        edge_x: 0.05,
+        rise: 0.02,
+        width: 0.1,
+    });
+    let mut flamingo = with_radius(spring_flamingo_walk(), 0.02);
+    flamingo.q_final = vec![Interval::FREE; 9];
+    let mut dog = with_radius(littledog_step(), 0.0175);
+    dog.q_final = vec![Interval::FREE; dog.q_initial.len()];
+    for (seed, spec, integrator) in [
+        (11, brick.clone(), Integrator::Midpoint),
+        (12, brick, Integrator::Euler),
+        (13, flamingo, Integrator::Midpoint),
+        (14, dog, Integrator::Euler),
+    ] {
+        let mut spec = spec;
+        spec.integrator = integrator;
+        let mech = ModelMechanics::load(&spec).unwrap();
+        assert!((0..mech.num_contacts()).all(|i| mech.contact_rolls(i)));
+        let t = Transcription::new(mech, &spec).unwrap();
+        check_derivatives(&format!("rolling {} {integrator:?}", spec.name), &t, seed);
     }
 }
 

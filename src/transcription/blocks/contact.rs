@@ -4,7 +4,8 @@
 use nalgebra::DMatrix;
 
 use super::contact_geometry::ContactGeometry;
-use super::{Context, tangential_rates};
+use super::{Context, VectorBlockFn, VectorKind, tangential_rates};
+use crate::autodiff::{jacobian, weighted_hessian};
 use crate::contact::{signed_distance, tangential_coordinates};
 use crate::discrete::{Mechanics, MechanicsDerivatives, difference_velocity};
 use crate::scalar::Scalar;
@@ -15,7 +16,8 @@ pub fn distance<D: Scalar, M: Mechanics>(mech: &M, ctx: &Context, contact: usize
 }
 
 /// c_i φ_i(q) + Σ_t (β⁺_it − β⁻_it) t_i(q) of one contact; z = [q; c_i; β_i (nd)].
-/// Its gradient in q is contact i's share of J(q)ᵀλ = Nᵀc + Pᵀβ, P = [D; −D].
+/// Its gradient in q is contact i's share of J(q)ᵀλ = Nᵀc + Pᵀβ, P = [D; −D]; for a rolling
+/// sphere, D adds the spin columns, whose share is the [`VectorKind::SpinFriction`] block.
 pub fn contact_work<D: Scalar, M: Mechanics>(
     mech: &M,
     ctx: &Context,
@@ -123,6 +125,9 @@ pub fn tangential_rate_jacobian<M: MechanicsDerivatives>(
     contact: usize,
     z: &[f64],
 ) -> DMatrix<f64> {
+    if mech.contact_rolls(contact) {
+        return rolling_rate_derivatives(mech, ctx, contact, z, None);
+    }
     let n = ctx.n;
     let nt = ctx.nd() / 2;
     let (qa, qb, h) = (&z[..n], &z[n..2 * n], z[2 * n]);
@@ -155,6 +160,9 @@ pub fn tangential_rate_hessian<M: MechanicsDerivatives>(
     z: &[f64],
     w: &[f64],
 ) -> DMatrix<f64> {
+    if mech.contact_rolls(contact) {
+        return rolling_rate_derivatives(mech, ctx, contact, z, Some(w));
+    }
     let n = ctx.n;
     let nt = ctx.nd() / 2;
     let (qa, qb, h) = (&z[..n], &z[n..2 * n], z[2 * n]);
@@ -187,6 +195,50 @@ pub fn tangential_rate_hessian<M: MechanicsDerivatives>(
     }
     out[(2 * n, 2 * n)] = 2.0 * gv / h2;
     out
+}
+
+/// Jacobian (and, with weights, Σ_r w_r ∇²(rate_r)) of a rolling contact's
+/// [`tangential_rate`] by generic forward AD: its spin columns come from the kinematics
+/// generic over the scalar, with no jets of their own.
+fn rolling_rate_derivatives<M: Mechanics>(
+    mech: &M,
+    ctx: &Context,
+    contact: usize,
+    z: &[f64],
+    w: Option<&[f64]>,
+) -> DMatrix<f64> {
+    let kind = VectorKind::TangentialRate { contact };
+    let f = VectorBlockFn {
+        mech,
+        ctx,
+        kind: &kind,
+        dim_in: 2 * ctx.n + 1,
+        dim_out: ctx.nd(),
+    };
+    match w {
+        Some(w) => weighted_hessian(&f, z, w),
+        None => jacobian(&f, z).1,
+    }
+}
+
+/// The spin part of a rolling contact's friction impulse ([`VectorKind::SpinFriction`]) and
+/// its Jacobian over z = [q; c; β] (n × (n + 1 + nd)) by generic forward AD, for the
+/// simulator's knot rows.
+pub fn spin_friction_jacobian<M: Mechanics>(
+    mech: &M,
+    ctx: &Context,
+    contact: usize,
+    z: &[f64],
+) -> (Vec<f64>, DMatrix<f64>) {
+    let kind = VectorKind::SpinFriction { contact };
+    let f = VectorBlockFn {
+        mech,
+        ctx,
+        kind: &kind,
+        dim_in: ctx.n + 1 + ctx.nd(),
+        dim_out: ctx.n,
+    };
+    jacobian(&f, z)
 }
 
 /// Gradient of [`contact_work`] over z = [q; c; β]: [Nᵀc + Pᵀβ share; φ; ±t_d], by the chain

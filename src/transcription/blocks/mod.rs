@@ -13,8 +13,8 @@ mod loops;
 
 pub(crate) use contact::{
     complementarity_hessian, complementarity_jacobian, contact_work_gradient, contact_work_hessian,
-    contact_work_third, distance_hessian, distance_jacobian, tangential_rate,
-    tangential_rate_hessian, tangential_rate_jacobian,
+    contact_work_third, distance_hessian, distance_jacobian, spin_friction_jacobian,
+    tangential_rate, tangential_rate_hessian, tangential_rate_jacobian,
 };
 pub(crate) use loops::{
     loop_closure_hessian, loop_closure_jacobian, loop_work_gradient, loop_work_hessian,
@@ -96,6 +96,10 @@ pub enum VectorKind {
     TangentialRate { contact: usize },
     /// ψ e − η (tangential-velocity rows, linear part); z = [ψ; η].
     TangentialSlack,
+    /// The spin part of a rolling sphere's friction impulse in the DEL rows (its friction
+    /// directions are no gradient, so it is not in [`ScalarKind::ContactWork`]); z = [q; c_i;
+    /// β_i], out length n.
+    SpinFriction { contact: usize },
     /// −c_i φ_i(q) (the c·φ complementarity row's product); z = [q; c_i].
     ContactGap { contact: usize },
     /// φ_i(q); z = [q].
@@ -119,8 +123,8 @@ pub enum VectorKind {
 pub enum ScalarKind {
     /// Midpoint Ld(qa, qb, h); z = [qa; qb; h].
     Segment,
-    /// c_i φ_i(q) + β_iᵀ P_i t_i(q), whose q-gradient is contact i's J(q)ᵀλ;
-    /// z = [q; c_i; β_i].
+    /// c_i φ_i(q) + β_iᵀ P_i t_i(q), whose q-gradient is contact i's J(q)ᵀλ (with
+    /// [`VectorKind::SpinFriction`] for a rolling sphere); z = [q; c_i; β_i].
     ContactWork { contact: usize },
     /// γᵀa(q), whose q-gradient is A(q)ᵀγ; z = [q; γ].
     LoopWork,
@@ -218,6 +222,7 @@ impl<M: Mechanics> VectorFunction for VectorBlockFn<'_, M> {
                 contact::tangential_rate(mech, ctx, *contact, z, out)
             }
             VectorKind::TangentialSlack => contact::tangential_slack(z, out),
+            VectorKind::SpinFriction { contact } => spin_friction(mech, ctx, *contact, z, out),
             VectorKind::ContactGap { contact } => {
                 out[0] = contact::contact_gap(mech, ctx, *contact, z)
             }
@@ -265,8 +270,11 @@ impl<M: Mechanics> ScalarFunction for ScalarBlockFn<'_, M> {
     }
 }
 
-/// Rates of the tangential coordinates of contact `i` at q moving with q̇, i.e. D_i(q)·q̇,
-/// into `out` (length tangents): a forward directional derivative of the point position.
+/// Tangential velocity D_i(q)·q̇ of contact `i` at q moving with q̇ into `out` (length
+/// tangents): the friction directions D_i are defined here, for the NLP and the simulator.
+/// For a point, the rate of its tangential coordinates (a forward directional derivative
+/// of its position); for a rolling sphere, that of its lowest material point, which adds
+/// the spin columns ([`Mechanics::contact_spin_columns`]).
 fn tangential_rates<D: Scalar, M: Mechanics>(
     mech: &M,
     ctx: &Context,
@@ -281,5 +289,35 @@ fn tangential_rates<D: Scalar, M: Mechanics>(
     tangential_coordinates(ctx.basis, &p, &mut t);
     for (o, ti) in out.iter_mut().zip(t) {
         *o = ti.eps;
+    }
+    for (i, column) in mech.contact_spin_columns(contact, q) {
+        let mut s = [D::from(0.0); 2];
+        tangential_coordinates(ctx.basis, &column, &mut s);
+        for (o, si) in out.iter_mut().zip(s) {
+            *o += si * qdot[i];
+        }
+    }
+}
+
+/// The spin part of a rolling contact's friction impulse, Σ_d (β⁺_d − β⁻_d)·S_dᵀ with S_d
+/// the tangential components of the spin columns (D_d = ∂t_d/∂q + S_d), into `out` (length
+/// n); z = [q; c; β]. [`contact::contact_work`]'s gradient holds the rest of Nᵀc + Pᵀβ.
+fn spin_friction<D: Scalar, M: Mechanics>(
+    mech: &M,
+    ctx: &Context,
+    contact: usize,
+    z: &[D],
+    out: &mut [D],
+) {
+    let (n, nd) = (ctx.n, ctx.nd());
+    let nt = nd / 2;
+    let beta = &z[n + 1..n + 1 + nd];
+    out.fill(D::from(0.0));
+    for (i, column) in mech.contact_spin_columns(contact, &z[..n]) {
+        let mut s = [D::from(0.0); 2];
+        tangential_coordinates(ctx.basis, &column, &mut s);
+        for d in 0..nt {
+            out[i] += (beta[d] - beta[d + nt]) * s[d];
+        }
     }
 }
