@@ -146,6 +146,51 @@ fn mimic_dynamics_is_the_full_models_through_the_follower_map() {
     }
 }
 
+/// A mimic joint's own `<limit>` bounds its leader's coordinate through θ = m·q + o: the
+/// thumb (θ = 0.5·wrist + 0.1 within [−1, 1]) narrows the wrist's [−2, 2] to [−2, 1.8] with
+/// a warning; the right finger (−left within [−0.04, 0]) and the tip agree with the left
+/// finger's [0, 0.04] and change nothing. Limits that exclude each other are a problem of
+/// the file, named by line.
+#[test]
+fn a_mimic_joints_limit_bounds_its_leader() {
+    let model = gripper();
+    let limits = model.coordinate_limits();
+    assert_eq!(limits[0], (-2.0, 1.8), "wrist: {limits:?}");
+    assert_eq!(limits[1], (0.0, 0.04), "left: {limits:?}");
+    let narrowed: Vec<&String> = model
+        .warnings()
+        .iter()
+        .filter(|w| w.contains("narrows"))
+        .collect();
+    assert_eq!(narrowed.len(), 1, "{:?}", model.warnings());
+    assert!(
+        narrowed[0].contains("joint 'thumb' (mimic of 'wrist')")
+            && narrowed[0].contains("to [-2, 1.8]"),
+        "{}",
+        narrowed[0]
+    );
+    // Without its limit the thumb leaves the wrist alone.
+    let xml = sample::gripper().replace(
+        r#"<limit lower="-1" upper="1" effort="1" velocity="1"/>
+    <mimic joint="wrist""#,
+        r#"<mimic joint="wrist""#,
+    );
+    let free = Model::from_urdf_str(&xml, BaseType::Fixed).unwrap();
+    assert_eq!(free.coordinate_limits()[0], (-2.0, 2.0));
+    // right = −left within [0.01, 0.02] needs left in [−0.02, −0.01], outside [0, 0.04].
+    let xml = sample::gripper().replace(
+        r#"<limit lower="-0.04" upper="0" effort="20" velocity="0.1"/>"#,
+        r#"<limit lower="0.01" upper="0.02" effort="20" velocity="0.1"/>"#,
+    );
+    let problems = reject(&xml);
+    assert_eq!(problems.len(), 1, "{problems:?}");
+    assert!(
+        problems[0].starts_with("line 39: <joint name=\"right\"> <limit> (mimic of 'left')")
+            && problems[0].contains("make them agree"),
+        "{problems:?}"
+    );
+}
+
 #[test]
 fn mimic_joints_are_never_inputs() {
     let mut model = gripper();

@@ -310,6 +310,42 @@ fn coordinates(
                 if let Some(d) = &joint.dynamics {
                     damping[coordinate] += d.damping * map.multiplier * map.multiplier;
                 }
+                let presence = ext.limit_presence.get(&joint.name).copied();
+                let (_, has_lower, has_upper) = presence.unwrap_or((false, false, false));
+                let own = (
+                    if has_lower {
+                        joint.limit.lower
+                    } else {
+                        f64::NEG_INFINITY
+                    },
+                    if has_upper {
+                        joint.limit.upper
+                    } else {
+                        f64::INFINITY
+                    },
+                );
+                let leader = &coordinate_names[coordinate];
+                match mimic_limits(own, map, coordinate_limits[coordinate]) {
+                    Ok((limits, narrowed)) => {
+                        if narrowed {
+                            warnings.push(format!(
+                                "joint '{}' (mimic of '{leader}'): its <limit> [{}, {}] narrows                                  '{leader}' from [{}, {}] to [{}, {}]",
+                                joint.name,
+                                own.0,
+                                own.1,
+                                coordinate_limits[coordinate].0,
+                                coordinate_limits[coordinate].1,
+                                limits.0,
+                                limits.1
+                            ));
+                        }
+                        coordinate_limits[coordinate] = limits;
+                    }
+                    Err(problem) => problems.push(format!(
+                        "{at}<joint name=\"{}\"> <limit> (mimic of '{leader}'): {problem}",
+                        joint.name
+                    )),
+                }
                 mimic[j] = Some((coordinate, map));
             }
             Err(problem) => problems.push(format!(
@@ -325,6 +361,42 @@ fn coordinates(
         joint_coordinate,
         mimic,
     })
+}
+
+/// The leader's coordinate limits with a mimic joint's own `<limit>` `own` on θ =
+/// multiplier·q + offset applied: q within (own − offset)/multiplier, intersected with
+/// `leader`. Returns the limits and whether the mimic's narrowed them; an error when they
+/// leave no value (or when a multiplier of 0 holds θ at an offset outside `own`).
+fn mimic_limits(
+    own: (f64, f64),
+    map: Mimic,
+    leader: (f64, f64),
+) -> Result<((f64, f64), bool), String> {
+    let (lower, upper) = own;
+    if lower == f64::NEG_INFINITY && upper == f64::INFINITY {
+        return Ok((leader, false));
+    }
+    let (m, o) = (map.multiplier, map.offset);
+    if m == 0.0 {
+        return if (lower..=upper).contains(&o) {
+            Ok((leader, false))
+        } else {
+            Err(format!(
+                "multiplier 0 holds the joint at {o}, outside its limit [{lower}, {upper}]"
+            ))
+        };
+    }
+    let (a, b) = ((lower - o) / m, (upper - o) / m);
+    let (implied_lower, implied_upper) = if m > 0.0 { (a, b) } else { (b, a) };
+    let limits = (leader.0.max(implied_lower), leader.1.min(implied_upper));
+    if limits.0 > limits.1 {
+        return Err(format!(
+            "[{lower}, {upper}] needs the leader's coordinate within [{implied_lower}, \
+             {implied_upper}], which its own limits [{}, {}] exclude; make them agree",
+            leader.0, leader.1
+        ));
+    }
+    Ok((limits, limits != leader))
 }
 
 /// The coordinate a mimic joint follows and θ = multiplier·q + offset, composed along a

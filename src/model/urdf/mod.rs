@@ -5,7 +5,8 @@
 //! Read: links (`<inertial>`; mass 0 is a massless frame; `<collision>` spheres of any
 //! radius as contacts; other collision shapes listed as ignored), joints of type fixed, revolute, continuous and prismatic (origin,
 //! axis, `<limit>` lower/upper/effort, `<dynamics damping>`, `<mimic>`: no coordinate of its
-//! own, θ = multiplier·q_leader + offset), `<transmission>` joints (inputs), and Drake's
+//! own, θ = multiplier·q_leader + offset, its `<limit>` applied to the leader's coordinate,
+//! with a warning when it narrows it), `<transmission>` joints (inputs), and Drake's
 //! `<force_element>` (`<torsional_spring>`, `<prismatic_spring>`) and `<loop_joint>`.
 //! Inertias are checked on the rigid bodies after fixed children are lumped in, and every
 //! problem of masses and mimics is reported at once, by line and element.
@@ -16,7 +17,7 @@
 //! mesh `scale`, capitalised joint types, and stray `/` text.
 //!
 //! Limitations (ignored): visual elements and meshes, collision boxes, cylinders and meshes,
-//! `velocity` limits, `friction` in `<dynamics>`, a mimic joint's own `<limit>`, `<calibration>`,
+//! `velocity` limits, `friction` in `<dynamics>`, `<calibration>`,
 //! `<safety_controller>`, `mechanicalReduction` (must be 1), `<gazebo>`, Drake `<frame>`
 //! (reported as a warning), collision groups.
 
