@@ -34,6 +34,19 @@ pub struct SpringInfo {
     pub rest: f64,
 }
 
+/// One contact of the URDF: a collision sphere.
+#[derive(Debug, Clone, Serialize)]
+pub struct ContactInfo {
+    /// Contact name.
+    pub name: String,
+    /// The link it is fixed to.
+    pub link: String,
+    /// The sphere's centre in the link frame [length].
+    pub point: [f64; 3],
+    /// The sphere's radius [length] (0: a point).
+    pub radius: f64,
+}
+
 /// One loop closure and its residual at q = 0.
 #[derive(Debug, Clone, Serialize)]
 pub struct LoopInfo {
@@ -74,6 +87,10 @@ pub struct Inspection {
     pub dampers: Vec<String>,
     /// Contact point names.
     pub contact_points: Vec<String>,
+    /// The contacts (collision spheres) with their centres and radii.
+    pub contacts: Vec<ContactInfo>,
+    /// Collision elements that give no contact (not spheres), by link.
+    pub ignored_collisions: Vec<super::IgnoredCollision>,
     /// Number of loop-closure rows.
     pub n_loop_constraints: usize,
     /// The loop closures.
@@ -149,6 +166,17 @@ pub fn inspect(model: &Model) -> Inspection {
             .iter()
             .map(|c| c.name.clone())
             .collect(),
+        contacts: model
+            .contact_points()
+            .iter()
+            .map(|c| ContactInfo {
+                name: c.name.clone(),
+                link: c.link.clone(),
+                point: c.point,
+                radius: c.radius,
+            })
+            .collect(),
+        ignored_collisions: model.ignored_collisions().to_vec(),
         n_loop_constraints: model.num_loop_constraints(),
         max_loop_residual: residual.iter().fold(0.0, |m: f64, r: &f64| m.max(r.abs())),
         loop_closures,
@@ -201,12 +229,27 @@ impl fmt::Display for Inspection {
             self.dampers.len(),
             self.dampers.join(", ")
         )?;
-        writeln!(
-            f,
-            "contact points ({}): {}",
-            self.contact_points.len(),
-            self.contact_points.join(", ")
-        )?;
+        writeln!(f, "contacts ({}):", self.contacts.len())?;
+        for c in &self.contacts {
+            writeln!(
+                f,
+                "  {:<20} on {:<20} at [{}, {}, {}]  radius {}",
+                c.name, c.link, c.point[0], c.point[1], c.point[2], c.radius
+            )?;
+        }
+        if !self.ignored_collisions.is_empty() {
+            let listed: Vec<String> = self
+                .ignored_collisions
+                .iter()
+                .map(|c| format!("{} ({})", c.link, c.shape))
+                .collect();
+            writeln!(
+                f,
+                "ignored collisions ({}, not spheres): {}",
+                listed.len(),
+                listed.join(", ")
+            )?;
+        }
         writeln!(
             f,
             "loop closures ({}, {} constraints):",

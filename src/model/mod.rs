@@ -28,12 +28,12 @@ pub use dynamics::{
 pub use energy::{generalized_momentum, kinetic_energy, mass_matrix, potential_energy};
 pub use energy_adjoint::{kinetic_energy_gradient, lagrangian_gradient, potential_energy_gradient};
 pub use error::{ModelError, describe};
-pub use inspect::{CoordinateInfo, Inspection, LoopInfo, SpringInfo, inspect};
+pub use inspect::{ContactInfo, CoordinateInfo, Inspection, LoopInfo, SpringInfo, inspect};
 pub use kinematics::{link_angular_jacobian, link_pose, point_position};
 pub use loops::{LoopJet, loop_closure_jets, loop_residual};
 pub use point_jet::{PointJet, point_jet, vector_jet};
 
-pub use tree::{ContactPoint, LinkId, LoopClosure, Model, Spring, SpringKind};
+pub use tree::{ContactPoint, IgnoredCollision, LinkId, LoopClosure, Model, Spring, SpringKind};
 
 /// How the robot's root link is attached to the world.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

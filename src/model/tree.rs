@@ -33,6 +33,15 @@ pub struct ContactPoint {
     pub radius: f64,
 }
 
+/// A collision element that gives no contact (a box, cylinder, capsule or mesh).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct IgnoredCollision {
+    /// The link it belongs to.
+    pub link: String,
+    /// `box`, `cylinder`, `capsule` or `mesh`.
+    pub shape: String,
+}
+
 /// Whether a spring acts on an angle or a length.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
@@ -220,6 +229,7 @@ pub struct Model {
     pub(crate) actuators: Vec<super::actuation::Actuator>,
     pub(crate) actuation: super::actuation::AppliedActuation,
     pub(crate) contact_points: Vec<ContactPoint>,
+    pub(crate) ignored_collisions: Vec<IgnoredCollision>,
     pub(crate) springs: Vec<Spring>,
     pub(crate) loop_closures: Vec<LoopClosure>,
     pub(crate) gravity: [f64; 3],
@@ -366,6 +376,11 @@ impl Model {
     /// Collision spheres (radius 0: points), in document order.
     pub fn contact_points(&self) -> &[ContactPoint] {
         &self.contact_points
+    }
+
+    /// Collision elements that are not spheres, so give no contact, in document order.
+    pub fn ignored_collisions(&self) -> &[IgnoredCollision] {
+        &self.ignored_collisions
     }
 
     /// Sum of the link masses.

@@ -10,7 +10,8 @@ use crate::model::actuation::{Actuator, AppliedActuation};
 use crate::model::spatial::{mat_mul, normalized, perpendicular_pair, rpy_to_matrix, transpose};
 use crate::model::tree::{Frame, LinkPlacement, Mimic, Motion};
 use crate::model::{
-    BaseType, ContactPoint, LinkId, LoopClosure, Model, ModelError, Spring, SpringKind,
+    BaseType, ContactPoint, IgnoredCollision, LinkId, LoopClosure, Model, ModelError, Spring,
+    SpringKind,
 };
 
 fn rpy(v: &[f64; 3]) -> [[f64; 3]; 3] {
@@ -87,7 +88,7 @@ pub(super) fn build(
             problems,
         });
     }
-    let contact_points = contact_points(robot, ext, &mut warnings);
+    let (contact_points, ignored_collisions) = contact_points(robot, ext, &mut warnings);
     let springs = springs(robot, ext, &joints)?;
     let loop_closures = loop_closures(ext, &bodies.link_names)?;
     let actuators = actuators(robot, ext, &joints, &mut warnings)?;
@@ -104,6 +105,7 @@ pub(super) fn build(
         actuators,
         actuation: AppliedActuation::default(),
         contact_points,
+        ignored_collisions,
         springs,
         loop_closures,
         gravity: [0.0, 0.0, -9.81],
@@ -618,14 +620,15 @@ fn bodies(
 }
 
 /// Contacts: collision spheres of any radius (0: a point), links in document order. Other
-/// collision shapes are listed, by link, in one warning.
+/// collision shapes are returned and listed, by link, in one warning.
 fn contact_points(
     robot: &urdf_rs::Robot,
     ext: &Extensions,
     warnings: &mut Vec<String>,
-) -> Vec<ContactPoint> {
+) -> (Vec<ContactPoint>, Vec<IgnoredCollision>) {
     let mut contact_points = Vec::new();
     let mut ignored = Vec::new();
+    let mut ignored_collisions = Vec::new();
     for link in &robot.links {
         let sphere = |c: &urdf_rs::Collision| match c.geometry {
             urdf_rs::Geometry::Sphere { radius } => Some(radius),
@@ -649,6 +652,10 @@ fn contact_points(
                     ext.at("link", &link.name),
                     link.name
                 ));
+                ignored_collisions.push(IgnoredCollision {
+                    link: link.name.clone(),
+                    shape: shape.into(),
+                });
                 continue;
             };
             // Unnamed: the link's name when it is the link's only point.
@@ -672,7 +679,7 @@ fn contact_points(
             ignored.join(", ")
         ));
     }
-    contact_points
+    (contact_points, ignored_collisions)
 }
 
 /// Which coordinate a joint named by an extension moves.

@@ -311,6 +311,30 @@ to = "initial"
     assert!(run.stdout.contains("trajectory.csv ("), "{}", run.stdout);
 }
 
+/// `vito inspect` lists each contact with its link, centre and radius, and the collision
+/// elements that give none (the ball's box), in text and JSON.
+#[test]
+fn inspect_shows_each_contacts_radius_and_the_ignored_collisions() {
+    let t = TestDir::new("inspect_shows_radius");
+    t.write("ball.urdf", &ball_urdf());
+    let run = t.vito().args(["inspect", "ball.urdf"]).assert_exit(0);
+    for line in [
+        "contacts (1):",
+        "  shell                on ball                 at [0, 0, 0]  radius 0.1",
+        "ignored collisions (1, not spheres): ball (box)",
+    ] {
+        assert!(run.stdout.contains(line), "{line}\n{}", run.stdout);
+    }
+    let run = t
+        .vito()
+        .args(["inspect", "ball.urdf", "--json"])
+        .assert_exit(0);
+    let json: serde_json::Value = serde_json::from_str(&run.stdout).unwrap();
+    assert_eq!(json["contacts"][0]["radius"], RADIUS);
+    assert_eq!(json["contacts"][0]["link"], "ball");
+    assert_eq!(json["ignored_collisions"][0]["shape"], "box");
+}
+
 #[test]
 fn a_negative_radius_is_an_input_error() {
     let t = TestDir::new("a_negative_radius");
