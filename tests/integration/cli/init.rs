@@ -274,6 +274,11 @@ fn init_and_stand(t: &TestDir, name: &str, urdf: &str, feet: usize) -> (f64, f64
         text.contains(&format!("urdf = \"../robots/{name}.urdf\"")),
         "{text}"
     );
+    // No transmissions: the starter says which rule chose the inputs (every joint).
+    assert!(
+        text.contains("the inputs are from every movable joint ("),
+        "{text}"
+    );
     let check = t
         .vito()
         .args([std::ffi::OsStr::new("check"), problem.as_os_str()])
