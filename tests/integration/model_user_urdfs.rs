@@ -165,7 +165,7 @@ fn a_mimic_joints_limit_bounds_its_leader() {
     assert_eq!(narrowed.len(), 1, "{:?}", model.warnings());
     assert!(
         narrowed[0].contains("joint 'thumb' (mimic of 'wrist')")
-            && narrowed[0].contains("to [-2, 1.8]"),
+            && narrowed[0].contains("narrows 'wrist' from [-2, 2] to [-2, 1.8]"),
         "{}",
         narrowed[0]
     );

@@ -331,7 +331,8 @@ fn coordinates(
                     Ok((limits, narrowed)) => {
                         if narrowed {
                             warnings.push(format!(
-                                "joint '{}' (mimic of '{leader}'): its <limit> [{}, {}] narrows                                  '{leader}' from [{}, {}] to [{}, {}]",
+                                "joint '{}' (mimic of '{leader}'): its <limit> [{}, {}] narrows \
+                                 '{leader}' from [{}, {}] to [{}, {}]",
                                 joint.name,
                                 own.0,
                                 own.1,
