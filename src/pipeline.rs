@@ -264,7 +264,16 @@ pub fn prepare_simulation(
         (None, Some(path)) => {
             let r = read(path)?;
             inputs.push(path.clone());
-            let gains = parse_gains(&request.gains, robot)?;
+            let gains = parse_gains(&problem.tracking_gains, &request.gains, robot)?;
+            if gains.is_empty() {
+                return Err(invalid(
+                    "--gains",
+                    format!(
+                        "--track needs PD gains: --gains NAME=KP,KD (or all=KP,KD), or `[tracking] gains = {{ all = [KP, KD] }}` in {}",
+                        problem.file.display()
+                    ),
+                ));
+            }
             let end = r.times.last().copied();
             (
                 InputSource::Track {
@@ -316,16 +325,19 @@ pub fn prepare_simulation(
     })
 }
 
-/// `NAME=KP,KD` per input (`all=KP,KD` for every input; later entries win).
+/// The gains `base` (the problem file's `[tracking] gains`) with `NAME=KP,KD` per input
+/// (`all=KP,KD` for every input) from the command line on top; later entries win.
 pub fn parse_gains(
+    base: &[crate::problem::TrackingGain],
     gains: &[String],
     robot: &crate::problem::RobotInfo,
 ) -> Result<Vec<crate::sim::Gain>, TranscriptionError> {
+    use crate::problem::tracking::{GainError, gains_for, merge_gains};
     let invalid = |message: String| TranscriptionError::Invalid {
         field: "--gains".into(),
         message,
     };
-    let mut out: Vec<crate::sim::Gain> = Vec::new();
+    let mut out = base.to_vec();
     for text in gains {
         let parsed = text.split_once('=').and_then(|(name, values)| {
             let (kp, kd) = values.split_once(',')?;
@@ -340,37 +352,17 @@ pub fn parse_gains(
                 "`{text}`: write NAME=KP,KD, e.g. knee=50,2"
             )));
         };
-        if !(kp.is_finite() && kd.is_finite() && kp >= 0.0 && kd >= 0.0) {
-            return Err(invalid(format!("`{text}`: gains must be finite and ≥ 0")));
-        }
-        let selected: Vec<usize> = if name == "all" {
-            (0..robot.inputs.len()).collect()
-        } else {
-            let i = robot.inputs.iter().position(|n| n == name).ok_or_else(|| {
-                invalid(format!(
-                    "`{name}` is not an input of the robot (inputs: {})",
-                    crate::names::list_names(&robot.inputs, 24)
-                ))
-            })?;
-            vec![i]
-        };
-        for input in selected {
-            let name = &robot.inputs[input];
-            let coordinate = robot
-                .coordinates
-                .iter()
-                .position(|c| c == name)
-                .ok_or_else(|| {
-                    invalid(format!("input `{name}` acts on no coordinate of that name"))
-                })?;
-            out.retain(|g| g.input != input);
-            out.push(crate::sim::Gain {
-                input,
-                coordinate,
-                kp,
-                kd,
-            });
-        }
+        let resolved = gains_for(robot, name, kp, kd).map_err(|e| match e {
+            GainError::Value => invalid(format!("`{text}`: gains must be finite and ≥ 0")),
+            GainError::UnknownInput => invalid(format!(
+                "`{name}` is not an input of the robot (inputs: {})",
+                crate::names::list_names(&robot.inputs, 24)
+            )),
+            GainError::NoCoordinate(input) => invalid(format!(
+                "input `{input}` acts on no coordinate of that name"
+            )),
+        })?;
+        merge_gains(&mut out, &resolved);
     }
     Ok(out)
 }

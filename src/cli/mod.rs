@@ -151,9 +151,10 @@ pub enum Command {
         #[arg(long, conflicts_with = "track")]
         inputs: Option<PathBuf>,
         /// Track a trajectory CSV with PD feedback (its inputs as feedforward).
-        #[arg(long, requires = "gains")]
+        #[arg(long)]
         track: Option<PathBuf>,
-        /// PD gains by input name, `NAME=KP,KD` or `all=KP,KD` (repeatable).
+        /// PD gains by input name, `NAME=KP,KD` or `all=KP,KD` (repeatable; kp in input units
+        /// per coordinate unit, kd per coordinate rate), on top of the file's `[tracking] gains`.
         #[arg(long, value_name = "NAME=KP,KD", requires = "track")]
         gains: Vec<String>,
         /// Simulated time (default: the CSV's last time, else the problem's horizon).
@@ -304,8 +305,9 @@ pub enum StudyKind {
         /// Knot counts (comma-separated).
         #[arg(long, value_delimiter = ',', default_value = "10,15,20,25,30,35,40")]
         knots: Vec<usize>,
-        /// PD gains by input name, `NAME=KP,KD` or `all=KP,KD` (repeatable).
-        #[arg(long, value_name = "NAME=KP,KD", default_values_t = ["all=100,10".to_string()])]
+        /// PD gains by input name, `NAME=KP,KD` or `all=KP,KD` (repeatable), on top of the
+        /// file's `[tracking] gains` [default without either: all=100,10].
+        #[arg(long, value_name = "NAME=KP,KD")]
         gains: Vec<String>,
         /// Output directory.
         #[arg(long, default_value = "out/tracking")]

@@ -57,6 +57,13 @@ pub(super) fn simulate(
     let largest = |v: &[f64]| v.iter().cloned().fold(0.0_f64, f64::max);
     out!("max residual   {:.3e}", largest(&sim.dynamics_residual));
     out!("max compl.     {:.3e}", largest(&sim.complementarity));
+    if !sim.relaxed_steps.is_empty() {
+        out!(
+            "relaxed steps  {} (residual up to {:.3e}, accepted at the acceptable tolerance)",
+            sim.relaxed_steps.len(),
+            largest(&sim.residual)
+        );
+    }
     out!(
         "max penetr.    {:.3e} {}",
         sim.max_penetration(),

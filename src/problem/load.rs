@@ -35,6 +35,8 @@ pub struct LoadedProblem {
     pub description: Option<String>,
     /// The goal pose q_goal (the centre of the q_N box; q_1 when the file has none).
     pub goal: Vec<f64>,
+    /// `[tracking] gains`: PD gains for simulations that track a trajectory.
+    pub tracking_gains: Vec<crate::problem::TrackingGain>,
 }
 
 impl LoadedProblem {

@@ -14,6 +14,7 @@ pub mod schema;
 mod source;
 mod spec;
 mod starter;
+pub mod tracking;
 mod units;
 mod validate;
 
@@ -27,4 +28,5 @@ pub use robot::{RobotError, RobotInfo, UrdfContact};
 pub use source::{edit_distance, nearest};
 pub use spec::*;
 pub use starter::starter_problem;
+pub use tracking::TrackingGain;
 pub use units::Units;

@@ -68,6 +68,19 @@ pub struct ProblemFile {
     /// `[metrics]`: what the summary reports beyond the solver's numbers.
     #[serde(default)]
     pub metrics: MetricsSection,
+    /// `[tracking]`: PD gains for `vito simulate --track` and `vito study tracking`.
+    #[serde(default)]
+    pub tracking: TrackingSection,
+}
+
+/// `[tracking]`.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TrackingSection {
+    /// `NAME = [kp, kd]` per input, or `all = [kp, kd]` (a named input overrides `all`):
+    /// kp in input units per coordinate unit (N·m/rad), kd per coordinate rate (N·m·s/rad).
+    #[serde(default)]
+    pub gains: BTreeMap<String, [f64; 2]>,
 }
 
 /// `[robot]`: the model and its environment constants.

@@ -93,6 +93,11 @@ pub fn simulation_summary_json(
         "duration": sim.times.last().copied().unwrap_or(0.0),
         "max_dynamics_residual": max(&sim.dynamics_residual),
         "max_complementarity": max(&sim.complementarity),
+        "max_step_residual": max(&sim.residual),
+        "relaxed_steps": {
+            "count": sim.relaxed_steps.len(),
+            "first": sim.relaxed_steps.iter().take(20).collect::<Vec<_>>(),
+        },
         "max_penetration": sim.max_penetration(),
         "newton_iterations": {
             "total": total_iterations,

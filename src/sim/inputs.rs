@@ -4,18 +4,7 @@
 
 use crate::trajectory_csv::RecordedTrajectory;
 
-/// PD gains on one input, acting on the coordinate of the same name.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Gain {
-    /// Input index (the robot's input order).
-    pub input: usize,
-    /// Coordinate index the input acts on.
-    pub coordinate: usize,
-    /// Proportional gain (input unit per coordinate unit).
-    pub kp: f64,
-    /// Derivative gain (input unit per coordinate rate unit).
-    pub kd: f64,
-}
+pub use crate::problem::TrackingGain as Gain;
 
 /// The input policy of a simulation.
 #[derive(Debug, Clone, PartialEq)]

@@ -68,6 +68,11 @@ pub struct Simulation {
     pub complementarity: Vec<f64>,
     /// Max-norm of the discrete equations per step (N, impulse units).
     pub dynamics_residual: Vec<f64>,
+    /// Max-norm of each step's whole system (N, impulse units; see
+    /// [`super::StepOutcome::residual`]).
+    pub residual: Vec<f64>,
+    /// Steps accepted at the acceptable tolerance (their residual above the tolerance).
+    pub relaxed_steps: Vec<usize>,
 }
 
 impl Simulation {
@@ -171,6 +176,10 @@ pub fn simulate<M: MechanicsDerivatives>(
         sim.iterations.push(outcome.iterations);
         sim.complementarity.push(outcome.complementarity);
         sim.dynamics_residual.push(outcome.dynamics_residual);
+        sim.residual.push(outcome.residual);
+        if outcome.residual > outcome.tolerance {
+            sim.relaxed_steps.push(k);
+        }
         progress(k);
     }
     Ok(sim)

@@ -62,7 +62,8 @@ impl TrackingResult {
 pub struct Tracking {
     /// Knot counts K of the plans (each ≥ 3).
     pub knots: Vec<usize>,
-    /// PD gains, `NAME=KP,KD` or `all=KP,KD` (as `vito simulate --gains`).
+    /// PD gains, `NAME=KP,KD` or `all=KP,KD` (as `vito simulate --gains`), on top of the
+    /// problem file's `[tracking] gains`; all=100,10 when both are empty.
     pub gains: Vec<String>,
     /// Steps per time unit of the tracking simulation.
     pub rate: f64,
@@ -79,9 +80,6 @@ impl Tracking {
         };
         if self.knots.is_empty() || self.knots.iter().any(|&k| !(3..=10_000).contains(&k)) {
             return invalid("--knots", "give knot counts from 3 to 10000, e.g. 10,15,20");
-        }
-        if self.gains.is_empty() {
-            return invalid("--gains", "give PD gains, e.g. --gains all=50,5");
         }
         if !(self.rate.is_finite() && self.rate > 0.0 && self.rate <= 1e6) {
             return invalid(
@@ -111,7 +109,11 @@ impl Tracking {
             TimeSteps::Fixed(h) => Some(h * (base.spec.knots - 1) as f64),
             TimeSteps::FreeEqual { .. } => None,
         };
-        let gains = crate::pipeline::parse_gains(&self.gains, &base.robot)?;
+        let mut gains =
+            crate::pipeline::parse_gains(&base.tracking_gains, &self.gains, &base.robot)?;
+        if gains.is_empty() {
+            gains = crate::pipeline::parse_gains(&[], &["all=100,10".into()], &base.robot)?;
+        }
         let mut rows = Vec::new();
         let mut plans = Vec::new();
         let total = 2 * self.knots.len();

@@ -17,6 +17,7 @@ mod size;
 mod slack;
 mod solver;
 mod terrain;
+mod tracking;
 mod values;
 
 use std::path::Path;
@@ -62,6 +63,7 @@ pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, Pr
     let constraints = crate::problem::constraints::check_constraints(ctx, &raw, &robot, knots)?;
     let initial_guess = initial_guess::check_initial_guess(ctx, &raw, &robot, &endpoints, knots)?;
     let metrics = metrics::check_metrics(ctx, &raw, &robot)?;
+    let tracking_gains = tracking::check_tracking(ctx, &raw, &robot)?;
     let solver::CheckedSolver {
         integrator,
         hessian,
@@ -131,5 +133,6 @@ pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, Pr
         units,
         description: raw.description,
         goal,
+        tracking_gains,
     })
 }

@@ -91,3 +91,78 @@ fn simulate_rejects_bad_input_before_simulating() {
         assert!(!out.exists(), "{args:?} wrote output");
     }
 }
+
+/// `[tracking] gains` in the problem file: the same simulation as the same gains given with
+/// `--gains` (byte-identical trajectory); `--gains` overrides the file per input; an unknown
+/// input name or a negative gain in the file, or `--track` without any gains, is one error
+/// naming the file and field (exit 2) before anything is written.
+#[test]
+fn simulate_tracks_with_the_files_gains() {
+    let t = TestDir::with_hopper("simulate-file-gains");
+    let hopper = crate::cli::util::hopper_text();
+    t.write("hopper.toml", &hopper);
+    t.write(
+        "gains.toml",
+        &format!("{hopper}\n[tracking]\ngains = {{ all = [1000, 50], theta = [50, 5] }}\n"),
+    );
+    t.write(
+        "plan.csv",
+        "time [s],x [m],z [m],theta [rad],r [m]\n0,0,0.5,0,0.5\n0.05,0,0.5,0.1,0.45\n",
+    );
+    let run = |file: &str, extra: &[&str], out: &str| {
+        t.vito()
+            .args(["simulate", file, "--quiet", "--track", "plan.csv"])
+            .args(["--rate", "2000", "--out", out])
+            .args(extra)
+            .assert_exit(0);
+        std::fs::read_to_string(t.path().join(out).join("trajectory.csv")).unwrap()
+    };
+    let from_file = run("gains.toml", &[], "file");
+    let from_cli = run(
+        "hopper.toml",
+        &["--gains", "r=1000,50", "--gains", "theta=50,5"],
+        "cli",
+    );
+    assert_eq!(from_file, from_cli);
+    let overridden = run("gains.toml", &["--gains", "theta=0,0"], "override");
+    assert_ne!(from_file, overridden, "--gains theta=0,0 changed nothing");
+
+    for (text, named) in [
+        ("gains = { elbow = [1, 1] }", "tracking.gains.elbow"),
+        ("gains = { theta = [-1, 1] }", "tracking.gains.theta"),
+        ("gain = { theta = [1, 1] }", "gain"),
+    ] {
+        t.write("bad.toml", &format!("{hopper}\n[tracking]\n{text}\n"));
+        let out = t.path().join("bad-out");
+        let failed = t
+            .vito()
+            .args([
+                "simulate", "bad.toml", "--quiet", "--track", "plan.csv", "--out",
+            ])
+            .args([out.as_os_str()])
+            .assert_exit(2);
+        assert!(failed.stderr.contains("bad.toml"), "{}", failed.stderr);
+        assert!(failed.stderr.contains(named), "{named}: {}", failed.stderr);
+        assert!(!out.exists());
+    }
+    let out = t.path().join("none-out");
+    let failed = t
+        .vito()
+        .args([
+            "simulate",
+            "hopper.toml",
+            "--quiet",
+            "--track",
+            "plan.csv",
+            "--out",
+        ])
+        .args([out.as_os_str()])
+        .assert_exit(2);
+    assert!(failed.stderr.contains("--gains"), "{}", failed.stderr);
+    assert!(
+        failed.stderr.contains("[tracking] gains"),
+        "{}",
+        failed.stderr
+    );
+    assert!(!out.exists());
+}
