@@ -70,6 +70,7 @@ pub(super) fn bench(files: &[PathBuf], set: &[String], casadi: bool) -> Result<u
             r.ipopt_time_s,
             r.derivative_eval_s
         );
+        out!("  callbacks: {}", r.callback_split.describe());
     }
     match independent {
         Err(why) => out!("CasADi column: {why}"),
