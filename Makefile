@@ -5,6 +5,8 @@
 #   make lint       rustfmt and clippy, as CI checks them
 #   make test-slurm a sweep through `sbatch --array` on a private single-node Slurm (root, apt)
 #   make bench      the timing harnesses in benches/ (print figures)
+#   make bench-casadi  `vito bench` beside the independent CasADi implementation (CasADi 3.8.2
+#                   from PyPI into .venv-casadi; nothing else needs it)
 #   make fuzz       1,000,000 mutated problem files and URDFs through loading (FUZZ_COUNT, FUZZ_SEED)
 #   make test-debian13  `make demo` and `make test` in a fresh Debian 13 chroot (Ipopt 3.14; root)
 
@@ -16,7 +18,7 @@ OUT ?= out/hopper_2d
 # solve lock already gives one solve per process); parallel work uses processes.
 export OPENBLAS_NUM_THREADS ?= 1
 
-.PHONY: deps build demo test test-slow test-slurm lint bench fuzz test-debian13
+.PHONY: deps build demo test test-slow test-slurm lint bench bench-casadi fuzz test-debian13
 
 deps:
 	bash vendor-config/install-deps.sh
@@ -45,6 +47,15 @@ lint:
 
 bench: deps
 	$(CARGO) bench
+
+# The reference problems solved by vito and by tools/independent/spec_casadi.py, one after the
+# other, in one table (BENCHMARKS.md). CasADi comes from PyPI into a private venv, once.
+CASADI_VENV ?= .venv-casadi
+bench-casadi: build
+	test -x $(CASADI_VENV)/bin/python || python3 -m venv $(CASADI_VENV)
+	$(CASADI_VENV)/bin/python -c 'import casadi, numpy' 2>/dev/null || \
+		$(CASADI_VENV)/bin/pip install --quiet casadi==3.8.2 numpy
+	VITO_PYTHON=$(CASADI_VENV)/bin/python ./target/release/vito bench
 
 FUZZ_COUNT ?= 1000000
 FUZZ_SEED ?= 1

@@ -42,6 +42,7 @@ pub mod contact;
 pub mod dependency;
 pub mod discrete;
 pub mod fuzz;
+pub mod independent;
 pub mod input;
 #[allow(unsafe_code)]
 pub mod ipopt;

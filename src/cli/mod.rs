@@ -228,6 +228,10 @@ pub enum Command {
         /// Override a value of every file, e.g. `--set horizon.knots=40` (repeatable).
         #[arg(long = "set", value_name = "KEY.PATH=VALUE")]
         set: Vec<String>,
+        /// Leave out the side-by-side CasADi solves (tools/independent/spec_casadi.py), which
+        /// otherwise run for the reference problems when Python imports casadi.
+        #[arg(long)]
+        no_casadi: bool,
     },
     /// Solve a problem over a grid of values, each run in its own process; resumable.
     #[command(
@@ -553,7 +557,11 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
         }
         Command::Init { urdf, base, out } => init(&urdf, base.into(), out.as_deref()),
         Command::Inspect { urdf, base, json } => inspect(&urdf, base.into(), json),
-        Command::Bench { files, set } => bench(&files, &set),
+        Command::Bench {
+            files,
+            set,
+            no_casadi,
+        } => bench(&files, &set, !no_casadi),
         Command::Regress {
             bless,
             record,

@@ -125,6 +125,7 @@ pub(super) fn print_summary(
         s.callback_time_s,
         s.ipopt_time_s
     );
+    out!("callbacks    {}", s.callback_split.describe());
     if s.solves > 1 {
         out!(
             "max slack    {:.3e} after {} solves (slack weight raised to {:e})",

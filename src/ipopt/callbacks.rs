@@ -35,6 +35,8 @@ pub(super) struct Context<'a, P: Nlp + ?Sized> {
     pub cancel: Option<&'a AtomicBool>,
     /// Sum of the time spent inside the trampolines.
     pub callback_time: Duration,
+    /// The value callbacks' share of it, by callback.
+    pub callback_split: super::CallbackSplit,
     /// Iteration count of the last intermediate callback.
     pub iterations: usize,
     /// Evaluations reported to Ipopt as failed because an output was NaN or Inf.
@@ -57,6 +59,7 @@ impl<'a, P: Nlp + ?Sized> Context<'a, P> {
             has_hessian: false,
             cancel,
             callback_time: Duration::ZERO,
+            callback_split: super::CallbackSplit::default(),
             iterations: 0,
             evaluation_errors: 0,
             cancelled: false,
@@ -98,7 +101,21 @@ fn guard<P: Nlp + ?Sized>(
     }
     let start = Instant::now();
     let outcome = catch_unwind(AssertUnwindSafe(|| body(&mut *ctx)));
-    ctx.callback_time += start.elapsed();
+    let spent = start.elapsed();
+    ctx.callback_time += spent;
+    let split = &mut ctx.callback_split;
+    let stat = match callback {
+        "objective" => Some(&mut split.objective),
+        "gradient" => Some(&mut split.gradient),
+        "constraints" => Some(&mut split.constraints),
+        "jacobian_values" => Some(&mut split.jacobian),
+        "hessian_values" => Some(&mut split.hessian),
+        _ => None,
+    };
+    if let Some(stat) = stat {
+        stat.calls += 1;
+        stat.seconds += spent.as_secs_f64();
+    }
     match outcome {
         Ok(Flow::Continue) => TRUE,
         Ok(Flow::NonFinite) => {

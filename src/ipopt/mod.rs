@@ -44,5 +44,5 @@ pub use options::{
     DEFAULTS_FILE, OptionValue, PROBLEM_FILE_OPTIONS, check_allowed, check_problem_option,
     default_options, parse_option_file,
 };
-pub use solver::{Multipliers, SolveReport, Solver};
+pub use solver::{CallbackSplit, CallbackStat, Multipliers, SolveReport, Solver};
 pub use status::Status;

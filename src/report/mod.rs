@@ -148,6 +148,7 @@ mod tests {
             iterations: 17,
             wall_time_s: 0.5,
             callback_time_s: 0.2,
+            callback_split: Default::default(),
             ipopt_time_s: 0.3,
             size: NlpSize {
                 n_variables: 40,

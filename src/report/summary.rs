@@ -55,6 +55,12 @@ pub fn summary_json(problem: &LoadedProblem, solution: &Solution) -> Value {
         "wall_time_s": num(s.wall_time_s),
         "callback_time_s": num(s.callback_time_s),
         "ipopt_time_s": num(s.ipopt_time_s),
+        "callbacks": s
+            .callback_split
+            .entries()
+            .iter()
+            .map(|(name, stat)| (name.to_string(), json!({"calls": stat.calls, "seconds": num(stat.seconds)})))
+            .collect::<Map<String, Value>>(),
         "max_slack": num(s.max_slack),
         "max_complementarity": num(s.max_complementarity),
         "max_constraint_violation": num(s.max_constraint_violation),

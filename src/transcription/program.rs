@@ -11,6 +11,10 @@ use crate::discrete::MechanicsDerivatives;
 use crate::problem::costs::{CostSizes, length_mismatch};
 use crate::problem::{HessianMode, ProblemSpec, TimeSteps};
 
+/// From this many Jacobian nonzeros on, the Jacobian and Hessian blocks are evaluated on
+/// rayon's pool (see [`Transcription::set_parallel`]).
+pub const PARALLEL_FROM_JACOBIAN_NNZ: usize = 100_000;
+
 /// SPEC.md's values at the initial guess (no solver involved).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct InitialGuessReport {
@@ -132,14 +136,15 @@ impl<M: MechanicsDerivatives> Transcription<M> {
             skip_fixed: false,
             mech,
         };
-        // Measured (2 shared cores): rayon costs more than it saves on hopper-2d's 288
-        // variables (J+H 1.6 ms serial, 6 ms parallel) and pays on brick-3d's 3532
-        // (J+H 104 ms serial, 58 ms parallel, one run); see benches/transcription_evaluation.rs.
-        t.parallel = t.layout.num_variables() >= 1000;
         t.place_blocks();
         t.set_bounds(spec)?;
         t.set_initial_guess(spec)?;
         t.build_patterns();
+        // Measured in solves on the shared 2-core machine (BENCHMARKS.md, issue 16): the
+        // pool pays for HAMR's Jacobian and Hessian (143,302 Jacobian nonzeros: J 41 ms, H
+        // 127 ms a call against 63 and 170 serial) and costs on the brick's (32,546: callbacks
+        // 6.4 s a solve against 3.9 s serial), whose J + H now take 5 ms.
+        t.parallel = t.jacobian.nnz() >= PARALLEL_FROM_JACOBIAN_NNZ;
         Ok(t)
     }
 
@@ -153,8 +158,9 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         self.slack_weight = weight;
     }
 
-    /// Evaluate independent blocks on rayon's thread pool or on one thread (the default
-    /// is parallel from 1000 variables on).
+    /// Evaluate the Jacobian's and the Hessian's blocks on rayon's thread pool or on one
+    /// thread (the default is parallel from [`PARALLEL_FROM_JACOBIAN_NNZ`] Jacobian
+    /// nonzeros on; f, ∇f and g are always serial). Results are the same either way.
     pub fn set_parallel(&mut self, parallel: bool) {
         self.parallel = parallel;
     }

@@ -25,6 +25,8 @@ pub struct Solution {
     pub callback_time_s: f64,
     /// Time spent inside Ipopt (linear algebra, line search), i.e. wall minus callbacks.
     pub ipopt_time_s: f64,
+    /// The callback time by callback (f, ∇f, g, Jacobian, Hessian: calls and seconds).
+    pub callback_split: crate::ipopt::CallbackSplit,
     pub size: NlpSize,
     /// Model coordinate names (length n), input names (m), contact names (nc).
     pub coordinate_names: Vec<String>,

@@ -86,6 +86,8 @@ pub struct BenchRow {
     pub callback_time_s: f64,
     /// Time inside Ipopt (wall − callbacks), s.
     pub ipopt_time_s: f64,
+    /// The callback time by callback.
+    pub callback_split: ipopt::CallbackSplit,
     /// One evaluation of the Jacobian plus the Lagrangian Hessian at the initial point, s
     /// (median of repeated evaluations).
     pub derivative_eval_s: f64,
@@ -325,6 +327,7 @@ fn solve_transcription<M: MechanicsDerivatives>(
         next.iterations += solution.iterations;
         next.wall_time_s += solution.wall_time_s;
         next.callback_time_s += solution.callback_time_s;
+        next.callback_split = next.callback_split.plus(&solution.callback_split);
         next.ipopt_time_s += solution.ipopt_time_s;
         next.solves = solution.solves + 1;
         solution = next;
@@ -370,6 +373,7 @@ pub fn bench_with<M: MechanicsDerivatives>(
         wall_time_s: s.wall_time_s,
         callback_time_s: s.callback_time_s,
         ipopt_time_s: s.ipopt_time_s,
+        callback_split: s.callback_split,
         derivative_eval_s,
     })
 }
@@ -487,6 +491,7 @@ fn fill_solution<M: MechanicsDerivatives>(
         wall_time_s: report.wall_time_s,
         callback_time_s: report.callback_time_s,
         ipopt_time_s: report.ipopt_time_s,
+        callback_split: report.callback_split,
         size: t.size(),
         coordinate_names: t.mechanics().coordinate_names(),
         input_names: t.mechanics().input_names(),

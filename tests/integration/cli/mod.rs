@@ -2,6 +2,7 @@
 
 pub mod util;
 
+mod bench;
 mod check;
 pub mod errors;
 mod hostile;

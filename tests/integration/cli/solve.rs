@@ -48,6 +48,7 @@ fn solve_and_check(name: &str, file: &str, max_slack: f64, record: &str) {
         "objective {objective} vs recorded {recorded} (tolerance {tolerance})"
     );
     check_csv_agrees(&out, &s);
+    check_callback_split(&s);
     for svg in ["coordinates.svg", "inputs.svg", "contact_modes.svg"] {
         assert!(
             std::fs::read_to_string(out.join(svg))
@@ -55,6 +56,37 @@ fn solve_and_check(name: &str, file: &str, max_slack: f64, record: &str) {
                 .contains("<svg")
         );
     }
+}
+
+/// `summary.json`'s callback split: Ipopt asks one exact Hessian per iteration and at least
+/// one g and one Jacobian, and the split's seconds add up to no more than the callback time.
+fn check_callback_split(s: &serde_json::Value) {
+    let c = &s["callbacks"];
+    let calls = |name: &str| {
+        c[name]["calls"]
+            .as_u64()
+            .unwrap_or_else(|| panic!("callbacks.{name}: {c}"))
+    };
+    let iterations = s["iterations"].as_u64().unwrap();
+    assert_eq!(calls("hessian"), iterations, "{c}");
+    for name in ["objective", "gradient", "constraints", "jacobian"] {
+        assert!(calls(name) >= iterations, "{name}: {c}");
+    }
+    let seconds: f64 = [
+        "objective",
+        "gradient",
+        "constraints",
+        "jacobian",
+        "hessian",
+    ]
+    .iter()
+    .map(|n| c[n]["seconds"].as_f64().unwrap())
+    .sum();
+    let total = s["callback_time_s"].as_f64().unwrap();
+    assert!(
+        seconds > 0.0 && seconds <= total,
+        "split {seconds} s, callbacks {total} s"
+    );
 }
 
 /// The CSV has one row per knot, and its last row holds the summary's final pose and time.
