@@ -169,6 +169,19 @@ fn littledog_step_solves() {
     );
 }
 
+/// The HAMR-VI trot at its defaults (10 Hz, μ 0.6, 51 knots, simulated guess): converges
+/// with max slack below the paper's 1e-4, cost against the record. Minutes: `--ignored`.
+#[test]
+#[ignore = "slow: cargo test --release -- --ignored hamr_trot"]
+fn hamr_trot_solves() {
+    solve_and_check(
+        "hamr_trot_solves",
+        "hamr_trot.toml",
+        1e-4,
+        "golden-slow.toml",
+    );
+}
+
 /// Ctrl-C stops the solve cleanly: the iterate is written with `user_requested_stop`, exit 1.
 #[test]
 #[cfg(unix)]
