@@ -170,7 +170,9 @@ fn littledog_step_solves() {
 }
 
 /// The HAMR-VI trot at its defaults (10 Hz, μ 0.6, 51 knots, simulated guess): converges
-/// with max slack below the paper's 1e-4, cost against the record. Minutes: `--ignored`.
+/// with max slack below the paper's 1e-4, cost against the record. 99 s on an idle 2-core
+/// machine: `--ignored`. Needs `OPENBLAS_NUM_THREADS=1`, as `make test-slow` exports: with
+/// threaded BLAS the nonconvex solve rounds its way to another optimum (0.2862095).
 #[test]
 #[ignore = "slow: cargo test --release -- --ignored hamr_trot"]
 fn hamr_trot_solves() {
