@@ -17,6 +17,20 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         let l = &self.layout;
         let (n, nc, nl) = (l.n, l.nc, l.nl);
         let last = l.intervals();
+        // Rows that also receive the momentum arriving at the last knot (component c into
+        // end_rows[c]): the last interval's D2Ld and second half force, which otherwise
+        // target no row.
+        let mut end_rows: Vec<Vec<usize>> = vec![Vec::new(); n];
+        let mut row = l.constraint_row(0);
+        for constraint in &self.ctx.constraints {
+            let count = constraint.rows().len();
+            if constraint.receives_end_momentum() {
+                for (c, rows) in end_rows.iter_mut().enumerate() {
+                    rows.push(row + c);
+                }
+            }
+            row += count;
+        }
         for j in 0..last {
             let dyn_rows = range_vec(l.dynamics_rows(j));
             let next_rows = (j + 1 < last).then(|| range_vec(l.dynamics_rows(j + 1)));
@@ -53,7 +67,11 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                 vars.push(l.h(j));
                 let mut targets: Vec<Vec<usize>> = dyn_rows.iter().map(|&r| vec![r]).collect();
                 for c in 0..n {
-                    targets.push(next_rows.as_ref().map_or(vec![], |rows| vec![rows[c]]));
+                    targets.push(
+                        next_rows
+                            .as_ref()
+                            .map_or_else(|| end_rows[c].clone(), |rows| vec![rows[c]]),
+                    );
                 }
                 targets.push(vec![]);
                 let len = vars.len();
@@ -68,7 +86,10 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                     let targets = (0..n)
                         .map(|c| {
                             let mut rows = vec![dyn_rows[c]];
-                            rows.extend(next_rows.as_ref().map(|r| r[c]));
+                            match &next_rows {
+                                Some(r) => rows.push(r[c]),
+                                None => rows.extend(&end_rows[c]),
+                            }
                             rows
                         })
                         .collect();

@@ -98,7 +98,10 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         }
         // Validation checks this for problem files; a spec built in code is checked here.
         for (c, constraint) in spec.constraints.iter().enumerate() {
-            if let Some(message) = constraint.missing_knot(spec.knots) {
+            if let Some(message) = constraint
+                .missing_knot(spec.knots)
+                .or_else(|| constraint.integrator_problem(spec.integrator))
+            {
                 return Err(TranscriptionError::Invalid {
                     field: format!("constraints[{c}]"),
                     message,

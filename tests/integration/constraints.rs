@@ -107,3 +107,57 @@ fn bad_constraint_entries_name_the_field() {
         .to_string();
     assert!(offset.contains("periodic[0].offset"), "{offset}");
 }
+
+/// `periodic_momentum`'s rows take p_N⁻ from the last interval's DEL blocks and −M(q_1)v_0
+/// from their own: at a random point they equal D2Ld + ½Fd − M(q_1)v_0 computed here
+/// directly (D2Ld by dual numbers on the discrete Lagrangian), and Euler is refused.
+#[test]
+fn periodic_momentum_rows_are_the_end_momentum_minus_the_start_momentum() {
+    use num_dual::Dual64;
+    use vito::discrete::Mechanics;
+    use vito::testing::SeededRng;
+    let spec = hopper_with("\n[[constraint]]\ntype = \"periodic_momentum\"\n")
+        .unwrap()
+        .spec;
+    let t = Transcription::new(ModelMechanics::load(&spec).unwrap(), &spec).unwrap();
+    let (l, mech) = (t.layout(), t.mechanics());
+    let (n, last) = (mech.nq(), l.knots - 1);
+    let mut rng = SeededRng::new(17);
+    let x: Vec<f64> = t
+        .initial_point()
+        .iter()
+        .map(|&v| v + rng.symmetric(0.1))
+        .collect();
+    let mut g = vec![0.0; t.size().n_constraints];
+    t.constraints(&x, &mut g);
+    let (qa, qb, h) = (&x[l.q(last - 1)], &x[l.q(last)], x[l.h(last - 1)]);
+    let mut force = vec![0.0; n];
+    mech.discrete_force(qa, qb, &x[l.u(last - 1)], h, &mut force);
+    let mut start = vec![0.0; n];
+    mech.momentum(&x[l.q(0)], &x[l.v0()], &mut start);
+    let lift = |q: &[f64]| q.iter().map(|&v| Dual64::from(v)).collect::<Vec<_>>();
+    for c in 0..n {
+        let mut qb_dual = lift(qb);
+        qb_dual[c].eps = 1.0;
+        let d2 = mech
+            .discrete_lagrangian(&lift(qa), &qb_dual, Dual64::from(h))
+            .eps;
+        let expected = d2 + 0.5 * force[c] - start[c];
+        let row = g[l.constraint_row(c)];
+        assert!(
+            (row - expected).abs() <= 1e-12 * expected.abs().max(1.0),
+            "row {c}: {row} vs {expected}"
+        );
+    }
+    let euler = load_from_str(
+        &hopper_file(),
+        &(std::fs::read_to_string(hopper_file()).unwrap()
+            + "\n[[constraint]]\ntype = \"periodic_momentum\"\n"),
+        &std::fs::read_to_string(hopper_file().with_file_name("robots/hopper_2d.urdf")).unwrap(),
+        &[vito::problem::Override::parse("solver.integrator=\"euler\"").unwrap()],
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(euler.contains("constraint[0].type"), "{euler}");
+    assert!(euler.contains("midpoint"), "{euler}");
+}

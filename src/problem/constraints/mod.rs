@@ -24,7 +24,7 @@ use serde::Deserialize;
 use super::schema::ProblemFile;
 use super::validate::Context;
 use super::{ProblemError, RobotInfo};
-use crate::discrete::Mechanics;
+use crate::discrete::{Integrator, Mechanics};
 use crate::scalar::Scalar;
 
 /// The list of constraint kinds: `Variant in module`. The variant's `snake_case` name is the
@@ -87,6 +87,13 @@ macro_rules! constraint_kinds {
             pub fn value<D: Scalar, M: Mechanics>(&self, mech: &M, z: &[D], out: &mut [D]) {
                 match self {
                     $(Constraint::$variant(c) => c.value(mech, z, out),)*
+                }
+            }
+
+            /// See [`ConstraintFunction::receives_end_momentum`].
+            pub fn receives_end_momentum(&self) -> bool {
+                match self {
+                    $(Constraint::$variant(c) => c.receives_end_momentum(),)*
                 }
             }
         }
@@ -170,6 +177,13 @@ pub trait ConstraintFunction {
     fn rows(&self) -> Vec<ConstraintRow>;
     /// The row values on z (layout from [`ConstraintFunction::inputs`]) into `out`.
     fn value<D: Scalar, M: Mechanics>(&self, mech: &M, z: &[D], out: &mut [D]);
+    /// Whether row i also receives component i of the momentum arriving at the last knot,
+    /// p_N⁻ = D2Ld(q_{N−1}, q_N, h_{N−1}) + ½Fd(q_{N−1}, q_N, u_{N−1}, h_{N−1}) (n rows). The
+    /// transcription adds it from the last interval's own DEL blocks (segment and force), whose
+    /// derivatives are exact and fast, instead of differentiating D2Ld again here.
+    fn receives_end_momentum(&self) -> bool {
+        false
+    }
 }
 
 /// How a constraint is checked from its entry.
@@ -248,6 +262,18 @@ pub(crate) fn check_constraints(
 }
 
 impl Constraint {
+    /// Why the constraint cannot be used with `integrator`, or `None`: the end momentum p_N⁻
+    /// comes from the midpoint rule's discrete Legendre transform.
+    pub fn integrator_problem(&self, integrator: Integrator) -> Option<String> {
+        (self.receives_end_momentum() && integrator != Integrator::Midpoint).then(|| {
+            format!(
+                "a `{}` constraint needs the momentum of the midpoint rule's last interval; \
+                 set `[solver] integrator = \"midpoint\"`",
+                self.name()
+            )
+        })
+    }
+
     /// Why the constraint cannot be placed among `knots` knots (a knot or interval it reads
     /// does not exist), or `None`.
     pub fn missing_knot(&self, knots: usize) -> Option<String> {

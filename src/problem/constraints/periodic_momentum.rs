@@ -1,7 +1,6 @@
 //! Periodic velocity through the discrete Legendre transform (the paper's HAMR gaits): the
 //! momentum arriving at the last knot equals the momentum the first knot starts from.
 
-use num_dual::Dual;
 use serde::Deserialize;
 
 use super::{
@@ -24,6 +23,10 @@ pub struct Entry {}
 /// momenta are equal velocities: the state, not only the configuration, repeats. Unlike the
 /// finite-difference velocity of `periodic`, this is the integrator's own velocity at the
 /// knot, so the repeated gait continues with the same discrete dynamics.
+///
+/// The value here is −M(q_1)v_0; p_N⁻ is added by the last interval's DEL blocks
+/// ([`ConstraintFunction::receives_end_momentum`]). Differentiating D2Ld inside this block
+/// by generic AD cost HAMR seconds per Hessian (n dual passes of Ld under every tile pair).
 #[derive(Debug, Clone, PartialEq)]
 pub struct PeriodicMomentum {
     /// Coordinate names (for row labels).
@@ -42,13 +45,9 @@ impl CheckConstraint for PeriodicMomentum {
 impl ConstraintFunction for PeriodicMomentum {
     const NAME: &'static str = "periodic_momentum";
 
-    /// z = [q_{N−1}; q_N; h_{N−1}; u_{N−1}; q_1; v_0].
+    /// z = [q_1; v_0]; the last interval's part comes from its DEL blocks.
     fn inputs(&self) -> Vec<ConstraintInput> {
         vec![
-            ConstraintInput::Configuration(KnotRef::Last(1)),
-            ConstraintInput::Configuration(KnotRef::Last(0)),
-            ConstraintInput::Step(KnotRef::Last(0)),
-            ConstraintInput::Inputs(KnotRef::Last(0)),
             ConstraintInput::Configuration(KnotRef::First(0)),
             ConstraintInput::InitialVelocity,
         ]
@@ -62,23 +61,14 @@ impl ConstraintFunction for PeriodicMomentum {
     }
 
     fn value<D: Scalar, M: Mechanics>(&self, mech: &M, z: &[D], out: &mut [D]) {
-        let (n, m) = (mech.nq(), mech.nu());
-        let (qa, rest) = z.split_at(n);
-        let (qb, rest) = rest.split_at(n);
-        let (h, rest) = (rest[0], &rest[1..]);
-        let (u, rest) = rest.split_at(m);
-        let (q_first, v_first) = rest.split_at(n);
-        mech.discrete_force(qa, qb, u, h, out);
-        let mut start = vec![D::from(0.0); n];
-        mech.momentum(q_first, v_first, &mut start);
-        let lifted = |q: &[D]| -> Vec<Dual<D>> { q.iter().map(|&x| Dual::from_re(x)).collect() };
-        let (qa_dual, h_dual) = (lifted(qa), Dual::from_re(h));
-        for i in 0..n {
-            // D2Ld_i: the derivative along the i-th coordinate of the segment's end.
-            let mut qb_dual = lifted(qb);
-            qb_dual[i].eps = D::from(1.0);
-            let d2 = mech.discrete_lagrangian(&qa_dual, &qb_dual, h_dual).eps;
-            out[i] = d2 + out[i] * D::from(0.5) - start[i];
+        let (q_first, v_first) = z.split_at(mech.nq());
+        mech.momentum(q_first, v_first, out);
+        for o in out.iter_mut() {
+            *o = -*o;
         }
+    }
+
+    fn receives_end_momentum(&self) -> bool {
+        true
     }
 }

@@ -69,6 +69,16 @@ pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, Pr
         hessian,
         solver_options,
     } = solver::check_solver(ctx, &raw)?;
+    // `check_constraints` lists the `[[periodic]]` shorthands first, then `[[constraint]]`.
+    for (i, constraint) in constraints.iter().enumerate() {
+        if let Some(message) = constraint.integrator_problem(integrator) {
+            let field = match i.checked_sub(raw.periodic.len()) {
+                Some(k) => format!("constraint[{k}].type"),
+                None => format!("periodic[{i}]"),
+            };
+            return Err(ctx.invalid(&field, message));
+        }
+    }
     let endpoints::Endpoints {
         q_initial,
         q_initial_free,

@@ -201,6 +201,21 @@ fn littledog_step_solves() {
     );
 }
 
+/// The HAMR-VI trot at its defaults (10 Hz, μ 0.6, 51 knots, simulated guess): converges
+/// with max slack below the paper's 1e-4, cost against the record. 99 s on an idle 2-core
+/// machine: `--ignored`. Needs `OPENBLAS_NUM_THREADS=1`, as `make test-slow` exports: with
+/// threaded BLAS the nonconvex solve rounds its way to another optimum (0.2862095).
+#[test]
+#[ignore = "slow: cargo test --release -- --ignored hamr_trot"]
+fn hamr_trot_solves() {
+    solve_and_check(
+        "hamr_trot_solves",
+        "hamr_trot.toml",
+        1e-4,
+        "golden-slow.toml",
+    );
+}
+
 /// Ctrl-C stops the solve cleanly: the iterate is written with `user_requested_stop`, exit 1.
 #[test]
 #[cfg(unix)]
