@@ -8,7 +8,7 @@ mod golden;
 mod metrics;
 mod modes;
 mod outdir;
-mod plot;
+pub(crate) mod plot;
 mod simulation;
 mod summary;
 

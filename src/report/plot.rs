@@ -90,6 +90,16 @@ pub fn line_plot(
                 PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2))
             });
     }
+    legend_and_present(&mut chart, &root)
+}
+
+/// Draws the series' legend in the upper right corner and writes the SVG: the last step of
+/// every line chart vito draws (here and in the studies).
+pub(crate) fn legend_and_present<'a, CT: plotters::coord::CoordTranslate>(
+    chart: &mut ChartContext<'a, SVGBackend<'a>, CT>,
+    root: &DrawingArea<SVGBackend<'a>, plotters::coord::Shift>,
+) -> Result<(), PlotError> {
+    let e = |e: &dyn std::fmt::Display| e.to_string();
     chart
         .configure_series_labels()
         .background_style(WHITE.mix(0.8))
@@ -97,8 +107,7 @@ pub fn line_plot(
         .position(SeriesLabelPosition::UpperRight)
         .draw()
         .map_err(|x| e(&x))?;
-    root.present().map_err(|x| e(&x))?;
-    Ok(())
+    root.present().map_err(|x| e(&x))
 }
 
 /// Coordinates q_k over time, one line per coordinate.

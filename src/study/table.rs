@@ -203,15 +203,7 @@ impl StudyTable {
                 }))
                 .map_err(|x| e(&x))?;
         }
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .position(SeriesLabelPosition::UpperRight)
-            .draw()
-            .map_err(|x| e(&x))?;
-        root.present().map_err(|x| e(&x))?;
-        Ok(())
+        crate::report::plot::legend_and_present(&mut chart, &root)
     }
 }
 
