@@ -326,6 +326,7 @@ fn cost_placements(l: &Layout, inputs: CostInputs) -> Vec<Vec<usize>> {
             })
             .collect(),
         CostInputs::LastConfiguration => vec![range_vec(l.q(l.knots - 1))],
+        CostInputs::LastIntervalWithStep => vec![interval(l.intervals() - 1, true)],
         CostInputs::Step => (0..l.intervals()).map(|j| vec![l.h(j)]).collect(),
     }
 }

@@ -19,7 +19,8 @@ use vito::contact::Step;
 use vito::discrete::{Mechanics, MechanicsDerivatives, ModelMechanics};
 use vito::problem::constraints::{Periodic, PeriodicMomentum};
 use vito::problem::costs::{
-    ConfigurationDifference, FinalState, Input, InputRate, StateTracking, Time, VelocityDifference,
+    ConfigurationDifference, CostSizes, FinalState, FinalVelocity, Input, InputRate, StateTracking,
+    Time, VelocityDifference, cost_value,
 };
 use vito::problem::{
     Constraint, CostTerm, Integrator, Interval, ProblemSpec, SlackMode, TimeSteps,
@@ -116,6 +117,10 @@ fn hopper_everything(integrator: Integrator, slack_mode: SlackMode) -> ProblemSp
     spec.costs.push(CostTerm::FinalState(FinalState {
         q_target: vec![0.5, 0.6, 0.0, 0.5],
         weights: vec![3.0, 1.0, 1.0, 2.0],
+    }));
+    spec.costs.push(CostTerm::FinalVelocity(FinalVelocity {
+        v_target: vec![0.4, -0.2, 0.0, 0.1],
+        weights: vec![1.5, 0.5, 2.0, 0.0],
     }));
     spec.costs.push(CostTerm::Time(Time { weight: 2.0 }));
     spec.costs
@@ -477,4 +482,103 @@ fn parallel_and_serial_evaluation_agree_to_the_bit() {
     assert_eq!(bits(&parallel.1), bits(&serial.1), "Hessian");
     assert_eq!(bits(&parallel.2), bits(&serial.2), "constraints");
     assert!(parallel.1.iter().any(|&v| v != 0.0));
+}
+
+/// `final_velocity` on z = [q_{N−1}; q_N; h_{N−1}]: ½ Σ w_i ((q_N − q_{N−1})_i / h − v_i)², by
+/// hand; and placed on the last interval of a transcription, where its term in the objective
+/// is the same formula on the solver's variables.
+#[test]
+fn final_velocity_value_matches_hand_computation() {
+    let term = CostTerm::FinalVelocity(FinalVelocity {
+        v_target: vec![1.0, 0.0, 0.5, 0.0],
+        weights: vec![1.0, 2.0, 4.0, 0.0],
+    });
+    let sizes = CostSizes { n: 4, m: 2 };
+    // v = ([0.1, 0.2, 0.0, 0.3] − [0, 0, 0.05, 0]) / 0.05 = [2, 4, −1, 6]:
+    // ½ (1·(2 − 1)² + 2·4² + 4·(−1 − 0.5)² + 0·6²) = ½ (1 + 32 + 9) = 21.
+    let z: [f64; 9] = [0.0, 0.0, 0.05, 0.0, 0.1, 0.2, 0.0, 0.3, 0.05];
+    assert!((cost_value(&term, sizes, &z) - 21.0).abs() < 1e-12);
+
+    let mut spec = hopper_everything(Integrator::Midpoint, SlackMode::PerInterval);
+    spec.costs = vec![term];
+    let t = Transcription::new(Hopper, &spec).unwrap();
+    let (x, _, _) = random_point(&t, &mut SeededRng::new(21));
+    let l = t.layout();
+    let last = l.intervals() - 1;
+    let (before, after, h) = (l.q(last), l.q(last + 1), x[l.h(last)]);
+    let hand: f64 = [(1.0, 1.0), (2.0, 0.0), (4.0, 0.5), (0.0, 0.0)]
+        .iter()
+        .enumerate()
+        .map(|(c, &(w, target))| {
+            let v = (x[after.start + c] - x[before.start + c]) / h;
+            0.5 * w * (v - target) * (v - target)
+        })
+        .sum();
+    let terms = t.objective_terms(&x);
+    let (_, value) = terms
+        .iter()
+        .find(|(name, _)| name == "final_velocity")
+        .expect("final_velocity in objective_terms");
+    assert!(hand > 0.1, "the point tests nothing: {hand}");
+    assert!((value - hand).abs() <= 1e-12 * hand, "{value} vs {hand}");
+}
+
+/// The Hessian pattern holds the term's step–configuration entries from its inputs, not from
+/// values: at a point that stands still (q_N = q_{N−1}) those entries of the objective's Hessian
+/// are exactly zero, yet declared; moved, they equal the hand-computed
+/// ∂²f/∂q_N∂h = −2wΔ/h³, ∂²f/∂q_{N−1}∂h = 2wΔ/h³, ∂²f/∂h² = 3Σ wΔ²/h⁴, ∂²f/∂q_N² = w/h².
+#[test]
+fn final_velocity_hessian_pattern_comes_from_its_inputs() {
+    let weights = vec![1.0, 2.0, 0.5, 3.0];
+    let mut spec = hopper_everything(Integrator::Midpoint, SlackMode::PerInterval);
+    spec.costs = vec![CostTerm::FinalVelocity(FinalVelocity {
+        v_target: vec![0.0; 4],
+        weights: weights.clone(),
+    })];
+    let t = Transcription::new(Hopper, &spec).unwrap();
+    let l = t.layout();
+    let last = l.intervals() - 1;
+    let (before, after, hv) = (l.q(last), l.q(last + 1), l.h(last));
+    let p = t.hessian_pattern();
+    let entry = |r: usize, c: usize| {
+        let (r, c) = (r.max(c), r.min(c));
+        (0..p.nnz()).filter(move |&k| p.rows[k] == r && p.cols[k] == c)
+    };
+    let objective_hessian = |x: &[f64]| {
+        let mut values = vec![0.0; p.nnz()];
+        let lambda = vec![0.0; l.num_constraints()];
+        t.hessian_values(x, 1.0, &lambda, &mut values);
+        move |r: usize, c: usize| entry(r, c).map(|k| values[k]).sum::<f64>()
+    };
+
+    let mut still = t.initial_point().to_vec();
+    still.copy_within(before.clone(), after.start);
+    let at_still = objective_hessian(&still);
+    for c in 0..4 {
+        for var in [before.start + c, after.start + c] {
+            assert_eq!(entry(hv, var).count(), 1, "(h, q[{var}]) not declared");
+            assert_eq!(at_still(hv, var), 0.0);
+        }
+    }
+    assert_eq!(at_still(hv, hv), 0.0);
+
+    let mut moved = still.clone();
+    let h = moved[hv];
+    let deltas = [0.03, -0.02, 0.05, 0.01];
+    for (c, d) in deltas.iter().enumerate() {
+        moved[after.start + c] += d;
+    }
+    let at_moved = objective_hessian(&moved);
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-10 * b.abs().max(1.0);
+    let mut hh = 0.0;
+    for c in 0..4 {
+        let (w, d) = (weights[c], deltas[c]);
+        let (qa, qb) = (before.start + c, after.start + c);
+        assert!(close(at_moved(hv, qb), -2.0 * w * d / h.powi(3)), "c {c}");
+        assert!(close(at_moved(hv, qa), 2.0 * w * d / h.powi(3)), "c {c}");
+        assert!(close(at_moved(qb, qb), w / (h * h)), "c {c}");
+        assert!(close(at_moved(qb, qa), -w / (h * h)), "c {c}");
+        hh += 3.0 * w * d * d / h.powi(4);
+    }
+    assert!(close(at_moved(hv, hv), hh));
 }

@@ -12,6 +12,7 @@
 
 mod configuration_difference;
 mod final_state;
+mod final_velocity;
 mod input;
 mod input_rate;
 mod state_tracking;
@@ -20,6 +21,7 @@ mod velocity_difference;
 
 pub use configuration_difference::ConfigurationDifference;
 pub use final_state::FinalState;
+pub use final_velocity::FinalVelocity;
 pub use input::Input;
 pub use input_rate::InputRate;
 pub use state_tracking::StateTracking;
@@ -85,6 +87,7 @@ cost_terms! {
     InputRate in input_rate,
     ConfigurationDifference in configuration_difference,
     FinalState in final_state,
+    FinalVelocity in final_velocity,
     Time in time,
     VelocityDifference in velocity_difference,
 }
@@ -104,6 +107,8 @@ pub enum CostInputs {
     AdjacentIntervals,
     /// z = [q_N], the last knot, once.
     LastConfiguration,
+    /// z = [q_{N−1}; q_N; h_{N−1}], the last interval, once.
+    LastIntervalWithStep,
     /// z = [h_j] on every interval j.
     Step,
 }

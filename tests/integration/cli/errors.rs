@@ -253,6 +253,36 @@ fn terrain_and_cost_entries_name_their_field() {
     assert!(err.contains("unknown key `wieght`"), "{err}");
 }
 
+/// `final_velocity` resolves its weights and target by coordinate name like the other terms:
+/// an unknown name is one error naming the file, line, field and the nearest name.
+#[test]
+fn final_velocity_unknown_coordinate() {
+    for (name, key, expected) in [
+        (
+            "final_velocity_unknown_weight",
+            "weights = { z = 1.0, tehta = 2.0 }",
+            "bad.toml:57: field `cost[2].weights.tehta`: unknown coordinate `tehta`, did you mean `theta`?",
+        ),
+        (
+            "final_velocity_unknown_target",
+            "weights = { default = 1.0 }\nv_target = { zz = 0.0 }",
+            "field `cost[2].v_target.zz`: unknown coordinate `zz`, did you mean `z`?",
+        ),
+        (
+            "final_velocity_negative_weight",
+            "weights = { default = 1.0, r = -1.0 }",
+            "field `cost[2].weights`: weight of `r` is -1; weights must be ≥ 0",
+        ),
+    ] {
+        let text = hopper_text().replace(
+            "[slack]",
+            &format!("[[cost]]\ntype = \"final_velocity\"\n{key}\n\n[slack]"),
+        );
+        let err = solve_fails(name, &text);
+        assert!(err.contains(expected), "{err}");
+    }
+}
+
 #[test]
 fn family_expression_errors_name_file_and_field() {
     let family = hopper_text().replace("friction = 0.8", "friction = \"= mu / scale\"")
