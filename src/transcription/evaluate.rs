@@ -3,15 +3,20 @@
 //! scattered serially in block order). Each block kind's derivatives come from the fastest path
 //! it has (the mechanics' segment derivatives, the contact chain rule) or generic forward AD.
 
+use std::collections::HashMap;
+use std::collections::hash_map::Entry;
+
 use nalgebra::DMatrix;
 use rayon::prelude::*;
 
 use super::blocks::{
-    Block, ScalarBlockFn, ScalarKind, VectorBlockFn, VectorKind, complementarity_hessian,
-    complementarity_jacobian, contact_work_gradient, contact_work_hessian, contact_work_third,
-    distance_hessian, distance_jacobian, loop_closure_hessian, loop_closure_jacobian,
-    loop_work_gradient, loop_work_hessian, loop_work_third, tangential_rate_hessian,
-    tangential_rate_jacobian,
+    Block, ContactGeometry, ScalarBlockFn, ScalarKind, VectorBlockFn, VectorKind,
+    complementarity_hessian, complementarity_jacobian, contact_work_gradient, contact_work_hessian,
+    contact_work_hessian_in, contact_work_third, contact_work_third_in, distance_hessian,
+    distance_hessian_in, distance_jacobian, distance_jacobian_in, loop_closure_hessian,
+    loop_closure_jacobian, loop_work_gradient, loop_work_hessian, loop_work_third,
+    tangential_rate_hessian, tangential_rate_hessian_in, tangential_rate_jacobian,
+    tangential_rate_jacobian_in,
 };
 use super::structure::NO_SLOT;
 use super::{InitialGuessReport, Transcription};
@@ -141,14 +146,33 @@ impl<M: MechanicsDerivatives> Transcription<M> {
     /// Jacobian values in the order of `jacobian_pattern`.
     pub fn jacobian_values(&self, x: &[f64], values: &mut [f64]) {
         values.fill(0.0);
+        let shared = self.shared_geometries(x, Callback::Jacobian);
         let vector = self.map_blocks(&self.vector_blocks, |b| {
-            self.vector_block_jacobian(b, &gather(x, &b.vars), self.contact_derivatives)
+            let z = gather(x, &b.vars);
+            match (&b.kind, shared.get(&b.kind, &b.vars, self.ctx.n)) {
+                (&VectorKind::TangentialRate { contact }, Some(g))
+                    if !self.mech.contact_rolls(contact) =>
+                {
+                    tangential_rate_jacobian_in(g, &self.ctx, &z)
+                }
+                (VectorKind::Distance { .. }, Some(g)) => {
+                    distance_jacobian_in(g, &self.ctx, &z, false)
+                }
+                (VectorKind::ContactGap { .. }, Some(g)) => {
+                    distance_jacobian_in(g, &self.ctx, &z, true)
+                }
+                _ => self.vector_block_jacobian(b, &z, self.contact_derivatives),
+            }
         });
         for (b, local) in self.vector_blocks.iter().zip(vector) {
             scatter_rows(b, &local, values);
         }
         let gradient = self.map_blocks(&self.gradient_blocks, |b| {
-            self.gradient_block_hessian(b, &gather(x, &b.vars), self.contact_derivatives)
+            let z = gather(x, &b.vars);
+            match shared.get_scalar(&b.kind, &b.vars, self.ctx.n) {
+                Some(g) => contact_work_hessian_in(g, &self.ctx, &z),
+                None => self.gradient_block_hessian(b, &z, self.contact_derivatives),
+            }
         });
         for (b, local) in self.gradient_blocks.iter().zip(gradient) {
             scatter_rows(b, &local, values);
@@ -173,19 +197,40 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         for (b, local) in self.cost_blocks.iter().zip(costs) {
             scatter_lower(b, &local, values);
         }
+        let shared = self.shared_geometries(x, Callback::Hessian);
         let vector = self.map_blocks(&self.vector_blocks, |b| {
             if b.nonlinear == 0 {
                 return DMatrix::zeros(0, 0);
             }
             let z = gather(x, &b.vars);
-            self.vector_block_hessian(b, &z, &weights(&b.targets), self.contact_derivatives)
+            let w = weights(&b.targets);
+            match (&b.kind, shared.get(&b.kind, &b.vars, self.ctx.n)) {
+                (&VectorKind::TangentialRate { contact }, Some(g))
+                    if !self.mech.contact_rolls(contact) =>
+                {
+                    tangential_rate_hessian_in(g, &self.ctx, &z, &w)
+                }
+                (VectorKind::Distance { .. }, Some(g)) => {
+                    distance_hessian_in(g, &self.ctx, &z, w[0], false)
+                }
+                (VectorKind::ContactGap { .. }, Some(g)) => {
+                    distance_hessian_in(g, &self.ctx, &z, w[0], true)
+                }
+                _ => self.vector_block_hessian(b, &z, &w, self.contact_derivatives),
+            }
         });
         for (b, local) in self.vector_blocks.iter().zip(vector) {
             scatter_lower(b, &local, values);
         }
         let gradient = self.map_blocks(&self.gradient_blocks, |b| {
             let dir = weights(&b.targets);
-            self.gradient_block_third(b, &gather(x, &b.vars), &dir, self.contact_derivatives)
+            let z = gather(x, &b.vars);
+            if let Some(g) = shared.get_scalar(&b.kind, &b.vars, self.ctx.n)
+                && let Some((_, contracted)) = contact_work_third_in(g, &self.ctx, &z, &dir)
+            {
+                return contracted;
+            }
+            self.gradient_block_third(b, &z, &dir, self.contact_derivatives)
                 .contracted
         });
         for (b, local) in self.gradient_blocks.iter().zip(gradient) {
@@ -249,6 +294,46 @@ impl<M: MechanicsDerivatives> Transcription<M> {
             );
         }
         times
+    }
+
+    /// The contact geometries of one Jacobian or Hessian call (chain-rule derivatives only),
+    /// one per (contact, knot configuration), to the highest order the call's blocks there
+    /// need: the tangential rate, the distance, the gap and the contact work at one knot read
+    /// one point jet instead of computing it four times.
+    fn shared_geometries<'a>(&'a self, x: &[f64], callback: Callback) -> SharedGeometries<'a> {
+        let mut shared = SharedGeometries::default();
+        if self.contact_derivatives != ContactDerivatives::ChainRule {
+            return shared;
+        }
+        let hessian = callback == Callback::Hessian;
+        let mut keys: Vec<(usize, &[usize], usize)> = Vec::new();
+        for b in &self.vector_blocks {
+            if hessian && b.nonlinear == 0 {
+                continue;
+            }
+            if let Some((contact, q, order)) =
+                geometry_need(&b.kind, &b.vars, self.ctx.n, callback, |c| {
+                    self.mech.contact_rolls(c)
+                })
+            {
+                shared.add(&mut keys, contact, q, order);
+            }
+        }
+        for b in &self.gradient_blocks {
+            if let ScalarKind::ContactWork { contact } = b.kind {
+                let order = if hessian { 3 } else { 2 };
+                shared.add(&mut keys, contact, &b.vars[..self.ctx.n], order);
+            }
+        }
+        let build = |&(contact, q, order): &(usize, &[usize], usize)| {
+            ContactGeometry::new(&self.mech, &self.ctx, contact, &gather(x, q), order)
+        };
+        shared.geometries = if self.parallel {
+            keys.par_iter().with_min_len(32).map(build).collect()
+        } else {
+            keys.iter().map(build).collect()
+        };
+        shared
     }
 
     /// `f` over the blocks on one thread: f, ∇f and g, which Ipopt asks at every trial
@@ -528,5 +613,91 @@ pub(super) fn scatter_lower<K>(b: &Block<K>, local: &DMatrix<f64>, values: &mut 
                 values[s] += mult * local[(a, c)];
             }
         }
+    }
+}
+
+/// Which derivative callback a shared geometry is for (the orders its blocks need differ).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Callback {
+    Jacobian,
+    Hessian,
+}
+
+/// The (contact, configuration variables, order) a vector block's chain-rule derivatives read
+/// in `callback`: the tangential rate at qb (a rolling contact's rate has no chain rule), the
+/// distance and the gap at q.
+fn geometry_need<'v>(
+    kind: &VectorKind,
+    vars: &'v [usize],
+    n: usize,
+    callback: Callback,
+    rolls: impl Fn(usize) -> bool,
+) -> Option<(usize, &'v [usize], usize)> {
+    let hessian = callback == Callback::Hessian;
+    match *kind {
+        VectorKind::TangentialRate { contact } if !rolls(contact) => {
+            Some((contact, &vars[n..2 * n], if hessian { 3 } else { 2 }))
+        }
+        VectorKind::Distance { contact } | VectorKind::ContactGap { contact } => {
+            Some((contact, &vars[..n], if hessian { 2 } else { 1 }))
+        }
+        _ => None,
+    }
+}
+
+/// Contact geometries shared by the blocks of one derivative call, keyed by contact and the
+/// variables of the configuration they are taken at.
+#[derive(Default)]
+struct SharedGeometries<'a> {
+    index: HashMap<(usize, &'a [usize]), usize>,
+    geometries: Vec<ContactGeometry<'a>>,
+}
+
+impl<'a> SharedGeometries<'a> {
+    /// Registers a need; the order kept is the highest asked for.
+    fn add(
+        &mut self,
+        keys: &mut Vec<(usize, &'a [usize], usize)>,
+        contact: usize,
+        q: &'a [usize],
+        order: usize,
+    ) {
+        match self.index.entry((contact, q)) {
+            Entry::Occupied(e) => {
+                let key = &mut keys[*e.get()];
+                key.2 = key.2.max(order);
+            }
+            Entry::Vacant(e) => {
+                e.insert(keys.len());
+                keys.push((contact, q, order));
+            }
+        }
+    }
+
+    /// The geometry a vector block of `kind` over `vars` reads, if shared.
+    fn get(&self, kind: &VectorKind, vars: &[usize], n: usize) -> Option<&ContactGeometry<'a>> {
+        let (contact, q) = match *kind {
+            VectorKind::TangentialRate { contact } => (contact, &vars[n..2 * n]),
+            VectorKind::Distance { contact } | VectorKind::ContactGap { contact } => {
+                (contact, &vars[..n])
+            }
+            _ => return None,
+        };
+        self.index.get(&(contact, q)).map(|&i| &self.geometries[i])
+    }
+
+    /// The geometry a contact-work block over `vars` reads, if shared.
+    fn get_scalar(
+        &self,
+        kind: &ScalarKind,
+        vars: &[usize],
+        n: usize,
+    ) -> Option<&ContactGeometry<'a>> {
+        let ScalarKind::ContactWork { contact } = *kind else {
+            return None;
+        };
+        self.index
+            .get(&(contact, &vars[..n]))
+            .map(|&i| &self.geometries[i])
     }
 }
