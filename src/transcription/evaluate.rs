@@ -18,7 +18,6 @@ use super::blocks::{
     tangential_rate_hessian, tangential_rate_hessian_in, tangential_rate_jacobian,
     tangential_rate_jacobian_in,
 };
-use super::pool::Callback;
 use super::structure::NO_SLOT;
 use super::{InitialGuessReport, Transcription};
 use crate::autodiff::{
@@ -146,16 +145,9 @@ impl<M: MechanicsDerivatives> Transcription<M> {
 
     /// Jacobian values in the order of `jacobian_pattern`.
     pub fn jacobian_values(&self, x: &[f64], values: &mut [f64]) {
-        self.parallelism.run(Callback::Jacobian, |on_pool| {
-            self.jacobian_values_on(x, values, on_pool);
-        });
-    }
-
-    /// [`Transcription::jacobian_values`], the blocks on rayon's pool or on one thread.
-    fn jacobian_values_on(&self, x: &[f64], values: &mut [f64], on_pool: bool) {
         values.fill(0.0);
-        let shared = self.shared_geometries(x, Callback::Jacobian, on_pool);
-        let vector = self.map_blocks(on_pool, &self.vector_blocks, |b| {
+        let shared = self.shared_geometries(x, Callback::Jacobian);
+        let vector = self.map_blocks(&self.vector_blocks, |b| {
             let z = gather(x, &b.vars);
             match (&b.kind, shared.get(&b.kind, &b.vars, self.ctx.n)) {
                 (&VectorKind::TangentialRate { contact }, Some(g))
@@ -175,7 +167,7 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         for (b, local) in self.vector_blocks.iter().zip(vector) {
             scatter_rows(b, &local, values);
         }
-        let gradient = self.map_blocks(on_pool, &self.gradient_blocks, |b| {
+        let gradient = self.map_blocks(&self.gradient_blocks, |b| {
             let z = gather(x, &b.vars);
             match shared.get_scalar(&b.kind, &b.vars, self.ctx.n) {
                 Some(g) => contact_work_hessian_in(g, &self.ctx, &z),
@@ -189,20 +181,6 @@ impl<M: MechanicsDerivatives> Transcription<M> {
 
     /// Values of ∇²(σ f + Σ λ_r g_r) in the order of `hessian_pattern`.
     pub fn hessian_values(&self, x: &[f64], obj_factor: f64, lambda: &[f64], values: &mut [f64]) {
-        self.parallelism.run(Callback::Hessian, |on_pool| {
-            self.hessian_values_on(x, obj_factor, lambda, values, on_pool);
-        });
-    }
-
-    /// [`Transcription::hessian_values`], the blocks on rayon's pool or on one thread.
-    fn hessian_values_on(
-        &self,
-        x: &[f64],
-        obj_factor: f64,
-        lambda: &[f64],
-        values: &mut [f64],
-        on_pool: bool,
-    ) {
         values.fill(0.0);
         let weights = |targets: &[Vec<usize>]| -> Vec<f64> {
             targets
@@ -210,7 +188,7 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                 .map(|rows| rows.iter().map(|&r| lambda[r]).sum())
                 .collect()
         };
-        let costs = self.map_blocks(on_pool, &self.cost_blocks, |b| {
+        let costs = self.map_blocks(&self.cost_blocks, |b| {
             if b.nonlinear == 0 {
                 return DMatrix::zeros(0, 0);
             }
@@ -219,8 +197,8 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         for (b, local) in self.cost_blocks.iter().zip(costs) {
             scatter_lower(b, &local, values);
         }
-        let shared = self.shared_geometries(x, Callback::Hessian, on_pool);
-        let vector = self.map_blocks(on_pool, &self.vector_blocks, |b| {
+        let shared = self.shared_geometries(x, Callback::Hessian);
+        let vector = self.map_blocks(&self.vector_blocks, |b| {
             if b.nonlinear == 0 {
                 return DMatrix::zeros(0, 0);
             }
@@ -244,7 +222,7 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         for (b, local) in self.vector_blocks.iter().zip(vector) {
             scatter_lower(b, &local, values);
         }
-        let gradient = self.map_blocks(on_pool, &self.gradient_blocks, |b| {
+        let gradient = self.map_blocks(&self.gradient_blocks, |b| {
             let dir = weights(&b.targets);
             let z = gather(x, &b.vars);
             if let Some(g) = shared.get_scalar(&b.kind, &b.vars, self.ctx.n)
@@ -322,12 +300,7 @@ impl<M: MechanicsDerivatives> Transcription<M> {
     /// one per (contact, knot configuration), to the highest order the call's blocks there
     /// need: the tangential rate, the distance, the gap and the contact work at one knot read
     /// one point jet instead of computing it four times.
-    fn shared_geometries<'a>(
-        &'a self,
-        x: &[f64],
-        callback: Callback,
-        on_pool: bool,
-    ) -> SharedGeometries<'a> {
+    fn shared_geometries<'a>(&'a self, x: &[f64], callback: Callback) -> SharedGeometries<'a> {
         let mut shared = SharedGeometries::default();
         if self.contact_derivatives != ContactDerivatives::ChainRule {
             return shared;
@@ -355,7 +328,7 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         let build = |&(contact, q, order): &(usize, &[usize], usize)| {
             ContactGeometry::new(&self.mech, &self.ctx, contact, &gather(x, q), order)
         };
-        shared.geometries = if on_pool {
+        shared.geometries = if self.parallel {
             keys.par_iter().with_min_len(32).map(build).collect()
         } else {
             keys.iter().map(build).collect()
@@ -370,15 +343,14 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         blocks.iter().map(f).collect()
     }
 
-    /// `f` over the blocks, on rayon's pool when `on_pool` (see [`super::pool::Parallelism`]), in block
-    /// order either way.
-    fn map_blocks<K: Sync, R: Send>(
+    /// `f` over the blocks, on rayon's pool when the transcription is parallel (derivatives
+    /// of large problems, see `Transcription::new`), in block order either way.
+    pub(super) fn map_blocks<K: Sync, R: Send>(
         &self,
-        on_pool: bool,
         blocks: &[Block<K>],
         f: impl Fn(&Block<K>) -> R + Sync + Send,
     ) -> Vec<R> {
-        if on_pool {
+        if self.parallel {
             // Batches of blocks: one task per block costs more in wake-ups than the
             // cheaper blocks take to evaluate.
             blocks.par_iter().with_min_len(32).map(f).collect()
@@ -642,6 +614,13 @@ pub(super) fn scatter_lower<K>(b: &Block<K>, local: &DMatrix<f64>, values: &mut 
             }
         }
     }
+}
+
+/// Which derivative callback a shared geometry is for (the orders its blocks need differ).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Callback {
+    Jacobian,
+    Hessian,
 }
 
 /// The (contact, configuration variables, order) a vector block's chain-rule derivatives read

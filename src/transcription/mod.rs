@@ -7,8 +7,7 @@
 //! Where things are: `layout` (variable and row indices), `blocks` (what each block computes:
 //! dynamics pieces from `discrete::del`, contact rows; cost terms, one file each, are
 //! `crate::problem::costs`), `placement` (which blocks exist and what they read and write), `structure` (sparsity patterns), `start`
-//! (bounds, initial guess, warm start), `evaluate` (values and derivatives), `pool` (whether a
-//! derivative call runs on rayon's pool, by measurement), `program` (the
+//! (bounds, initial guess, warm start), `evaluate` (values and derivatives), `program` (the
 //! [`Transcription`] itself), `nlp` (the Ipopt callbacks' adapter), `solve` (solving a problem
 //! file's NLP, slack continuation), `robot` (a problem's URDF mechanics).
 
@@ -20,7 +19,6 @@ mod layout;
 mod nlp;
 mod pattern;
 mod placement;
-mod pool;
 mod program;
 mod robot;
 mod solution;

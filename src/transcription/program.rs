@@ -6,16 +6,14 @@ use super::blocks::{Block, Context, ScalarKind, VectorKind};
 use super::evaluate::ContactDerivatives;
 use super::layout::{Dims, Layout};
 use super::pattern::Pattern;
-use super::pool::Parallelism;
 use super::{NlpSize, TranscriptionError};
 use crate::discrete::MechanicsDerivatives;
 use crate::problem::costs::{CostSizes, length_mismatch};
 use crate::problem::{HessianMode, ProblemSpec, TimeSteps};
 
-/// From this many Jacobian nonzeros on, each Jacobian and Hessian call runs its blocks on
-/// rayon's pool or on one thread, whichever its recent calls measured faster (see
-/// [`Transcription::set_parallel`]); smaller problems always on one thread.
-pub const PARALLEL_FROM_JACOBIAN_NNZ: usize = 10_000;
+/// From this many Jacobian nonzeros on, the Jacobian and Hessian blocks are evaluated on
+/// rayon's pool (see [`Transcription::set_parallel`]).
+pub const PARALLEL_FROM_JACOBIAN_NNZ: usize = 100_000;
 
 /// SPEC.md's values at the initial guess (no solver involved).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -45,7 +43,7 @@ pub struct Transcription<M> {
     pub(super) cost_blocks: Vec<Block<ScalarKind>>,
     pub(super) jacobian: Pattern,
     pub(super) hessian: Pattern,
-    pub(super) parallelism: Parallelism,
+    pub(super) parallel: bool,
     /// How the contact blocks' derivatives are taken when evaluating.
     pub(super) contact_derivatives: ContactDerivatives,
     /// See [`Transcription::set_skip_fixed_variables`].
@@ -136,7 +134,7 @@ impl<M: MechanicsDerivatives> Transcription<M> {
             cost_blocks: Vec::new(),
             jacobian: Pattern::default(),
             hessian: Pattern::default(),
-            parallelism: Parallelism::Serial,
+            parallel: true,
             contact_derivatives: ContactDerivatives::ChainRule,
             skip_fixed: false,
             mech,
@@ -145,13 +143,11 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         t.set_bounds(spec)?;
         t.set_initial_guess(spec)?;
         t.build_patterns();
-        // Measured on the shared 2-core machine (BENCHMARKS.md, issue 16): whether the pool
-        // pays depends on the load as much as on the problem (the brick's callbacks: 6.4 s a
-        // solve on the pool against 3.9 s serial at load 10; LittleDog's J + H 6.0 against
-        // 9.9 ms at load 4.5), so large problems measure it as they solve.
-        if t.jacobian.nnz() >= PARALLEL_FROM_JACOBIAN_NNZ {
-            t.parallelism = Parallelism::measured();
-        }
+        // Measured in solves on the shared 2-core machine (BENCHMARKS.md, issue 16): the
+        // pool pays for HAMR's Jacobian and Hessian (143,302 Jacobian nonzeros: J 41 ms, H
+        // 127 ms a call against 63 and 170 serial) and costs on the brick's (32,546: callbacks
+        // 6.4 s a solve against 3.9 s serial), whose J + H now take 5 ms.
+        t.parallel = t.jacobian.nnz() >= PARALLEL_FROM_JACOBIAN_NNZ;
         Ok(t)
     }
 
@@ -165,16 +161,11 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         self.slack_weight = weight;
     }
 
-    /// Evaluate the Jacobian's and the Hessian's blocks always on rayon's thread pool or
-    /// always on one thread (the default from [`PARALLEL_FROM_JACOBIAN_NNZ`] Jacobian
-    /// nonzeros on is to measure which is faster while solving; f, ∇f and g are always
-    /// serial). Results are the same to the bit either way.
+    /// Evaluate the Jacobian's and the Hessian's blocks on rayon's thread pool or on one
+    /// thread (the default is parallel from [`PARALLEL_FROM_JACOBIAN_NNZ`] Jacobian
+    /// nonzeros on; f, ∇f and g are always serial). Results are the same either way.
     pub fn set_parallel(&mut self, parallel: bool) {
-        self.parallelism = if parallel {
-            Parallelism::Pool
-        } else {
-            Parallelism::Serial
-        };
+        self.parallel = parallel;
     }
 
     /// Differentiate the contact blocks (tangential rate, contact work, signed distance, c·φ)
