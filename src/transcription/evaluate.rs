@@ -5,6 +5,7 @@
 
 use std::collections::HashMap;
 use std::collections::hash_map::Entry;
+use std::sync::OnceLock;
 
 use nalgebra::DMatrix;
 use rayon::prelude::*;
@@ -146,10 +147,11 @@ impl<M: MechanicsDerivatives> Transcription<M> {
     /// Jacobian values in the order of `jacobian_pattern`.
     pub fn jacobian_values(&self, x: &[f64], values: &mut [f64]) {
         values.fill(0.0);
-        let shared = self.shared_geometries(x, Callback::Jacobian);
+        let shared = self.shared_geometries(Callback::Jacobian);
+        let build = |key| self.contact_geometry(x, key);
         let vector = self.map_blocks(&self.vector_blocks, |b| {
             let z = gather(x, &b.vars);
-            match (&b.kind, shared.get(&b.kind, &b.vars, self.ctx.n)) {
+            match (&b.kind, shared.get(&b.kind, &b.vars, self.ctx.n, &build)) {
                 (&VectorKind::TangentialRate { contact }, Some(g))
                     if !self.mech.contact_rolls(contact) =>
                 {
@@ -169,7 +171,7 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         }
         let gradient = self.map_blocks(&self.gradient_blocks, |b| {
             let z = gather(x, &b.vars);
-            match shared.get_scalar(&b.kind, &b.vars, self.ctx.n) {
+            match shared.get_scalar(&b.kind, &b.vars, self.ctx.n, &build) {
                 Some(g) => contact_work_hessian_in(g, &self.ctx, &z),
                 None => self.gradient_block_hessian(b, &z, self.contact_derivatives),
             }
@@ -197,14 +199,15 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         for (b, local) in self.cost_blocks.iter().zip(costs) {
             scatter_lower(b, &local, values);
         }
-        let shared = self.shared_geometries(x, Callback::Hessian);
+        let shared = self.shared_geometries(Callback::Hessian);
+        let build = |key| self.contact_geometry(x, key);
         let vector = self.map_blocks(&self.vector_blocks, |b| {
             if b.nonlinear == 0 {
                 return DMatrix::zeros(0, 0);
             }
             let z = gather(x, &b.vars);
             let w = weights(&b.targets);
-            match (&b.kind, shared.get(&b.kind, &b.vars, self.ctx.n)) {
+            match (&b.kind, shared.get(&b.kind, &b.vars, self.ctx.n, &build)) {
                 (&VectorKind::TangentialRate { contact }, Some(g))
                     if !self.mech.contact_rolls(contact) =>
                 {
@@ -225,7 +228,7 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         let gradient = self.map_blocks(&self.gradient_blocks, |b| {
             let dir = weights(&b.targets);
             let z = gather(x, &b.vars);
-            if let Some(g) = shared.get_scalar(&b.kind, &b.vars, self.ctx.n)
+            if let Some(g) = shared.get_scalar(&b.kind, &b.vars, self.ctx.n, &build)
                 && let Some((_, contracted)) = contact_work_third_in(g, &self.ctx, &z, &dir)
             {
                 return contracted;
@@ -300,13 +303,13 @@ impl<M: MechanicsDerivatives> Transcription<M> {
     /// one per (contact, knot configuration), to the highest order the call's blocks there
     /// need: the tangential rate, the distance, the gap and the contact work at one knot read
     /// one point jet instead of computing it four times.
-    fn shared_geometries<'a>(&'a self, x: &[f64], callback: Callback) -> SharedGeometries<'a> {
+    fn shared_geometries(&self, callback: Callback) -> SharedGeometries<'_> {
         let mut shared = SharedGeometries::default();
         if self.contact_derivatives != ContactDerivatives::ChainRule {
             return shared;
         }
         let hessian = callback == Callback::Hessian;
-        let mut keys: Vec<(usize, &[usize], usize)> = Vec::new();
+        let mut keys: Vec<GeometryKey> = Vec::new();
         for b in &self.vector_blocks {
             if hessian && b.nonlinear == 0 {
                 continue;
@@ -325,15 +328,18 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                 shared.add(&mut keys, contact, &b.vars[..self.ctx.n], order);
             }
         }
-        let build = |&(contact, q, order): &(usize, &[usize], usize)| {
-            ContactGeometry::new(&self.mech, &self.ctx, contact, &gather(x, q), order)
-        };
-        shared.geometries = if self.parallel {
-            keys.par_iter().with_min_len(32).map(build).collect()
-        } else {
-            keys.iter().map(build).collect()
-        };
+        shared.keys = keys;
+        shared.cells = shared.keys.iter().map(|_| OnceLock::new()).collect();
         shared
+    }
+
+    /// The contact geometry at (contact, configuration variables, order) at x.
+    fn contact_geometry(
+        &self,
+        x: &[f64],
+        (contact, q, order): (usize, &[usize], usize),
+    ) -> ContactGeometry<'_> {
+        ContactGeometry::new(&self.mech, &self.ctx, contact, &gather(x, q), order)
     }
 
     /// `f` over the blocks on one thread: f, ∇f and g, which Ipopt asks at every trial
@@ -645,27 +651,37 @@ fn geometry_need<'v>(
     }
 }
 
+/// (contact, configuration variables, order) of a shared contact geometry.
+type GeometryKey<'a> = (usize, &'a [usize], usize);
+
 /// Contact geometries shared by the blocks of one derivative call, keyed by contact and the
-/// variables of the configuration they are taken at.
+/// variables of the configuration they are taken at; each is computed by the first block
+/// that reads it (on whichever thread), so sharing adds no pass over the pool.
 #[derive(Default)]
 struct SharedGeometries<'a> {
-    index: HashMap<(usize, &'a [usize]), usize>,
-    geometries: Vec<ContactGeometry<'a>>,
+    /// (contact, first configuration variable) → position in `keys`.
+    index: HashMap<(usize, usize), usize>,
+    keys: Vec<GeometryKey<'a>>,
+    cells: Vec<OnceLock<ContactGeometry<'a>>>,
 }
 
 impl<'a> SharedGeometries<'a> {
-    /// Registers a need; the order kept is the highest asked for.
+    /// Registers a need; the order kept is the highest asked for. (A configuration that
+    /// shares its first variable with another but not the rest is not shared: its blocks
+    /// compute their own geometry.)
     fn add(
         &mut self,
-        keys: &mut Vec<(usize, &'a [usize], usize)>,
+        keys: &mut Vec<GeometryKey<'a>>,
         contact: usize,
         q: &'a [usize],
         order: usize,
     ) {
-        match self.index.entry((contact, q)) {
+        match self.index.entry((contact, q[0])) {
             Entry::Occupied(e) => {
                 let key = &mut keys[*e.get()];
-                key.2 = key.2.max(order);
+                if key.1 == q {
+                    key.2 = key.2.max(order);
+                }
             }
             Entry::Vacant(e) => {
                 e.insert(keys.len());
@@ -674,8 +690,27 @@ impl<'a> SharedGeometries<'a> {
         }
     }
 
+    /// The shared geometry of `contact` at the configuration variables `q`, built by `build`
+    /// on first use; `None` if not shared.
+    fn lookup(
+        &self,
+        contact: usize,
+        q: &[usize],
+        build: &(dyn Fn(GeometryKey<'a>) -> ContactGeometry<'a> + Sync),
+    ) -> Option<&ContactGeometry<'a>> {
+        let &i = self.index.get(&(contact, *q.first()?))?;
+        let key = self.keys[i];
+        (key.1 == q).then(|| self.cells[i].get_or_init(|| build(key)))
+    }
+
     /// The geometry a vector block of `kind` over `vars` reads, if shared.
-    fn get(&self, kind: &VectorKind, vars: &[usize], n: usize) -> Option<&ContactGeometry<'a>> {
+    fn get(
+        &self,
+        kind: &VectorKind,
+        vars: &[usize],
+        n: usize,
+        build: &(dyn Fn(GeometryKey<'a>) -> ContactGeometry<'a> + Sync),
+    ) -> Option<&ContactGeometry<'a>> {
         let (contact, q) = match *kind {
             VectorKind::TangentialRate { contact } => (contact, &vars[n..2 * n]),
             VectorKind::Distance { contact } | VectorKind::ContactGap { contact } => {
@@ -683,7 +718,7 @@ impl<'a> SharedGeometries<'a> {
             }
             _ => return None,
         };
-        self.index.get(&(contact, q)).map(|&i| &self.geometries[i])
+        self.lookup(contact, q, build)
     }
 
     /// The geometry a contact-work block over `vars` reads, if shared.
@@ -692,12 +727,11 @@ impl<'a> SharedGeometries<'a> {
         kind: &ScalarKind,
         vars: &[usize],
         n: usize,
+        build: &(dyn Fn(GeometryKey<'a>) -> ContactGeometry<'a> + Sync),
     ) -> Option<&ContactGeometry<'a>> {
         let ScalarKind::ContactWork { contact } = *kind else {
             return None;
         };
-        self.index
-            .get(&(contact, &vars[..n]))
-            .map(|&i| &self.geometries[i])
+        self.lookup(contact, &vars[..n], build)
     }
 }
