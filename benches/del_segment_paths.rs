@@ -20,8 +20,8 @@ use vito::autodiff::{
     ThirdOrder, gradient_hessian, gradient_hessian_third, jacobian, weighted_hessian,
 };
 use vito::discrete::{
-    MidpointGradient, MidpointSegment, ld, midpoint_gradient_hessian, midpoint_ld_gradient,
-    midpoint_third_order_into,
+    LdBuffers, MidpointGradient, MidpointSegment, ld, midpoint_gradient_hessian,
+    midpoint_ld_gradient, midpoint_third_order_into,
 };
 use vito::model::{BaseType, Model, sample};
 use vito::scalar::Scalar;
@@ -66,13 +66,14 @@ fn tiled<const T: usize, S: Scalar>(
     let mut zd: Vec<S> = (0..dim).map(|i| lift(i, None)).collect();
     let mut d1 = vec![S::from(0.0); n];
     let mut d2 = d1.clone();
+    let mut buffers = LdBuffers::default();
     for start in (0..dim).step_by(T) {
         let cols = start..(start + T).min(dim);
         for (i, d) in zd.iter_mut().enumerate() {
             *d = lift(i, cols.contains(&i).then(|| i - start));
         }
-        let (_, dh) =
-            midpoint_ld_gradient(model, &zd[..n], &zd[n..2 * n], zd[2 * n], &mut d1, &mut d2);
+        let (qa, qb, h) = (&zd[..n], &zd[n..2 * n], zd[2 * n]);
+        let (_, dh) = midpoint_ld_gradient(model, qa, qb, h, &mut d1, &mut d2, &mut buffers);
         for (row, y) in d1.iter().chain(&d2).chain(std::iter::once(&dh)).enumerate() {
             for (k, col) in cols.clone().enumerate() {
                 let (h, w) = read(y, k).unwrap_or((0.0, 0.0));
@@ -150,6 +151,7 @@ fn run(name: &str, model: &Model, h: f64) {
             z[2 * n],
             &mut d1,
             &mut d2,
+            &mut LdBuffers::default(),
         ));
     });
     println!(

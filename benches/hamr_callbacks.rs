@@ -2,7 +2,8 @@
 //! of the 51-knot standing problem `benches/hamr_standing.toml` (38 coordinates, 24
 //! loop-closure rows per knot), serial per block kind and in all, and on rayon's pool.
 //! `cargo bench --bench hamr_callbacks`; `-- --repeat N` loops the serial J + H N times
-//! (for `perf record`).
+//! (for `perf record`), `-- --repeat N --hessian-only` the serial H alone; `-- --reps N`
+//! takes the minimum over N evaluations instead of 5 (on a loaded machine).
 
 use std::path::Path;
 use std::time::Instant;
@@ -17,6 +18,12 @@ fn main() {
         .position(|a| a == "--repeat")
         .and_then(|i| args.get(i + 1))
         .and_then(|s| s.parse::<usize>().ok());
+    let reps = args
+        .iter()
+        .position(|a| a == "--reps")
+        .and_then(|i| args.get(i + 1))
+        .and_then(|s| s.parse::<usize>().ok())
+        .unwrap_or(5);
     let file = args
         .iter()
         .position(|a| a == "--file")
@@ -34,8 +41,11 @@ fn main() {
     let mut hess = vec![0.0; t.hessian_pattern().nnz()];
     if let Some(n) = repeat {
         t.set_parallel(false);
+        let hessian_only = args.iter().any(|a| a == "--hessian-only");
         for _ in 0..n {
-            t.jacobian_values(&x, &mut jac);
+            if !hessian_only {
+                t.jacobian_values(&x, &mut jac);
+            }
             t.hessian_values(&x, 1.0, &lambda, &mut hess);
         }
         return;
@@ -65,7 +75,7 @@ fn main() {
         t.set_parallel(parallel);
         let (mut tg, mut tj, mut th) = (f64::MAX, f64::MAX, f64::MAX);
         let mut g = vec![0.0; rows];
-        for _ in 0..5 {
+        for _ in 0..reps {
             let s = Instant::now();
             t.constraints(&x, &mut g);
             tg = tg.min(s.elapsed().as_secs_f64());
@@ -77,7 +87,7 @@ fn main() {
             th = th.min(s.elapsed().as_secs_f64());
         }
         println!(
-            "{} (parallel = {parallel}, min of 5): g {:.2} ms, J {:.2} ms, H {:.2} ms, J+H {:.2} ms; \
+            "{} (parallel = {parallel}, min of {reps}): g {:.2} ms, J {:.2} ms, H {:.2} ms, J+H {:.2} ms; \
              {} variables, J nnz {}, H nnz {}",
             spec.name,
             tg * 1e3,

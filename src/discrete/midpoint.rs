@@ -2,7 +2,7 @@
 //! derivatives, the discrete force, the DEL residual and the discrete Legendre transforms
 //! (benchmarks/SPEC.md, with joint damping from its addition 2).
 
-use super::midpoint_ld_gradient;
+use super::{LdBuffers, midpoint_ld_gradient};
 use crate::autodiff::{ScalarFunction, VectorFunction};
 use crate::model::{self, Model};
 use crate::scalar::Scalar;
@@ -11,13 +11,35 @@ use crate::scalar::Scalar;
 /// (`qa`, `qb` length n, `h` in s). Every midpoint formula (Ld, Fd, their adjoint, the costs)
 /// takes its state from here.
 pub fn midpoint_state<D: Scalar>(qa: &[D], qb: &[D], h: D) -> (Vec<D>, Vec<D>) {
-    let q_mid = qa.iter().zip(qb).map(|(&a, &b)| (a + b) * 0.5).collect();
-    (q_mid, difference_velocity(qa, qb, h))
+    let (mut q_mid, mut v_mid) = (Vec::with_capacity(qa.len()), Vec::with_capacity(qa.len()));
+    midpoint_state_into(qa, qb, h, &mut q_mid, &mut v_mid);
+    (q_mid, v_mid)
+}
+
+/// [`midpoint_state`] into `q_mid` and `v_mid` (cleared first; their allocations reused).
+pub fn midpoint_state_into<D: Scalar>(
+    qa: &[D],
+    qb: &[D],
+    h: D,
+    q_mid: &mut Vec<D>,
+    v_mid: &mut Vec<D>,
+) {
+    q_mid.clear();
+    q_mid.extend(qa.iter().zip(qb).map(|(&a, &b)| (a + b) * 0.5));
+    difference_velocity_into(qa, qb, h, v_mid);
 }
 
 /// The finite-difference velocity (qb−qa)/h between two knots h apart.
 pub fn difference_velocity<D: Scalar>(qa: &[D], qb: &[D], h: D) -> Vec<D> {
-    qa.iter().zip(qb).map(|(&a, &b)| (b - a) / h).collect()
+    let mut v = Vec::with_capacity(qa.len());
+    difference_velocity_into(qa, qb, h, &mut v);
+    v
+}
+
+/// [`difference_velocity`] into `v` (cleared first).
+fn difference_velocity_into<D: Scalar>(qa: &[D], qb: &[D], h: D, v: &mut Vec<D>) {
+    v.clear();
+    v.extend(qa.iter().zip(qb).map(|(&a, &b)| (b - a) / h));
 }
 
 /// Midpoint discrete Lagrangian Ld(qa, qb, h) = h·(T − V)((qa+qb)/2, (qb−qa)/h), in J·s.
@@ -32,7 +54,15 @@ pub fn ld<D: Scalar>(model: &Model, qa: &[D], qb: &[D], h: D) -> D {
 /// ([`midpoint_ld_gradient`]), generic over `D` so that it can itself be differentiated.
 fn slot_derivatives<D: Scalar>(model: &Model, qa: &[D], qb: &[D], h: D) -> (Vec<D>, Vec<D>) {
     let (mut d1, mut d2) = (vec![D::zero(); qa.len()], vec![D::zero(); qa.len()]);
-    midpoint_ld_gradient(model, qa, qb, h, &mut d1, &mut d2);
+    midpoint_ld_gradient(
+        model,
+        qa,
+        qb,
+        h,
+        &mut d1,
+        &mut d2,
+        &mut LdBuffers::default(),
+    );
     (d1, d2)
 }
 

@@ -7,11 +7,31 @@
 use nalgebra::DMatrix;
 use num_dual::{Dual, Dual64};
 
-use super::midpoint::midpoint_state;
+use super::midpoint::midpoint_state_into;
 use crate::autodiff::{SymmetricGroups, ThirdOrder, VectorFunction};
 use crate::model::kinematics::check_len;
-use crate::model::{Model, lagrangian_gradient};
+use crate::model::{Model, SweepBuffers, lagrangian_gradient};
 use crate::scalar::Scalar;
+
+/// The midpoint state and the energy sweep's storage of [`midpoint_ld_gradient`], kept
+/// by a caller that evaluates many passes (one per column of a segment's derivatives) so that
+/// no pass allocates.
+#[derive(Debug)]
+pub struct LdBuffers<D> {
+    q_mid: Vec<D>,
+    v_mid: Vec<D>,
+    sweep: SweepBuffers<D>,
+}
+
+impl<D> Default for LdBuffers<D> {
+    fn default() -> Self {
+        LdBuffers {
+            q_mid: Vec::new(),
+            v_mid: Vec::new(),
+            sweep: SweepBuffers::default(),
+        }
+    }
+}
 
 /// The midpoint discrete Lagrangian Ld(qa, qb, h) = h·L(q̄, v̄), q̄ = (qa+qb)/2, v̄ = (qb−qa)/h,
 /// and its gradient from one adjoint sweep of L at (q̄, v̄):
@@ -20,6 +40,7 @@ use crate::scalar::Scalar;
 /// `qa`, `qb`, `d1_ld` and `d2_ld` have length `nq` (`d1_ld`, `d2_ld` overwritten, N·m·s per
 /// coordinate); `h` in s. Returns (Ld in J·s, ∂Ld/∂h in J), the numbers of
 /// [`crate::discrete::ld`], [`crate::discrete::d1_ld`] and [`crate::discrete::d2_ld`].
+/// `buffers` holds the working storage ([`LdBuffers`]; any, e.g. `LdBuffers::default()`).
 pub fn midpoint_ld_gradient<D: Scalar>(
     model: &Model,
     qa: &[D],
@@ -27,17 +48,23 @@ pub fn midpoint_ld_gradient<D: Scalar>(
     h: D,
     d1_ld: &mut [D],
     d2_ld: &mut [D],
+    buffers: &mut LdBuffers<D>,
 ) -> (D, D) {
     check_len(model, qa.len(), "qa");
     check_len(model, qb.len(), "qb");
     check_len(model, d1_ld.len(), "d1_ld");
     check_len(model, d2_ld.len(), "d2_ld");
-    let (q_mid, v_mid) = midpoint_state(qa, qb, h);
+    let LdBuffers {
+        q_mid,
+        v_mid,
+        sweep,
+    } = buffers;
+    midpoint_state_into(qa, qb, h, q_mid, v_mid);
     // ∂L/∂q and ∂L/∂v are written into the output buffers, then combined in place.
-    let lagrangian = lagrangian_gradient(model, &q_mid, &v_mid, d1_ld, d2_ld);
+    let lagrangian = lagrangian_gradient(model, q_mid, v_mid, d1_ld, d2_ld, sweep);
     let half_h = h * 0.5;
     let mut ld_partial_h = lagrangian;
-    for ((d1, d2), &v) in d1_ld.iter_mut().zip(d2_ld.iter_mut()).zip(&v_mid) {
+    for ((d1, d2), &v) in d1_ld.iter_mut().zip(d2_ld.iter_mut()).zip(v_mid.iter()) {
         let (l_q, l_v) = (*d1, *d2);
         *d1 = half_h * l_q - l_v;
         *d2 = half_h * l_q + l_v;
@@ -71,7 +98,8 @@ impl VectorFunction for MidpointGradient<'_> {
         let n = self.model.nq();
         let (d1, rest) = out.split_at_mut(n);
         let (d2, dh) = rest.split_at_mut(n);
-        dh[0] = midpoint_ld_gradient(self.model, &z[..n], &z[n..2 * n], z[2 * n], d1, d2).1;
+        let (qa, qb, h) = (&z[..n], &z[n..2 * n], z[2 * n]);
+        dh[0] = midpoint_ld_gradient(self.model, qa, qb, h, d1, d2, &mut LdBuffers::default()).1;
     }
 }
 
@@ -251,13 +279,14 @@ fn for_each_group<S: Scalar>(
     let mut zd: Vec<S> = (0..dim).map(|i| lift(i, false)).collect();
     let mut d1 = vec![S::from(0.0); n];
     let mut d2 = d1.clone();
+    let mut buffers = LdBuffers::default();
     let mut value = None;
     for (g, members) in groups.groups().iter().enumerate() {
         for &c in members {
             zd[c] = lift(c, true);
         }
-        let (ld, dh) =
-            midpoint_ld_gradient(model, &zd[..n], &zd[n..2 * n], zd[2 * n], &mut d1, &mut d2);
+        let (qa, qb, h) = (&zd[..n], &zd[n..2 * n], zd[2 * n]);
+        let (ld, dh) = midpoint_ld_gradient(model, qa, qb, h, &mut d1, &mut d2, &mut buffers);
         for &c in members {
             zd[c] = lift(c, false);
         }
@@ -299,11 +328,12 @@ fn for_each_column<S: Scalar>(
     let mut zd: Vec<S> = (0..dim).map(|i| lift(i, false)).collect();
     let mut d1 = vec![S::from(0.0); n];
     let mut d2 = d1.clone();
+    let mut buffers = LdBuffers::default();
     let mut value = S::from(0.0);
     for col in (0..dim).filter(|&c| columns.is_none_or(|m| m[c])) {
         zd[col] = lift(col, true);
-        let (ld, dh) =
-            midpoint_ld_gradient(model, &zd[..n], &zd[n..2 * n], zd[2 * n], &mut d1, &mut d2);
+        let (qa, qb, h) = (&zd[..n], &zd[n..2 * n], zd[2 * n]);
+        let (ld, dh) = midpoint_ld_gradient(model, qa, qb, h, &mut d1, &mut d2, &mut buffers);
         zd[col] = lift(col, false);
         for (row, y) in d1.iter().chain(&d2).chain(std::iter::once(&dh)).enumerate() {
             store(row, col, y);

@@ -5,8 +5,9 @@
 use nalgebra::DMatrix;
 
 use super::{
-    Mechanics, MechanicsDerivatives, midpoint_gradient_hessian, midpoint_gradient_hessian_grouped,
-    midpoint_ld_gradient, midpoint_third_order_columns, midpoint_third_order_grouped,
+    LdBuffers, Mechanics, MechanicsDerivatives, midpoint_gradient_hessian,
+    midpoint_gradient_hessian_grouped, midpoint_ld_gradient, midpoint_third_order_columns,
+    midpoint_third_order_grouped,
 };
 use crate::autodiff::{SymmetricGroups, ThirdOrder};
 use crate::model::{
@@ -162,6 +163,7 @@ impl MechanicsDerivatives for ModelMechanics {
             z[2 * n],
             &mut d1,
             &mut d2,
+            &mut LdBuffers::default(),
         );
         d1.extend(d2);
         d1.push(dh);

@@ -31,7 +31,16 @@ pub fn kinetic_energy_gradient<D: Scalar>(
 ) -> D {
     check_len(model, qdot.len(), "qdot");
     check_len(model, dqdot.len(), "dqdot");
-    energy_sweep(model, q, Some(qdot), 0.0, dq, dqdot).0
+    energy_sweep(
+        model,
+        q,
+        Some(qdot),
+        0.0,
+        dq,
+        dqdot,
+        &mut SweepBuffers::default(),
+    )
+    .0
 }
 
 /// Potential energy V(q) (gravity and springs) and its gradient ∂V/∂q.
@@ -39,12 +48,23 @@ pub fn kinetic_energy_gradient<D: Scalar>(
 /// `q` and `dq` have length `nq`; `dq` is overwritten. Returns V (the same number as
 /// [`potential_energy`](super::potential_energy)).
 pub fn potential_energy_gradient<D: Scalar>(model: &Model, q: &[D], dq: &mut [D]) -> D {
-    energy_sweep(model, q, None, 1.0, dq, &mut []).1
+    energy_sweep(
+        model,
+        q,
+        None,
+        1.0,
+        dq,
+        &mut [],
+        &mut SweepBuffers::default(),
+    )
+    .1
 }
 
 /// Lagrangian L(q, v) = T − V and its gradient, in one forward and one reverse sweep.
 ///
 /// `q`, `v`, `dq` (∂L/∂q) and `dv` (∂L/∂v) have length `nq`; `dq` and `dv` are overwritten.
+/// `buffers` holds the sweep's per-frame storage: a caller evaluating many passes (the 2n+1
+/// dual passes of a DEL segment's derivatives) keeps one, so that no pass allocates.
 /// Returns L in J (model units).
 pub fn lagrangian_gradient<D: Scalar>(
     model: &Model,
@@ -52,16 +72,36 @@ pub fn lagrangian_gradient<D: Scalar>(
     v: &[D],
     dq: &mut [D],
     dv: &mut [D],
+    buffers: &mut SweepBuffers<D>,
 ) -> D {
     check_len(model, v.len(), "v");
     check_len(model, dv.len(), "dv");
-    let (kinetic, potential) = energy_sweep(model, q, Some(v), -1.0, dq, dv);
+    let (kinetic, potential) = energy_sweep(model, q, Some(v), -1.0, dq, dv, buffers);
     kinetic - potential
+}
+
+/// The per-frame poses, twists and adjoints of one energy sweep, kept between sweeps
+/// (contents are overwritten by each sweep; only the allocations are reused).
+#[derive(Debug)]
+pub struct SweepBuffers<D> {
+    poses: Vec<Pose<D>>,
+    twists: Vec<Twist<D>>,
+    adjoints: Vec<FrameAdjoint<D>>,
+}
+
+impl<D> Default for SweepBuffers<D> {
+    fn default() -> Self {
+        SweepBuffers {
+            poses: Vec::new(),
+            twists: Vec::new(),
+            adjoints: Vec::new(),
+        }
+    }
 }
 
 /// Adjoints of one frame's forward quantities: ∂E/∂(world rotation, world origin, angular
 /// and linear velocity) for the energy E being differentiated.
-#[derive(Clone, Copy)]
+#[derive(Debug, Clone, Copy)]
 struct FrameAdjoint<D> {
     rotation: Mat3<D>,
     origin: Vec3<D>,
@@ -108,6 +148,8 @@ fn column<D: Scalar>(m: &Mat3<D>, k: usize) -> Vec3<D> {
 /// E = T + `potential_weight`·V, where T counts only when `qdot` is given and V only when
 /// `potential_weight` ≠ 0. Writes ∂E/∂q into `dq` and ∂E/∂q̇ into `dqdot` (ignored, may be
 /// empty, without `qdot`). Returns (T, V), each 0 when not counted.
+/// Parents precede children in `model.frames`, so a frame's parent is read in place (no copy
+/// of the parent's pose, twist or adjoint); the per-frame storage is `buffers`'.
 fn energy_sweep<D: Scalar>(
     model: &Model,
     q: &[D],
@@ -115,29 +157,31 @@ fn energy_sweep<D: Scalar>(
     potential_weight: f64,
     dq: &mut [D],
     dqdot: &mut [D],
+    buffers: &mut SweepBuffers<D>,
 ) -> (D, D) {
     check_len(model, q.len(), "q");
     check_len(model, dq.len(), "dq");
     let zero = D::from(0.0);
     let n = model.frames.len();
-    let mut poses: Vec<Pose<D>> = Vec::with_capacity(n);
-    let mut twists: Vec<Twist<D>> = Vec::with_capacity(if qdot.is_some() { n } else { 0 });
+    let SweepBuffers {
+        poses,
+        twists,
+        adjoints,
+    } = buffers;
+    poses.clear();
+    twists.clear();
+    let world = Pose::world();
     let rest = Twist {
         angular: [zero; 3],
         linear: [zero; 3],
     };
     for frame in &model.frames {
-        let parent_pose = frame.parent.map_or_else(Pose::world, |p| poses[p]);
-        let pose = child_pose(frame, &parent_pose, q);
+        let parent_pose = frame.parent.map_or(&world, |p| &poses[p]);
+        let pose = child_pose(frame, parent_pose, q);
         if let Some(qdot) = qdot {
-            let parent_twist = frame.parent.map_or(rest, |p| twists[p]);
-            twists.push(child_twist(
-                frame,
-                &pose,
-                parent_pose.origin,
-                &parent_twist,
-                qdot,
-            ));
+            let parent_twist = frame.parent.map_or(&rest, |p| &twists[p]);
+            let twist = child_twist(frame, &pose, parent_pose.origin, parent_twist, qdot);
+            twists.push(twist);
         }
         poses.push(pose);
     }
@@ -146,17 +190,19 @@ fn energy_sweep<D: Scalar>(
     if qdot.is_some() {
         dqdot.fill(zero);
     }
-    let mut adjoints = vec![FrameAdjoint::<D>::zero(); n];
+    adjoints.clear();
+    adjoints.resize(n, FrameAdjoint::<D>::zero());
     let mut twice_kinetic = zero;
     let mut potential = zero;
     let g = model.gravity;
     for i in (0..n).rev() {
         let frame = &model.frames[i];
         let pose = &poses[i];
-        let mut bar = adjoints[i];
+        let (earlier, rest_of) = adjoints.split_at_mut(i);
+        let bar = &mut rest_of[0];
         if frame.mass > 0.0 {
             if qdot.is_some() {
-                twice_kinetic += kinetic_adjoint(frame, pose, &twists[i], &mut bar);
+                twice_kinetic += kinetic_adjoint(frame, pose, &twists[i], bar);
             }
             if potential_weight != 0.0 {
                 // V_i = −m g·(o + R c): ō = −w m g, R̄ = −w m g cᵀ.
@@ -168,21 +214,21 @@ fn energy_sweep<D: Scalar>(
         }
         let mut axis_bar = [zero; 3];
         if let Some(qdot) = qdot {
-            twist_adjoint(model, i, &poses, qdot, &mut bar, &mut axis_bar, dqdot);
+            twist_adjoint(model, i, poses, qdot, bar, &mut axis_bar, dqdot);
             if let Some(p) = frame.parent {
-                adjoints[p].angular = add(adjoints[p].angular, bar.angular);
-                adjoints[p].linear = add(adjoints[p].linear, bar.linear);
+                earlier[p].angular = add(earlier[p].angular, bar.angular);
+                earlier[p].linear = add(earlier[p].linear, bar.linear);
                 // v_i = v_p + ω_p × (o_i − o_p): the lever's adjoint v̄ × ω_p.
                 let lever = sub(pose.origin, poses[p].origin);
-                adjoints[p].angular = add(adjoints[p].angular, cross(lever, bar.linear));
+                earlier[p].angular = add(earlier[p].angular, cross(lever, bar.linear));
                 let lever_bar = cross(bar.linear, twists[p].angular);
                 bar.origin = add(bar.origin, lever_bar);
-                adjoints[p].origin = sub(adjoints[p].origin, lever_bar);
+                earlier[p].origin = sub(earlier[p].origin, lever_bar);
             }
         }
-        let joint_rotation_bar = pose_adjoint(frame, pose, q, &bar, axis_bar, dq);
+        let joint_rotation_bar = pose_adjoint(frame, pose, q, bar, axis_bar, dq);
         if let Some(p) = frame.parent {
-            let parent = &mut adjoints[p];
+            let parent = &mut earlier[p];
             // J = R_p·C and o_joint = o_p + R_p·t.
             if frame.rotation == IDENTITY {
                 for (row, bar_row) in parent.rotation.iter_mut().zip(&joint_rotation_bar) {

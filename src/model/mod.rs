@@ -26,7 +26,9 @@ pub use dynamics::{
     generalized_damping_force, generalized_input_force, generalized_point_force, inverse_dynamics,
 };
 pub use energy::{generalized_momentum, kinetic_energy, mass_matrix, potential_energy};
-pub use energy_adjoint::{kinetic_energy_gradient, lagrangian_gradient, potential_energy_gradient};
+pub use energy_adjoint::{
+    SweepBuffers, kinetic_energy_gradient, lagrangian_gradient, potential_energy_gradient,
+};
 pub use error::{ModelError, describe};
 pub use inspect::{ContactInfo, CoordinateInfo, Inspection, LoopInfo, SpringInfo, inspect};
 pub use kinematics::{link_angular_jacobian, link_pose, point_position};

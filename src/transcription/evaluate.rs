@@ -3,15 +3,21 @@
 //! scattered serially in block order). Each block kind's derivatives come from the fastest path
 //! it has (the mechanics' segment derivatives, the contact chain rule) or generic forward AD.
 
+use std::collections::HashMap;
+use std::collections::hash_map::Entry;
+use std::sync::OnceLock;
+
 use nalgebra::DMatrix;
 use rayon::prelude::*;
 
 use super::blocks::{
-    Block, ScalarBlockFn, ScalarKind, VectorBlockFn, VectorKind, complementarity_hessian,
-    complementarity_jacobian, contact_work_gradient, contact_work_hessian, contact_work_third,
-    distance_hessian, distance_jacobian, loop_closure_hessian, loop_closure_jacobian,
-    loop_work_gradient, loop_work_hessian, loop_work_third, tangential_rate_hessian,
-    tangential_rate_jacobian,
+    Block, ContactGeometry, ScalarBlockFn, ScalarKind, VectorBlockFn, VectorKind,
+    complementarity_hessian, complementarity_jacobian, contact_work_gradient, contact_work_hessian,
+    contact_work_hessian_in, contact_work_third, contact_work_third_in, distance_hessian,
+    distance_hessian_in, distance_jacobian, distance_jacobian_in, loop_closure_hessian,
+    loop_closure_jacobian, loop_work_gradient, loop_work_hessian, loop_work_third,
+    tangential_rate_hessian, tangential_rate_hessian_in, tangential_rate_jacobian,
+    tangential_rate_jacobian_in,
 };
 use super::structure::NO_SLOT;
 use super::{InitialGuessReport, Transcription};
@@ -141,14 +147,34 @@ impl<M: MechanicsDerivatives> Transcription<M> {
     /// Jacobian values in the order of `jacobian_pattern`.
     pub fn jacobian_values(&self, x: &[f64], values: &mut [f64]) {
         values.fill(0.0);
+        let shared = self.shared_geometries(Callback::Jacobian);
+        let build = |key| self.contact_geometry(x, key);
         let vector = self.map_blocks(&self.vector_blocks, |b| {
-            self.vector_block_jacobian(b, &gather(x, &b.vars), self.contact_derivatives)
+            let z = gather(x, &b.vars);
+            match (&b.kind, shared.get(&b.kind, &b.vars, self.ctx.n, &build)) {
+                (&VectorKind::TangentialRate { contact }, Some(g))
+                    if !self.mech.contact_rolls(contact) =>
+                {
+                    tangential_rate_jacobian_in(g, &self.ctx, &z)
+                }
+                (VectorKind::Distance { .. }, Some(g)) => {
+                    distance_jacobian_in(g, &self.ctx, &z, false)
+                }
+                (VectorKind::ContactGap { .. }, Some(g)) => {
+                    distance_jacobian_in(g, &self.ctx, &z, true)
+                }
+                _ => self.vector_block_jacobian(b, &z, self.contact_derivatives),
+            }
         });
         for (b, local) in self.vector_blocks.iter().zip(vector) {
             scatter_rows(b, &local, values);
         }
         let gradient = self.map_blocks(&self.gradient_blocks, |b| {
-            self.gradient_block_hessian(b, &gather(x, &b.vars), self.contact_derivatives)
+            let z = gather(x, &b.vars);
+            match shared.get_scalar(&b.kind, &b.vars, self.ctx.n, &build) {
+                Some(g) => contact_work_hessian_in(g, &self.ctx, &z),
+                None => self.gradient_block_hessian(b, &z, self.contact_derivatives),
+            }
         });
         for (b, local) in self.gradient_blocks.iter().zip(gradient) {
             scatter_rows(b, &local, values);
@@ -173,19 +199,41 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         for (b, local) in self.cost_blocks.iter().zip(costs) {
             scatter_lower(b, &local, values);
         }
+        let shared = self.shared_geometries(Callback::Hessian);
+        let build = |key| self.contact_geometry(x, key);
         let vector = self.map_blocks(&self.vector_blocks, |b| {
             if b.nonlinear == 0 {
                 return DMatrix::zeros(0, 0);
             }
             let z = gather(x, &b.vars);
-            self.vector_block_hessian(b, &z, &weights(&b.targets), self.contact_derivatives)
+            let w = weights(&b.targets);
+            match (&b.kind, shared.get(&b.kind, &b.vars, self.ctx.n, &build)) {
+                (&VectorKind::TangentialRate { contact }, Some(g))
+                    if !self.mech.contact_rolls(contact) =>
+                {
+                    tangential_rate_hessian_in(g, &self.ctx, &z, &w)
+                }
+                (VectorKind::Distance { .. }, Some(g)) => {
+                    distance_hessian_in(g, &self.ctx, &z, w[0], false)
+                }
+                (VectorKind::ContactGap { .. }, Some(g)) => {
+                    distance_hessian_in(g, &self.ctx, &z, w[0], true)
+                }
+                _ => self.vector_block_hessian(b, &z, &w, self.contact_derivatives),
+            }
         });
         for (b, local) in self.vector_blocks.iter().zip(vector) {
             scatter_lower(b, &local, values);
         }
         let gradient = self.map_blocks(&self.gradient_blocks, |b| {
             let dir = weights(&b.targets);
-            self.gradient_block_third(b, &gather(x, &b.vars), &dir, self.contact_derivatives)
+            let z = gather(x, &b.vars);
+            if let Some(g) = shared.get_scalar(&b.kind, &b.vars, self.ctx.n, &build)
+                && let Some((_, contracted)) = contact_work_third_in(g, &self.ctx, &z, &dir)
+            {
+                return contracted;
+            }
+            self.gradient_block_third(b, &z, &dir, self.contact_derivatives)
                 .contracted
         });
         for (b, local) in self.gradient_blocks.iter().zip(gradient) {
@@ -249,6 +297,49 @@ impl<M: MechanicsDerivatives> Transcription<M> {
             );
         }
         times
+    }
+
+    /// The contact geometries of one Jacobian or Hessian call (chain-rule derivatives only),
+    /// one per (contact, knot configuration), to the highest order the call's blocks there
+    /// need: the tangential rate, the distance, the gap and the contact work at one knot read
+    /// one point jet instead of computing it four times.
+    fn shared_geometries(&self, callback: Callback) -> SharedGeometries<'_> {
+        let mut shared = SharedGeometries::default();
+        if self.contact_derivatives != ContactDerivatives::ChainRule {
+            return shared;
+        }
+        let hessian = callback == Callback::Hessian;
+        let mut keys: Vec<GeometryKey> = Vec::new();
+        for b in &self.vector_blocks {
+            if hessian && b.nonlinear == 0 {
+                continue;
+            }
+            if let Some((contact, q, order)) =
+                geometry_need(&b.kind, &b.vars, self.ctx.n, callback, |c| {
+                    self.mech.contact_rolls(c)
+                })
+            {
+                shared.add(&mut keys, contact, q, order);
+            }
+        }
+        for b in &self.gradient_blocks {
+            if let ScalarKind::ContactWork { contact } = b.kind {
+                let order = if hessian { 3 } else { 2 };
+                shared.add(&mut keys, contact, &b.vars[..self.ctx.n], order);
+            }
+        }
+        shared.keys = keys;
+        shared.cells = shared.keys.iter().map(|_| OnceLock::new()).collect();
+        shared
+    }
+
+    /// The contact geometry at (contact, configuration variables, order) at x.
+    fn contact_geometry(
+        &self,
+        x: &[f64],
+        (contact, q, order): (usize, &[usize], usize),
+    ) -> ContactGeometry<'_> {
+        ContactGeometry::new(&self.mech, &self.ctx, contact, &gather(x, q), order)
     }
 
     /// `f` over the blocks on one thread: f, ∇f and g, which Ipopt asks at every trial
@@ -528,5 +619,119 @@ pub(super) fn scatter_lower<K>(b: &Block<K>, local: &DMatrix<f64>, values: &mut 
                 values[s] += mult * local[(a, c)];
             }
         }
+    }
+}
+
+/// Which derivative callback a shared geometry is for (the orders its blocks need differ).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Callback {
+    Jacobian,
+    Hessian,
+}
+
+/// The (contact, configuration variables, order) a vector block's chain-rule derivatives read
+/// in `callback`: the tangential rate at qb (a rolling contact's rate has no chain rule), the
+/// distance and the gap at q.
+fn geometry_need<'v>(
+    kind: &VectorKind,
+    vars: &'v [usize],
+    n: usize,
+    callback: Callback,
+    rolls: impl Fn(usize) -> bool,
+) -> Option<(usize, &'v [usize], usize)> {
+    let hessian = callback == Callback::Hessian;
+    match *kind {
+        VectorKind::TangentialRate { contact } if !rolls(contact) => {
+            Some((contact, &vars[n..2 * n], if hessian { 3 } else { 2 }))
+        }
+        VectorKind::Distance { contact } | VectorKind::ContactGap { contact } => {
+            Some((contact, &vars[..n], if hessian { 2 } else { 1 }))
+        }
+        _ => None,
+    }
+}
+
+/// (contact, configuration variables, order) of a shared contact geometry.
+type GeometryKey<'a> = (usize, &'a [usize], usize);
+
+/// Contact geometries shared by the blocks of one derivative call, keyed by contact and the
+/// variables of the configuration they are taken at; each is computed by the first block
+/// that reads it (on whichever thread), so sharing adds no pass over the pool.
+#[derive(Default)]
+struct SharedGeometries<'a> {
+    /// (contact, first configuration variable) → position in `keys`.
+    index: HashMap<(usize, usize), usize>,
+    keys: Vec<GeometryKey<'a>>,
+    cells: Vec<OnceLock<ContactGeometry<'a>>>,
+}
+
+impl<'a> SharedGeometries<'a> {
+    /// Registers a need; the order kept is the highest asked for. (A configuration that
+    /// shares its first variable with another but not the rest is not shared: its blocks
+    /// compute their own geometry.)
+    fn add(
+        &mut self,
+        keys: &mut Vec<GeometryKey<'a>>,
+        contact: usize,
+        q: &'a [usize],
+        order: usize,
+    ) {
+        match self.index.entry((contact, q[0])) {
+            Entry::Occupied(e) => {
+                let key = &mut keys[*e.get()];
+                if key.1 == q {
+                    key.2 = key.2.max(order);
+                }
+            }
+            Entry::Vacant(e) => {
+                e.insert(keys.len());
+                keys.push((contact, q, order));
+            }
+        }
+    }
+
+    /// The shared geometry of `contact` at the configuration variables `q`, built by `build`
+    /// on first use; `None` if not shared.
+    fn lookup(
+        &self,
+        contact: usize,
+        q: &[usize],
+        build: &(dyn Fn(GeometryKey<'a>) -> ContactGeometry<'a> + Sync),
+    ) -> Option<&ContactGeometry<'a>> {
+        let &i = self.index.get(&(contact, *q.first()?))?;
+        let key = self.keys[i];
+        (key.1 == q).then(|| self.cells[i].get_or_init(|| build(key)))
+    }
+
+    /// The geometry a vector block of `kind` over `vars` reads, if shared.
+    fn get(
+        &self,
+        kind: &VectorKind,
+        vars: &[usize],
+        n: usize,
+        build: &(dyn Fn(GeometryKey<'a>) -> ContactGeometry<'a> + Sync),
+    ) -> Option<&ContactGeometry<'a>> {
+        let (contact, q) = match *kind {
+            VectorKind::TangentialRate { contact } => (contact, &vars[n..2 * n]),
+            VectorKind::Distance { contact } | VectorKind::ContactGap { contact } => {
+                (contact, &vars[..n])
+            }
+            _ => return None,
+        };
+        self.lookup(contact, q, build)
+    }
+
+    /// The geometry a contact-work block over `vars` reads, if shared.
+    fn get_scalar(
+        &self,
+        kind: &ScalarKind,
+        vars: &[usize],
+        n: usize,
+        build: &(dyn Fn(GeometryKey<'a>) -> ContactGeometry<'a> + Sync),
+    ) -> Option<&ContactGeometry<'a>> {
+        let ScalarKind::ContactWork { contact } = *kind else {
+            return None;
+        };
+        self.lookup(contact, &vars[..n], build)
     }
 }

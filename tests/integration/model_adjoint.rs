@@ -10,11 +10,11 @@ use vito::autodiff::{
     ScalarFunction, gradient, gradient_hessian, gradient_hessian_third, jacobian, weighted_hessian,
 };
 use vito::discrete::{
-    MidpointGradient, MidpointSegment, d1_ld, d2_ld, ld, midpoint_gradient_hessian,
+    LdBuffers, MidpointGradient, MidpointSegment, d1_ld, d2_ld, ld, midpoint_gradient_hessian,
     midpoint_ld_gradient, midpoint_third_order, midpoint_third_order_into,
 };
 use vito::model::{
-    BaseType, Model, kinetic_energy, kinetic_energy_gradient, lagrangian_gradient,
+    BaseType, Model, SweepBuffers, kinetic_energy, kinetic_energy_gradient, lagrangian_gradient,
     potential_energy, potential_energy_gradient, sample,
 };
 use vito::testing::SeededRng;
@@ -268,7 +268,14 @@ fn lagrangian_gradient_is_kinetic_minus_potential() {
         let t = kinetic_energy_gradient(&model, &q, &v, &mut tq, &mut tv);
         let pot = potential_energy_gradient(&model, &q, &mut vq);
         let (mut lq, mut lv) = (vec![f64::NAN; n], vec![f64::NAN; n]);
-        let l = lagrangian_gradient(&model, &q, &v, &mut lq, &mut lv);
+        let l = lagrangian_gradient(
+            &model,
+            &q,
+            &v,
+            &mut lq,
+            &mut lv,
+            &mut SweepBuffers::default(),
+        );
         assert!(
             (l - (t - pot)).abs() <= 1e-13 * (t.abs() + pot.abs()),
             "{name}"
@@ -303,7 +310,15 @@ fn midpoint_slot_derivatives_match_the_discrete_module() {
         let z = segment(&model, &mut rng);
         let (qa, qb, h) = (&z[..n], &z[n..2 * n], z[2 * n]);
         let (mut d1, mut d2) = (vec![f64::NAN; n], vec![f64::NAN; n]);
-        let (value, dh) = midpoint_ld_gradient(&model, qa, qb, h, &mut d1, &mut d2);
+        let (value, dh) = midpoint_ld_gradient(
+            &model,
+            qa,
+            qb,
+            h,
+            &mut d1,
+            &mut d2,
+            &mut LdBuffers::default(),
+        );
         let value_ref = ld(&model, qa, qb, h);
         assert!(
             (value - value_ref).abs() <= 1e-13 * value_ref.abs(),

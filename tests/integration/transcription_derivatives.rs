@@ -456,9 +456,10 @@ fn skipping_fixed_variables_keeps_every_free_entry() {
     );
 }
 
-/// The Jacobian and Hessian blocks on rayon's pool (`set_parallel(true)`, the default from
-/// `PARALLEL_FROM_JACOBIAN_NNZ` nonzeros) and on one thread give the same bits: results are
-/// collected in block order and scattered serially either way.
+/// The Jacobian and Hessian blocks (and the contact geometries they share) on rayon's pool
+/// (`set_parallel(true)`, the default from `PARALLEL_FROM_JACOBIAN_NNZ` nonzeros) and on one
+/// thread give the same bits: results are collected in block order and scattered serially
+/// either way.
 #[test]
 fn parallel_and_serial_evaluation_agree_to_the_bit() {
     let spec = brick_3d();

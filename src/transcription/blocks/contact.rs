@@ -128,11 +128,21 @@ pub fn tangential_rate_jacobian<M: MechanicsDerivatives>(
     if mech.contact_rolls(contact) {
         return rolling_rate_derivatives(mech, ctx, contact, z, None);
     }
+    let geometry = ContactGeometry::new(mech, ctx, contact, &z[ctx.n..2 * ctx.n], 2);
+    tangential_rate_jacobian_in(&geometry, ctx, z)
+}
+
+/// [`tangential_rate_jacobian`] of a sliding (non-rolling) contact from its geometry at qb
+/// (order ≥ 2).
+pub(crate) fn tangential_rate_jacobian_in(
+    geometry: &ContactGeometry,
+    ctx: &Context,
+    z: &[f64],
+) -> DMatrix<f64> {
     let n = ctx.n;
     let nt = ctx.nd() / 2;
     let (qa, qb, h) = (&z[..n], &z[n..2 * n], z[2 * n]);
     let v = difference_velocity(qa, qb, h);
-    let geometry = ContactGeometry::new(mech, ctx, contact, qb, 2);
     let (jacobian, directional) = (geometry.jacobian(), geometry.directional(&v));
     let mut out = DMatrix::zeros(2 * nt, 2 * n + 1);
     for d in 0..nt {
@@ -163,6 +173,18 @@ pub fn tangential_rate_hessian<M: MechanicsDerivatives>(
     if mech.contact_rolls(contact) {
         return rolling_rate_derivatives(mech, ctx, contact, z, Some(w));
     }
+    let geometry = ContactGeometry::new(mech, ctx, contact, &z[ctx.n..2 * ctx.n], 3);
+    tangential_rate_hessian_in(&geometry, ctx, z, w)
+}
+
+/// [`tangential_rate_hessian`] of a sliding (non-rolling) contact from its geometry at qb
+/// (order 3).
+pub(crate) fn tangential_rate_hessian_in(
+    geometry: &ContactGeometry,
+    ctx: &Context,
+    z: &[f64],
+    w: &[f64],
+) -> DMatrix<f64> {
     let n = ctx.n;
     let nt = ctx.nd() / 2;
     let (qa, qb, h) = (&z[..n], &z[n..2 * n], z[2 * n]);
@@ -171,7 +193,6 @@ pub fn tangential_rate_hessian<M: MechanicsDerivatives>(
     for d in 0..nt {
         weights[1 + d] = w[d] - w[d + nt];
     }
-    let geometry = ContactGeometry::new(mech, ctx, contact, qb, 3);
     let (g, hs, t) = (
         geometry.gradient(&weights),
         geometry.hessian(&weights),
@@ -283,7 +304,17 @@ pub fn contact_work_hessian<M: MechanicsDerivatives>(
     contact: usize,
     z: &[f64],
 ) -> DMatrix<f64> {
-    contact_work_derivatives(mech, ctx, contact, z, None).0
+    let geometry = ContactGeometry::new(mech, ctx, contact, &z[..ctx.n], 2);
+    contact_work_derivatives(&geometry, ctx, z, None).0
+}
+
+/// [`contact_work_hessian`] from the contact's geometry at q (order ≥ 2).
+pub(crate) fn contact_work_hessian_in(
+    geometry: &ContactGeometry,
+    ctx: &Context,
+    z: &[f64],
+) -> DMatrix<f64> {
+    contact_work_derivatives(geometry, ctx, z, None).0
 }
 
 /// [`contact_work_hessian`] and the third derivative of [`contact_work`] contracted with `dir`
@@ -300,14 +331,29 @@ pub fn contact_work_third<M: MechanicsDerivatives>(
     if dir[ctx.n..].iter().any(|&d| d != 0.0) {
         return None;
     }
-    let (hessian, contracted) = contact_work_derivatives(mech, ctx, contact, z, Some(dir));
+    let geometry = ContactGeometry::new(mech, ctx, contact, &z[..ctx.n], 3);
+    contact_work_third_in(&geometry, ctx, z, dir)
+}
+
+/// [`contact_work_third`] from the contact's geometry at q (order 3).
+pub(crate) fn contact_work_third_in(
+    geometry: &ContactGeometry,
+    ctx: &Context,
+    z: &[f64],
+    dir: &[f64],
+) -> Option<(DMatrix<f64>, DMatrix<f64>)> {
+    if dir[ctx.n..].iter().any(|&d| d != 0.0) {
+        return None;
+    }
+    let (hessian, contracted) = contact_work_derivatives(geometry, ctx, z, Some(dir));
     contracted.map(|c| (hessian, c))
 }
 
-fn contact_work_derivatives<M: MechanicsDerivatives>(
-    mech: &M,
+/// The Hessian of contact work and, with `dir`, its contracted third derivative, from the
+/// geometry at q (order 2, or 3 with `dir`).
+fn contact_work_derivatives(
+    geometry: &ContactGeometry,
     ctx: &Context,
-    contact: usize,
     z: &[f64],
     dir: Option<&[f64]>,
 ) -> (DMatrix<f64>, Option<DMatrix<f64>>) {
@@ -315,8 +361,6 @@ fn contact_work_derivatives<M: MechanicsDerivatives>(
     let nt = nd / 2;
     let b = work_weights(ctx, z);
     let dim = n + 1 + nd;
-    let order = if dir.is_some() { 3 } else { 2 };
-    let geometry = ContactGeometry::new(mech, ctx, contact, &z[..n], order);
     let mut hessian = DMatrix::zeros(dim, dim);
     hessian
         .view_mut((0, 0), (n, n))
@@ -359,8 +403,18 @@ pub fn distance_jacobian<M: MechanicsDerivatives>(
     z: &[f64],
     gap: bool,
 ) -> DMatrix<f64> {
+    let geometry = ContactGeometry::new(mech, ctx, contact, &z[..ctx.n], 1);
+    distance_jacobian_in(&geometry, ctx, z, gap)
+}
+
+/// [`distance_jacobian`] from the contact's geometry at q (order ≥ 1).
+pub(crate) fn distance_jacobian_in(
+    geometry: &ContactGeometry,
+    ctx: &Context,
+    z: &[f64],
+    gap: bool,
+) -> DMatrix<f64> {
     let n = ctx.n;
-    let geometry = ContactGeometry::new(mech, ctx, contact, &z[..n], 1);
     let grad = geometry.gradient(&[1.0, 0.0, 0.0]);
     if !gap {
         return DMatrix::from_row_slice(1, n, &grad);
@@ -383,8 +437,19 @@ pub fn distance_hessian<M: MechanicsDerivatives>(
     w: f64,
     gap: bool,
 ) -> DMatrix<f64> {
+    let geometry = ContactGeometry::new(mech, ctx, contact, &z[..ctx.n], 2);
+    distance_hessian_in(&geometry, ctx, z, w, gap)
+}
+
+/// [`distance_hessian`] from the contact's geometry at q (order ≥ 2).
+pub(crate) fn distance_hessian_in(
+    geometry: &ContactGeometry,
+    ctx: &Context,
+    z: &[f64],
+    w: f64,
+    gap: bool,
+) -> DMatrix<f64> {
     let n = ctx.n;
-    let geometry = ContactGeometry::new(mech, ctx, contact, &z[..n], 2);
     if !gap {
         return geometry.hessian(&[w, 0.0, 0.0]);
     }

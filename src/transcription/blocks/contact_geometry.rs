@@ -36,7 +36,7 @@ impl ScalarFunction for TerrainCoordinate<'_> {
 }
 
 /// K(q) and its derivatives at one configuration.
-pub(super) struct ContactGeometry<'a> {
+pub(crate) struct ContactGeometry<'a> {
     ctx: &'a Context,
     n: usize,
     jet: PointJet,
@@ -53,7 +53,7 @@ pub(super) struct ContactGeometry<'a> {
 impl<'a> ContactGeometry<'a> {
     /// Derivatives of K at q up to `order` (1 to 3: the third is contracted on demand by
     /// [`ContactGeometry::third`], which needs order 3).
-    pub(super) fn new<M: MechanicsDerivatives>(
+    pub(crate) fn new<M: MechanicsDerivatives>(
         mech: &M,
         ctx: &'a Context,
         contact: usize,
