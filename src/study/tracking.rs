@@ -4,12 +4,18 @@
 //! in a first-order simulation at 2 kHz. A plan's error is the RMS over the simulation's
 //! knots of ‖x − x_plan(t)‖, x = (q, v) in the problem's units, q_plan linear between the
 //! plan's knots and v_plan its slope (the reference the PD controller tracks).
+//!
+//! The plans are one gait at different accuracies, not a local optimum per K (which made the
+//! errors of independent solves incomparable: BENCHMARKS.md): the variational plan at the
+//! smallest K starts from the file's guess, each next K's from the previous variational plan
+//! resampled to its knots, and the first-order plan at each K from the variational plan at
+//! that K.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use super::{Method, StudyError, StudyRow, StudyTable};
 use crate::discrete::Mechanics;
-use crate::problem::{Override, TimeSteps, load};
+use crate::problem::{InitialGuess, Override, TimeSteps, WarmStart, load};
 use crate::sim::{InputSource, Simulation, SimulationOptions, StepOptions, simulate};
 use crate::trajectory_csv::RecordedTrajectory;
 use crate::transcription::{Context, SolveOptions};
@@ -28,6 +34,11 @@ pub struct PlanRecord {
     pub max_slack: f64,
     /// Ipopt iterations.
     pub iterations: usize,
+    /// Where the solve started: `guess` (the file's) or the plan it was warm started from,
+    /// e.g. `variational K=10`.
+    pub start: String,
+    /// The plan as `vito solve` writes `trajectory.csv`.
+    pub trajectory_csv: String,
 }
 
 /// The study's result: the table and each plan's record.
@@ -35,25 +46,35 @@ pub struct PlanRecord {
 pub struct TrackingResult {
     /// RMS state error per knot count and method.
     pub table: StudyTable,
+    /// RMS configuration error (q alone) per knot count and method: free of the O(h) error
+    /// of the plan's piecewise-constant velocity reference, which bounds the state error of
+    /// either method from below.
+    pub configuration: StudyTable,
     /// The plans, in the table's order.
     pub plans: Vec<PlanRecord>,
 }
 
 impl TrackingResult {
-    /// The plans as CSV: `knots,method,objective,max_slack,iterations`.
+    /// The plans as CSV: `knots,method,objective,max_slack,iterations,start`.
     pub fn plans_csv(&self) -> String {
-        let mut s = String::from("knots,method,objective,max_slack,iterations\n");
+        let mut s = String::from("knots,method,objective,max_slack,iterations,start\n");
         for p in &self.plans {
             s += &format!(
-                "{},{},{:.10e},{:.3e},{}\n",
+                "{},{},{:.10e},{:.3e},{},{}\n",
                 p.knots,
                 p.method.name(),
                 p.objective,
                 p.max_slack,
-                p.iterations
+                p.iterations,
+                p.start
             );
         }
         s
+    }
+
+    /// The file name of a plan's trajectory in the study's output (`plans/K10_variational.csv`).
+    pub fn plan_file_name(plan: &PlanRecord) -> String {
+        format!("K{}_{}.csv", plan.knots, plan.method.name())
     }
 }
 
@@ -115,11 +136,22 @@ impl Tracking {
             gains = crate::pipeline::parse_gains(&[], &["all=100,10".into()], &base.robot)?;
         }
         let mut rows = Vec::new();
+        let mut configuration_rows = Vec::new();
         let mut plans = Vec::new();
         let total = 2 * self.knots.len();
-        for &knots in &self.knots {
-            for method in Method::BOTH {
+        let mut knots = self.knots.clone();
+        knots.sort_unstable();
+        knots.dedup();
+        // The variational plan of the previous K: the next K's start.
+        let mut previous: Option<(String, WarmStart)> = None;
+        for &knots in &knots {
+            let mut same_k: Option<(String, WarmStart)> = None;
+            for method in [Method::Variational, Method::FirstOrder] {
                 let what = format!("{} with {knots} knots", method.name());
+                let start = match method {
+                    Method::Variational => previous.take(),
+                    Method::FirstOrder => same_k.take(),
+                };
                 let mut set = overrides.to_vec();
                 let integrator = match method {
                     Method::FirstOrder => "\"euler\"",
@@ -138,10 +170,17 @@ impl Tracking {
                         message: e.to_string(),
                     })?);
                 }
-                let problem = load(file, &set).map_err(|e| StudyError::Invalid {
+                let mut problem = load(file, &set).map_err(|e| StudyError::Invalid {
                     field: file.display().to_string(),
                     message: e.to_string(),
                 })?;
+                let start_name = match start {
+                    Some((name, warm)) => {
+                        problem.spec.initial_guess = InitialGuess::WarmStart(warm);
+                        name
+                    }
+                    None => "guess".to_owned(),
+                };
                 let plan = crate::pipeline::solve(&problem.spec, &SolveOptions::default())?;
                 if !crate::report::is_solved(plan.status) {
                     return Err(StudyError::Plan {
@@ -149,18 +188,32 @@ impl Tracking {
                         message: format!("Ipopt: {}", crate::report::status_name(plan.status)),
                     });
                 }
+                let units = crate::report::column_units(&problem.robot, &problem.units);
                 plans.push(PlanRecord {
                     knots,
                     method,
                     objective: plan.objective,
                     max_slack: plan.max_slack,
                     iterations: plan.iterations,
+                    start: start_name,
+                    trajectory_csv: crate::report::trajectory_csv(&plan, &units),
                 });
                 let reference = RecordedTrajectory {
                     times: plan.times.clone(),
                     q: plan.q.clone(),
                     u: plan.u.clone(),
                 };
+                if method == Method::Variational {
+                    let name = format!("{} K={knots}", method.name());
+                    let warm = WarmStart {
+                        source: PathBuf::from(&name),
+                        times: plan.times.clone(),
+                        q: plan.q.clone(),
+                        u: plan.u.clone(),
+                    };
+                    same_k = Some((name.clone(), warm.clone()));
+                    previous = Some((name, warm));
+                }
                 let mech = crate::pipeline::mechanics(&problem.spec)?;
                 let ctx = Context::new(&mech, &problem.spec);
                 let h = 1.0 / self.rate;
@@ -202,21 +255,34 @@ impl Tracking {
                 rows.push(StudyRow {
                     knots,
                     method,
-                    runs: vec![rms_state_error(&sim, &reference)],
+                    runs: vec![rms_error(&sim, &reference, true)],
+                });
+                configuration_rows.push(StudyRow {
+                    knots,
+                    method,
+                    runs: vec![rms_error(&sim, &reference, false)],
                 });
                 progress(rows.len(), total);
             }
         }
+        // The table in its usual order: first order, then variational, at each K.
+        rows.sort_by_key(|r: &StudyRow| (r.knots, r.method != Method::FirstOrder));
+        configuration_rows.sort_by_key(|r: &StudyRow| (r.knots, r.method != Method::FirstOrder));
+        plans.sort_by_key(|p: &PlanRecord| (p.knots, p.method != Method::FirstOrder));
         Ok(TrackingResult {
             table: StudyTable { rows },
+            configuration: StudyTable {
+                rows: configuration_rows,
+            },
             plans,
         })
     }
 }
 
 /// √(mean over the simulation's knots of ‖q − q_ref(t)‖² + ‖v − v_ref(t)‖²), q_ref linear
-/// between the plan's knots, v_ref its slope (0 after the plan's end).
-pub fn rms_state_error(sim: &Simulation, plan: &RecordedTrajectory) -> f64 {
+/// between the plan's knots, v_ref its slope (0 after the plan's end); without the velocity
+/// term unless `with_velocity`.
+pub fn rms_error(sim: &Simulation, plan: &RecordedTrajectory, with_velocity: bool) -> f64 {
     let times = &plan.times;
     let last = times.len() - 1;
     let sum: f64 = sim
@@ -233,7 +299,8 @@ pub fn rms_state_error(sim: &Simulation, plan: &RecordedTrajectory) -> f64 {
                     let (a, b) = (plan.q[j - 1][i], plan.q[j][i]);
                     let q_ref = a + s * (b - a);
                     let v_ref = if after { 0.0 } else { (b - a) / (t1 - t0) };
-                    (q[i] - q_ref).powi(2) + (v[i] - v_ref).powi(2)
+                    let velocity = if with_velocity { v[i] - v_ref } else { 0.0 };
+                    (q[i] - q_ref).powi(2) + velocity.powi(2)
                 })
                 .sum::<f64>()
         })
