@@ -129,13 +129,14 @@ pub(super) fn tracking(
     print_study(&result.configuration)?;
     for p in &result.plans {
         out!(
-            "plan {:>3} knots {:<12} objective {:.6e}, max slack {:.2e}, {} iterations, from {}",
+            "plan {:>3} knots {:<12} objective {:.6e}, max slack {:.2e}, {} iterations, from {}: {}",
             p.knots,
             p.method.name(),
             p.objective,
             p.max_slack,
             p.iterations,
-            p.start
+            p.start,
+            p.outcome
         );
     }
     out!("written to {}", written.display());

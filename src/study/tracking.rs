@@ -39,6 +39,9 @@ pub struct PlanRecord {
     pub start: String,
     /// The plan as `vito solve` writes `trajectory.csv`.
     pub trajectory_csv: String,
+    /// `tracked`, or why the plan has no error row (Ipopt's status when it was not solved,
+    /// the simulation's failure); the study goes on without it.
+    pub outcome: String,
 }
 
 /// The study's result: the table and each plan's record.
@@ -55,18 +58,19 @@ pub struct TrackingResult {
 }
 
 impl TrackingResult {
-    /// The plans as CSV: `knots,method,objective,max_slack,iterations,start`.
+    /// The plans as CSV: `knots,method,objective,max_slack,iterations,start,outcome`.
     pub fn plans_csv(&self) -> String {
-        let mut s = String::from("knots,method,objective,max_slack,iterations,start\n");
+        let mut s = String::from("knots,method,objective,max_slack,iterations,start,outcome\n");
         for p in &self.plans {
             s += &format!(
-                "{},{},{:.10e},{:.3e},{},{}\n",
+                "{},{},{:.10e},{:.3e},{},{},\"{}\"\n",
                 p.knots,
                 p.method.name(),
                 p.objective,
                 p.max_slack,
                 p.iterations,
-                p.start
+                p.start,
+                p.outcome.replace('"', "'")
             );
         }
         s
@@ -138,20 +142,17 @@ impl Tracking {
         let mut rows = Vec::new();
         let mut configuration_rows = Vec::new();
         let mut plans = Vec::new();
-        let total = 2 * self.knots.len();
         let mut knots = self.knots.clone();
         knots.sort_unstable();
         knots.dedup();
-        // The variational plan of the previous K: the next K's start.
+        let total = 2 * knots.len();
+        // The last solved variational plan: the start of the next K's variational plan and of
+        // this K's first-order plan.
         let mut previous: Option<(String, WarmStart)> = None;
         for &knots in &knots {
-            let mut same_k: Option<(String, WarmStart)> = None;
             for method in [Method::Variational, Method::FirstOrder] {
                 let what = format!("{} with {knots} knots", method.name());
-                let start = match method {
-                    Method::Variational => previous.take(),
-                    Method::FirstOrder => same_k.take(),
-                };
+                let start = previous.clone();
                 let mut set = overrides.to_vec();
                 let integrator = match method {
                     Method::FirstOrder => "\"euler\"",
@@ -182,12 +183,7 @@ impl Tracking {
                     None => "guess".to_owned(),
                 };
                 let plan = crate::pipeline::solve(&problem.spec, &SolveOptions::default())?;
-                if !crate::report::is_solved(plan.status) {
-                    return Err(StudyError::Plan {
-                        what,
-                        message: format!("Ipopt: {}", crate::report::status_name(plan.status)),
-                    });
-                }
+                let solved = crate::report::is_solved(plan.status);
                 let units = crate::report::column_units(&problem.robot, &problem.units);
                 plans.push(PlanRecord {
                     knots,
@@ -197,7 +193,17 @@ impl Tracking {
                     iterations: plan.iterations,
                     start: start_name,
                     trajectory_csv: crate::report::trajectory_csv(&plan, &units),
+                    outcome: if solved {
+                        "tracked".to_owned()
+                    } else {
+                        format!("not solved: {}", crate::report::status_name(plan.status))
+                    },
                 });
+                progress(plans.len(), total);
+                if !solved {
+                    // Recorded, not tracked; the chain goes on from the last solved plan.
+                    continue;
+                }
                 let reference = RecordedTrajectory {
                     times: plan.times.clone(),
                     q: plan.q.clone(),
@@ -211,7 +217,6 @@ impl Tracking {
                         q: plan.q.clone(),
                         u: plan.u.clone(),
                     };
-                    same_k = Some((name.clone(), warm.clone()));
                     previous = Some((name, warm));
                 }
                 let mech = crate::pipeline::mechanics(&problem.spec)?;
@@ -251,7 +256,17 @@ impl Tracking {
                 .map_err(|source| StudyError::Simulation {
                     what: what.clone(),
                     source,
-                })?;
+                });
+                let sim = match sim {
+                    Ok(sim) => sim,
+                    Err(e) => {
+                        // Recorded, no error row: the other plans' rows still count.
+                        if let Some(p) = plans.last_mut() {
+                            p.outcome = format!("tracking failed: {e}");
+                        }
+                        continue;
+                    }
+                };
                 rows.push(StudyRow {
                     knots,
                     method,
@@ -262,7 +277,6 @@ impl Tracking {
                     method,
                     runs: vec![rms_error(&sim, &reference, false)],
                 });
-                progress(rows.len(), total);
             }
         }
         // The table in its usual order: first order, then variational, at each K.

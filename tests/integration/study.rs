@@ -81,11 +81,13 @@ fn brick_study_in_flight_variational_error_falls_faster() {
     assert!(variational < -1.6, "variational slope {variational}");
 }
 
-/// Figure 6, short: the hopper planned at 10 and 20 knots by each method (4 solves), each plan
-/// tracked at 2 kHz in the first-order simulation. With PD on both joints (theta 50, 5;
-/// r 1000, 50) the RMS state error of every plan is below its open-loop error (gains 0: the
-/// plan's inputs alone), and finite. It does not assert the paper's order between the methods:
-/// on the hopper each K is another local optimum and the order flips (BENCHMARKS.md).
+/// Figure 6, short: the hopper planned at 10 and 20 knots by each method (4 solves, one gait:
+/// each warm started from the previous variational plan), each plan tracked at 2 kHz in the
+/// first-order simulation. With PD on both joints (theta 50, 5; r 1000, 50) the RMS state
+/// error of every plan is below its open-loop error (gains 0: the plan's inputs alone), and
+/// finite, and the variational plan's is below the first-order plan's at both K (0.54 vs
+/// 0.94, 0.27 vs 0.36). Its slope is not asserted: each hop's touchdown is resolved to O(h)
+/// by both methods (BENCHMARKS.md; the smooth swing below shows the orders).
 #[test]
 fn tracking_study_pd_feedback_lowers_every_plans_error() {
     use vito::study::tracking::Tracking;
@@ -107,6 +109,7 @@ fn tracking_study_pd_feedback_lowers_every_plans_error() {
     print(&tracked.table);
     print(&open_loop.table);
     assert_eq!(tracked.plans, open_loop.plans, "same plans");
+    assert_variational_below(&tracked.table, &[10, 20]);
     for k in [10, 20] {
         for m in Method::BOTH {
             let with_pd = tracked.table.row(k, m).unwrap().mean();
