@@ -123,10 +123,21 @@ pub(super) fn tracking(
         ),
         "RMS configuration error (q, problem units)",
     )?;
+    result.joints.write(
+        staged.path(),
+        "tracking_joints",
+        &format!(
+            "{}: RMS state error of the PD-driven coordinates at 2 kHz",
+            problem.spec.name
+        ),
+        "RMS state error of the driven joints (problem units)",
+    )?;
     let written = staged.commit().map_err(report::ReportError::from)?;
     print_study(table)?;
     out!("configuration alone:");
     print_study(&result.configuration)?;
+    out!("driven joints alone (q and v):");
+    print_study(&result.joints)?;
     for p in &result.plans {
         out!(
             "plan {:>3} knots {:<12} objective {:.6e}, max slack {:.2e}, {} iterations, from {}: {}",

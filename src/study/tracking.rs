@@ -53,6 +53,10 @@ pub struct TrackingResult {
     /// of the plan's piecewise-constant velocity reference, which bounds the state error of
     /// either method from below.
     pub configuration: StudyTable,
+    /// RMS state error (q and v) over the coordinates the PD controller drives (those of the
+    /// inputs with gains) alone: how well the joints follow the plan, whatever an unactuated
+    /// base does.
+    pub joints: StudyTable,
     /// The plans, in the table's order.
     pub plans: Vec<PlanRecord>,
 }
@@ -141,6 +145,10 @@ impl Tracking {
         }
         let mut rows = Vec::new();
         let mut configuration_rows = Vec::new();
+        let mut joint_rows = Vec::new();
+        let mut driven: Vec<usize> = gains.iter().map(|g| g.coordinate).collect();
+        driven.sort_unstable();
+        driven.dedup();
         let mut plans = Vec::new();
         let mut knots = self.knots.clone();
         knots.sort_unstable();
@@ -272,6 +280,11 @@ impl Tracking {
                     method,
                     runs: vec![rms_error(&sim, &reference, true)],
                 });
+                joint_rows.push(StudyRow {
+                    knots,
+                    method,
+                    runs: vec![rms_error_of(&sim, &reference, true, &driven)],
+                });
                 configuration_rows.push(StudyRow {
                     knots,
                     method,
@@ -282,12 +295,14 @@ impl Tracking {
         // The table in its usual order: first order, then variational, at each K.
         rows.sort_by_key(|r: &StudyRow| (r.knots, r.method != Method::FirstOrder));
         configuration_rows.sort_by_key(|r: &StudyRow| (r.knots, r.method != Method::FirstOrder));
+        joint_rows.sort_by_key(|r: &StudyRow| (r.knots, r.method != Method::FirstOrder));
         plans.sort_by_key(|p: &PlanRecord| (p.knots, p.method != Method::FirstOrder));
         Ok(TrackingResult {
             table: StudyTable { rows },
             configuration: StudyTable {
                 rows: configuration_rows,
             },
+            joints: StudyTable { rows: joint_rows },
             plans,
         })
     }
@@ -297,6 +312,17 @@ impl Tracking {
 /// between the plan's knots, v_ref its slope (0 after the plan's end); without the velocity
 /// term unless `with_velocity`.
 pub fn rms_error(sim: &Simulation, plan: &RecordedTrajectory, with_velocity: bool) -> f64 {
+    let all: Vec<usize> = (0..plan.q.first().map_or(0, Vec::len)).collect();
+    rms_error_of(sim, plan, with_velocity, &all)
+}
+
+/// [`rms_error`] over the coordinates `coordinates` alone.
+pub fn rms_error_of(
+    sim: &Simulation,
+    plan: &RecordedTrajectory,
+    with_velocity: bool,
+    coordinates: &[usize],
+) -> f64 {
     let times = &plan.times;
     let last = times.len() - 1;
     let sum: f64 = sim
@@ -308,8 +334,9 @@ pub fn rms_error(sim: &Simulation, plan: &RecordedTrajectory, with_velocity: boo
             let (t0, t1) = (times[j - 1], times[j]);
             let s = ((t - t0) / (t1 - t0)).clamp(0.0, 1.0);
             let after = t > times[last];
-            (0..q.len())
-                .map(|i| {
+            coordinates
+                .iter()
+                .map(|&i| {
                     let (a, b) = (plan.q[j - 1][i], plan.q[j][i]);
                     let q_ref = a + s * (b - a);
                     let v_ref = if after { 0.0 } else { (b - a) / (t1 - t0) };
