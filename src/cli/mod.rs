@@ -298,7 +298,10 @@ pub enum StudyKind {
     },
     /// Figure 6: plans of a problem solved at K knots by each method, each tracked by PD
     /// feedback (the plan's inputs as feedforward) in a first-order simulation at 2 kHz; RMS
-    /// state error per K and method (tracking.csv, tracking_runs.csv, tracking.svg).
+    /// state error per K and method (tracking.csv, tracking_runs.csv, tracking.svg, the
+    /// plans' records in tracking_plans.csv and trajectories in plans/). One gait: the
+    /// smallest K's variational plan starts from the file's guess, each next K's from the
+    /// previous one, the first-order plan at each K from the variational plan at that K.
     Tracking {
         /// The problem file planned (its horizon kept: a fixed step becomes T/(K − 1)).
         #[arg(long, default_value = "problems/hopper_2d.toml")]

@@ -97,6 +97,14 @@ pub(super) fn tracking(
     let plans_csv = staged.path().join("tracking_plans.csv");
     report::write_file_atomic(&plans_csv, result.plans_csv().as_bytes())
         .map_err(|e| CliError::Internal(format!("{}: {e}", plans_csv.display())))?;
+    let plans_dir = staged.path().join("plans");
+    std::fs::create_dir_all(&plans_dir)
+        .map_err(|e| CliError::Internal(format!("{}: {e}", plans_dir.display())))?;
+    for p in &result.plans {
+        let path = plans_dir.join(vito::study::tracking::TrackingResult::plan_file_name(p));
+        report::write_file_atomic(&path, p.trajectory_csv.as_bytes())
+            .map_err(|e| CliError::Internal(format!("{}: {e}", path.display())))?;
+    }
     table.write(
         staged.path(),
         "tracking",
@@ -106,16 +114,40 @@ pub(super) fn tracking(
         ),
         "RMS state error (q and v, problem units)",
     )?;
+    result.configuration.write(
+        staged.path(),
+        "tracking_configuration",
+        &format!(
+            "{}: RMS configuration error of PD tracking at 2 kHz",
+            problem.spec.name
+        ),
+        "RMS configuration error (q, problem units)",
+    )?;
+    result.joints.write(
+        staged.path(),
+        "tracking_joints",
+        &format!(
+            "{}: RMS state error of the PD-driven coordinates at 2 kHz",
+            problem.spec.name
+        ),
+        "RMS state error of the driven joints (problem units)",
+    )?;
     let written = staged.commit().map_err(report::ReportError::from)?;
     print_study(table)?;
+    out!("configuration alone:");
+    print_study(&result.configuration)?;
+    out!("driven joints alone (q and v):");
+    print_study(&result.joints)?;
     for p in &result.plans {
         out!(
-            "plan {:>3} knots {:<12} objective {:.6e}, max slack {:.2e}, {} iterations",
+            "plan {:>3} knots {:<12} objective {:.6e}, max slack {:.2e}, {} iterations, from {}: {}",
             p.knots,
             p.method.name(),
             p.objective,
             p.max_slack,
-            p.iterations
+            p.iterations,
+            p.start,
+            p.outcome
         );
     }
     out!("written to {}", written.display());

@@ -6,9 +6,11 @@
 //!
 //! Where things are: `step` (one step's complementarity problem and its solver), `run` (a
 //! horizon: warm starts, the per-step record, knot energies), `inputs` (zero, replayed or
-//! PD-tracking inputs).
+//! PD-tracking inputs), `lemke` (the pivoting method the step solver falls back on for the
+//! contact mode).
 
 mod inputs;
+mod lemke;
 mod run;
 mod step;
 

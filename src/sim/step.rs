@@ -638,9 +638,10 @@ impl<M: MechanicsDerivatives> ContactStep<'_, M> {
     }
 
     /// Newton from x; once more from q_k at rest with no impulses (a long step's
-    /// extrapolated guess can start Newton in the wrong contact mode); last, path following
+    /// extrapolated guess can start Newton in the wrong contact mode); path following
     /// from far inside ([`Self::path_following`]), which large, strongly nonlinear steps
-    /// need; then Levenberg–Marquardt ([`Damping::LevenbergMarquardt`]). On failure, the
+    /// need; the pivoting Josephy–Newton method ([`Self::josephy_newton`]), which finds the
+    /// contact mode; last, Levenberg–Marquardt ([`Damping::LevenbergMarquardt`]). On failure, the
     /// first failure, the first attempt's last iterate and the damped attempt's.
     fn attempt(
         &self,
@@ -674,6 +675,9 @@ impl<M: MechanicsDerivatives> ContactStep<'_, M> {
         ) {
             return Ok(found);
         }
+        if let Ok(found) = self.josephy_newton(x.to_vec(), active, scale, tolerance, options) {
+            return Ok(found);
+        }
         // Last: Levenberg–Marquardt steps where Newton's are cut short, from where the first
         // attempt stopped; on failure its last iterate goes back (the caller may accept it at
         // `acceptable_tolerance`).
@@ -688,6 +692,131 @@ impl<M: MechanicsDerivatives> ContactStep<'_, M> {
                 damped_last,
             }),
         }
+    }
+
+    /// Josephy–Newton on the step's complementarity problem, each linearisation solved
+    /// exactly by Lemke's pivoting method ([`super::lemke`]), then Newton's polish. At x the
+    /// discrete equations and loop closures are linearised in q and ν (they are linear in the
+    /// contact impulses), and solved for q and ν as affine functions of the impulses; the
+    /// distances and tangential rates are linearised in q. What is left is a linear
+    /// complementarity problem in (c, β, ψ) of the active contacts, the classical
+    /// time-stepping LCP (Stewart–Trinkle, Anitescu–Potra) at the current iterate, whose
+    /// solution is the next iterate.
+    ///
+    /// Why: where a contact pushes with its ψ far above its slip speed (LittleDog tracking its
+    /// 20-knot variational plan at 2 kHz, step 52), Φ(ψ, μc − eᵀβ) is flat in ψ and the
+    /// friction rows Φ(β, η) are flat in it too, so the ψ column of Newton's matrix vanishes
+    /// and ½‖Φ‖² has a stationary point there that is no solution; no merit-descent method
+    /// leaves it (the residual stayed at 1.2e-4, Levenberg–Marquardt at 2.2e-5). The LCP has
+    /// no such point: its pivots set the mode (stick, slide, lift) of each contact, and ψ the
+    /// slip speed, directly.
+    fn josephy_newton(
+        &self,
+        mut x: Vec<f64>,
+        active: &[bool],
+        scale: &[f64],
+        tolerance: f64,
+        options: &StepOptions,
+    ) -> Result<(Vec<f64>, usize), StepFailure> {
+        let (n, nc, nd, stride) = (self.n(), self.nc(), self.ctx.nd(), self.stride());
+        let nl = self.ctx.nl;
+        let dim = n + nc * stride + nl;
+        // The LCP's unknowns: every active contact's c, and β and ψ where it has friction.
+        let mut complementary = Vec::new();
+        for i in (0..nc).filter(|&i| active[i]) {
+            let base = n + i * stride;
+            let count = if self.ctx.friction[i] > 0.0 {
+                stride
+            } else {
+                1
+            };
+            complementary.extend(base..base + count);
+        }
+        let free: Vec<usize> = (0..n).chain(n + nc * stride..dim).collect();
+        let (nf, nz) = (free.len(), complementary.len());
+        let mut best = (f64::INFINITY, x.clone());
+        let mut iterations = 0;
+        for _ in 0..options.max_iterations {
+            let e = self.evaluate(&x, 0.0, scale, active, true);
+            if !e.plain.is_finite() {
+                break;
+            }
+            if e.plain < best.0 {
+                best = (e.plain, x.clone());
+            }
+            if e.plain <= tolerance {
+                return Ok((x, iterations));
+            }
+            iterations += 1;
+            // The free rows: J_FF Δx_F + J_FZ (z − z_x) = −r_F, so Δx_F = a + B z.
+            let j_ff = DMatrix::from_fn(nf, nf, |r, c| e.jacobian[(free[r], free[c])]);
+            let j_fz = DMatrix::from_fn(nf, nz, |r, c| e.jacobian[(free[r], complementary[c])]);
+            let z_x = DVector::from_iterator(nz, complementary.iter().map(|&i| x[i]));
+            let r_f = DVector::from_iterator(nf, free.iter().map(|&r| e.residual[r]));
+            let lu = j_ff.lu();
+            let (Some(a), Some(b)) = (lu.solve(&(&j_fz * &z_x - r_f)), lu.solve(&(-&j_fz))) else {
+                break;
+            };
+            // The complementary rows, w = M z + q, in the scaled units of `evaluate`.
+            let mut m = DMatrix::zeros(nz, nz);
+            let mut q = DVector::zeros(nz);
+            let mut row = 0;
+            let segment: Vec<f64> = [self.q_curr, &x[..n], &[self.h]].concat();
+            for i in (0..nc).filter(|&i| active[i]) {
+                let base = n + i * stride;
+                let z: Vec<f64> = [&x[..n], &x[base..base + 1 + nd]].concat();
+                let grad_phi = contact_work_hessian(self.mech, self.ctx, i, &z)
+                    .view((0, n), (n, 1))
+                    .into_owned();
+                let phi = contact_work_gradient(self.mech, self.ctx, i, &z)[n];
+                let (k_phi, k_v) = (scale[i] / self.h, scale[i]);
+                // k_φ (φ + ∇φ·Δq).
+                q[row] = k_phi * (phi + grad_phi.dot(&a.rows(0, n)));
+                let coupling = grad_phi.transpose() * b.rows(0, n);
+                for c in 0..nz {
+                    m[(row, c)] = k_phi * coupling[c];
+                }
+                let mu = self.ctx.friction[i];
+                if mu > 0.0 {
+                    let mut rate = vec![0.0; nd];
+                    tangential_rate(self.mech, self.ctx, i, &segment, &mut rate);
+                    let rate_jac = tangential_rate_jacobian(self.mech, self.ctx, i, &segment)
+                        .columns(n, n)
+                        .into_owned();
+                    let rate_a = &rate_jac * a.rows(0, n);
+                    let rate_b = &rate_jac * b.rows(0, n);
+                    let psi = row + 1 + nd;
+                    for d in 0..nd {
+                        // k_v (η_d + ∇η_d·Δq + ψ).
+                        q[row + 1 + d] = k_v * (rate[d] + rate_a[d]);
+                        for c in 0..nz {
+                            m[(row + 1 + d, c)] = k_v * rate_b[(d, c)];
+                        }
+                        m[(row + 1 + d, psi)] += k_v;
+                        // μc − eᵀβ.
+                        m[(psi, row + 1 + d)] = -1.0;
+                    }
+                    m[(psi, row)] = mu;
+                    row += stride;
+                } else {
+                    row += 1;
+                }
+            }
+            let Ok(z) = super::lemke::lemke(&m, &q, 50 * nz.max(1)) else {
+                break;
+            };
+            let step = a + b * &z;
+            for (k, &i) in free.iter().enumerate() {
+                x[i] += step[k];
+            }
+            for (k, &i) in complementary.iter().enumerate() {
+                x[i] = z[k];
+            }
+        }
+        // Polish the best iterate (its mode found) with Newton on the smoothed system.
+        self.newton(best.1, active, scale, tolerance, options, Damping::Plain)
+            .map(|(x, k)| (x, iterations + k))
+            .map_err(|(failure, _)| failure)
     }
 
     /// A Levenberg–Marquardt step on ½‖Φ_ε‖²: (JᵀJ + λ diag(JᵀJ)) d = −JᵀΦ with λ the

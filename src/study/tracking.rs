@@ -4,12 +4,18 @@
 //! in a first-order simulation at 2 kHz. A plan's error is the RMS over the simulation's
 //! knots of ‖x − x_plan(t)‖, x = (q, v) in the problem's units, q_plan linear between the
 //! plan's knots and v_plan its slope (the reference the PD controller tracks).
+//!
+//! The plans are one gait at different accuracies, not a local optimum per K (which made the
+//! errors of independent solves incomparable: BENCHMARKS.md): the variational plan at the
+//! smallest K starts from the file's guess, each next K's from the previous variational plan
+//! resampled to its knots, and the first-order plan at each K from the variational plan at
+//! that K.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use super::{Method, StudyError, StudyRow, StudyTable};
 use crate::discrete::Mechanics;
-use crate::problem::{Override, TimeSteps, load};
+use crate::problem::{InitialGuess, Override, TimeSteps, WarmStart, load};
 use crate::sim::{InputSource, Simulation, SimulationOptions, StepOptions, simulate};
 use crate::trajectory_csv::RecordedTrajectory;
 use crate::transcription::{Context, SolveOptions};
@@ -28,6 +34,14 @@ pub struct PlanRecord {
     pub max_slack: f64,
     /// Ipopt iterations.
     pub iterations: usize,
+    /// Where the solve started: `guess` (the file's) or the plan it was warm started from,
+    /// e.g. `variational K=10`.
+    pub start: String,
+    /// The plan as `vito solve` writes `trajectory.csv`.
+    pub trajectory_csv: String,
+    /// `tracked`, or why the plan has no error row (Ipopt's status when it was not solved,
+    /// the simulation's failure); the study goes on without it.
+    pub outcome: String,
 }
 
 /// The study's result: the table and each plan's record.
@@ -35,25 +49,40 @@ pub struct PlanRecord {
 pub struct TrackingResult {
     /// RMS state error per knot count and method.
     pub table: StudyTable,
+    /// RMS configuration error (q alone) per knot count and method: free of the O(h) error
+    /// of the plan's piecewise-constant velocity reference, which bounds the state error of
+    /// either method from below.
+    pub configuration: StudyTable,
+    /// RMS state error (q and v) over the coordinates the PD controller drives (those of the
+    /// inputs with gains) alone: how well the joints follow the plan, whatever an unactuated
+    /// base does.
+    pub joints: StudyTable,
     /// The plans, in the table's order.
     pub plans: Vec<PlanRecord>,
 }
 
 impl TrackingResult {
-    /// The plans as CSV: `knots,method,objective,max_slack,iterations`.
+    /// The plans as CSV: `knots,method,objective,max_slack,iterations,start,outcome`.
     pub fn plans_csv(&self) -> String {
-        let mut s = String::from("knots,method,objective,max_slack,iterations\n");
+        let mut s = String::from("knots,method,objective,max_slack,iterations,start,outcome\n");
         for p in &self.plans {
             s += &format!(
-                "{},{},{:.10e},{:.3e},{}\n",
+                "{},{},{:.10e},{:.3e},{},{},\"{}\"\n",
                 p.knots,
                 p.method.name(),
                 p.objective,
                 p.max_slack,
-                p.iterations
+                p.iterations,
+                p.start,
+                p.outcome.replace('"', "'")
             );
         }
         s
+    }
+
+    /// The file name of a plan's trajectory in the study's output (`plans/K10_variational.csv`).
+    pub fn plan_file_name(plan: &PlanRecord) -> String {
+        format!("K{}_{}.csv", plan.knots, plan.method.name())
     }
 }
 
@@ -115,11 +144,23 @@ impl Tracking {
             gains = crate::pipeline::parse_gains(&[], &["all=100,10".into()], &base.robot)?;
         }
         let mut rows = Vec::new();
+        let mut configuration_rows = Vec::new();
+        let mut joint_rows = Vec::new();
+        let mut driven: Vec<usize> = gains.iter().map(|g| g.coordinate).collect();
+        driven.sort_unstable();
+        driven.dedup();
         let mut plans = Vec::new();
-        let total = 2 * self.knots.len();
-        for &knots in &self.knots {
-            for method in Method::BOTH {
+        let mut knots = self.knots.clone();
+        knots.sort_unstable();
+        knots.dedup();
+        let total = 2 * knots.len();
+        // The last solved variational plan: the start of the next K's variational plan and of
+        // this K's first-order plan.
+        let mut previous: Option<(String, WarmStart)> = None;
+        for &knots in &knots {
+            for method in [Method::Variational, Method::FirstOrder] {
                 let what = format!("{} with {knots} knots", method.name());
+                let start = previous.clone();
                 let mut set = overrides.to_vec();
                 let integrator = match method {
                     Method::FirstOrder => "\"euler\"",
@@ -138,29 +179,54 @@ impl Tracking {
                         message: e.to_string(),
                     })?);
                 }
-                let problem = load(file, &set).map_err(|e| StudyError::Invalid {
+                let mut problem = load(file, &set).map_err(|e| StudyError::Invalid {
                     field: file.display().to_string(),
                     message: e.to_string(),
                 })?;
+                let start_name = match start {
+                    Some((name, warm)) => {
+                        problem.spec.initial_guess = InitialGuess::WarmStart(warm);
+                        name
+                    }
+                    None => "guess".to_owned(),
+                };
                 let plan = crate::pipeline::solve(&problem.spec, &SolveOptions::default())?;
-                if !crate::report::is_solved(plan.status) {
-                    return Err(StudyError::Plan {
-                        what,
-                        message: format!("Ipopt: {}", crate::report::status_name(plan.status)),
-                    });
-                }
+                let solved = crate::report::is_solved(plan.status);
+                let units = crate::report::column_units(&problem.robot, &problem.units);
                 plans.push(PlanRecord {
                     knots,
                     method,
                     objective: plan.objective,
                     max_slack: plan.max_slack,
                     iterations: plan.iterations,
+                    start: start_name,
+                    trajectory_csv: crate::report::trajectory_csv(&plan, &units),
+                    outcome: if solved {
+                        "tracked".to_owned()
+                    } else {
+                        format!("not solved: {}", crate::report::status_name(plan.status))
+                    },
                 });
+                progress(plans.len(), total);
+                if !solved {
+                    // Recorded, not tracked; the chain goes on from the last solved plan.
+                    continue;
+                }
                 let reference = RecordedTrajectory {
                     times: plan.times.clone(),
                     q: plan.q.clone(),
                     u: plan.u.clone(),
                 };
+                if method == Method::Variational {
+                    let name = format!("{} K={knots}", method.name());
+                    let warm = WarmStart {
+                        source: PathBuf::from(&name),
+                        times: plan.times.clone(),
+                        q: plan.q.clone(),
+                        u: plan.u.clone(),
+                    };
+                    previous = Some((name, warm));
+                }
                 let mech = crate::pipeline::mechanics(&problem.spec)?;
                 let ctx = Context::new(&mech, &problem.spec);
                 let h = 1.0 / self.rate;
@@ -198,25 +264,65 @@ impl Tracking {
                 .map_err(|source| StudyError::Simulation {
                     what: what.clone(),
                     source,
-                })?;
+                });
+                let sim = match sim {
+                    Ok(sim) => sim,
+                    Err(e) => {
+                        // Recorded, no error row: the other plans' rows still count.
+                        if let Some(p) = plans.last_mut() {
+                            p.outcome = format!("tracking failed: {e}");
+                        }
+                        continue;
+                    }
+                };
                 rows.push(StudyRow {
                     knots,
                     method,
-                    runs: vec![rms_state_error(&sim, &reference)],
+                    runs: vec![rms_error(&sim, &reference, true)],
                 });
-                progress(rows.len(), total);
+                joint_rows.push(StudyRow {
+                    knots,
+                    method,
+                    runs: vec![rms_error_of(&sim, &reference, true, &driven)],
+                });
+                configuration_rows.push(StudyRow {
+                    knots,
+                    method,
+                    runs: vec![rms_error(&sim, &reference, false)],
+                });
             }
         }
+        // The table in its usual order: first order, then variational, at each K.
+        rows.sort_by_key(|r: &StudyRow| (r.knots, r.method != Method::FirstOrder));
+        configuration_rows.sort_by_key(|r: &StudyRow| (r.knots, r.method != Method::FirstOrder));
+        joint_rows.sort_by_key(|r: &StudyRow| (r.knots, r.method != Method::FirstOrder));
+        plans.sort_by_key(|p: &PlanRecord| (p.knots, p.method != Method::FirstOrder));
         Ok(TrackingResult {
             table: StudyTable { rows },
+            configuration: StudyTable {
+                rows: configuration_rows,
+            },
+            joints: StudyTable { rows: joint_rows },
             plans,
         })
     }
 }
 
 /// √(mean over the simulation's knots of ‖q − q_ref(t)‖² + ‖v − v_ref(t)‖²), q_ref linear
-/// between the plan's knots, v_ref its slope (0 after the plan's end).
-pub fn rms_state_error(sim: &Simulation, plan: &RecordedTrajectory) -> f64 {
+/// between the plan's knots, v_ref its slope (0 after the plan's end); without the velocity
+/// term unless `with_velocity`.
+pub fn rms_error(sim: &Simulation, plan: &RecordedTrajectory, with_velocity: bool) -> f64 {
+    let all: Vec<usize> = (0..plan.q.first().map_or(0, Vec::len)).collect();
+    rms_error_of(sim, plan, with_velocity, &all)
+}
+
+/// [`rms_error`] over the coordinates `coordinates` alone.
+pub fn rms_error_of(
+    sim: &Simulation,
+    plan: &RecordedTrajectory,
+    with_velocity: bool,
+    coordinates: &[usize],
+) -> f64 {
     let times = &plan.times;
     let last = times.len() - 1;
     let sum: f64 = sim
@@ -228,12 +334,14 @@ pub fn rms_state_error(sim: &Simulation, plan: &RecordedTrajectory) -> f64 {
             let (t0, t1) = (times[j - 1], times[j]);
             let s = ((t - t0) / (t1 - t0)).clamp(0.0, 1.0);
             let after = t > times[last];
-            (0..q.len())
-                .map(|i| {
+            coordinates
+                .iter()
+                .map(|&i| {
                     let (a, b) = (plan.q[j - 1][i], plan.q[j][i]);
                     let q_ref = a + s * (b - a);
                     let v_ref = if after { 0.0 } else { (b - a) / (t1 - t0) };
-                    (q[i] - q_ref).powi(2) + (v[i] - v_ref).powi(2)
+                    let velocity = if with_velocity { v[i] - v_ref } else { 0.0 };
+                    (q[i] - q_ref).powi(2) + velocity.powi(2)
                 })
                 .sum::<f64>()
         })
