@@ -78,6 +78,7 @@ fn main() {
             u: Vec::new(),
         },
         gains: gains.clone(),
+        feedback: vito::sim::Feedback::Explicit,
     };
     run("stand (PD on the pose)", &prepared);
 
@@ -98,6 +99,7 @@ fn main() {
             u: plan.u.clone(),
         },
         gains,
+        feedback: vito::sim::Feedback::Explicit,
     };
     run("track the plan (PD + ff)", &prepared);
 }

@@ -170,6 +170,8 @@ pub struct SimulateRequest {
     pub track: Option<PathBuf>,
     /// `NAME=KP,KD` per input (or `all=KP,KD`), for `track`.
     pub gains: Vec<String>,
+    /// Where the PD reads the state (default: the file's `[tracking] feedback`).
+    pub feedback: Option<crate::sim::Feedback>,
     /// Simulated time (default: the inputs' or reference's last time, else the horizon).
     pub duration: Option<f64>,
     /// Steps per time unit (default: 1/h of the problem).
@@ -279,6 +281,7 @@ pub fn prepare_simulation(
                 InputSource::Track {
                     reference: r,
                     gains,
+                    feedback: request.feedback.unwrap_or(problem.tracking_feedback),
                 },
                 end,
             )
@@ -286,6 +289,9 @@ pub fn prepare_simulation(
         (None, None) => {
             if !request.gains.is_empty() {
                 return Err(invalid("--gains", "--gains needs --track".into()));
+            }
+            if request.feedback.is_some() {
+                return Err(invalid("--feedback", "--feedback needs --track".into()));
             }
             (InputSource::Zero, None)
         }
@@ -373,14 +379,14 @@ pub fn run_simulation(
     progress: impl FnMut(usize),
 ) -> Result<crate::sim::Simulation, crate::sim::SimulationError> {
     let p = prepared;
-    let m = p.mech.nu();
+    let (m, h) = (p.mech.nu(), p.options.h);
     crate::sim::simulate(
         &p.mech,
         &p.ctx,
         &p.q0,
         &p.v0,
         &p.options,
-        |_, t, q, v| p.source.input(m, t, q, v),
+        |_, t, q, v| p.source.step_input(m, t, h, q, v),
         progress,
     )
 }

@@ -109,6 +109,22 @@ impl From<IntegratorArg> for vito::discrete::Integrator {
     }
 }
 
+/// PD feedback choice on the command line.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum FeedbackArg {
+    Explicit,
+    Implicit,
+}
+
+impl From<FeedbackArg> for vito::sim::Feedback {
+    fn from(f: FeedbackArg) -> Self {
+        match f {
+            FeedbackArg::Explicit => vito::sim::Feedback::Explicit,
+            FeedbackArg::Implicit => vito::sim::Feedback::Implicit,
+        }
+    }
+}
+
 /// The subcommands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
@@ -157,6 +173,11 @@ pub enum Command {
         /// per coordinate unit, kd per coordinate rate), on top of the file's `[tracking] gains`.
         #[arg(long, value_name = "NAME=KP,KD", requires = "track")]
         gains: Vec<String>,
+        /// Where the PD reads the state: the step's start (explicit) or end (implicit,
+        /// solved with the step; stable at stiff gains) [default: the file's
+        /// `[tracking] feedback`, else explicit].
+        #[arg(long, value_enum, requires = "track")]
+        feedback: Option<FeedbackArg>,
         /// Simulated time (default: the CSV's last time, else the problem's horizon).
         #[arg(long)]
         duration: Option<f64>,
@@ -316,6 +337,10 @@ pub enum StudyKind {
         /// file's `[tracking] gains` [default without either: all=100,10].
         #[arg(long, value_name = "NAME=KP,KD")]
         gains: Vec<String>,
+        /// Where the PD reads the state [default: the file's `[tracking] feedback`, else
+        /// explicit]; see `vito simulate --feedback`.
+        #[arg(long, value_enum)]
+        feedback: Option<FeedbackArg>,
         /// Output directory.
         #[arg(long, default_value = "out/tracking")]
         out: PathBuf,
@@ -501,6 +526,7 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
             inputs,
             track,
             gains,
+            feedback,
             duration,
             rate,
             integrator,
@@ -511,6 +537,7 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
                 inputs,
                 track,
                 gains,
+                feedback: feedback.map(Into::into),
                 duration,
                 rate,
                 integrator: integrator.map(Into::into),
@@ -547,6 +574,7 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
                     set,
                     knots,
                     gains,
+                    feedback,
                     out,
                     quiet,
                 },
@@ -554,6 +582,7 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
             let study = vito::study::tracking::Tracking {
                 knots,
                 gains,
+                feedback: feedback.map(Into::into),
                 rate: 2000.0,
             };
             tracking(&problem, &set, &study, &out, quiet)

@@ -36,13 +36,17 @@ pub(super) fn simulate(
     let sim = sim?;
     let wall = start.elapsed().as_secs_f64();
     let energies = pipeline::conservative_energies(&prepared, &sim);
-    let summary = report::simulation_summary_json(
+    let mut summary = report::simulation_summary_json(
         &problem,
         &sim,
         prepared.options.integrator,
         energies.as_deref(),
         wall,
     );
+    if let vito::sim::InputSource::Track { feedback, .. } = &prepared.source {
+        // Which PD law ran: the numbers differ at stiff gains.
+        summary["feedback"] = serde_json::Value::from(feedback.name());
+    }
     let columns = report::SimulationColumns::new(&problem, &sim, prepared.ctx.nd());
     let staged = target.stage().map_err(report::ReportError::from)?;
     let written =

@@ -227,6 +227,14 @@ impl<M: Mechanics> VectorFunction for EulerKnotInNext<'_, M> {
     }
     fn eval<D: Scalar>(&self, q_next: &[D], out: &mut [D]) {
         let lift = |x: &[f64]| x.iter().map(|&v| D::from(v)).collect::<Vec<D>>();
+        self.eval_at(q_next, &lift(self.u_curr), out);
+    }
+}
+
+impl<M: Mechanics> EulerKnotInNext<'_, M> {
+    /// [`euler_knot`] at q_{k+1} = `q_next` and u_k = `u` (the rest from `self`).
+    fn eval_at<D: Scalar>(&self, q_next: &[D], u: &[D], out: &mut [D]) {
+        let lift = |x: &[f64]| x.iter().map(|&v| D::from(v)).collect::<Vec<D>>();
         let mut z = lift(self.before);
         z.extend(lift(self.q_curr));
         z.extend_from_slice(q_next);
@@ -234,7 +242,52 @@ impl<M: Mechanics> VectorFunction for EulerKnotInNext<'_, M> {
             z.push(D::from(self.h_prev));
         }
         z.push(D::from(self.h_curr));
-        z.extend(lift(self.u_curr));
+        z.extend_from_slice(u);
         euler_knot(self.mech, self.first_step, &z, out);
     }
+
+    /// Jacobian of [`euler_knot`] in u_k at q_{k+1} = `q_next` (n × m), for an input that
+    /// depends on q_{k+1} (a simulation's implicit feedback).
+    pub fn input_jacobian(&self, q_next: &[f64]) -> DMatrix<f64> {
+        jacobian(&EulerKnotInInput { knot: self, q_next }, self.u_curr).1
+    }
+}
+
+/// [`EulerKnotInNext`] as a function of u_k alone.
+struct EulerKnotInInput<'a, 'b, M> {
+    knot: &'b EulerKnotInNext<'a, M>,
+    q_next: &'b [f64],
+}
+
+impl<M: Mechanics> VectorFunction for EulerKnotInInput<'_, '_, M> {
+    fn dim_in(&self) -> usize {
+        self.knot.mech.nu()
+    }
+    fn dim_out(&self) -> usize {
+        self.knot.mech.nq()
+    }
+    fn eval<D: Scalar>(&self, u: &[D], out: &mut [D]) {
+        let q_next: Vec<D> = self.q_next.iter().map(|&v| D::from(v)).collect();
+        self.knot.eval_at(&q_next, u, out);
+    }
+}
+
+/// Jacobian of [`outgoing_momentum`] in u_k (n × m; zero without a discrete force), for an
+/// input that depends on q_{k+1} (a simulation's implicit feedback).
+pub fn outgoing_momentum_input_jacobian<M: MechanicsDerivatives>(
+    mech: &M,
+    q_curr: &[f64],
+    q_next: &[f64],
+    u_curr: &[f64],
+    h_curr: f64,
+) -> DMatrix<f64> {
+    let (n, m) = (mech.nq(), mech.nu());
+    if !mech.has_discrete_force() {
+        return DMatrix::zeros(n, m);
+    }
+    let force = force_input(q_curr, q_next, u_curr, h_curr);
+    jacobian(&HalfForce { mech }, &force)
+        .1
+        .columns(2 * n, m)
+        .into_owned()
 }

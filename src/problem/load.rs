@@ -37,6 +37,8 @@ pub struct LoadedProblem {
     pub goal: Vec<f64>,
     /// `[tracking] gains`: PD gains for simulations that track a trajectory.
     pub tracking_gains: Vec<crate::problem::TrackingGain>,
+    /// `[tracking] feedback`: where the PD reads the state.
+    pub tracking_feedback: crate::problem::TrackingFeedback,
 }
 
 impl LoadedProblem {

@@ -28,5 +28,5 @@ pub use robot::{RobotError, RobotInfo, UrdfContact};
 pub use source::{edit_distance, nearest};
 pub use spec::*;
 pub use starter::starter_problem;
-pub use tracking::TrackingGain;
+pub use tracking::{TrackingFeedback, TrackingGain};
 pub use units::Units;

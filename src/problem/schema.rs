@@ -81,6 +81,9 @@ pub struct TrackingSection {
     /// kp in input units per coordinate unit (N·m/rad), kd per coordinate rate (N·m·s/rad).
     #[serde(default)]
     pub gains: BTreeMap<String, [f64; 2]>,
+    /// `explicit` (default) or `implicit`: PD on the step's start or end state.
+    #[serde(default)]
+    pub feedback: super::tracking::TrackingFeedback,
 }
 
 /// `[robot]`: the model and its environment constants.

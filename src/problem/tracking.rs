@@ -4,6 +4,36 @@
 
 use super::RobotInfo;
 
+/// Where PD feedback reads the state (`[tracking] feedback`, `--feedback`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum TrackingFeedback {
+    /// From the step's start state (q_k, v_k), fixed before the step is solved.
+    #[default]
+    Explicit,
+    /// From the step's end state (q_{k+1}, v_{k+1} = (q_{k+1} − q_k)/h) against the
+    /// reference at t_{k+1}, solved with the step (its derivative in the step's Newton
+    /// matrix): stable at gains where the explicit law diverges.
+    Implicit,
+}
+
+impl TrackingFeedback {
+    /// The name used by `--feedback` and `[tracking] feedback`.
+    pub fn name(self) -> &'static str {
+        match self {
+            TrackingFeedback::Explicit => "explicit",
+            TrackingFeedback::Implicit => "implicit",
+        }
+    }
+
+    /// The mode named `name`, if any.
+    pub fn from_name(name: &str) -> Option<TrackingFeedback> {
+        [TrackingFeedback::Explicit, TrackingFeedback::Implicit]
+            .into_iter()
+            .find(|f| f.name() == name)
+    }
+}
+
 /// PD gains on one input, acting on the coordinate of the same name:
 /// u = u_ref + kp (q_ref − q) + kd (v_ref − v).
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -2,8 +2,10 @@
 //! hold, as the NLP holds them), or PD feedback tracking a recorded trajectory by joint name
 //! (with the recording's inputs as feedforward when it has them).
 
+use super::step::{EndStateGain, StepInput};
 use crate::trajectory_csv::RecordedTrajectory;
 
+pub use crate::problem::TrackingFeedback as Feedback;
 pub use crate::problem::TrackingGain as Gain;
 
 /// The input policy of a simulation.
@@ -20,6 +22,8 @@ pub enum InputSource {
         reference: RecordedTrajectory,
         /// Gains per input (inputs without gains get the feedforward alone).
         gains: Vec<Gain>,
+        /// Whether the feedback reads the step's start or end state.
+        feedback: Feedback,
     },
 }
 
@@ -29,17 +33,18 @@ impl InputSource {
         match self {
             InputSource::Zero => vec![0.0; m],
             InputSource::Replay(r) => held_input(r, m, t),
-            InputSource::Track { reference, gains } => {
+            InputSource::Track {
+                reference, gains, ..
+            } => {
                 let mut u = held_input(reference, m, t);
                 let j = interval(&reference.times, t);
                 let (t0, t1) = (reference.times[j], reference.times[j + 1]);
-                let s = ((t - t0) / (t1 - t0)).clamp(0.0, 1.0);
                 for g in gains {
                     let (a, b) = (
                         reference.q[j][g.coordinate],
                         reference.q[j + 1][g.coordinate],
                     );
-                    let q_ref = a + s * (b - a);
+                    let q_ref = reference_at(reference, g.coordinate, t);
                     let v_ref = if t > *reference.times.last().unwrap_or(&t0) {
                         0.0
                     } else {
@@ -52,6 +57,51 @@ impl InputSource {
             }
         }
     }
+
+    /// The input of the step from t (state (q, v)) to t + h: [`Self::input`] as a held input
+    /// for explicit feedback; for [`Feedback::Implicit`], the feedforward held and the PD on
+    /// q_{k+1} against q_ref(t + h), with v_ref = (q_ref(t + h) − q_ref(t))/h, as
+    /// [`EndStateGain`]s of stiffness kp + kd/h.
+    pub fn step_input(&self, m: usize, t: f64, h: f64, q: &[f64], v: &[f64]) -> StepInput {
+        let InputSource::Track {
+            reference,
+            gains,
+            feedback: Feedback::Implicit,
+        } = self
+        else {
+            return self.input(m, t, q, v).into();
+        };
+        let feedback = gains
+            .iter()
+            .filter(|g| g.kp + g.kd / h > 0.0)
+            .map(|g| {
+                let q_ref = reference_at(reference, g.coordinate, t + h);
+                let v_ref = (q_ref - reference_at(reference, g.coordinate, t)) / h;
+                // kp (q_ref − q') + kd (v_ref − (q' − q)/h) = s (target − q'), s = kp + kd/h.
+                let stiffness = g.kp + g.kd / h;
+                let target = (g.kp * q_ref + g.kd * (v_ref + q[g.coordinate] / h)) / stiffness;
+                EndStateGain {
+                    input: g.input,
+                    coordinate: g.coordinate,
+                    stiffness,
+                    target,
+                }
+            })
+            .collect();
+        StepInput {
+            held: held_input(reference, m, t),
+            feedback,
+        }
+    }
+}
+
+/// The recording's coordinate `coordinate` at t, linear between knots (held past the ends).
+fn reference_at(r: &RecordedTrajectory, coordinate: usize, t: f64) -> f64 {
+    let j = interval(&r.times, t);
+    let (t0, t1) = (r.times[j], r.times[j + 1]);
+    let s = ((t - t0) / (t1 - t0)).clamp(0.0, 1.0);
+    let (a, b) = (r.q[j][coordinate], r.q[j + 1][coordinate]);
+    a + s * (b - a)
 }
 
 /// The interval j of `times` with times[j] ≤ t < times[j+1] (clamped to the first and last;
@@ -99,6 +149,7 @@ mod tests {
                 kp: 10.0,
                 kd: 1.0,
             }],
+            feedback: Feedback::Explicit,
         };
         // At t = 0.05: q_ref = 0.5, v_ref = 10; u = 2 + 10·(0.5 − 0.2) + 1·(10 − 3).
         let u = track.input(1, 0.05, &[0.2], &[3.0])[0];

@@ -14,6 +14,8 @@ mod lemke;
 mod run;
 mod step;
 
-pub use inputs::{Gain, InputSource};
+pub use inputs::{Feedback, Gain, InputSource};
 pub use run::{Simulation, SimulationError, SimulationOptions, knot_energies, simulate};
-pub use step::{Before, ContactStep, Impulses, StepFailure, StepOptions, StepOutcome};
+pub use step::{
+    Before, ContactStep, EndStateGain, Impulses, StepFailure, StepInput, StepOptions, StepOutcome,
+};

@@ -4,7 +4,7 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::step::{Before, ContactStep, Impulses, StepFailure, StepOptions};
+use super::step::{Before, ContactStep, Impulses, StepFailure, StepInput, StepOptions};
 use crate::discrete::{Integrator, MechanicsDerivatives, incoming_momentum, initial_momentum};
 use crate::transcription::Context;
 
@@ -44,6 +44,12 @@ pub enum SimulationError {
         expected: usize,
         /// Inputs given.
         found: usize,
+    },
+    /// The input policy's end-state feedback names an input or coordinate the robot lacks.
+    #[error("step {step}: feedback on an input or coordinate the robot does not have")]
+    FeedbackIndex {
+        /// Step index.
+        step: usize,
     },
 }
 
@@ -86,15 +92,16 @@ impl Simulation {
 }
 
 /// Simulates from q_0 = `q0` with velocity v_0 = `v0`. `input(k, t_k, q_k, v_k)` gives u_k,
-/// held over [t_k, t_{k+1}] (v_k as in [`Simulation::v`]); `progress(k)` is called after
-/// each step.
-pub fn simulate<M: MechanicsDerivatives>(
+/// held over [t_k, t_{k+1}] (v_k as in [`Simulation::v`]), either as a vector or as a
+/// [`StepInput`] whose feedback on q_{k+1} is solved with the step; `progress(k)` is called
+/// after each step.
+pub fn simulate<M: MechanicsDerivatives, U: Into<StepInput>>(
     mech: &M,
     ctx: &Context,
     q0: &[f64],
     v0: &[f64],
     options: &SimulationOptions,
-    mut input: impl FnMut(usize, f64, &[f64], &[f64]) -> Vec<f64>,
+    mut input: impl FnMut(usize, f64, &[f64], &[f64]) -> U,
     mut progress: impl FnMut(usize),
 ) -> Result<Simulation, SimulationError> {
     let (n, m, h) = (mech.nq(), mech.nu(), options.h);
@@ -107,13 +114,17 @@ pub fn simulate<M: MechanicsDerivatives>(
     let mut warm = Impulses::zeros(ctx, mech.num_contacts());
     for k in 0..options.steps {
         let t = k as f64 * h;
-        let u = input(k, t, &sim.q[k], &sim.v[k]);
-        if u.len() != m {
+        let u: StepInput = input(k, t, &sim.q[k], &sim.v[k]).into();
+        let misplaced = u.feedback.iter().any(|g| g.input >= m || g.coordinate >= n);
+        if u.held.len() != m {
             return Err(SimulationError::InputLength {
                 step: k,
                 expected: m,
-                found: u.len(),
+                found: u.held.len(),
             });
+        }
+        if misplaced {
+            return Err(SimulationError::FeedbackIndex { step: k });
         }
         let before = match (options.integrator, k) {
             (Integrator::Midpoint, 0) => {
@@ -169,7 +180,7 @@ pub fn simulate<M: MechanicsDerivatives>(
         sim.times.push((k + 1) as f64 * h);
         sim.q.push(outcome.q_next);
         sim.v.push(v_next);
-        sim.u.push(u);
+        sim.u.push(outcome.input.clone());
         warm = outcome.impulses.clone();
         sim.impulses.push(outcome.impulses);
         sim.distance.push(outcome.distance);

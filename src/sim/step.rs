@@ -19,7 +19,7 @@ use nalgebra::{DMatrix, DVector};
 use crate::autodiff::{VectorFunction, jacobian, weighted_hessian};
 use crate::discrete::{
     EulerKnotInNext, Integrator, MechanicsDerivatives, outgoing_momentum,
-    outgoing_momentum_jacobian,
+    outgoing_momentum_input_jacobian, outgoing_momentum_jacobian,
 };
 use crate::scalar::Scalar;
 use crate::transcription::{
@@ -126,11 +126,57 @@ impl Impulses {
     }
 }
 
+/// Feedback on one input evaluated at the step's end state (implicit feedback):
+/// u_k[input] gains `stiffness`·(`target` − q_{k+1}[coordinate]) on top of the held input.
+/// PD on q_{k+1} and v_{k+1} = (q_{k+1} − q_k)/h is this with stiffness kp + kd/h.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EndStateGain {
+    /// Input index.
+    pub input: usize,
+    /// Coordinate index.
+    pub coordinate: usize,
+    /// Input units per coordinate unit.
+    pub stiffness: f64,
+    /// Where the feedback vanishes (coordinate units).
+    pub target: f64,
+}
+
+/// A step's input: u_k = `held` plus the [`EndStateGain`]s at q_{k+1}.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct StepInput {
+    /// The part fixed before the step (length m).
+    pub held: Vec<f64>,
+    /// Feedback on the step's end state, solved with the step.
+    pub feedback: Vec<EndStateGain>,
+}
+
+impl From<Vec<f64>> for StepInput {
+    fn from(held: Vec<f64>) -> Self {
+        StepInput {
+            held,
+            feedback: Vec::new(),
+        }
+    }
+}
+
+impl StepInput {
+    /// u_k at q_{k+1} = `q_next`.
+    pub fn at(&self, q_next: &[f64]) -> Vec<f64> {
+        let mut u = self.held.clone();
+        for g in &self.feedback {
+            u[g.input] += g.stiffness * (g.target - q_next[g.coordinate]);
+        }
+        u
+    }
+}
+
 /// A solved step.
 #[derive(Debug, Clone, PartialEq)]
 pub struct StepOutcome {
     /// q_{k+1}.
     pub q_next: Vec<f64>,
+    /// u_k at q_{k+1} (the held input plus any end-state feedback).
+    pub input: Vec<f64>,
     /// λ_k and ν_k.
     pub impulses: Impulses,
     /// Signed distance per contact at q_{k+1}.
@@ -162,8 +208,8 @@ pub struct ContactStep<'a, M> {
     pub before: Before<'a>,
     /// q_k.
     pub q_curr: &'a [f64],
-    /// u_k, held over the step.
-    pub u: &'a [f64],
+    /// u_k, held over the step (its feedback part evaluated at q_{k+1}).
+    pub u: &'a StepInput,
     /// h_k, s.
     pub h: f64,
 }
@@ -255,36 +301,76 @@ impl<M: MechanicsDerivatives> ContactStep<'_, M> {
     /// The knot's discrete equations without impulses, and their Jacobian in q_{k+1} when
     /// `with_jacobian`.
     fn knot(&self, q_next: &[f64], with_jacobian: bool) -> (Vec<f64>, Option<DMatrix<f64>>) {
+        let u = self.u.at(q_next);
+        let (value, jac) = self.knot_with_input(q_next, &u, with_jacobian);
+        let Some(mut jac) = jac else {
+            return (value, None);
+        };
+        if !self.u.feedback.is_empty() {
+            // The chain rule through u_k(q_{k+1}): ∂r/∂u_i · (−stiffness) in column c.
+            let input_jacobian = self.knot_input_jacobian(q_next, &u);
+            for g in &self.u.feedback {
+                let column = input_jacobian.column(g.input) * g.stiffness;
+                let mut target = jac.column_mut(g.coordinate);
+                target -= column;
+            }
+        }
+        (value, Some(jac))
+    }
+
+    /// The knot's equations' Jacobian in u_k (n × m).
+    fn knot_input_jacobian(&self, q_next: &[f64], u: &[f64]) -> DMatrix<f64> {
+        match (&self.before, self.integrator) {
+            (Before::Euler { .. }, Integrator::Euler) => self.euler_knot(u).input_jacobian(q_next),
+            _ => outgoing_momentum_input_jacobian(self.mech, self.q_curr, q_next, u, self.h),
+        }
+    }
+
+    /// The Euler knot equation as a function of q_{k+1} at input u_k = `u`.
+    fn euler_knot<'s>(&'s self, u: &'s [f64]) -> EulerKnotInNext<'s, M> {
+        let Before::Euler {
+            before,
+            first_step,
+            h_prev,
+        } = &self.before
+        else {
+            // The caller pairs them (see `super::run`); a mismatch is a programming error.
+            panic!("ContactStep: `before` does not match the integrator")
+        };
+        EulerKnotInNext {
+            mech: self.mech,
+            first_step: *first_step,
+            before,
+            q_curr: self.q_curr,
+            h_prev: *h_prev,
+            h_curr: self.h,
+            u_curr: u,
+        }
+    }
+
+    /// The knot's discrete equations at input u_k = `u`, and their Jacobian in q_{k+1} with
+    /// u_k held.
+    fn knot_with_input(
+        &self,
+        q_next: &[f64],
+        u: &[f64],
+        with_jacobian: bool,
+    ) -> (Vec<f64>, Option<DMatrix<f64>>) {
         match (&self.before, self.integrator) {
             (Before::Momentum(p), Integrator::Midpoint) => {
                 let (mut value, jac) = if with_jacobian {
                     let (v, j) =
-                        outgoing_momentum_jacobian(self.mech, self.q_curr, q_next, self.u, self.h);
+                        outgoing_momentum_jacobian(self.mech, self.q_curr, q_next, u, self.h);
                     (v, Some(j))
                 } else {
-                    let v = outgoing_momentum(self.mech, self.q_curr, q_next, self.u, self.h);
+                    let v = outgoing_momentum(self.mech, self.q_curr, q_next, u, self.h);
                     (v, None)
                 };
                 value.iter_mut().zip(p).for_each(|(v, p)| *v += p);
                 (value, jac)
             }
-            (
-                Before::Euler {
-                    before,
-                    first_step,
-                    h_prev,
-                },
-                Integrator::Euler,
-            ) => {
-                let f = EulerKnotInNext {
-                    mech: self.mech,
-                    first_step: *first_step,
-                    before,
-                    q_curr: self.q_curr,
-                    h_prev: *h_prev,
-                    h_curr: self.h,
-                    u_curr: self.u,
-                };
+            (Before::Euler { .. }, Integrator::Euler) => {
+                let f = self.euler_knot(u);
                 if with_jacobian {
                     let (v, j) = jacobian(&f, q_next);
                     (v, Some(j))
@@ -488,6 +574,7 @@ impl<M: MechanicsDerivatives> ContactStep<'_, M> {
         impulses.loops = x[n + nc * stride..].to_vec();
         StepOutcome {
             q_next: x[..n].to_vec(),
+            input: self.u.at(&x[..n]),
             impulses,
             distance: e.distance,
             iterations,

@@ -94,6 +94,8 @@ pub struct Tracking {
     /// PD gains, `NAME=KP,KD` or `all=KP,KD` (as `vito simulate --gains`), on top of the
     /// problem file's `[tracking] gains`; all=100,10 when both are empty.
     pub gains: Vec<String>,
+    /// Where the PD reads the state (None: the problem file's `[tracking] feedback`).
+    pub feedback: Option<crate::sim::Feedback>,
     /// Steps per time unit of the tracking simulation.
     pub rate: f64,
 }
@@ -250,6 +252,7 @@ impl Tracking {
                 let source = InputSource::Track {
                     reference: reference.clone(),
                     gains: gains.clone(),
+                    feedback: self.feedback.unwrap_or(base.tracking_feedback),
                 };
                 let m = mech.nu();
                 let sim = simulate(
@@ -258,7 +261,7 @@ impl Tracking {
                     &plan.q[0],
                     &plan.v[0],
                     &options,
-                    |_, t, q, v| source.input(m, t, q, v),
+                    |_, t, q, v| source.step_input(m, t, h, q, v),
                     |_| {},
                 )
                 .map_err(|source| StudyError::Simulation {

@@ -95,6 +95,7 @@ fn tracking_study_pd_feedback_lowers_every_plans_error() {
         Tracking {
             knots: vec![10, 20],
             gains: gains.iter().map(|g| (*g).to_owned()).collect(),
+            feedback: None,
             rate: 2000.0,
         }
         .run(
@@ -187,6 +188,7 @@ max_iter = 3000
     let result = Tracking {
         knots: knots.clone(),
         gains: vec!["all=20,2".into()],
+        feedback: None,
         rate: 2000.0,
     }
     .run(&file, &[], |_, _| {})

@@ -64,6 +64,7 @@ pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, Pr
     let initial_guess = initial_guess::check_initial_guess(ctx, &raw, &robot, &endpoints, knots)?;
     let metrics = metrics::check_metrics(ctx, &raw, &robot)?;
     let tracking_gains = tracking::check_tracking(ctx, &raw, &robot)?;
+    let tracking_feedback = raw.tracking.feedback;
     let solver::CheckedSolver {
         integrator,
         hessian,
@@ -144,5 +145,6 @@ pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, Pr
         description: raw.description,
         goal,
         tracking_gains,
+        tracking_feedback,
     })
 }

@@ -166,3 +166,64 @@ fn simulate_tracks_with_the_files_gains() {
     );
     assert!(!out.exists());
 }
+
+/// `[tracking] feedback = "implicit"` in the problem file runs the same simulation as
+/// `--feedback implicit` (byte-identical trajectory), different from the explicit law at the
+/// same gains, and summary.json names the law; `--feedback explicit` overrides the file; an
+/// unknown value in the file is one error naming the file and field (exit 2).
+#[test]
+fn simulate_feedback_law_from_the_file_or_the_command_line() {
+    let t = TestDir::with_hopper("simulate-feedback");
+    let hopper = crate::cli::util::hopper_text();
+    let gains = "[tracking]\ngains = { all = [1000, 50], theta = [50, 5] }\n";
+    t.write("hopper.toml", &format!("{hopper}\n{gains}"));
+    t.write(
+        "implicit.toml",
+        &format!("{hopper}\n{gains}feedback = \"implicit\"\n"),
+    );
+    t.write(
+        "plan.csv",
+        "time [s],x [m],z [m],theta [rad],r [m]\n0,0,0.5,0,0.5\n0.05,0,0.5,0.1,0.45\n",
+    );
+    let run = |file: &str, extra: &[&str], out: &str| {
+        t.vito()
+            .args(["simulate", file, "--quiet", "--track", "plan.csv"])
+            .args(["--rate", "2000", "--out", out])
+            .args(extra)
+            .assert_exit(0);
+        let read = |name: &str| std::fs::read_to_string(t.path().join(out).join(name)).unwrap();
+        (read("trajectory.csv"), read("summary.json"))
+    };
+    let (from_file, summary) = run("implicit.toml", &[], "file");
+    let (from_cli, _) = run("hopper.toml", &["--feedback", "implicit"], "cli");
+    let (explicit, explicit_summary) = run("hopper.toml", &[], "explicit");
+    let (overridden, _) = run("implicit.toml", &["--feedback", "explicit"], "override");
+    assert_eq!(from_file, from_cli);
+    assert_ne!(from_file, explicit, "the implicit law changed nothing");
+    assert_eq!(overridden, explicit);
+    assert!(summary.contains("\"feedback\": \"implicit\""), "{summary}");
+    assert!(
+        explicit_summary.contains("\"feedback\": \"explicit\""),
+        "{explicit_summary}"
+    );
+
+    t.write(
+        "bad.toml",
+        &format!("{hopper}\n{gains}feedback = \"backward\"\n"),
+    );
+    let out = t.path().join("bad-out");
+    let failed = t
+        .vito()
+        .args([
+            "simulate", "bad.toml", "--quiet", "--track", "plan.csv", "--out",
+        ])
+        .args([out.as_os_str()])
+        .assert_exit(2);
+    assert!(failed.stderr.contains("bad.toml"), "{}", failed.stderr);
+    assert!(
+        failed.stderr.contains("tracking.feedback"),
+        "{}",
+        failed.stderr
+    );
+    assert!(!out.exists());
+}
