@@ -10,7 +10,7 @@ use num_dual::{Dual, Dual64};
 use super::midpoint::midpoint_state_into;
 use crate::autodiff::{SymmetricGroups, ThirdOrder, VectorFunction};
 use crate::model::kinematics::check_len;
-use crate::model::{Model, SweepBuffers, lagrangian_gradient};
+use crate::model::{Model, SweepBuffers, lagrangian_gradient, mass_matrix_entries};
 use crate::scalar::Scalar;
 
 /// The midpoint state and the energy sweep's storage of [`midpoint_ld_gradient`], kept
@@ -223,6 +223,7 @@ pub fn midpoint_gradient_hessian_grouped(
     );
     let mut hessian = DMatrix::zeros(dim, dim);
     groups.recover(&products, &mut hessian);
+    qa_block_from_identity(model, z, None, groups.unseeded(), &mut hessian, None);
     (gradient, hessian)
 }
 
@@ -263,7 +264,101 @@ pub fn midpoint_third_order_grouped(
     out.value = value.map_or(0.0, |v| v.re.re);
     groups.recover(&first, &mut out.hessian);
     groups.recover(&second, &mut out.contracted);
+    qa_block_from_identity(
+        model,
+        z,
+        Some(dir),
+        groups.unseeded(),
+        &mut out.hessian,
+        Some(&mut out.contracted),
+    );
     out
+}
+
+/// Column groups for the Hessian of one segment's Ld (`pattern`: its dependency pattern,
+/// (2n+1) × (2n+1), over z = [qa; qb; h]; `columns`: the inputs whose entries are needed),
+/// leaving qa columns unseeded where that saves passes: their qa–qa block comes from the
+/// midpoint identity ([`qa_block_from_identity`]), their entries with qb and h from the
+/// qb and h columns. Tries leaving out every qa column but the k most coupled ones (a
+/// floating base's, read from their own columns so that legs can share groups), k = 0…n,
+/// and keeps the fewest passes (ties: more unseeded).
+pub fn midpoint_segment_groups(n: usize, pattern: &[bool], columns: &[bool]) -> SymmetricGroups {
+    let dim = 2 * n + 1;
+    assert_eq!(
+        columns.len(),
+        dim,
+        "midpoint_segment_groups: one flag per input"
+    );
+    let degree = |j: usize| {
+        (0..dim)
+            .filter(|&i| pattern[i * dim + j] || pattern[j * dim + i])
+            .count()
+    };
+    // qa columns that can be derived: needed, with their qb column needed too.
+    let mut derivable: Vec<usize> = (0..n).filter(|&j| columns[j] && columns[n + j]).collect();
+    derivable.sort_by_key(|&j| std::cmp::Reverse(degree(j)));
+    let mut best: Option<SymmetricGroups> = None;
+    for kept in 0..=derivable.len() {
+        let mut unseeded = vec![false; dim];
+        for &j in &derivable[kept..] {
+            unseeded[j] = true;
+        }
+        let groups = SymmetricGroups::with_unseeded(dim, pattern, Some(columns), &unseeded);
+        if best
+            .as_ref()
+            .is_none_or(|b| groups.groups().len() < b.groups().len())
+        {
+            best = Some(groups);
+        }
+    }
+    best.unwrap_or_else(|| SymmetricGroups::new(dim, pattern, Some(columns)))
+}
+
+/// Fills the qa–qa block of a segment's Hessian (and of its third derivative contracted
+/// with `dir`, when given) between the qa columns marked `unseeded`, from the qb and h
+/// entries already in place. With Ld = h·L(q̄, v̄), q̄ = (qa+qb)/2, v̄ = (qb−qa)/h, and
+/// L_vv = M(q̄) (the kinetic energy is quadratic in v̄, the potential free of it):
+/// H_aa = h/4·L_qq − ½(L_qv + L_vq) + M/h, H_bb = h/4·L_qq + ½(L_qv + L_vq) + M/h and
+/// H_ab = h/4·L_qq + ½(L_qv − L_vq) − M/h, so H_aa = H_ab + H_abᵀ − H_bb + (4/h)·M(q̄),
+/// an identity in (qa, qb, h) whose derivative along `dir` gives the contracted block with
+/// d/d(dir)[(4/h)·M(q̄)] in place of (4/h)·M(q̄).
+fn qa_block_from_identity(
+    model: &Model,
+    z: &[f64],
+    dir: Option<&[f64]>,
+    unseeded: &[bool],
+    hessian: &mut DMatrix<f64>,
+    contracted: Option<&mut DMatrix<f64>>,
+) {
+    let n = model.nq();
+    let derived: Vec<usize> = (0..n).filter(|&j| unseeded[j]).collect();
+    if derived.is_empty() {
+        return;
+    }
+    // (4/h)·M(q̄) and its derivative along dir, in one Dual64 evaluation.
+    let lift = |i: usize| Dual64::new(z[i], dir.map_or(0.0, |d| d[i]));
+    let qa: Vec<Dual64> = (0..n).map(lift).collect();
+    let qb: Vec<Dual64> = (n..2 * n).map(lift).collect();
+    let h = lift(2 * n);
+    let (mut q_mid, mut v_mid) = (Vec::new(), Vec::new());
+    midpoint_state_into(&qa, &qb, h, &mut q_mid, &mut v_mid);
+    let mut mass = Vec::new();
+    mass_matrix_entries(model, &q_mid, &mut mass);
+    let four_over_h = Dual64::from(4.0) / h;
+    let fill = |m: &mut DMatrix<f64>, part: fn(Dual64) -> f64| {
+        for (a, &r) in derived.iter().enumerate() {
+            for &c in &derived[..=a] {
+                let value = m[(r, n + c)] + m[(c, n + r)] - m[(n + r, n + c)]
+                    + part(four_over_h * mass[r * n + c]);
+                m[(r, c)] = value;
+                m[(c, r)] = value;
+            }
+        }
+    };
+    fill(hessian, |d| d.re);
+    if let Some(t) = contracted {
+        fill(t, |d| d.eps);
+    }
 }
 
 /// [`for_each_column`] with one pass per column group, all of the group's inputs seeded;
