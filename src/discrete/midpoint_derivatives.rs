@@ -224,6 +224,9 @@ pub fn midpoint_gradient_hessian_grouped(
     let mut hessian = DMatrix::zeros(dim, dim);
     groups.recover(&products, &mut hessian);
     qa_block_from_identity(model, z, None, groups.unseeded(), &mut hessian, None);
+    if groups.unseeded()[dim - 1] {
+        h_entries_from_scaling(z, &gradient, None, &mut hessian, None);
+    }
     (gradient, hessian)
 }
 
@@ -272,16 +275,27 @@ pub fn midpoint_third_order_grouped(
         &mut out.hessian,
         Some(&mut out.contracted),
     );
+    if groups.unseeded()[dim - 1] {
+        h_entries_from_scaling(
+            z,
+            &out.gradient,
+            Some(dir),
+            &mut out.hessian,
+            Some(&mut out.contracted),
+        );
+    }
     out
 }
 
 /// Column groups for the Hessian of one segment's Ld (`pattern`: its dependency pattern,
 /// (2n+1) × (2n+1), over z = [qa; qb; h]; `columns`: the inputs whose entries are needed),
-/// leaving qa columns unseeded where that saves passes: their qa–qa block comes from the
-/// midpoint identity ([`qa_block_from_identity`]), their entries with qb and h from the
-/// qb and h columns. Tries leaving out every qa column but the k most coupled ones (a
-/// floating base's, read from their own columns so that legs can share groups), k = 0…n,
-/// and keeps the fewest passes (ties: more unseeded).
+/// leaving columns unseeded where that saves passes: qa columns, whose qa–qa block comes
+/// from the midpoint identity ([`qa_block_from_identity`]) and whose entries with qb from
+/// the qb columns; and, when every column is needed, the h column, whose entries follow
+/// from the q blocks and the gradient ([`h_entries_from_scaling`]). Tries leaving out
+/// every qa column but the k most coupled ones (a floating base's, read from their own
+/// columns so that legs can share groups), k = 0…n, and keeps the fewest passes (ties:
+/// more unseeded).
 pub fn midpoint_segment_groups(n: usize, pattern: &[bool], columns: &[bool]) -> SymmetricGroups {
     let dim = 2 * n + 1;
     assert_eq!(
@@ -294,16 +308,28 @@ pub fn midpoint_segment_groups(n: usize, pattern: &[bool], columns: &[bool]) -> 
             .filter(|&i| pattern[i * dim + j] || pattern[j * dim + i])
             .count()
     };
+    // The h entries are derived from whole q rows: only when every column is needed. They
+    // then leave the pattern the groups are built for (its h row is dense).
+    let derive_h = columns.iter().all(|&c| c);
+    let mut grouped_pattern = pattern.to_vec();
+    if derive_h {
+        for i in 0..dim {
+            grouped_pattern[i * dim + dim - 1] = false;
+            grouped_pattern[(dim - 1) * dim + i] = false;
+        }
+    }
     // qa columns that can be derived: needed, with their qb column needed too.
     let mut derivable: Vec<usize> = (0..n).filter(|&j| columns[j] && columns[n + j]).collect();
     derivable.sort_by_key(|&j| std::cmp::Reverse(degree(j)));
     let mut best: Option<SymmetricGroups> = None;
     for kept in 0..=derivable.len() {
         let mut unseeded = vec![false; dim];
+        unseeded[dim - 1] = derive_h;
         for &j in &derivable[kept..] {
             unseeded[j] = true;
         }
-        let groups = SymmetricGroups::with_unseeded(dim, pattern, Some(columns), &unseeded);
+        let groups =
+            SymmetricGroups::with_unseeded(dim, &grouped_pattern, Some(columns), &unseeded);
         if best
             .as_ref()
             .is_none_or(|b| groups.groups().len() < b.groups().len())
@@ -312,6 +338,59 @@ pub fn midpoint_segment_groups(n: usize, pattern: &[bool], columns: &[bool]) -> 
         }
     }
     best.unwrap_or_else(|| SymmetricGroups::new(dim, pattern, Some(columns)))
+}
+
+/// Fills the h row and column of a segment's Hessian (and of its third derivative
+/// contracted with `dir`, when given) from its q blocks, complete, and the gradient
+/// (D1Ld, D2Ld first). Moving (qa, qb, h) along (−Δ/2, Δ/2, h), Δ = qb − qa, keeps q̄ and
+/// v̄ and scales h, so D1Ld = (h/2)·L_q − L_v and D2Ld = (h/2)·L_q + L_v change by
+/// (h/2)·L_q = (D1Ld + D2Ld)/2 and ∂Ld/∂h = L − v̄·L_v not at all: for a row x of qa or qb
+/// (coordinate r), h·H[x, h] = (D1Ld + D2Ld)_r/2 − ½·Σ_j (H[x, qb_j] − H[x, qa_j])·Δ_j,
+/// and h·H[h, h] = −½·Σ_j (H[h, qb_j] − H[h, qa_j])·Δ_j; their derivatives along `dir`
+/// give the contracted entries.
+fn h_entries_from_scaling(
+    z: &[f64],
+    gradient: &[f64],
+    dir: Option<&[f64]>,
+    hessian: &mut DMatrix<f64>,
+    contracted: Option<&mut DMatrix<f64>>,
+) {
+    let dim = z.len();
+    let n = (dim - 1) / 2;
+    let (hcol, h) = (dim - 1, z[dim - 1]);
+    let delta: Vec<f64> = (0..n).map(|j| z[n + j] - z[j]).collect();
+    // ½·Σ_j (m[x, qb_j] − m[x, qa_j])·w_j.
+    let spread = |m: &DMatrix<f64>, x: usize, w: &[f64]| {
+        0.5 * (0..n)
+            .map(|j| (m[(x, n + j)] - m[(x, j)]) * w[j])
+            .sum::<f64>()
+    };
+    for x in 0..2 * n {
+        let r = x % n;
+        let value = (0.5 * (gradient[r] + gradient[n + r]) - spread(hessian, x, &delta)) / h;
+        hessian[(x, hcol)] = value;
+        hessian[(hcol, x)] = value;
+    }
+    hessian[(hcol, hcol)] = -spread(hessian, hcol, &delta) / h;
+    let (Some(dir), Some(t)) = (dir, contracted) else {
+        return;
+    };
+    let d_delta: Vec<f64> = (0..n).map(|j| dir[n + j] - dir[j]).collect();
+    let along = |x: usize| (0..dim).map(|k| hessian[(x, k)] * dir[k]).sum::<f64>();
+    for x in 0..2 * n {
+        let r = x % n;
+        let value = (0.5 * (along(r) + along(n + r))
+            - spread(t, x, &delta)
+            - spread(hessian, x, &d_delta)
+            - dir[hcol] * hessian[(x, hcol)])
+            / h;
+        t[(x, hcol)] = value;
+        t[(hcol, x)] = value;
+    }
+    t[(hcol, hcol)] = (-spread(t, hcol, &delta)
+        - spread(hessian, hcol, &d_delta)
+        - dir[hcol] * hessian[(hcol, hcol)])
+        / h;
 }
 
 /// Fills the qa–qa block of a segment's Hessian (and of its third derivative contracted

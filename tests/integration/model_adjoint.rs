@@ -637,7 +637,8 @@ impl ScalarFunction for KineticOf<'_> {
 
 /// The segment groups that leave qa columns unseeded ([`midpoint_segment_groups`]: the qa–qa
 /// block from the midpoint identity H_aa = H_ab + H_abᵀ − H_bb + (4/h)·M(q̄) and its
-/// derivative) give the one-column-per-pass Hessian and contracted third derivative to
+/// derivative), and the h column when every column is needed (its entries from the q blocks
+/// and the gradient), give the one-column-per-pass Hessian and contracted third derivative to
 /// round-off (1e-12 of the largest entry) on every robot, the hopper of the problems
 /// included, at random points and at hard ones (large angles and steps, a small h, a
 /// direction along h), in fewer passes, also with h or the first configuration fixed; and
