@@ -223,8 +223,12 @@ pub fn midpoint_gradient_hessian_grouped(
     );
     let mut hessian = DMatrix::zeros(dim, dim);
     groups.recover(&products, &mut hessian);
-    qa_block_from_identity(model, z, None, groups.unseeded(), &mut hessian, None);
-    if groups.unseeded()[dim - 1] {
+    let (translated, derived) = unseeded_qa(model, groups.unseeded());
+    let derive_h = groups.unseeded()[dim - 1];
+    let h = z[dim - 1];
+    translation_columns(&translated, Some(&gradient), h, !derive_h, &mut hessian);
+    qa_block_from_identity(model, z, None, &derived, &mut hessian, None);
+    if derive_h {
         h_entries_from_scaling(z, &gradient, None, &mut hessian, None);
     }
     (gradient, hessian)
@@ -267,15 +271,26 @@ pub fn midpoint_third_order_grouped(
     out.value = value.map_or(0.0, |v| v.re.re);
     groups.recover(&first, &mut out.hessian);
     groups.recover(&second, &mut out.contracted);
+    let (translated, derived) = unseeded_qa(model, groups.unseeded());
+    let derive_h = groups.unseeded()[dim - 1];
+    let h = z[dim - 1];
+    translation_columns(
+        &translated,
+        Some(&out.gradient),
+        h,
+        !derive_h,
+        &mut out.hessian,
+    );
+    translation_columns(&translated, None, h, !derive_h, &mut out.contracted);
     qa_block_from_identity(
         model,
         z,
         Some(dir),
-        groups.unseeded(),
+        &derived,
         &mut out.hessian,
         Some(&mut out.contracted),
     );
-    if groups.unseeded()[dim - 1] {
+    if derive_h {
         h_entries_from_scaling(
             z,
             &out.gradient,
@@ -288,15 +303,23 @@ pub fn midpoint_third_order_grouped(
 }
 
 /// Column groups for the Hessian of one segment's Ld (`pattern`: its dependency pattern,
-/// (2n+1) × (2n+1), over z = [qa; qb; h]; `columns`: the inputs whose entries are needed),
-/// leaving columns unseeded where that saves passes: qa columns, whose qa–qa block comes
-/// from the midpoint identity ([`qa_block_from_identity`]) and whose entries with qb from
-/// the qb columns; and, when every column is needed, the h column, whose entries follow
-/// from the q blocks and the gradient ([`h_entries_from_scaling`]). Tries leaving out
-/// every qa column but the k most coupled ones (a floating base's, read from their own
-/// columns so that legs can share groups), k = 0…n, and keeps the fewest passes (ties:
-/// more unseeded).
-pub fn midpoint_segment_groups(n: usize, pattern: &[bool], columns: &[bool]) -> SymmetricGroups {
+/// (2n+1) × (2n+1), over z = [qa; qb; h]; `columns`: the inputs whose entries are needed;
+/// `translations`: the coordinates Ld's Lagrangian depends on at most linearly, length n),
+/// leaving columns unseeded where that saves passes, their entries from identities of the
+/// midpoint rule: the qa columns of translations, minus their qb columns
+/// ([`translation_columns`]); other qa columns, whose qa–qa block comes from
+/// [`qa_block_from_identity`] and whose entries with qb from the qb columns; and, when every
+/// column is needed, the h column, whose entries follow from the q blocks and the gradient
+/// ([`h_entries_from_scaling`]). Columns filled whole (translations' qa, h) leave the pattern
+/// the groups are built for. Tries leaving out every other qa column but the k most coupled
+/// ones (a floating base's rotations, read from their own columns so that legs can share
+/// groups), k = 0…n, and keeps the fewest passes (ties: more unseeded).
+pub fn midpoint_segment_groups(
+    pattern: &[bool],
+    columns: &[bool],
+    translations: &[bool],
+) -> SymmetricGroups {
+    let n = translations.len();
     let dim = 2 * n + 1;
     assert_eq!(
         columns.len(),
@@ -308,24 +331,33 @@ pub fn midpoint_segment_groups(n: usize, pattern: &[bool], columns: &[bool]) -> 
             .filter(|&i| pattern[i * dim + j] || pattern[j * dim + i])
             .count()
     };
-    // The h entries are derived from whole q rows: only when every column is needed. They
-    // then leave the pattern the groups are built for (its h row is dense).
+    // Columns filled whole: the h entries are derived from whole q rows, so only when every
+    // column is needed; a translation's qa column from its qb column, when both are needed.
     let derive_h = columns.iter().all(|&c| c);
+    let translated: Vec<usize> = (0..n)
+        .filter(|&j| translations[j] && columns[j] && columns[n + j])
+        .collect();
     let mut grouped_pattern = pattern.to_vec();
-    if derive_h {
+    for whole in translated
+        .iter()
+        .copied()
+        .chain(derive_h.then_some(dim - 1))
+    {
         for i in 0..dim {
-            grouped_pattern[i * dim + dim - 1] = false;
-            grouped_pattern[(dim - 1) * dim + i] = false;
+            grouped_pattern[i * dim + whole] = false;
+            grouped_pattern[whole * dim + i] = false;
         }
     }
-    // qa columns that can be derived: needed, with their qb column needed too.
-    let mut derivable: Vec<usize> = (0..n).filter(|&j| columns[j] && columns[n + j]).collect();
+    // Other qa columns that can be derived: needed, with their qb column needed too.
+    let mut derivable: Vec<usize> = (0..n)
+        .filter(|&j| !translated.contains(&j) && columns[j] && columns[n + j])
+        .collect();
     derivable.sort_by_key(|&j| std::cmp::Reverse(degree(j)));
     let mut best: Option<SymmetricGroups> = None;
     for kept in 0..=derivable.len() {
         let mut unseeded = vec![false; dim];
         unseeded[dim - 1] = derive_h;
-        for &j in &derivable[kept..] {
+        for &j in translated.iter().chain(&derivable[kept..]) {
             unseeded[j] = true;
         }
         let groups =
@@ -338,6 +370,52 @@ pub fn midpoint_segment_groups(n: usize, pattern: &[bool], columns: &[bool]) -> 
         }
     }
     best.unwrap_or_else(|| SymmetricGroups::new(dim, pattern, Some(columns)))
+}
+
+/// The unseeded qa columns of a segment's groups, split into translations (filled by
+/// [`translation_columns`]) and the others ([`qa_block_from_identity`]), as
+/// [`midpoint_segment_groups`] chose them.
+fn unseeded_qa(model: &Model, unseeded: &[bool]) -> (Vec<usize>, Vec<usize>) {
+    let translations = model.translation_coordinates();
+    (0..model.nq())
+        .filter(|&j| unseeded[j])
+        .partition(|&j| translations[j])
+}
+
+/// Fills the qa columns `translated` of a segment's Hessian (or of its contracted third
+/// derivative) from their qb columns. L depends on a translation c at most linearly, so
+/// ∂/∂q̄_c = ∂/∂qa_c + ∂/∂qb_c of the gradient [(h/2)L_q − L_v; (h/2)L_q + L_v; L − v̄·L_v] is
+/// [0; 0; L_q,c]: H[x, qa_c] = −H[x, qb_c] on the q rows and H[h, qa_c] = L_q,c − H[h, qb_c]
+/// with L_q,c = (D1Ld + D2Ld)_c/h, a constant (zero derivative: `gradient` None for the
+/// contracted matrix). The h row is left alone when `fill_h` is false (h filled later, or
+/// not needed).
+fn translation_columns(
+    translated: &[usize],
+    gradient: Option<&[f64]>,
+    h: f64,
+    fill_h: bool,
+    m: &mut DMatrix<f64>,
+) {
+    let dim = m.nrows();
+    let n = (dim - 1) / 2;
+    for &c in translated {
+        for x in (0..2 * n).filter(|x| !translated.contains(x)) {
+            let value = -m[(x, n + c)];
+            m[(x, c)] = value;
+            m[(c, x)] = value;
+        }
+    }
+    for &c in translated {
+        for &d in translated {
+            m[(c, d)] = -m[(c, n + d)];
+        }
+        if fill_h {
+            let l_q = gradient.map_or(0.0, |g| (g[c] + g[n + c]) / h);
+            let value = l_q - m[(dim - 1, n + c)];
+            m[(dim - 1, c)] = value;
+            m[(c, dim - 1)] = value;
+        }
+    }
 }
 
 /// Fills the h row and column of a segment's Hessian (and of its third derivative
@@ -394,8 +472,8 @@ fn h_entries_from_scaling(
 }
 
 /// Fills the qa–qa block of a segment's Hessian (and of its third derivative contracted
-/// with `dir`, when given) between the qa columns marked `unseeded`, from the qb and h
-/// entries already in place. With Ld = h·L(q̄, v̄), q̄ = (qa+qb)/2, v̄ = (qb−qa)/h, and
+/// with `dir`, when given) between the qa columns `derived`, from the qb entries already in
+/// place. With Ld = h·L(q̄, v̄), q̄ = (qa+qb)/2, v̄ = (qb−qa)/h, and
 /// L_vv = M(q̄) (the kinetic energy is quadratic in v̄, the potential free of it):
 /// H_aa = h/4·L_qq − ½(L_qv + L_vq) + M/h, H_bb = h/4·L_qq + ½(L_qv + L_vq) + M/h and
 /// H_ab = h/4·L_qq + ½(L_qv − L_vq) − M/h, so H_aa = H_ab + H_abᵀ − H_bb + (4/h)·M(q̄),
@@ -405,12 +483,11 @@ fn qa_block_from_identity(
     model: &Model,
     z: &[f64],
     dir: Option<&[f64]>,
-    unseeded: &[bool],
+    derived: &[usize],
     hessian: &mut DMatrix<f64>,
     contracted: Option<&mut DMatrix<f64>>,
 ) {
     let n = model.nq();
-    let derived: Vec<usize> = (0..n).filter(|&j| unseeded[j]).collect();
     if derived.is_empty() {
         return;
     }

@@ -159,18 +159,18 @@ impl GroupCache {
             .clone()
     }
 
-    /// Groups of a midpoint segment's Hessian pattern `mask` (`nv × nv`, nv = 2n + 1) over
-    /// the marked columns, when they save passes.
+    /// Groups of a midpoint segment's Hessian pattern `mask` ((2n + 1) × (2n + 1)) over the
+    /// marked columns, with the mechanics' `translations` (length n), when they save passes.
     fn segment(
         &mut self,
         mask: &[bool],
-        nv: usize,
         columns: &[bool],
+        translations: &[bool],
     ) -> Option<Arc<SymmetricGroups>> {
         self.0
             .entry((mask.to_vec(), columns.to_vec(), true))
             .or_insert_with(|| {
-                let groups = midpoint_segment_groups(nv / 2, mask, columns);
+                let groups = midpoint_segment_groups(mask, columns, translations);
                 groups.compresses().then(|| Arc::new(groups))
             })
             .clone()
@@ -305,14 +305,15 @@ impl<M: MechanicsDerivatives> Transcription<M> {
             b.second_derivative_groups = groups.restricted(hmask, nv, &b.hessian_inputs);
             b.free_second_derivative_groups = groups.restricted(hmask, nv, &b.hessian_free_inputs);
         }
+        let translations = self.mech.translation_coordinates();
         for (b, (jmask, _)) in self.gradient_blocks.iter_mut().zip(&structure.gradient) {
             if b.kind == ScalarKind::Segment {
                 // The segment's rows are the gradient of Ld: their Jacobian mask is the
                 // pattern of the Hessian of Ld.
                 let all = vec![true; b.vars.len()];
-                b.second_derivative_groups = groups.segment(jmask, b.vars.len(), &all);
+                b.second_derivative_groups = groups.segment(jmask, &all, &translations);
                 b.free_second_derivative_groups =
-                    groups.segment(jmask, b.vars.len(), &b.free_input_mask);
+                    groups.segment(jmask, &b.free_input_mask, &translations);
             }
         }
         self.jacobian = jac.finish();

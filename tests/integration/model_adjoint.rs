@@ -637,8 +637,9 @@ impl ScalarFunction for KineticOf<'_> {
 
 /// The segment groups that leave qa columns unseeded ([`midpoint_segment_groups`]: the qa–qa
 /// block from the midpoint identity H_aa = H_ab + H_abᵀ − H_bb + (4/h)·M(q̄) and its
-/// derivative), and the h column when every column is needed (its entries from the q blocks
-/// and the gradient), give the one-column-per-pass Hessian and contracted third derivative to
+/// derivative), the qa columns of base translations (minus their qb columns: L is at most
+/// linear in them), and the h column when every column is needed (its entries from the q
+/// blocks and the gradient), give the one-column-per-pass Hessian and contracted third derivative to
 /// round-off (1e-12 of the largest entry) on every robot, the hopper of the problems
 /// included, at random points and at hard ones (large angles and steps, a small h, a
 /// direction along h), in fewer passes, also with h or the first configuration fixed; and
@@ -656,6 +657,19 @@ fn segment_groups_with_the_midpoint_identity_match_every_column() {
     for (name, model) in all {
         let n = model.nq();
         let dim = 2 * n + 1;
+        // The base translations, from the structure: x, y, z of a floating base, x and z of
+        // a planar one and of the hopper's prismatic root joints.
+        let translations = model.translation_coordinates();
+        let expected = match name {
+            "brick" | "twisted" | "gripper (mimic joints)" | "littledog" | "hamr" => 3,
+            "planar_chain(3), planar base" | "spring_flamingo" | "hopper_2d" => 2,
+            _ => 0,
+        };
+        assert_eq!(
+            translations.iter().filter(|&&t| t).count(),
+            expected,
+            "{name}: translations {translations:?}"
+        );
         let random = segment(&model, &mut rng);
         // Hard: angles past π, a step of a quarter turn, a tenth of the usual h.
         let mut hard: Vec<f64> = rng.symmetric_vec(n, 4.0);
@@ -681,7 +695,7 @@ fn segment_groups_with_the_midpoint_identity_match_every_column() {
                 (0..dim).map(|i| i != dim - 1).collect::<Vec<bool>>(),
                 (0..dim).map(|i| i >= n).collect(),
             ] {
-                let groups = midpoint_segment_groups(n, &pattern, &columns);
+                let groups = midpoint_segment_groups(&pattern, &columns, &translations);
                 let previous = SymmetricGroups::new(dim, &pattern, Some(&columns));
                 let marked = columns.iter().filter(|&&c| c).count();
                 // Fewer passes than columns wherever a qa column is needed.
@@ -748,7 +762,7 @@ fn segment_groups_with_the_midpoint_identity_match_every_column() {
             }
             // Central differences of the adjoint gradient (step 1e-6 of the scale).
             let fd = central_jacobian(&MidpointGradient { model: &model }, &z);
-            let groups = midpoint_segment_groups(n, &pattern, &vec![true; dim]);
+            let groups = midpoint_segment_groups(&pattern, &vec![true; dim], &translations);
             let (_, hessian) = midpoint_gradient_hessian_grouped(&model, &z, &groups);
             assert_matrix_close(
                 &format!("{name} {point} H against differences"),
