@@ -2,7 +2,9 @@
 //! the gradient (D1Ld, D2Ld, ∂Ld/∂h) from one adjoint sweep of L
 //! ([`crate::model::lagrangian_gradient`]), and its Hessian and contracted third derivative
 //! as the Jacobian of that gradient by forward duals, 2n+1 passes in all, where forward duals
-//! through Ld need O(n²).
+//! through Ld need O(n²); or fewer, seeded in groups ([`midpoint_segment_groups`]) with the
+//! qa and h columns left out where identities of the midpoint rule give their entries from
+//! the others.
 
 use nalgebra::DMatrix;
 use num_dual::{Dual, Dual64};
