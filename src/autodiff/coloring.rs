@@ -31,6 +31,8 @@ pub struct SymmetricGroups {
     reads: Vec<Read>,
     /// Rows read from each group.
     rows: Vec<Vec<usize>>,
+    /// Columns never seeded (see [`SymmetricGroups::with_unseeded`]).
+    unseeded: Vec<bool>,
 }
 
 impl SymmetricGroups {
@@ -41,14 +43,33 @@ impl SymmetricGroups {
     /// them would keep every column apart from an unmarked one that meets them all, like a
     /// fixed time step.
     pub fn new(dim: usize, pattern: &[bool], columns: Option<&[bool]>) -> Self {
+        Self::with_unseeded(dim, pattern, columns, &vec![false; dim])
+    }
+
+    /// [`SymmetricGroups::new`] with the columns marked in `unseeded` (length `dim`) in no
+    /// group: their entries with a seeded column are read from the seeded column's side,
+    /// and entries between two of them are left to the caller (zero in
+    /// [`SymmetricGroups::recover`]), who knows them from the others (the midpoint
+    /// segment's qa–qa block, `crate::discrete::midpoint_derivatives`).
+    pub fn with_unseeded(
+        dim: usize,
+        pattern: &[bool],
+        columns: Option<&[bool]>,
+        unseeded: &[bool],
+    ) -> Self {
         assert_eq!(
             pattern.len(),
             dim * dim,
             "SymmetricGroups: pattern is dim × dim"
         );
+        assert_eq!(unseeded.len(), dim, "SymmetricGroups: one flag per column");
         let marked = |j: usize| columns.is_none_or(|m| m[j]);
+        let seedable = |j: usize| marked(j) && !unseeded[j];
         let nz = |i: usize, j: usize| {
-            (pattern[i * dim + j] || pattern[j * dim + i]) && marked(i) && marked(j)
+            (pattern[i * dim + j] || pattern[j * dim + i])
+                && marked(i)
+                && marked(j)
+                && !(unseeded[i] && unseeded[j])
         };
         let neighbours: Vec<Vec<usize>> = (0..dim)
             .map(|j| (0..dim).filter(|&i| nz(i, j)).collect())
@@ -65,11 +86,11 @@ impl SymmetricGroups {
         let readable = |groups: &[Vec<usize>], group: &[Option<usize>], a: usize, b: usize| {
             let side = |col: usize, row: usize| match group[col] {
                 Some(g) => clean(groups, g, row, col),
-                None => marked(col),
+                None => seedable(col),
             };
             side(b, a) || side(a, b)
         };
-        let mut order: Vec<usize> = (0..dim).filter(|&j| marked(j)).collect();
+        let mut order: Vec<usize> = (0..dim).filter(|&j| seedable(j)).collect();
         order.sort_by_key(|&j| std::cmp::Reverse(neighbours[j].len()));
         for &j in &order {
             let mut chosen = groups.len();
@@ -127,7 +148,13 @@ impl SymmetricGroups {
             groups,
             reads,
             rows,
+            unseeded: unseeded.to_vec(),
         }
+    }
+
+    /// The columns in no group by construction ([`SymmetricGroups::with_unseeded`]).
+    pub fn unseeded(&self) -> &[bool] {
+        &self.unseeded
     }
 
     /// The column groups (one product H·s_g per group).
@@ -135,9 +162,10 @@ impl SymmetricGroups {
         &self.groups
     }
 
-    /// Whether seeding by groups saves passes over one column per pass.
+    /// Whether seeding by groups saves passes over one column per pass (columns seeded
+    /// together, or columns left unseeded).
     pub fn compresses(&self) -> bool {
-        self.groups.iter().any(|g| g.len() > 1)
+        self.groups.iter().any(|g| g.len() > 1) || self.unseeded.iter().any(|&u| u)
     }
 
     /// The symmetric matrix from its products: `products[(row, g)]` = (H·s_g)[row]; entries

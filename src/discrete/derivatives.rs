@@ -64,6 +64,13 @@ pub trait MechanicsDerivatives: Mechanics + Sized {
         let _ = groups;
         self.segment_third_order(z, dir, None)
     }
+    /// Per coordinate, whether Ld's Lagrangian depends on it at most linearly (a base
+    /// translation: [`crate::model::Model::translation_coordinates`]), so that a segment's
+    /// qa column is minus its qb column ([`crate::discrete::midpoint_segment_groups`]). The
+    /// default claims none.
+    fn translation_coordinates(&self) -> Vec<bool> {
+        vec![false; self.nq()]
+    }
     /// The loop-closure residual [`Mechanics::loop_residual`] at q and its derivatives up to
     /// `order` (1 to 3), the third contracted with `along` (length n, read at order 3), as
     /// groups of rows over the coordinates each depends on. The default is one group of all

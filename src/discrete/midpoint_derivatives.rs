@@ -2,7 +2,9 @@
 //! the gradient (D1Ld, D2Ld, ∂Ld/∂h) from one adjoint sweep of L
 //! ([`crate::model::lagrangian_gradient`]), and its Hessian and contracted third derivative
 //! as the Jacobian of that gradient by forward duals, 2n+1 passes in all, where forward duals
-//! through Ld need O(n²).
+//! through Ld need O(n²); or fewer, seeded in groups ([`midpoint_segment_groups`]) with the
+//! qa and h columns left out where identities of the midpoint rule give their entries from
+//! the others.
 
 use nalgebra::DMatrix;
 use num_dual::{Dual, Dual64};
@@ -10,7 +12,7 @@ use num_dual::{Dual, Dual64};
 use super::midpoint::midpoint_state_into;
 use crate::autodiff::{SymmetricGroups, ThirdOrder, VectorFunction};
 use crate::model::kinematics::check_len;
-use crate::model::{Model, SweepBuffers, lagrangian_gradient};
+use crate::model::{Model, SweepBuffers, lagrangian_gradient, mass_matrix_entries};
 use crate::scalar::Scalar;
 
 /// The midpoint state and the energy sweep's storage of [`midpoint_ld_gradient`], kept
@@ -223,6 +225,14 @@ pub fn midpoint_gradient_hessian_grouped(
     );
     let mut hessian = DMatrix::zeros(dim, dim);
     groups.recover(&products, &mut hessian);
+    let (translated, derived) = unseeded_qa(model, groups.unseeded());
+    let derive_h = groups.unseeded()[dim - 1];
+    let h = z[dim - 1];
+    translation_columns(&translated, Some(&gradient), h, !derive_h, &mut hessian);
+    qa_block_from_identity(model, z, None, &derived, &mut hessian, None);
+    if derive_h {
+        h_entries_from_scaling(z, &gradient, None, &mut hessian, None);
+    }
     (gradient, hessian)
 }
 
@@ -263,7 +273,250 @@ pub fn midpoint_third_order_grouped(
     out.value = value.map_or(0.0, |v| v.re.re);
     groups.recover(&first, &mut out.hessian);
     groups.recover(&second, &mut out.contracted);
+    let (translated, derived) = unseeded_qa(model, groups.unseeded());
+    let derive_h = groups.unseeded()[dim - 1];
+    let h = z[dim - 1];
+    translation_columns(
+        &translated,
+        Some(&out.gradient),
+        h,
+        !derive_h,
+        &mut out.hessian,
+    );
+    translation_columns(&translated, None, h, !derive_h, &mut out.contracted);
+    qa_block_from_identity(
+        model,
+        z,
+        Some(dir),
+        &derived,
+        &mut out.hessian,
+        Some(&mut out.contracted),
+    );
+    if derive_h {
+        h_entries_from_scaling(
+            z,
+            &out.gradient,
+            Some(dir),
+            &mut out.hessian,
+            Some(&mut out.contracted),
+        );
+    }
     out
+}
+
+/// Column groups for the Hessian of one segment's Ld (`pattern`: its dependency pattern,
+/// (2n+1) × (2n+1), over z = [qa; qb; h]; `columns`: the inputs whose entries are needed;
+/// `translations`: the coordinates Ld's Lagrangian depends on at most linearly, length n),
+/// leaving columns unseeded where that saves passes, their entries from identities of the
+/// midpoint rule: the qa columns of translations, minus their qb columns
+/// ([`translation_columns`]); other qa columns, whose qa–qa block comes from
+/// [`qa_block_from_identity`] and whose entries with qb from the qb columns; and, when every
+/// column is needed, the h column, whose entries follow from the q blocks and the gradient
+/// ([`h_entries_from_scaling`]). Columns filled whole (translations' qa, h) leave the pattern
+/// the groups are built for. Tries leaving out every other qa column but the k most coupled
+/// ones (a floating base's rotations, read from their own columns so that legs can share
+/// groups), k = 0…n, and keeps the fewest passes (ties: more unseeded).
+pub fn midpoint_segment_groups(
+    pattern: &[bool],
+    columns: &[bool],
+    translations: &[bool],
+) -> SymmetricGroups {
+    let n = translations.len();
+    let dim = 2 * n + 1;
+    assert_eq!(
+        columns.len(),
+        dim,
+        "midpoint_segment_groups: one flag per input"
+    );
+    let degree = |j: usize| {
+        (0..dim)
+            .filter(|&i| pattern[i * dim + j] || pattern[j * dim + i])
+            .count()
+    };
+    // Columns filled whole: the h entries are derived from whole q rows, so only when every
+    // column is needed; a translation's qa column from its qb column, when both are needed.
+    let derive_h = columns.iter().all(|&c| c);
+    let translated: Vec<usize> = (0..n)
+        .filter(|&j| translations[j] && columns[j] && columns[n + j])
+        .collect();
+    let mut grouped_pattern = pattern.to_vec();
+    for whole in translated
+        .iter()
+        .copied()
+        .chain(derive_h.then_some(dim - 1))
+    {
+        for i in 0..dim {
+            grouped_pattern[i * dim + whole] = false;
+            grouped_pattern[whole * dim + i] = false;
+        }
+    }
+    // Other qa columns that can be derived: needed, with their qb column needed too.
+    let mut derivable: Vec<usize> = (0..n)
+        .filter(|&j| !translated.contains(&j) && columns[j] && columns[n + j])
+        .collect();
+    derivable.sort_by_key(|&j| std::cmp::Reverse(degree(j)));
+    let mut best: Option<SymmetricGroups> = None;
+    for kept in 0..=derivable.len() {
+        let mut unseeded = vec![false; dim];
+        unseeded[dim - 1] = derive_h;
+        for &j in translated.iter().chain(&derivable[kept..]) {
+            unseeded[j] = true;
+        }
+        let groups =
+            SymmetricGroups::with_unseeded(dim, &grouped_pattern, Some(columns), &unseeded);
+        if best
+            .as_ref()
+            .is_none_or(|b| groups.groups().len() < b.groups().len())
+        {
+            best = Some(groups);
+        }
+    }
+    best.unwrap_or_else(|| SymmetricGroups::new(dim, pattern, Some(columns)))
+}
+
+/// The unseeded qa columns of a segment's groups, split into translations (filled by
+/// [`translation_columns`]) and the others ([`qa_block_from_identity`]), as
+/// [`midpoint_segment_groups`] chose them.
+fn unseeded_qa(model: &Model, unseeded: &[bool]) -> (Vec<usize>, Vec<usize>) {
+    let translations = model.translation_coordinates();
+    (0..model.nq())
+        .filter(|&j| unseeded[j])
+        .partition(|&j| translations[j])
+}
+
+/// Fills the qa columns `translated` of a segment's Hessian (or of its contracted third
+/// derivative) from their qb columns. L depends on a translation c at most linearly, so
+/// ∂/∂q̄_c = ∂/∂qa_c + ∂/∂qb_c of the gradient [(h/2)L_q − L_v; (h/2)L_q + L_v; L − v̄·L_v] is
+/// [0; 0; L_q,c]: H[x, qa_c] = −H[x, qb_c] on the q rows and H[h, qa_c] = L_q,c − H[h, qb_c]
+/// with L_q,c = (D1Ld + D2Ld)_c/h, a constant (zero derivative: `gradient` None for the
+/// contracted matrix). The h row is left alone when `fill_h` is false (h filled later, or
+/// not needed).
+fn translation_columns(
+    translated: &[usize],
+    gradient: Option<&[f64]>,
+    h: f64,
+    fill_h: bool,
+    m: &mut DMatrix<f64>,
+) {
+    let dim = m.nrows();
+    let n = (dim - 1) / 2;
+    for &c in translated {
+        for x in (0..2 * n).filter(|x| !translated.contains(x)) {
+            let value = -m[(x, n + c)];
+            m[(x, c)] = value;
+            m[(c, x)] = value;
+        }
+    }
+    for &c in translated {
+        for &d in translated {
+            m[(c, d)] = -m[(c, n + d)];
+        }
+        if fill_h {
+            let l_q = gradient.map_or(0.0, |g| (g[c] + g[n + c]) / h);
+            let value = l_q - m[(dim - 1, n + c)];
+            m[(dim - 1, c)] = value;
+            m[(c, dim - 1)] = value;
+        }
+    }
+}
+
+/// Fills the h row and column of a segment's Hessian (and of its third derivative
+/// contracted with `dir`, when given) from its q blocks, complete, and the gradient
+/// (D1Ld, D2Ld first). Moving (qa, qb, h) along (−Δ/2, Δ/2, h), Δ = qb − qa, keeps q̄ and
+/// v̄ and scales h, so D1Ld = (h/2)·L_q − L_v and D2Ld = (h/2)·L_q + L_v change by
+/// (h/2)·L_q = (D1Ld + D2Ld)/2 and ∂Ld/∂h = L − v̄·L_v not at all: for a row x of qa or qb
+/// (coordinate r), h·H[x, h] = (D1Ld + D2Ld)_r/2 − ½·Σ_j (H[x, qb_j] − H[x, qa_j])·Δ_j,
+/// and h·H[h, h] = −½·Σ_j (H[h, qb_j] − H[h, qa_j])·Δ_j; their derivatives along `dir`
+/// give the contracted entries.
+fn h_entries_from_scaling(
+    z: &[f64],
+    gradient: &[f64],
+    dir: Option<&[f64]>,
+    hessian: &mut DMatrix<f64>,
+    contracted: Option<&mut DMatrix<f64>>,
+) {
+    let dim = z.len();
+    let n = (dim - 1) / 2;
+    let (hcol, h) = (dim - 1, z[dim - 1]);
+    let delta: Vec<f64> = (0..n).map(|j| z[n + j] - z[j]).collect();
+    // ½·Σ_j (m[x, qb_j] − m[x, qa_j])·w_j.
+    let spread = |m: &DMatrix<f64>, x: usize, w: &[f64]| {
+        0.5 * (0..n)
+            .map(|j| (m[(x, n + j)] - m[(x, j)]) * w[j])
+            .sum::<f64>()
+    };
+    for x in 0..2 * n {
+        let r = x % n;
+        let value = (0.5 * (gradient[r] + gradient[n + r]) - spread(hessian, x, &delta)) / h;
+        hessian[(x, hcol)] = value;
+        hessian[(hcol, x)] = value;
+    }
+    hessian[(hcol, hcol)] = -spread(hessian, hcol, &delta) / h;
+    let (Some(dir), Some(t)) = (dir, contracted) else {
+        return;
+    };
+    let d_delta: Vec<f64> = (0..n).map(|j| dir[n + j] - dir[j]).collect();
+    let along = |x: usize| (0..dim).map(|k| hessian[(x, k)] * dir[k]).sum::<f64>();
+    for x in 0..2 * n {
+        let r = x % n;
+        let value = (0.5 * (along(r) + along(n + r))
+            - spread(t, x, &delta)
+            - spread(hessian, x, &d_delta)
+            - dir[hcol] * hessian[(x, hcol)])
+            / h;
+        t[(x, hcol)] = value;
+        t[(hcol, x)] = value;
+    }
+    t[(hcol, hcol)] = (-spread(t, hcol, &delta)
+        - spread(hessian, hcol, &d_delta)
+        - dir[hcol] * hessian[(hcol, hcol)])
+        / h;
+}
+
+/// Fills the qa–qa block of a segment's Hessian (and of its third derivative contracted
+/// with `dir`, when given) between the qa columns `derived`, from the qb entries already in
+/// place. With Ld = h·L(q̄, v̄), q̄ = (qa+qb)/2, v̄ = (qb−qa)/h, and
+/// L_vv = M(q̄) (the kinetic energy is quadratic in v̄, the potential free of it):
+/// H_aa = h/4·L_qq − ½(L_qv + L_vq) + M/h, H_bb = h/4·L_qq + ½(L_qv + L_vq) + M/h and
+/// H_ab = h/4·L_qq + ½(L_qv − L_vq) − M/h, so H_aa = H_ab + H_abᵀ − H_bb + (4/h)·M(q̄),
+/// an identity in (qa, qb, h) whose derivative along `dir` gives the contracted block with
+/// d/d(dir)[(4/h)·M(q̄)] in place of (4/h)·M(q̄).
+fn qa_block_from_identity(
+    model: &Model,
+    z: &[f64],
+    dir: Option<&[f64]>,
+    derived: &[usize],
+    hessian: &mut DMatrix<f64>,
+    contracted: Option<&mut DMatrix<f64>>,
+) {
+    let n = model.nq();
+    if derived.is_empty() {
+        return;
+    }
+    // (4/h)·M(q̄) and its derivative along dir, in one Dual64 evaluation.
+    let lift = |i: usize| Dual64::new(z[i], dir.map_or(0.0, |d| d[i]));
+    let qa: Vec<Dual64> = (0..n).map(lift).collect();
+    let qb: Vec<Dual64> = (n..2 * n).map(lift).collect();
+    let h = lift(2 * n);
+    let (mut q_mid, mut v_mid) = (Vec::new(), Vec::new());
+    midpoint_state_into(&qa, &qb, h, &mut q_mid, &mut v_mid);
+    let mut mass = Vec::new();
+    mass_matrix_entries(model, &q_mid, &mut mass);
+    let four_over_h = Dual64::from(4.0) / h;
+    let fill = |m: &mut DMatrix<f64>, part: fn(Dual64) -> f64| {
+        for (a, &r) in derived.iter().enumerate() {
+            for &c in &derived[..=a] {
+                let value = m[(r, n + c)] + m[(c, n + r)] - m[(n + r, n + c)]
+                    + part(four_over_h * mass[r * n + c]);
+                m[(r, c)] = value;
+                m[(c, r)] = value;
+            }
+        }
+    };
+    fill(hessian, |d| d.re);
+    if let Some(t) = contracted {
+        fill(t, |d| d.eps);
+    }
 }
 
 /// [`for_each_column`] with one pass per column group, all of the group's inputs seeded;

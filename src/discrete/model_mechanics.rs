@@ -196,6 +196,9 @@ impl MechanicsDerivatives for ModelMechanics {
     fn loop_jets(&self, q: &[f64], order: usize, along: &[f64]) -> Vec<LoopJet> {
         loop_closure_jets(&self.model, q, order, along)
     }
+    fn translation_coordinates(&self) -> Vec<bool> {
+        self.model.translation_coordinates()
+    }
 }
 
 #[cfg(test)]

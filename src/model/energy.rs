@@ -127,20 +127,60 @@ pub fn generalized_momentum<D: Scalar>(model: &Model, q: &[D], v: &[D]) -> Vec<D
     project_wrenches(model, &poses, linear, angular)
 }
 
-/// The mass matrix M(q) (`nq × nq`, symmetric), column j = M(q)·e_j.
+/// The mass matrix M(q) (`nq × nq`, symmetric), from [`mass_matrix_entries`].
 pub fn mass_matrix(model: &Model, q: &[f64]) -> DMatrix<f64> {
+    let n = model.nq();
+    let mut entries = Vec::new();
+    mass_matrix_entries(model, q, &mut entries);
+    DMatrix::from_row_slice(n, n, &entries)
+}
+
+/// The mass matrix M(q) = ∂²T/∂q̇² into `out` (`nq × nq`, row-major, exactly symmetric;
+/// resized and overwritten): Σ over bodies of m·J_vᵀJ_v + J_ωᵀ·(R I_c Rᵀ)·J_ω, with J_v and
+/// J_ω the Jacobians of the body's centre-of-mass velocity and angular velocity (the
+/// columns of its moving ancestors, times the mimic multiplier). Generic over the scalar so
+/// that its derivative along q comes from duals (the midpoint segment's qa–qa block needs
+/// M and its directional derivative).
+pub fn mass_matrix_entries<D: Scalar>(model: &Model, q: &[D], out: &mut Vec<D>) {
     check_len(model, q.len(), "q");
     let n = model.nq();
-    let mut m = DMatrix::zeros(n, n);
-    let mut e = vec![0.0; n];
-    for j in 0..n {
-        e[j] = 1.0;
-        let column = generalized_momentum(model, q, &e);
-        e[j] = 0.0;
-        for (i, value) in column.into_iter().enumerate() {
-            m[(i, j)] = value;
+    out.clear();
+    out.resize(n * n, D::from(0.0));
+    let poses = frame_poses(model, q);
+    // The moving ancestors of the current body: (coordinate, J_v column, J_ω column).
+    let mut columns: Vec<(usize, Vec3<D>, Vec3<D>)> = Vec::new();
+    let zero = [D::from(0.0); 3];
+    for (i, frame) in model.frames.iter().enumerate() {
+        if frame.mass == 0.0 {
+            continue;
+        }
+        let c = com_position(frame, &poses[i]);
+        columns.clear();
+        let mut k = Some(i);
+        while let Some(a) = k {
+            let (ancestor, pose) = (&model.frames[a], &poses[a]);
+            let rate = |v: Vec3<D>| scale(ancestor.to_coordinate(D::from(1.0)), v);
+            match ancestor.motion {
+                Motion::Fixed => {}
+                Motion::Revolute => columns.push((
+                    ancestor.coordinate,
+                    rate(cross(pose.axis, sub(c, pose.origin))),
+                    rate(pose.axis),
+                )),
+                Motion::Prismatic => columns.push((ancestor.coordinate, rate(pose.axis), zero)),
+            }
+            k = ancestor.parent;
+        }
+        for (a, &(ca, va, wa)) in columns.iter().enumerate() {
+            let inertia_wa = world_inertia_times(frame, &poses[i], wa);
+            for (b, &(cb, vb, wb)) in columns[..=a].iter().enumerate() {
+                let term = dot(va, vb) * frame.mass + dot(wb, inertia_wa);
+                out[ca * n + cb] += term;
+                // Each unordered pair once: its mirror gets the same number.
+                if b != a {
+                    out[cb * n + ca] += term;
+                }
+            }
         }
     }
-    // Symmetrise the last-bit rounding differences between M_ij and M_ji.
-    (&m + m.transpose()) * 0.5
 }

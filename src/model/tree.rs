@@ -343,6 +343,34 @@ impl Model {
         &self.coordinate_limits
     }
 
+    /// Per coordinate, whether changing it translates a subtree rigidly along a fixed world
+    /// axis: a prismatic joint (the only frame of its coordinate, no mimic, no spring on it)
+    /// whose ancestors are all prismatic or fixed (a floating or planar base's x, y, z). The
+    /// Lagrangian depends on such a coordinate at most linearly: the translated bodies keep
+    /// their velocities (their ancestors do not turn) and the potential changes by their
+    /// weight times the shift. Read from the structure, never from values.
+    pub fn translation_coordinates(&self) -> Vec<bool> {
+        let n = self.nq();
+        let mut frames_of = vec![0usize; n];
+        for frame in self.frames.iter().filter(|f| f.motion != Motion::Fixed) {
+            frames_of[frame.coordinate] += 1;
+        }
+        let mut out = vec![false; n];
+        // Whether a frame and all its ancestors are prismatic or fixed.
+        let mut translating: Vec<bool> = Vec::with_capacity(self.frames.len());
+        for frame in &self.frames {
+            let above = frame.parent.is_none_or(|p| translating[p]);
+            translating.push(above && frame.motion != Motion::Revolute);
+            if above && frame.motion == Motion::Prismatic && frame.mimic.is_none() {
+                out[frame.coordinate] = frames_of[frame.coordinate] == 1;
+            }
+        }
+        for spring in &self.springs {
+            out[spring.coordinate] = false;
+        }
+        out
+    }
+
     /// Viscous damping per coordinate (URDF `<dynamics damping>`), 0 where none.
     pub fn damping(&self) -> &[f64] {
         &self.damping

@@ -25,7 +25,7 @@ use super::evaluate::gather;
 use super::pattern::PatternBuilder;
 use crate::autodiff::{ScalarFunction, SymmetricGroups, VectorFunction};
 use crate::dependency::{DependencyScalar, Trace};
-use crate::discrete::MechanicsDerivatives;
+use crate::discrete::{MechanicsDerivatives, midpoint_segment_groups};
 
 /// Slot marker of a local entry that is structurally zero (not in the pattern).
 pub(super) const NO_SLOT: usize = usize::MAX;
@@ -142,17 +142,35 @@ fn gradient_mask(f: &impl ScalarFunction, z: &[f64], live: &[bool]) -> BlockMask
 #[derive(Default)]
 struct GroupCache(HashMap<PatternKey, Option<Arc<SymmetricGroups>>>);
 
-/// A pattern and the columns grouped over.
-type PatternKey = (Vec<bool>, Vec<bool>);
+/// A pattern, the columns grouped over, and whether it is a midpoint segment's (whose qa
+/// columns may be left unseeded, [`midpoint_segment_groups`]).
+type PatternKey = (Vec<bool>, Vec<bool>, bool);
 
 impl GroupCache {
     /// Groups of the symmetric `nv × nv` pattern `mask` (either triangle) over the marked
     /// columns, when they compress.
     fn over(&mut self, mask: &[bool], nv: usize, columns: &[bool]) -> Option<Arc<SymmetricGroups>> {
         self.0
-            .entry((mask.to_vec(), columns.to_vec()))
+            .entry((mask.to_vec(), columns.to_vec(), false))
             .or_insert_with(|| {
                 let groups = SymmetricGroups::new(nv, mask, Some(columns));
+                groups.compresses().then(|| Arc::new(groups))
+            })
+            .clone()
+    }
+
+    /// Groups of a midpoint segment's Hessian pattern `mask` ((2n + 1) × (2n + 1)) over the
+    /// marked columns, with the mechanics' `translations` (length n), when they save passes.
+    fn segment(
+        &mut self,
+        mask: &[bool],
+        columns: &[bool],
+        translations: &[bool],
+    ) -> Option<Arc<SymmetricGroups>> {
+        self.0
+            .entry((mask.to_vec(), columns.to_vec(), true))
+            .or_insert_with(|| {
+                let groups = midpoint_segment_groups(mask, columns, translations);
                 groups.compresses().then(|| Arc::new(groups))
             })
             .clone()
@@ -287,14 +305,15 @@ impl<M: MechanicsDerivatives> Transcription<M> {
             b.second_derivative_groups = groups.restricted(hmask, nv, &b.hessian_inputs);
             b.free_second_derivative_groups = groups.restricted(hmask, nv, &b.hessian_free_inputs);
         }
+        let translations = self.mech.translation_coordinates();
         for (b, (jmask, _)) in self.gradient_blocks.iter_mut().zip(&structure.gradient) {
             if b.kind == ScalarKind::Segment {
                 // The segment's rows are the gradient of Ld: their Jacobian mask is the
                 // pattern of the Hessian of Ld.
                 let all = vec![true; b.vars.len()];
-                b.second_derivative_groups = groups.over(jmask, b.vars.len(), &all);
+                b.second_derivative_groups = groups.segment(jmask, &all, &translations);
                 b.free_second_derivative_groups =
-                    groups.over(jmask, b.vars.len(), &b.free_input_mask);
+                    groups.segment(jmask, &b.free_input_mask, &translations);
             }
         }
         self.jacobian = jac.finish();
