@@ -37,14 +37,15 @@ impl InputSource {
                 reference, gains, ..
             } => {
                 let mut u = held_input(reference, m, t);
-                let j = interval(&reference.times, t);
+                let at = locate(reference, t);
+                let (j, _) = at;
                 let (t0, t1) = (reference.times[j], reference.times[j + 1]);
                 for g in gains {
                     let (a, b) = (
                         reference.q[j][g.coordinate],
                         reference.q[j + 1][g.coordinate],
                     );
-                    let q_ref = reference_at(reference, g.coordinate, t);
+                    let q_ref = reference_at(reference, at, g.coordinate);
                     let v_ref = if t > *reference.times.last().unwrap_or(&t0) {
                         0.0
                     } else {
@@ -71,12 +72,13 @@ impl InputSource {
         else {
             return self.input(m, t, q, v).into();
         };
+        let (now, next) = (locate(reference, t), locate(reference, t + h));
         let feedback = gains
             .iter()
             .filter(|g| g.kp + g.kd / h > 0.0)
             .map(|g| {
-                let q_ref = reference_at(reference, g.coordinate, t + h);
-                let v_ref = (q_ref - reference_at(reference, g.coordinate, t)) / h;
+                let q_ref = reference_at(reference, next, g.coordinate);
+                let v_ref = (q_ref - reference_at(reference, now, g.coordinate)) / h;
                 // kp (q_ref − q') + kd (v_ref − (q' − q)/h) = s (target − q'), s = kp + kd/h.
                 let stiffness = g.kp + g.kd / h;
                 let target = (g.kp * q_ref + g.kd * (v_ref + q[g.coordinate] / h)) / stiffness;
@@ -95,11 +97,17 @@ impl InputSource {
     }
 }
 
-/// The recording's coordinate `coordinate` at t, linear between knots (held past the ends).
-fn reference_at(r: &RecordedTrajectory, coordinate: usize, t: f64) -> f64 {
+/// Where t falls in the recording: its interval j and the fraction s ∈ [0, 1] along it
+/// (held past the ends). Located once per step, read for every gain.
+fn locate(r: &RecordedTrajectory, t: f64) -> (usize, f64) {
     let j = interval(&r.times, t);
     let (t0, t1) = (r.times[j], r.times[j + 1]);
-    let s = ((t - t0) / (t1 - t0)).clamp(0.0, 1.0);
+    (j, ((t - t0) / (t1 - t0)).clamp(0.0, 1.0))
+}
+
+/// The recording's coordinate `coordinate` at the place [`locate`] found, linear between
+/// knots.
+fn reference_at(r: &RecordedTrajectory, (j, s): (usize, f64), coordinate: usize) -> f64 {
     let (a, b) = (r.q[j][coordinate], r.q[j + 1][coordinate]);
     a + s * (b - a)
 }

@@ -23,8 +23,8 @@ use crate::discrete::{
 };
 use crate::scalar::Scalar;
 use crate::transcription::{
-    Context, contact_work_gradient, contact_work_hessian, spin_friction_jacobian, tangential_rate,
-    tangential_rate_jacobian,
+    Context, contact_work_gradient, contact_work_hessian, distance_with_gradient,
+    spin_friction_jacobian, tangential_rate, tangential_rate_jacobian,
 };
 
 /// Settings of the per-step solver.
@@ -629,11 +629,7 @@ impl<M: MechanicsDerivatives> ContactStep<'_, M> {
         let a0_lu = a0.clone().lu();
         let mut scale = vec![1.0; nc];
         for (i, s) in scale.iter_mut().enumerate() {
-            let base = n + i * stride;
-            let z: Vec<f64> = [q_guess, &x[base..base + 1 + nd]].concat();
-            let grad = contact_work_hessian(self.mech, self.ctx, i, &z)
-                .view((0, n), (n, 1))
-                .into_owned();
+            let (_, grad) = distance_with_gradient(self.mech, self.ctx, i, q_guess);
             if let Some(y) = a0_lu.solve(&grad) {
                 let compliance = grad.dot(&y).abs();
                 if compliance.is_finite() && compliance > 0.0 {
@@ -647,11 +643,8 @@ impl<M: MechanicsDerivatives> ContactStep<'_, M> {
         // the step solved again.
         let mut active: Vec<bool> = (0..nc)
             .map(|i| {
-                let base = n + i * stride;
-                let z_guess: Vec<f64> = [q_guess, &x[base..base + 1 + nd]].concat();
-                let z_curr: Vec<f64> = [self.q_curr, &x[base..base + 1 + nd]].concat();
-                let phi_guess = contact_work_gradient(self.mech, self.ctx, i, &z_guess)[n];
-                let phi_curr = contact_work_gradient(self.mech, self.ctx, i, &z_curr)[n];
+                let (phi_guess, _) = distance_with_gradient(self.mech, self.ctx, i, q_guess);
+                let (phi_curr, _) = distance_with_gradient(self.mech, self.ctx, i, self.q_curr);
                 let margin = 2.0 * (phi_guess - phi_curr).abs() + options.gravity * self.h * self.h;
                 phi_guess <= margin || phi_curr <= margin
             })
@@ -850,12 +843,7 @@ impl<M: MechanicsDerivatives> ContactStep<'_, M> {
             let mut row = 0;
             let segment: Vec<f64> = [self.q_curr, &x[..n], &[self.h]].concat();
             for i in (0..nc).filter(|&i| active[i]) {
-                let base = n + i * stride;
-                let z: Vec<f64> = [&x[..n], &x[base..base + 1 + nd]].concat();
-                let grad_phi = contact_work_hessian(self.mech, self.ctx, i, &z)
-                    .view((0, n), (n, 1))
-                    .into_owned();
-                let phi = contact_work_gradient(self.mech, self.ctx, i, &z)[n];
+                let (phi, grad_phi) = distance_with_gradient(self.mech, self.ctx, i, &x[..n]);
                 let (k_phi, k_v) = (scale[i] / self.h, scale[i]);
                 // k_φ (φ + ∇φ·Δq).
                 q[row] = k_phi * (phi + grad_phi.dot(&a.rows(0, n)));

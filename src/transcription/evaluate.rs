@@ -640,12 +640,26 @@ fn geometry_need<'v>(
     rolls: impl Fn(usize) -> bool,
 ) -> Option<(usize, &'v [usize], usize)> {
     let hessian = callback == Callback::Hessian;
+    let (contact, q) = geometry_site(kind, vars, n)?;
     match *kind {
-        VectorKind::TangentialRate { contact } if !rolls(contact) => {
-            Some((contact, &vars[n..2 * n], if hessian { 3 } else { 2 }))
-        }
+        VectorKind::TangentialRate { .. } if rolls(contact) => None,
+        VectorKind::TangentialRate { .. } => Some((contact, q, if hessian { 3 } else { 2 })),
+        _ => Some((contact, q, if hessian { 2 } else { 1 })),
+    }
+}
+
+/// The contact and the configuration variables (qb for the tangential rate, q for the
+/// distance and the gap) at which a vector block of `kind` over `vars` reads a contact's
+/// geometry; `None` for other blocks.
+fn geometry_site<'v>(
+    kind: &VectorKind,
+    vars: &'v [usize],
+    n: usize,
+) -> Option<(usize, &'v [usize])> {
+    match *kind {
+        VectorKind::TangentialRate { contact } => Some((contact, &vars[n..2 * n])),
         VectorKind::Distance { contact } | VectorKind::ContactGap { contact } => {
-            Some((contact, &vars[..n], if hessian { 2 } else { 1 }))
+            Some((contact, &vars[..n]))
         }
         _ => None,
     }
@@ -711,13 +725,7 @@ impl<'a> SharedGeometries<'a> {
         n: usize,
         build: &(dyn Fn(GeometryKey<'a>) -> ContactGeometry<'a> + Sync),
     ) -> Option<&ContactGeometry<'a>> {
-        let (contact, q) = match *kind {
-            VectorKind::TangentialRate { contact } => (contact, &vars[n..2 * n]),
-            VectorKind::Distance { contact } | VectorKind::ContactGap { contact } => {
-                (contact, &vars[..n])
-            }
-            _ => return None,
-        };
+        let (contact, q) = geometry_site(kind, vars, n)?;
         self.lookup(contact, q, build)
     }
 

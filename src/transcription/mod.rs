@@ -32,8 +32,8 @@ pub use crate::discrete::{
 pub use blocks::{Context, ScalarKind, VectorKind};
 /// The NLP's contact rows, which the forward simulator solves too (one definition).
 pub(crate) use blocks::{
-    contact_work_gradient, contact_work_hessian, spin_friction_jacobian, tangential_rate,
-    tangential_rate_jacobian,
+    contact_work_gradient, contact_work_hessian, distance_with_gradient, spin_friction_jacobian,
+    tangential_rate, tangential_rate_jacobian,
 };
 pub use derivative_check::{DerivativeCheck, DerivativeKind, EntryCheck};
 pub use error::TranscriptionError;

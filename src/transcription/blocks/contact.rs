@@ -1,7 +1,7 @@
 //! Contact blocks: impulses in the DEL rows, tangential velocity, non-penetration, friction
 //! cone and the relaxed complementarity products (SPEC.md, "Common formulation").
 
-use nalgebra::DMatrix;
+use nalgebra::{DMatrix, DVector};
 
 use super::contact_geometry::ContactGeometry;
 use super::{Context, VectorBlockFn, VectorKind, tangential_rates};
@@ -405,6 +405,20 @@ pub fn distance_jacobian<M: MechanicsDerivatives>(
 ) -> DMatrix<f64> {
     let geometry = ContactGeometry::new(mech, ctx, contact, &z[..ctx.n], 1);
     distance_jacobian_in(&geometry, ctx, z, gap)
+}
+
+/// φ_i(q) and its gradient ∇φ_i (n × 1) from one point jet: the c entry of
+/// [`contact_work_gradient`] and the q–c column of [`contact_work_hessian`], to the bit,
+/// without the rest of either (the simulator's contact scaling, active set and pivoting step).
+pub fn distance_with_gradient<M: MechanicsDerivatives>(
+    mech: &M,
+    ctx: &Context,
+    contact: usize,
+    q: &[f64],
+) -> (f64, DVector<f64>) {
+    let geometry = ContactGeometry::new(mech, ctx, contact, &q[..ctx.n], 1);
+    let gradient = geometry.jacobian().row(0).transpose();
+    (geometry.value()[0], gradient)
 }
 
 /// [`distance_jacobian`] from the contact's geometry at q (order ≥ 1).

@@ -14,9 +14,9 @@ mod loops;
 pub(crate) use contact::{
     complementarity_hessian, complementarity_jacobian, contact_work_gradient, contact_work_hessian,
     contact_work_hessian_in, contact_work_third, contact_work_third_in, distance_hessian,
-    distance_hessian_in, distance_jacobian, distance_jacobian_in, spin_friction_jacobian,
-    tangential_rate, tangential_rate_hessian, tangential_rate_hessian_in, tangential_rate_jacobian,
-    tangential_rate_jacobian_in,
+    distance_hessian_in, distance_jacobian, distance_jacobian_in, distance_with_gradient,
+    spin_friction_jacobian, tangential_rate, tangential_rate_hessian, tangential_rate_hessian_in,
+    tangential_rate_jacobian, tangential_rate_jacobian_in,
 };
 pub(crate) use contact_geometry::ContactGeometry;
 pub(crate) use loops::{

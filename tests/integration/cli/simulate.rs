@@ -92,6 +92,11 @@ fn simulate_rejects_bad_input_before_simulating() {
     }
 }
 
+/// A two-knot hopper plan (the leg swings 0.1 rad and shortens 5 cm in 50 ms) for the
+/// tracking tests.
+const HOPPER_SWING_PLAN: &str =
+    "time [s],x [m],z [m],theta [rad],r [m]\n0,0,0.5,0,0.5\n0.05,0,0.5,0.1,0.45\n";
+
 /// `[tracking] gains` in the problem file: the same simulation as the same gains given with
 /// `--gains` (byte-identical trajectory); `--gains` overrides the file per input; an unknown
 /// input name or a negative gain in the file, or `--track` without any gains, is one error
@@ -105,10 +110,7 @@ fn simulate_tracks_with_the_files_gains() {
         "gains.toml",
         &format!("{hopper}\n[tracking]\ngains = {{ all = [1000, 50], theta = [50, 5] }}\n"),
     );
-    t.write(
-        "plan.csv",
-        "time [s],x [m],z [m],theta [rad],r [m]\n0,0,0.5,0,0.5\n0.05,0,0.5,0.1,0.45\n",
-    );
+    t.write("plan.csv", HOPPER_SWING_PLAN);
     let run = |file: &str, extra: &[&str], out: &str| {
         t.vito()
             .args(["simulate", file, "--quiet", "--track", "plan.csv"])
@@ -181,10 +183,7 @@ fn simulate_feedback_law_from_the_file_or_the_command_line() {
         "implicit.toml",
         &format!("{hopper}\n{gains}feedback = \"implicit\"\n"),
     );
-    t.write(
-        "plan.csv",
-        "time [s],x [m],z [m],theta [rad],r [m]\n0,0,0.5,0,0.5\n0.05,0,0.5,0.1,0.45\n",
-    );
+    t.write("plan.csv", HOPPER_SWING_PLAN);
     let run = |file: &str, extra: &[&str], out: &str| {
         t.vito()
             .args(["simulate", file, "--quiet", "--track", "plan.csv"])
