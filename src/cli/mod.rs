@@ -348,6 +348,29 @@ pub enum StudyKind {
         #[arg(long, short)]
         quiet: bool,
     },
+    /// Figure 6 over a set of gaits ("a set of walking trajectories"): reads the output
+    /// directories of several `vito study tracking` runs (one gait each, run in parallel or
+    /// as array tasks) into one table per measure, mean ± std over the gaits at each K and
+    /// method (tracking.csv, tracking_configuration.csv, tracking_joints.csv, their runs and
+    /// SVGs), every plan in tracking_plans.csv with its gait, and the falls: plans whose
+    /// simulated robot left its plan by more than --max-deviation (tracking_falls.csv), and
+    /// the state error over the others (tracking_upright.csv and .svg).
+    #[command(
+        after_help = "Example:\n  vito study tracking --problem problems/littledog_walk.toml --set final.q.base_x=0.15 --out out/walk/x0.15 &\n  vito study tracking --problem problems/littledog_walk.toml --set final.q.base_x=0.25 --out out/walk/x0.25 &\n  wait; vito study tracking-collect out/walk/x0.15 out/walk/x0.25 --out out/walk/all"
+    )]
+    TrackingCollect {
+        /// The gaits' study directories (each written by `vito study tracking`; its name is
+        /// the gait's).
+        #[arg(required = true)]
+        dirs: Vec<PathBuf>,
+        /// A plan whose simulation leaves it by more than this in any coordinate (problem
+        /// units: m, rad) counts as fallen.
+        #[arg(long, default_value_t = 0.5)]
+        max_deviation: f64,
+        /// Output directory.
+        #[arg(long, default_value = "out/tracking_set")]
+        out: PathBuf,
+    },
 }
 
 /// `vito sweep FILE --grid ...`.
@@ -587,6 +610,14 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
             };
             tracking(&problem, &set, &study, &out, quiet)
         }
+        Command::Study {
+            study:
+                StudyKind::TrackingCollect {
+                    dirs,
+                    max_deviation,
+                    out,
+                },
+        } => tracking_collect(&dirs, max_deviation, &out),
         Command::Init { urdf, base, out } => init(&urdf, base.into(), out.as_deref()),
         Command::Inspect { urdf, base, json } => inspect(&urdf, base.into(), json),
         Command::Bench {

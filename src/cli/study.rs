@@ -153,3 +153,87 @@ pub(super) fn tracking(
     out!("written to {}", written.display());
     Ok(0)
 }
+
+pub(super) fn tracking_collect(
+    dirs: &[PathBuf],
+    max_deviation: f64,
+    out: &Path,
+) -> Result<u8, CliError> {
+    if !(max_deviation.is_finite() && max_deviation > 0.0) {
+        return Err(vito::study::StudyError::Invalid {
+            field: "--max-deviation".into(),
+            message: format!("{max_deviation} is not a positive number; give e.g. 0.5"),
+        }
+        .into());
+    }
+    // Each gait's directory must survive the output's replacement.
+    let inputs: Vec<PathBuf> = dirs.iter().map(|d| d.join("tracking_runs.csv")).collect();
+    let protected: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
+    let target = report::OutputTarget::check(out, &protected).map_err(report::ReportError::from)?;
+    let set = vito::study::collect::collect_tracking(dirs)?;
+    let staged = target.stage().map_err(report::ReportError::from)?;
+    let write = |name: &str, text: &str| {
+        let path = staged.path().join(name);
+        report::write_file_atomic(&path, text.as_bytes())
+            .map_err(|e| CliError::Internal(format!("{}: {e}", path.display())))
+    };
+    write("tracking_plans.csv", &set.plans_csv())?;
+    let gaits = dirs.len();
+    for (stem, table) in &set.tables {
+        let what = match *stem {
+            "tracking" => "RMS state error",
+            "tracking_configuration" => "RMS configuration error",
+            _ => "RMS state error of the PD-driven coordinates",
+        };
+        table.write(
+            staged.path(),
+            stem,
+            &format!("{what} of PD tracking at 2 kHz, mean ± std over {gaits} gaits"),
+            "RMS error (problem units)",
+        )?;
+    }
+    let upright = set.upright(max_deviation);
+    upright.write(
+        staged.path(),
+        "tracking_upright",
+        &format!("RMS state error of the plans tracked within {max_deviation} of their plan"),
+        "RMS state error (q and v, problem units)",
+    )?;
+    let falls = set.falls(max_deviation);
+    let mut falls_csv = String::from("knots,method,tracked,fell,unrecorded\n");
+    for f in &falls {
+        falls_csv += &format!(
+            "{},{},{},{},{}\n",
+            f.knots,
+            f.method.name(),
+            f.tracked,
+            f.fell,
+            f.unknown
+        );
+    }
+    write("tracking_falls.csv", &falls_csv)?;
+    let written = staged.commit().map_err(report::ReportError::from)?;
+    if let Some(table) = set.table("tracking") {
+        out!("state error over {gaits} gaits:");
+        print_study(table)?;
+    }
+    out!("plans that left their plan by more than {max_deviation} (fell) of those tracked:");
+    for f in &falls {
+        let unrecorded = if f.unknown > 0 {
+            format!(" ({} without a recorded deviation)", f.unknown)
+        } else {
+            String::new()
+        };
+        out!(
+            "{:>5}  {:<12} {} of {}{unrecorded}",
+            f.knots,
+            f.method.name(),
+            f.fell,
+            f.tracked
+        );
+    }
+    out!("state error of the plans that did not fall:");
+    print_study(&upright)?;
+    out!("written to {}", written.display());
+    Ok(0)
+}

@@ -4,9 +4,11 @@
 //! Where things are: `brick` (figure 5: open-loop tumbling brick against a 2 kHz first-order
 //! reference), `table` (the per-knot-count table, its CSV and its SVG, and the log-log slope
 //! fit), `tracking` (figure 6: plans of both methods tracked by PD control in a 2 kHz
-//! first-order simulation).
+//! first-order simulation), `collect` (figure 6 over a set of gaits: several tracking
+//! studies' directories read back into one table).
 
 pub mod brick;
+pub mod collect;
 pub mod table;
 pub mod tracking;
 

@@ -20,6 +20,10 @@ use crate::sim::{InputSource, Simulation, SimulationOptions, StepOptions, simula
 use crate::trajectory_csv::RecordedTrajectory;
 use crate::transcription::{Context, SolveOptions};
 
+/// The header of `tracking_plans.csv`.
+pub const PLANS_CSV_HEADER: &str =
+    "knots,method,objective,max_slack,iterations,start,max_deviation,outcome";
+
 /// One solved plan of the study.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PlanRecord {
@@ -39,6 +43,11 @@ pub struct PlanRecord {
     pub start: String,
     /// The plan as `vito solve` writes `trajectory.csv`.
     pub trajectory_csv: String,
+    /// The largest deviation of any coordinate from the plan over the tracking simulation,
+    /// max over steps and coordinates of |q_i − q_ref,i(t)| (problem units; None when not
+    /// tracked): a body that tips over shows here as a deviation of its base's attitude
+    /// beyond a few tenths of a radian.
+    pub max_deviation: Option<f64>,
     /// `tracked`, or why the plan has no error row (Ipopt's status when it was not solved,
     /// the simulation's failure); the study goes on without it.
     pub outcome: String,
@@ -62,18 +71,23 @@ pub struct TrackingResult {
 }
 
 impl TrackingResult {
-    /// The plans as CSV: `knots,method,objective,max_slack,iterations,start,outcome`.
+    /// The plans as CSV:
+    /// `knots,method,objective,max_slack,iterations,start,max_deviation,outcome`
+    /// (`max_deviation` empty for a plan not tracked).
     pub fn plans_csv(&self) -> String {
-        let mut s = String::from("knots,method,objective,max_slack,iterations,start,outcome\n");
+        let mut s = String::from(PLANS_CSV_HEADER);
+        s.push('\n');
         for p in &self.plans {
             s += &format!(
-                "{},{},{:.10e},{:.3e},{},{},\"{}\"\n",
+                "{},{},{:.10e},{:.3e},{},{},{},\"{}\"\n",
                 p.knots,
                 p.method.name(),
                 p.objective,
                 p.max_slack,
                 p.iterations,
                 p.start,
+                p.max_deviation
+                    .map_or(String::new(), |d| format!("{d:.4e}")),
                 p.outcome.replace('"', "'")
             );
         }
@@ -203,6 +217,7 @@ impl Tracking {
                     iterations: plan.iterations,
                     start: start_name,
                     trajectory_csv: crate::report::trajectory_csv(&plan, &units),
+                    max_deviation: None,
                     outcome: if solved {
                         "tracked".to_owned()
                     } else {
@@ -278,6 +293,9 @@ impl Tracking {
                         continue;
                     }
                 };
+                if let Some(p) = plans.last_mut() {
+                    p.max_deviation = Some(max_deviation(&sim, &reference));
+                }
                 rows.push(StudyRow {
                     knots,
                     method,
@@ -326,28 +344,43 @@ pub fn rms_error_of(
     with_velocity: bool,
     coordinates: &[usize],
 ) -> f64 {
+    let mut sum = 0.0;
+    for_each_error(sim, plan, coordinates, |dq, dv| {
+        let dv = if with_velocity { dv } else { 0.0 };
+        sum += dq * dq + dv * dv;
+    });
+    (sum / sim.q.len() as f64).sqrt()
+}
+
+/// max over the simulation's knots and coordinates of |q_i − q_ref,i(t)|.
+pub fn max_deviation(sim: &Simulation, plan: &RecordedTrajectory) -> f64 {
+    let all: Vec<usize> = (0..plan.q.first().map_or(0, Vec::len)).collect();
+    let mut max = 0.0_f64;
+    for_each_error(sim, plan, &all, |dq, _| max = max.max(dq.abs()));
+    max
+}
+
+/// Calls `f(q_i − q_ref,i(t), v_i − v_ref,i(t))` for every knot of the simulation and every
+/// coordinate i of `coordinates`: q_ref linear between the plan's knots, v_ref its slope (0
+/// after the plan's end).
+fn for_each_error(
+    sim: &Simulation,
+    plan: &RecordedTrajectory,
+    coordinates: &[usize],
+    mut f: impl FnMut(f64, f64),
+) {
     let times = &plan.times;
     let last = times.len() - 1;
-    let sum: f64 = sim
-        .times
-        .iter()
-        .zip(sim.q.iter().zip(&sim.v))
-        .map(|(&t, (q, v))| {
-            let j = times.partition_point(|&s| s <= t).clamp(1, last);
-            let (t0, t1) = (times[j - 1], times[j]);
-            let s = ((t - t0) / (t1 - t0)).clamp(0.0, 1.0);
-            let after = t > times[last];
-            coordinates
-                .iter()
-                .map(|&i| {
-                    let (a, b) = (plan.q[j - 1][i], plan.q[j][i]);
-                    let q_ref = a + s * (b - a);
-                    let v_ref = if after { 0.0 } else { (b - a) / (t1 - t0) };
-                    let velocity = if with_velocity { v[i] - v_ref } else { 0.0 };
-                    (q[i] - q_ref).powi(2) + velocity.powi(2)
-                })
-                .sum::<f64>()
-        })
-        .sum();
-    (sum / sim.q.len() as f64).sqrt()
+    for (&t, (q, v)) in sim.times.iter().zip(sim.q.iter().zip(&sim.v)) {
+        let j = times.partition_point(|&s| s <= t).clamp(1, last);
+        let (t0, t1) = (times[j - 1], times[j]);
+        let s = ((t - t0) / (t1 - t0)).clamp(0.0, 1.0);
+        let after = t > times[last];
+        for &i in coordinates {
+            let (a, b) = (plan.q[j - 1][i], plan.q[j][i]);
+            let q_ref = a + s * (b - a);
+            let v_ref = if after { 0.0 } else { (b - a) / (t1 - t0) };
+            f(q[i] - q_ref, v[i] - v_ref);
+        }
+    }
 }

@@ -109,7 +109,17 @@ fn tracking_study_pd_feedback_lowers_every_plans_error() {
     let open_loop = run(&["all=0,0"]);
     print(&tracked.table);
     print(&open_loop.table);
-    assert_eq!(tracked.plans, open_loop.plans, "same plans");
+    // The same plans (their tracking, and so their deviations, differ).
+    let plan =
+        |p: &vito::study::tracking::PlanRecord| (p.knots, p.method, p.trajectory_csv.clone());
+    assert!(
+        tracked
+            .plans
+            .iter()
+            .map(plan)
+            .eq(open_loop.plans.iter().map(plan)),
+        "same plans"
+    );
     assert_variational_below(&tracked.table, &[10, 20]);
     for k in [10, 20] {
         for m in Method::BOTH {
@@ -141,49 +151,7 @@ fn tracking_study_variational_error_is_below_and_falls_faster_on_a_smooth_swing(
         .prefix("vito-tracking-swing-")
         .tempdir()
         .expect("temp dir");
-    std::fs::write(
-        dir.path().join("pendulum.urdf"),
-        vito::model::sample::double_pendulum(),
-    )
-    .unwrap();
-    let file = dir.path().join("swing.toml");
-    std::fs::write(
-        &file,
-        r#"name = "pendulum-swing"
-[robot]
-urdf = "pendulum.urdf"
-base = "fixed"
-gravity = [0.0, 0.0, -9.81]
-[contacts]
-from_urdf = "none"
-[horizon]
-knots = 11
-time_step = 0.1
-[initial]
-q = { shoulder = 0.0, elbow = 0.0 }
-v = "zero"
-[final]
-q = { shoulder = 1.5, elbow = -1.0 }
-tolerance = 0.0
-[[cost]]
-type = "input"
-weights = { default = 1.0 }
-time_weighted = true
-[slack]
-weight = 100.0
-mode = "per_interval"
-[initial_guess]
-to = "final"
-[solver]
-integrator = "midpoint"
-hessian = "exact"
-[solver.ipopt]
-tol = 1e-8
-linear_solver = "mumps"
-max_iter = 3000
-"#,
-    )
-    .unwrap();
+    let file = crate::common::swing::write_pendulum_swing(dir.path());
     let knots = vec![5, 10, 20];
     let result = Tracking {
         knots: knots.clone(),
@@ -202,6 +170,20 @@ max_iter = 3000
         1
     );
     assert_variational_below(&result.table, &knots);
+    // Each plan records its largest deviation from the plan: at least the RMS configuration
+    // error over its two coordinates would allow, and no fall (well below 0.5 rad).
+    for p in &result.plans {
+        let rms = result.configuration.row(p.knots, p.method).unwrap().mean();
+        let max = p
+            .max_deviation
+            .expect("tracked plans record their deviation");
+        assert!(
+            max.is_finite() && max >= rms / 2f64.sqrt() && max < 0.5,
+            "K = {} {}: max deviation {max}, RMS configuration error {rms}",
+            p.knots,
+            p.method.name()
+        );
+    }
     let first = log_log_slope(&result.table.means(Method::FirstOrder)).unwrap();
     let variational = log_log_slope(&result.table.means(Method::Variational)).unwrap();
     assert!(

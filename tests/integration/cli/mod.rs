@@ -13,5 +13,6 @@ mod regression;
 mod simulate;
 mod solve;
 mod sphere_contacts;
+mod study;
 pub mod sweep;
 mod sweep_slurm;

@@ -4,3 +4,4 @@
 
 pub mod analytic;
 pub mod reference;
+pub mod swing;
