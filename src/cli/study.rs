@@ -200,18 +200,7 @@ pub(super) fn tracking_collect(
         "RMS state error (q and v, problem units)",
     )?;
     let falls = set.falls(max_deviation);
-    let mut falls_csv = String::from("knots,method,tracked,fell,unrecorded\n");
-    for f in &falls {
-        falls_csv += &format!(
-            "{},{},{},{},{}\n",
-            f.knots,
-            f.method.name(),
-            f.tracked,
-            f.fell,
-            f.unknown
-        );
-    }
-    write("tracking_falls.csv", &falls_csv)?;
+    write("tracking_falls.csv", &set.falls_csv(max_deviation))?;
     let written = staged.commit().map_err(report::ReportError::from)?;
     if let Some(table) = set.table("tracking") {
         out!("state error over {gaits} gaits:");

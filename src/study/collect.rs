@@ -13,7 +13,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::tracking::PLANS_CSV_HEADER;
+use super::tracking::{PLANS_CSV_HEADER, PlanRecord};
 use super::{Method, StudyError, StudyRow, StudyTable};
 
 /// The three tables a tracking study writes, by file stem.
@@ -27,25 +27,11 @@ const MAX_STUDY_FILE: u64 = 64 << 20;
 pub struct CollectedPlan {
     /// The gait: the name of its study's directory.
     pub gait: String,
-    /// Knot count.
-    pub knots: usize,
-    /// Method.
-    pub method: Method,
-    /// Objective.
-    pub objective: f64,
-    /// Largest slack.
-    pub max_slack: f64,
-    /// Ipopt iterations.
-    pub iterations: usize,
-    /// Where its solve started.
-    pub start: String,
-    /// The largest deviation from the plan in its tracking simulation (None: not tracked, or
-    /// a study written before the column existed).
-    pub max_deviation: Option<f64>,
+    /// The study's record (without the trajectory, which stays in the gait's `plans/`;
+    /// `max_deviation` None also for a study written before the column existed).
+    pub plan: PlanRecord,
     /// Its RMS state error (None: not tracked).
     pub rms: Option<f64>,
-    /// `tracked` or why not.
-    pub outcome: String,
 }
 
 /// The tables of a set of gaits.
@@ -69,7 +55,7 @@ impl CollectedTracking {
     pub fn upright(&self, max_deviation: f64) -> StudyTable {
         let mut rows: Vec<StudyRow> = Vec::new();
         for p in &self.plans {
-            let (Some(rms), Some(d)) = (p.rms, p.max_deviation) else {
+            let (Some(rms), Some(d)) = (p.rms, p.plan.max_deviation) else {
                 continue;
             };
             if d > max_deviation {
@@ -77,12 +63,12 @@ impl CollectedTracking {
             }
             match rows
                 .iter_mut()
-                .find(|r| r.knots == p.knots && r.method == p.method)
+                .find(|r| r.knots == p.plan.knots && r.method == p.plan.method)
             {
                 Some(row) => row.runs.push(rms),
                 None => rows.push(StudyRow {
-                    knots: p.knots,
-                    method: p.method,
+                    knots: p.plan.knots,
+                    method: p.plan.method,
                     runs: vec![rms],
                 }),
             }
@@ -95,7 +81,12 @@ impl CollectedTracking {
     /// `max_deviation`, and those without a recorded deviation.
     pub fn falls(&self, max_deviation: f64) -> Vec<FallCount> {
         let mut counts: Vec<FallCount> = Vec::new();
-        for p in self.plans.iter().filter(|p| p.rms.is_some()) {
+        for p in self
+            .plans
+            .iter()
+            .filter(|p| p.rms.is_some())
+            .map(|p| &p.plan)
+        {
             let fell = p
                 .max_deviation
                 .is_some_and(|d| d > max_deviation || d.is_nan());
@@ -122,23 +113,28 @@ impl CollectedTracking {
         counts
     }
 
-    /// The set's plans as CSV: a `gait` column, then a tracking study's plan columns.
+    /// The set's plans as CSV: a `gait` column, a tracking study's plan columns, and each
+    /// plan's RMS state error.
     pub fn plans_csv(&self) -> String {
         let mut s = format!("gait,{PLANS_CSV_HEADER},rms\n");
         for p in &self.plans {
-            let opt = |x: Option<f64>| x.map_or(String::new(), |x| format!("{x:.4e}"));
+            let rms = p.rms.map_or(String::new(), |x| format!("{x:.4e}"));
+            s += &format!("{},{},{rms}\n", p.gait, p.plan.csv_cells());
+        }
+        s
+    }
+
+    /// [`CollectedTracking::falls`] as CSV: `knots,method,tracked,fell,unrecorded`.
+    pub fn falls_csv(&self, max_deviation: f64) -> String {
+        let mut s = String::from("knots,method,tracked,fell,unrecorded\n");
+        for f in self.falls(max_deviation) {
             s += &format!(
-                "{},{},{},{:.10e},{:.3e},{},{},{},\"{}\",{}\n",
-                p.gait,
-                p.knots,
-                p.method.name(),
-                p.objective,
-                p.max_slack,
-                p.iterations,
-                p.start,
-                opt(p.max_deviation),
-                p.outcome.replace('"', "'"),
-                opt(p.rms)
+                "{},{},{},{},{}\n",
+                f.knots,
+                f.method.name(),
+                f.tracked,
+                f.fell,
+                f.unknown
             );
         }
         s
@@ -205,12 +201,16 @@ pub fn collect_tracking(dirs: &[PathBuf]) -> Result<CollectedTracking, StudyErro
             }
         }
         let state = read_runs(&dir.join("tracking_runs.csv"))?;
-        for mut plan in read_plans(&dir.join("tracking_plans.csv"), &gait)? {
-            plan.rms = state
+        for plan in read_plans(&dir.join("tracking_plans.csv"))? {
+            let rms = state
                 .iter()
                 .find(|(k, m, _)| *k == plan.knots && *m == plan.method)
                 .map(|r| r.2);
-            plans.push(plan);
+            plans.push(CollectedPlan {
+                gait: gait.clone(),
+                plan,
+                rms,
+            });
         }
     }
     for (_, table) in &mut tables {
@@ -297,7 +297,7 @@ fn read_runs(path: &Path) -> Result<Vec<(usize, Method, f64)>, StudyError> {
 
 /// A study's `tracking_plans.csv` (with or without the `max_deviation` column, which studies
 /// before it lack).
-fn read_plans(path: &Path, gait: &str) -> Result<Vec<CollectedPlan>, StudyError> {
+fn read_plans(path: &Path) -> Result<Vec<PlanRecord>, StudyError> {
     let text = read(path)?;
     let mut lines = text.lines();
     let header = lines.next().unwrap_or_default();
@@ -324,8 +324,7 @@ fn read_plans(path: &Path, gait: &str) -> Result<Vec<CollectedPlan>, StudyError>
         } else {
             None
         };
-        plans.push(CollectedPlan {
-            gait: gait.to_owned(),
+        plans.push(PlanRecord {
             knots: cells[0].parse().map_err(|_| bad())?,
             method: method_named(cells[1]).ok_or_else(bad)?,
             objective: number(2)?,
@@ -333,8 +332,8 @@ fn read_plans(path: &Path, gait: &str) -> Result<Vec<CollectedPlan>, StudyError>
             iterations: cells[4].parse().map_err(|_| bad())?,
             start: cells[5].to_owned(),
             max_deviation,
-            rms: None,
             outcome: cells[columns.len() - 1].trim_matches('"').to_owned(),
+            trajectory_csv: String::new(),
         });
     }
     Ok(plans)
@@ -377,9 +376,9 @@ mod tests {
         );
         let set = collect_tracking(&[old, new]).unwrap();
         assert_eq!(set.plans.len(), 4);
-        assert_eq!(set.plans[1].outcome, "not solved: a, b");
+        assert_eq!(set.plans[1].plan.outcome, "not solved: a, b");
         assert_eq!(set.plans[1].rms, None);
-        assert_eq!(set.plans[3].max_deviation, Some(0.9));
+        assert_eq!(set.plans[3].plan.max_deviation, Some(0.9));
         let state = set.table("tracking").unwrap();
         assert_eq!(state.row(10, Method::FirstOrder).unwrap().runs, [1.0, 3.0]);
         assert_eq!(state.row(10, Method::Variational).unwrap().runs, [5.0]);

@@ -24,7 +24,7 @@ use crate::transcription::{Context, SolveOptions};
 pub const PLANS_CSV_HEADER: &str =
     "knots,method,objective,max_slack,iterations,start,max_deviation,outcome";
 
-/// One solved plan of the study.
+/// One plan of the study.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PlanRecord {
     /// Knot count.
@@ -41,7 +41,8 @@ pub struct PlanRecord {
     /// Where the solve started: `guess` (the file's) or the plan it was warm started from,
     /// e.g. `variational K=10`.
     pub start: String,
-    /// The plan as `vito solve` writes `trajectory.csv`.
+    /// The plan as `vito solve` writes `trajectory.csv` (empty in a record read back from
+    /// `tracking_plans.csv`: the trajectory is in the study's `plans/`).
     pub trajectory_csv: String,
     /// The largest deviation of any coordinate from the plan over the tracking simulation,
     /// max over steps and coordinates of |q_i − q_ref,i(t)| (problem units; None when not
@@ -51,6 +52,25 @@ pub struct PlanRecord {
     /// `tracked`, or why the plan has no error row (Ipopt's status when it was not solved,
     /// the simulation's failure); the study goes on without it.
     pub outcome: String,
+}
+
+impl PlanRecord {
+    /// Its line of `tracking_plans.csv` (the columns of [`PLANS_CSV_HEADER`]; the outcome
+    /// quoted, `max_deviation` empty when not tracked).
+    pub fn csv_cells(&self) -> String {
+        format!(
+            "{},{},{:.10e},{:.3e},{},{},{},\"{}\"",
+            self.knots,
+            self.method.name(),
+            self.objective,
+            self.max_slack,
+            self.iterations,
+            self.start,
+            self.max_deviation
+                .map_or(String::new(), |d| format!("{d:.4e}")),
+            self.outcome.replace('"', "'")
+        )
+    }
 }
 
 /// The study's result: the table and each plan's record.
@@ -71,25 +91,13 @@ pub struct TrackingResult {
 }
 
 impl TrackingResult {
-    /// The plans as CSV:
-    /// `knots,method,objective,max_slack,iterations,start,max_deviation,outcome`
-    /// (`max_deviation` empty for a plan not tracked).
+    /// The plans as CSV: [`PLANS_CSV_HEADER`], a line per plan.
     pub fn plans_csv(&self) -> String {
         let mut s = String::from(PLANS_CSV_HEADER);
         s.push('\n');
         for p in &self.plans {
-            s += &format!(
-                "{},{},{:.10e},{:.3e},{},{},{},\"{}\"\n",
-                p.knots,
-                p.method.name(),
-                p.objective,
-                p.max_slack,
-                p.iterations,
-                p.start,
-                p.max_deviation
-                    .map_or(String::new(), |d| format!("{d:.4e}")),
-                p.outcome.replace('"', "'")
-            );
+            s += &p.csv_cells();
+            s.push('\n');
         }
         s
     }
