@@ -45,6 +45,24 @@ pub enum SimulationError {
         /// Inputs given.
         found: usize,
     },
+    /// The state left every plausible motion behind ([`StepOptions::max_speed`]).
+    #[error(
+        "step {step} (t = {time}): the simulation diverged: `{coordinate}` moves at {speed:e} \
+         per time unit (bound {bound:e}); lower the PD gains, raise the rate, or use \
+         `--feedback implicit`"
+    )]
+    Diverged {
+        /// Step index.
+        step: usize,
+        /// Time at the start of the step.
+        time: f64,
+        /// The fastest coordinate.
+        coordinate: String,
+        /// Its speed (NaN when not finite).
+        speed: f64,
+        /// The bound.
+        bound: f64,
+    },
     /// The input policy's end-state feedback names an input or coordinate the robot lacks.
     #[error("step {step}: feedback on an input or coordinate the robot does not have")]
     FeedbackIndex {
@@ -172,11 +190,30 @@ pub fn simulate<M: MechanicsDerivatives, U: Into<StepInput>>(
                     time: t,
                     source,
                 })?;
-        let v_next = q_curr
+        let v_next: Vec<f64> = q_curr
             .iter()
             .zip(&outcome.q_next)
             .map(|(a, b)| (b - a) / h)
             .collect();
+        let bound = options.step.max_speed;
+        if let Some((i, speed)) = v_next
+            .iter()
+            .map(|v| v.abs())
+            .enumerate()
+            .find(|(_, v)| !(*v <= bound))
+        {
+            return Err(SimulationError::Diverged {
+                step: k,
+                time: t,
+                coordinate: mech
+                    .coordinate_names()
+                    .get(i)
+                    .cloned()
+                    .unwrap_or_else(|| format!("coordinate {i}")),
+                speed,
+                bound,
+            });
+        }
         sim.times.push((k + 1) as f64 * h);
         sim.q.push(outcome.q_next);
         sim.v.push(v_next);

@@ -41,6 +41,11 @@ pub struct StepOptions {
     /// Gravity magnitude (the problem's length and time units), for the momentum scale of a
     /// body at rest.
     pub gravity: f64,
+    /// A step ending with a coordinate faster than this (problem units per time unit) stops
+    /// the run as diverged. No robot moves at a million m/s or rad/s, while an unstable law
+    /// (explicit PD at stiff gains) gets there within a few dozen steps; the step solver's
+    /// tolerance grows with the momentum and cannot tell.
+    pub max_speed: f64,
 }
 
 impl Default for StepOptions {
@@ -50,6 +55,7 @@ impl Default for StepOptions {
             max_iterations: 60,
             acceptable_tolerance: 1e-5,
             gravity: 9.81,
+            max_speed: 1e6,
         }
     }
 }

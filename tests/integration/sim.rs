@@ -460,10 +460,17 @@ fn implicit_pd_is_stable_with(integrator: Integrator) {
         if explicit.is_ok() { "ran" } else { "failed" },
         0.5 - droop
     );
-    assert!(
-        explicit_peak > 1e3,
-        "explicit PD stayed bounded: {explicit_peak}"
-    );
+    // The explicit law diverges, and the run stops there instead of writing a blown-up
+    // state as a result (the step solver's tolerance grows with the momentum).
+    match &explicit {
+        Err(vito::sim::SimulationError::Diverged {
+            coordinate, speed, ..
+        }) => assert!(coordinate == "joint1" && *speed > 1e6, "{explicit:?}"),
+        other => panic!(
+            "explicit PD should stop as diverged: {:?}",
+            other.as_ref().err()
+        ),
+    }
     assert!(peak < 0.6, "implicit PD peak {peak}");
     assert!(
         (last - (0.5 - droop)).abs() < 1e-5,

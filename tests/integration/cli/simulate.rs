@@ -226,3 +226,35 @@ fn simulate_feedback_law_from_the_file_or_the_command_line() {
     );
     assert!(!out.exists());
 }
+
+/// At gains the explicit PD law cannot hold at 2 kHz (kp 1e6, kd 1e4 on the hopper), the run
+/// stops as diverged, naming the coordinate and the remedies (exit 1), and writes nothing:
+/// before the bound, the step solver's momentum-scaled tolerance accepted states 1e22 m
+/// deep in the ground and the run exited 0. The implicit law runs the same gains through.
+#[test]
+fn simulate_stops_a_diverging_run() {
+    let t = TestDir::with_hopper("simulate-diverges");
+    t.write("hopper.toml", &crate::cli::util::hopper_text());
+    t.write("plan.csv", HOPPER_SWING_PLAN);
+    let run = |feedback: &str, out: &str, code: i32| {
+        t.vito()
+            .args(["simulate", "hopper.toml", "--quiet", "--track", "plan.csv"])
+            .args([
+                "--gains",
+                "all=1e6,1e4",
+                "--rate",
+                "2000",
+                "--duration",
+                "0.2",
+            ])
+            .args(["--feedback", feedback, "--out", out])
+            .assert_exit(code)
+    };
+    let failed = run("explicit", "explicit", 1);
+    for text in ["diverged", "moves at", "--feedback implicit"] {
+        assert!(failed.stderr.contains(text), "{text}: {}", failed.stderr);
+    }
+    assert!(!t.path().join("explicit").exists());
+    run("implicit", "implicit", 0);
+    assert!(t.path().join("implicit/trajectory.csv").exists());
+}
