@@ -200,7 +200,7 @@ pub fn simulate<M: MechanicsDerivatives, U: Into<StepInput>>(
             .iter()
             .map(|v| v.abs())
             .enumerate()
-            .find(|(_, v)| !(*v <= bound))
+            .find(|(_, v)| v.is_nan() || *v > bound)
         {
             return Err(SimulationError::Diverged {
                 step: k,
