@@ -20,6 +20,11 @@ use crate::sim::{InputSource, Simulation, SimulationOptions, StepOptions, simula
 use crate::trajectory_csv::RecordedTrajectory;
 use crate::transcription::{Context, SolveOptions};
 
+/// The largest complementarity slack of a plan the study tracks: above it the plan relaxes
+/// contact (its feet push through the ground or pull on it), no simulation can follow it,
+/// and it is recorded as `relaxed contact` and not tracked (it still warm starts the chain).
+pub const RELAXED_SLACK: f64 = 1e-4;
+
 /// The header of `tracking_plans.csv`.
 pub const PLANS_CSV_HEADER: &str =
     "knots,method,objective,max_slack,iterations,start,max_deviation,outcome";
@@ -50,6 +55,7 @@ pub struct PlanRecord {
     /// beyond a few tenths of a radian.
     pub max_deviation: Option<f64>,
     /// `tracked`, or why the plan has no error row (Ipopt's status when it was not solved,
+    /// `relaxed contact` when its slack exceeds [`RELAXED_SLACK`],
     /// the simulation's failure); the study goes on without it.
     pub outcome: String,
 }
@@ -216,6 +222,7 @@ impl Tracking {
                 };
                 let plan = crate::pipeline::solve(&problem.spec, &SolveOptions::default())?;
                 let solved = crate::report::is_solved(plan.status);
+                let relaxed = plan.max_slack > RELAXED_SLACK;
                 let units = crate::report::column_units(&problem.robot, &problem.units);
                 plans.push(PlanRecord {
                     knots,
@@ -226,10 +233,15 @@ impl Tracking {
                     start: start_name,
                     trajectory_csv: crate::report::trajectory_csv(&plan, &units),
                     max_deviation: None,
-                    outcome: if solved {
-                        "tracked".to_owned()
-                    } else {
+                    outcome: if !solved {
                         format!("not solved: {}", crate::report::status_name(plan.status))
+                    } else if relaxed {
+                        format!(
+                            "relaxed contact: max slack {:.3e} above {RELAXED_SLACK:e}",
+                            plan.max_slack
+                        )
+                    } else {
+                        "tracked".to_owned()
                     },
                 });
                 progress(plans.len(), total);
@@ -237,11 +249,8 @@ impl Tracking {
                     // Recorded, not tracked; the chain goes on from the last solved plan.
                     continue;
                 }
-                let reference = RecordedTrajectory {
-                    times: plan.times.clone(),
-                    q: plan.q.clone(),
-                    u: plan.u.clone(),
-                };
+                // A relaxed plan still warm starts the chain (the next K's solve may close
+                // its slack), but is not tracked.
                 if method == Method::Variational {
                     let name = format!("{} K={knots}", method.name());
                     let warm = WarmStart {
@@ -252,6 +261,14 @@ impl Tracking {
                     };
                     previous = Some((name, warm));
                 }
+                if relaxed {
+                    continue;
+                }
+                let reference = RecordedTrajectory {
+                    times: plan.times.clone(),
+                    q: plan.q.clone(),
+                    u: plan.u.clone(),
+                };
                 let mech = crate::pipeline::mechanics(&problem.spec)?;
                 let ctx = Context::new(&mech, &problem.spec);
                 let h = 1.0 / self.rate;

@@ -192,3 +192,33 @@ fn tracking_study_variational_error_is_below_and_falls_faster_on_a_smooth_swing(
     );
     assert!(variational < -0.5, "variational slope {variational}");
 }
+
+/// A plan that relaxes contact (slack weight 1e-3: the hopper's slacks reach 7–9) is recorded
+/// as `relaxed contact` with its slack, has no error row (no simulation can follow feet that
+/// push through the ground), and still warm starts the chain: the first-order plan starts
+/// from it.
+#[test]
+fn tracking_study_records_but_does_not_track_a_relaxed_plan() {
+    use vito::study::tracking::{RELAXED_SLACK, Tracking};
+    let result = Tracking {
+        knots: vec![10],
+        gains: vec!["theta=50,5".into(), "r=1000,50".into()],
+        feedback: None,
+        rate: 2000.0,
+    }
+    .run(
+        &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/hopper_2d.toml"),
+        &[vito::problem::Override::parse("slack.weight=1e-3").unwrap()],
+        |_, _| {},
+    )
+    .expect("study runs");
+    print!("{}", result.plans_csv());
+    assert_eq!(result.plans.len(), 2);
+    for p in &result.plans {
+        assert!(p.max_slack > RELAXED_SLACK, "{p:?}");
+        assert!(p.outcome.starts_with("relaxed contact"), "{}", p.outcome);
+        assert_eq!(p.max_deviation, None);
+    }
+    assert_eq!(result.plans[0].start, "variational K=10");
+    assert!(result.table.rows.is_empty() && result.joints.rows.is_empty());
+}
