@@ -14,7 +14,7 @@
 use std::path::{Path, PathBuf};
 
 use super::tracking::{PLANS_CSV_HEADER, PlanRecord};
-use super::{Method, StudyError, StudyRow, StudyTable};
+use super::{Method, StudyError, StudyTable, table_order};
 
 /// The three tables a tracking study writes, by file stem.
 pub const TRACKING_TABLES: [&str; 3] = ["tracking", "tracking_configuration", "tracking_joints"];
@@ -53,28 +53,17 @@ impl CollectedTracking {
     /// The state-error table over the tracked plans whose largest deviation is at most
     /// `max_deviation` (a plan without a recorded deviation is left out).
     pub fn upright(&self, max_deviation: f64) -> StudyTable {
-        let mut rows: Vec<StudyRow> = Vec::new();
+        let mut table = StudyTable::default();
         for p in &self.plans {
             let (Some(rms), Some(d)) = (p.rms, p.plan.max_deviation) else {
                 continue;
             };
-            if d > max_deviation {
-                continue;
-            }
-            match rows
-                .iter_mut()
-                .find(|r| r.knots == p.plan.knots && r.method == p.plan.method)
-            {
-                Some(row) => row.runs.push(rms),
-                None => rows.push(StudyRow {
-                    knots: p.plan.knots,
-                    method: p.plan.method,
-                    runs: vec![rms],
-                }),
+            if d <= max_deviation {
+                table.add_run(p.plan.knots, p.plan.method, rms);
             }
         }
-        rows.sort_by_key(|r| (r.knots, r.method != Method::FirstOrder));
-        StudyTable { rows }
+        table.sort();
+        table
     }
 
     /// Per (K, method): the plans tracked, those among them whose largest deviation exceeds
@@ -109,7 +98,7 @@ impl CollectedTracking {
                 }),
             }
         }
-        counts.sort_by_key(|c| (c.knots, c.method != Method::FirstOrder));
+        counts.sort_by_key(|c| table_order(c.knots, c.method));
         counts
     }
 
@@ -186,18 +175,7 @@ pub fn collect_tracking(dirs: &[PathBuf]) -> Result<CollectedTracking, StudyErro
         for (stem, table) in &mut tables {
             let path = dir.join(format!("{stem}_runs.csv"));
             for (knots, method, rms) in read_runs(&path)? {
-                match table
-                    .rows
-                    .iter_mut()
-                    .find(|r| r.knots == knots && r.method == method)
-                {
-                    Some(row) => row.runs.push(rms),
-                    None => table.rows.push(StudyRow {
-                        knots,
-                        method,
-                        runs: vec![rms],
-                    }),
-                }
+                table.add_run(knots, method, rms);
             }
         }
         let state = read_runs(&dir.join("tracking_runs.csv"))?;
@@ -214,9 +192,7 @@ pub fn collect_tracking(dirs: &[PathBuf]) -> Result<CollectedTracking, StudyErro
         }
     }
     for (_, table) in &mut tables {
-        table
-            .rows
-            .sort_by_key(|r| (r.knots, r.method != Method::FirstOrder));
+        table.sort();
     }
     Ok(CollectedTracking { tables, plans })
 }

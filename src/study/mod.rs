@@ -12,7 +12,7 @@ pub mod collect;
 pub mod table;
 pub mod tracking;
 
-pub use table::{Method, StudyRow, StudyTable, log_log_slope};
+pub use table::{Method, StudyRow, StudyTable, log_log_slope, table_order};
 
 /// Why a study stopped.
 #[derive(Debug, thiserror::Error)]

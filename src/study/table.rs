@@ -40,6 +40,12 @@ impl Method {
     }
 }
 
+/// The sort key of a study's rows and records: knot counts ascending, first order before
+/// variational at each.
+pub fn table_order(knots: usize, method: Method) -> (usize, bool) {
+    (knots, method != Method::FirstOrder)
+}
+
 /// One knot count and method.
 #[derive(Debug, Clone, PartialEq)]
 pub struct StudyRow {
@@ -74,6 +80,27 @@ pub struct StudyTable {
 }
 
 impl StudyTable {
+    /// Adds one run's error to the row of (knots, method), which it creates if missing.
+    pub fn add_run(&mut self, knots: usize, method: Method, rms: f64) {
+        match self
+            .rows
+            .iter_mut()
+            .find(|r| r.knots == knots && r.method == method)
+        {
+            Some(row) => row.runs.push(rms),
+            None => self.rows.push(StudyRow {
+                knots,
+                method,
+                runs: vec![rms],
+            }),
+        }
+    }
+
+    /// Puts the rows in the table's order: knot counts ascending, first order first.
+    pub fn sort(&mut self) {
+        self.rows.sort_by_key(|r| table_order(r.knots, r.method));
+    }
+
     /// The row of (knots, method).
     pub fn row(&self, knots: usize, method: Method) -> Option<&StudyRow> {
         self.rows

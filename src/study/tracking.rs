@@ -13,7 +13,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::{Method, StudyError, StudyRow, StudyTable};
+use super::{Method, StudyError, StudyTable, table_order};
 use crate::discrete::Mechanics;
 use crate::problem::{InitialGuess, Override, TimeSteps, WarmStart, load};
 use crate::sim::{InputSource, Simulation, SimulationOptions, StepOptions, simulate};
@@ -173,9 +173,9 @@ impl Tracking {
         if gains.is_empty() {
             gains = crate::pipeline::parse_gains(&[], &["all=100,10".into()], &base.robot)?;
         }
-        let mut rows = Vec::new();
-        let mut configuration_rows = Vec::new();
-        let mut joint_rows = Vec::new();
+        let mut table = StudyTable::default();
+        let mut configuration = StudyTable::default();
+        let mut joints = StudyTable::default();
         let mut driven: Vec<usize> = gains.iter().map(|g| g.coordinate).collect();
         driven.sort_unstable();
         driven.dedup();
@@ -321,34 +321,20 @@ impl Tracking {
                 if let Some(p) = plans.last_mut() {
                     p.max_deviation = Some(max_deviation(&sim, &reference));
                 }
-                rows.push(StudyRow {
-                    knots,
-                    method,
-                    runs: vec![rms_error(&sim, &reference, true)],
-                });
-                joint_rows.push(StudyRow {
-                    knots,
-                    method,
-                    runs: vec![rms_error_of(&sim, &reference, true, &driven)],
-                });
-                configuration_rows.push(StudyRow {
-                    knots,
-                    method,
-                    runs: vec![rms_error(&sim, &reference, false)],
-                });
+                table.add_run(knots, method, rms_error(&sim, &reference, true));
+                joints.add_run(knots, method, rms_error_of(&sim, &reference, true, &driven));
+                configuration.add_run(knots, method, rms_error(&sim, &reference, false));
             }
         }
-        // The table in its usual order: first order, then variational, at each K.
-        rows.sort_by_key(|r: &StudyRow| (r.knots, r.method != Method::FirstOrder));
-        configuration_rows.sort_by_key(|r: &StudyRow| (r.knots, r.method != Method::FirstOrder));
-        joint_rows.sort_by_key(|r: &StudyRow| (r.knots, r.method != Method::FirstOrder));
-        plans.sort_by_key(|p: &PlanRecord| (p.knots, p.method != Method::FirstOrder));
+        // The tables in their usual order: first order, then variational, at each K.
+        for t in [&mut table, &mut configuration, &mut joints] {
+            t.sort();
+        }
+        plans.sort_by_key(|p| table_order(p.knots, p.method));
         Ok(TrackingResult {
-            table: StudyTable { rows },
-            configuration: StudyTable {
-                rows: configuration_rows,
-            },
-            joints: StudyTable { rows: joint_rows },
+            table,
+            configuration,
+            joints,
             plans,
         })
     }
