@@ -1,8 +1,9 @@
 //! Discrete mechanics (issue 3): energy behaviour, convergence orders, loop closure, and AD
 //! derivatives against central differences.
 
+use crate::common::finite_differences::central_jacobian;
 use nalgebra::{DMatrix, DVector};
-use vito::autodiff::{ScalarFunction, VectorFunction, gradient, gradient_hessian, jacobian};
+use vito::autodiff::{ScalarFunction, gradient, gradient_hessian, jacobian};
 use vito::discrete::{
     DiscreteForce, EulerKnotResidual, InitialMomentum, Integrator, KnotWindow, LoopClosure,
     MidpointKnotResidual, MidpointSegment, ModelMechanics, d1_ld, d2_ld, del_residual, first_step,
@@ -228,25 +229,6 @@ fn fd_gradient(f: impl Fn(&[f64]) -> f64, z: &[f64]) -> Vec<f64> {
         .collect()
 }
 
-/// Central-difference Jacobian of a vector function.
-fn fd_jacobian<F: VectorFunction>(f: &F, z: &[f64]) -> DMatrix<f64> {
-    let mut jac = DMatrix::zeros(f.dim_out(), f.dim_in());
-    for r in 0..f.dim_out() {
-        let g = fd_gradient(
-            |x| {
-                let mut o = vec![0.0; f.dim_out()];
-                f.eval(x, &mut o);
-                o[r]
-            },
-            z,
-        );
-        for (c, v) in g.into_iter().enumerate() {
-            jac[(r, c)] = v;
-        }
-    }
-    jac
-}
-
 /// Agreement to 1e-6 relative to the size of the matrix (max entry, at least 1).
 fn assert_close(ad: &DMatrix<f64>, fd: &DMatrix<f64>, what: &str) {
     let scale = ad.amax().max(1.0);
@@ -325,7 +307,7 @@ fn jacobians_of_knot_residuals_match_central_differences() {
                     "{values:?} vs {direct:?}"
                 );
             }
-            assert_close(&jac, &fd_jacobian(&del, &z), "midpoint DEL Jacobian");
+            assert_close(&jac, &central_jacobian(&del, &z), "midpoint DEL Jacobian");
 
             // The NLP's route: the same Jacobian from segment Hessians and force Jacobians.
             let seg = MidpointSegment { model: &model };
@@ -380,7 +362,11 @@ fn jacobians_of_knot_residuals_match_central_differences() {
                 };
                 let ze: Vec<f64> = [&q0[..], &q1, &q2, &[h0, h1], &u1].concat();
                 let (_, jac) = jacobian(&euler, &ze);
-                assert_close(&jac, &fd_jacobian(&euler, &ze), "Euler residual Jacobian");
+                assert_close(
+                    &jac,
+                    &central_jacobian(&euler, &ze),
+                    "Euler residual Jacobian",
+                );
             }
             let momentum = InitialMomentum { model: &model };
             let zm: Vec<f64> = [&q1[..], &dq].concat();
@@ -392,7 +378,7 @@ fn jacobians_of_knot_residuals_match_central_differences() {
             );
             assert_close(
                 &jac,
-                &fd_jacobian(&momentum, &zm),
+                &central_jacobian(&momentum, &zm),
                 "initial momentum Jacobian",
             );
         }

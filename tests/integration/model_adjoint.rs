@@ -2,6 +2,7 @@
 //! gradients of T, V and L, the midpoint slot derivatives, and the Hessian and contracted
 //! third derivative of Ld taken through it, on the reference robots and the paper's robots.
 
+use crate::common::finite_differences::central_jacobian;
 use std::path::Path;
 
 use nalgebra::DMatrix;
@@ -772,23 +773,4 @@ fn segment_groups_with_the_midpoint_identity_match_every_column() {
             );
         }
     }
-}
-
-/// Central-difference Jacobian of a vector function (step 1e-6·max(1, |x_j|)).
-fn central_jacobian<F: vito::autodiff::VectorFunction>(f: &F, x: &[f64]) -> DMatrix<f64> {
-    let (m, n) = (f.dim_out(), f.dim_in());
-    let mut jac = DMatrix::zeros(m, n);
-    let (mut plus, mut minus) = (vec![0.0; m], vec![0.0; m]);
-    for j in 0..n {
-        let step = 1e-6 * x[j].abs().max(1.0);
-        let mut xp = x.to_vec();
-        xp[j] += step;
-        f.eval(&xp, &mut plus);
-        xp[j] = x[j] - step;
-        f.eval(&xp, &mut minus);
-        for i in 0..m {
-            jac[(i, j)] = (plus[i] - minus[i]) / (2.0 * step);
-        }
-    }
-    jac
 }
