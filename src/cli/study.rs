@@ -105,33 +105,14 @@ pub(super) fn tracking(
         report::write_file_atomic(&path, p.trajectory_csv.as_bytes())
             .map_err(|e| CliError::Internal(format!("{}: {e}", path.display())))?;
     }
-    table.write(
-        staged.path(),
-        "tracking",
-        &format!(
-            "{}: RMS state error of PD tracking at 2 kHz",
-            problem.spec.name
-        ),
-        "RMS state error (q and v, problem units)",
-    )?;
-    result.configuration.write(
-        staged.path(),
-        "tracking_configuration",
-        &format!(
-            "{}: RMS configuration error of PD tracking at 2 kHz",
-            problem.spec.name
-        ),
-        "RMS configuration error (q, problem units)",
-    )?;
-    result.joints.write(
-        staged.path(),
-        "tracking_joints",
-        &format!(
-            "{}: RMS state error of the PD-driven coordinates at 2 kHz",
-            problem.spec.name
-        ),
-        "RMS state error of the driven joints (problem units)",
-    )?;
+    for (measure, table) in result.tables() {
+        table.write(
+            staged.path(),
+            measure.stem,
+            &format!("{}: {}", problem.spec.name, measure.title),
+            measure.y_label,
+        )?;
+    }
     let written = staged.commit().map_err(report::ReportError::from)?;
     print_study(table)?;
     out!("configuration alone:");
@@ -179,17 +160,12 @@ pub(super) fn tracking_collect(
     };
     write("tracking_plans.csv", &set.plans_csv())?;
     let gaits = dirs.len();
-    for (stem, table) in &set.tables {
-        let what = match *stem {
-            "tracking" => "RMS state error",
-            "tracking_configuration" => "RMS configuration error",
-            _ => "RMS state error of the PD-driven coordinates",
-        };
+    for (measure, table) in &set.tables {
         table.write(
             staged.path(),
-            stem,
-            &format!("{what} of PD tracking at 2 kHz, mean ± std over {gaits} gaits"),
-            "RMS error (problem units)",
+            measure.stem,
+            &format!("{}, mean ± std over {gaits} gaits", measure.title),
+            measure.y_label,
         )?;
     }
     let upright = set.upright(max_deviation);
@@ -197,10 +173,13 @@ pub(super) fn tracking_collect(
         staged.path(),
         "tracking_upright",
         &format!("RMS state error of the plans tracked within {max_deviation} of their plan"),
-        "RMS state error (q and v, problem units)",
+        vito::study::tracking::TRACKING_MEASURES[0].y_label,
     )?;
     let falls = set.falls(max_deviation);
-    write("tracking_falls.csv", &set.falls_csv(max_deviation))?;
+    write(
+        "tracking_falls.csv",
+        &vito::study::collect::falls_csv(&falls),
+    )?;
     let written = staged.commit().map_err(report::ReportError::from)?;
     if let Some(table) = set.table("tracking") {
         out!("state error over {gaits} gaits:");

@@ -13,11 +13,8 @@
 
 use std::path::{Path, PathBuf};
 
-use super::tracking::{PLANS_CSV_HEADER, PlanRecord};
+use super::tracking::{PLANS_CSV_HEADER, PlanRecord, TRACKING_MEASURES, TrackingMeasure};
 use super::{Method, StudyError, StudyTable, table_order};
-
-/// The three tables a tracking study writes, by file stem.
-pub const TRACKING_TABLES: [&str; 3] = ["tracking", "tracking_configuration", "tracking_joints"];
 
 /// Largest file read from a study's directory (bytes).
 const MAX_STUDY_FILE: u64 = 64 << 20;
@@ -37,17 +34,20 @@ pub struct CollectedPlan {
 /// The tables of a set of gaits.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CollectedTracking {
-    /// Per stem of [`TRACKING_TABLES`], the table with one run per gait (that tracked the
-    /// row's plan) at each row, gaits in the order given.
-    pub tables: Vec<(&'static str, StudyTable)>,
+    /// Per measure of [`TRACKING_MEASURES`], the table with one run per gait (that tracked
+    /// the row's plan) at each row, gaits in the order given.
+    pub tables: Vec<(TrackingMeasure, StudyTable)>,
     /// Every gait's plans, gaits in the order given.
     pub plans: Vec<CollectedPlan>,
 }
 
 impl CollectedTracking {
-    /// The table of `stem` (one of [`TRACKING_TABLES`]).
+    /// The table of `stem` (one of [`TRACKING_MEASURES`]).
     pub fn table(&self, stem: &str) -> Option<&StudyTable> {
-        self.tables.iter().find(|(s, _)| *s == stem).map(|(_, t)| t)
+        self.tables
+            .iter()
+            .find(|(m, _)| m.stem == stem)
+            .map(|(_, t)| t)
     }
 
     /// The state-error table over the tracked plans whose largest deviation is at most
@@ -112,22 +112,22 @@ impl CollectedTracking {
         }
         s
     }
+}
 
-    /// [`CollectedTracking::falls`] as CSV: `knots,method,tracked,fell,unrecorded`.
-    pub fn falls_csv(&self, max_deviation: f64) -> String {
-        let mut s = String::from("knots,method,tracked,fell,unrecorded\n");
-        for f in self.falls(max_deviation) {
-            s += &format!(
-                "{},{},{},{},{}\n",
-                f.knots,
-                f.method.name(),
-                f.tracked,
-                f.fell,
-                f.unknown
-            );
-        }
-        s
+/// [`CollectedTracking::falls`] as CSV: `knots,method,tracked,fell,unrecorded`.
+pub fn falls_csv(falls: &[FallCount]) -> String {
+    let mut s = String::from("knots,method,tracked,fell,unrecorded\n");
+    for f in falls {
+        s += &format!(
+            "{},{},{},{},{}\n",
+            f.knots,
+            f.method.name(),
+            f.tracked,
+            f.fell,
+            f.unknown
+        );
     }
+    s
 }
 
 /// Tracked plans and falls at one (K, method).
@@ -155,9 +155,9 @@ pub fn collect_tracking(dirs: &[PathBuf]) -> Result<CollectedTracking, StudyErro
             message: "give the output directories of one or more `vito study tracking` runs".into(),
         });
     }
-    let mut tables: Vec<(&'static str, StudyTable)> = TRACKING_TABLES
+    let mut tables: Vec<(TrackingMeasure, StudyTable)> = TRACKING_MEASURES
         .iter()
-        .map(|&stem| (stem, StudyTable::default()))
+        .map(|&measure| (measure, StudyTable::default()))
         .collect();
     let mut plans = Vec::new();
     let mut names: Vec<String> = Vec::new();
@@ -172,8 +172,8 @@ pub fn collect_tracking(dirs: &[PathBuf]) -> Result<CollectedTracking, StudyErro
             });
         }
         names.push(gait.clone());
-        for (stem, table) in &mut tables {
-            let path = dir.join(format!("{stem}_runs.csv"));
+        for (measure, table) in &mut tables {
+            let path = dir.join(format!("{}_runs.csv", measure.stem));
             for (knots, method, rms) in read_runs(&path)? {
                 table.add_run(knots, method, rms);
             }
@@ -322,8 +322,8 @@ mod tests {
     fn study(dir: &Path, plans: &str, runs: &str) {
         std::fs::create_dir_all(dir).unwrap();
         std::fs::write(dir.join("tracking_plans.csv"), plans).unwrap();
-        for stem in TRACKING_TABLES {
-            std::fs::write(dir.join(format!("{stem}_runs.csv")), runs).unwrap();
+        for measure in TRACKING_MEASURES {
+            std::fs::write(dir.join(format!("{}_runs.csv", measure.stem)), runs).unwrap();
         }
     }
 

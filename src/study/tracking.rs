@@ -79,6 +79,36 @@ impl PlanRecord {
     }
 }
 
+/// One of the study's error tables: its file stem, its plot's title and y label.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TrackingMeasure {
+    /// `<stem>.csv`, `<stem>_runs.csv`, `<stem>.svg`.
+    pub stem: &'static str,
+    /// What it measures, the plot's title.
+    pub title: &'static str,
+    /// The plot's y label.
+    pub y_label: &'static str,
+}
+
+/// The study's three measures, in the order of [`TrackingResult::tables`].
+pub const TRACKING_MEASURES: [TrackingMeasure; 3] = [
+    TrackingMeasure {
+        stem: "tracking",
+        title: "RMS state error of PD tracking at 2 kHz",
+        y_label: "RMS state error (q and v, problem units)",
+    },
+    TrackingMeasure {
+        stem: "tracking_configuration",
+        title: "RMS configuration error of PD tracking at 2 kHz",
+        y_label: "RMS configuration error (q, problem units)",
+    },
+    TrackingMeasure {
+        stem: "tracking_joints",
+        title: "RMS state error of the PD-driven coordinates at 2 kHz",
+        y_label: "RMS state error of the driven joints (problem units)",
+    },
+];
+
 /// The study's result: the table and each plan's record.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TrackingResult {
@@ -97,6 +127,16 @@ pub struct TrackingResult {
 }
 
 impl TrackingResult {
+    /// The three tables with their measures ([`TRACKING_MEASURES`]).
+    pub fn tables(&self) -> [(TrackingMeasure, &StudyTable); 3] {
+        let [state, configuration, joints] = TRACKING_MEASURES;
+        [
+            (state, &self.table),
+            (configuration, &self.configuration),
+            (joints, &self.joints),
+        ]
+    }
+
     /// The plans as CSV: [`PLANS_CSV_HEADER`], a line per plan.
     pub fn plans_csv(&self) -> String {
         let mut s = String::from(PLANS_CSV_HEADER);
