@@ -184,6 +184,41 @@ fn csv_dataframe<'py>(py: Python<'py>, csv: &str) -> PyResult<Bound<'py, PyAny>>
     pandas.call_method("DataFrame", (data,), Some(&kwargs))
 }
 
+/// What a solve or a simulation writes as `trajectory.csv`, kept as its text: the base class
+/// of `Solution` and `Simulation`.
+#[pyclass(module = "vito", frozen, subclass)]
+struct Trajectory {
+    csv: String,
+}
+
+#[pymethods]
+impl Trajectory {
+    /// The header of `trajectory.csv` (names with `[unit]`), in order.
+    #[getter]
+    fn columns(&self) -> PyResult<Vec<String>> {
+        Ok(csv_columns(&self.csv)?
+            .into_iter()
+            .map(|(h, _)| h)
+            .collect())
+    }
+
+    /// trajectory_csv() -> str
+    ///
+    /// The text of `trajectory.csv` exactly as the command (`vito solve`, `vito simulate`)
+    /// writes it.
+    fn trajectory_csv(&self) -> String {
+        self.csv.clone()
+    }
+
+    /// to_pandas() -> pandas.DataFrame
+    ///
+    /// The trajectory as `trajectory.csv` holds it: one row per knot, its columns (names
+    /// with units) in its order, blank cells NaN. Needs pandas.
+    fn to_pandas<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        csv_dataframe(py, &self.csv)
+    }
+}
+
 /// A loaded problem file: what `vito check` and `vito solve` read.
 #[pyclass(module = "vito", frozen)]
 struct Problem {
@@ -367,7 +402,7 @@ impl Problem {
         seed: u64,
         warm_start: Option<&Bound<'_, PyAny>>,
         progress: Option<Py<PyAny>>,
-    ) -> PyResult<Solution> {
+    ) -> PyResult<Py<Solution>> {
         if starts == 0 {
             return Err(VitoError::new_err("starts=0: give at least 1"));
         }
@@ -422,17 +457,14 @@ impl Problem {
             solution: solved.map_err(|e| vito_error(&e))?,
         };
         if let Some(target) = target {
-            let written = target
-                .stage()
-                .map_err(report::ReportError::from)
-                .and_then(|staged| report::write_outputs(staged, &problem, &solution.solution));
-            written.map_err(|e| vito_error(&e))?;
+            py.detach(|| solution.write_to(target))?;
         }
+        let solution = solution.into_py(py)?;
         let error = hooks.error.lock().unwrap_or_else(|p| p.into_inner()).take();
         match error {
             None => Ok(solution),
             Some(e) => {
-                e.value(py).setattr("solution", Py::new(py, solution)?)?;
+                e.value(py).setattr("solution", solution)?;
                 Err(e)
             }
         }
@@ -449,16 +481,35 @@ impl Problem {
 
 /// A solve's result: the verdict, the numbers of `summary.json`, and the trajectory as
 /// arrays with named axes.
-#[pyclass(module = "vito", frozen)]
+#[pyclass(module = "vito", frozen, extends = Trajectory)]
 struct Solution {
     problem: Arc<LoadedProblem>,
     solution: vito::transcription::Solution,
 }
 
 impl Solution {
-    fn csv(&self) -> String {
+    /// The Python object, with its `trajectory.csv` text in the base class.
+    fn into_py(self, py: Python<'_>) -> PyResult<Py<Solution>> {
         let units = report::column_units(&self.problem.robot, &self.problem.units);
-        report::trajectory_csv(&self.solution, &units)
+        let csv = report::trajectory_csv(&self.solution, &units);
+        Py::new(
+            py,
+            PyClassInitializer::from(Trajectory { csv }).add_subclass(self),
+        )
+    }
+
+    /// Rows of one value per contact as an (rows, nc) array.
+    fn per_contact<'py>(&self, py: Python<'py>, rows: &[Vec<f64>]) -> Bound<'py, PyAny> {
+        matrix(py, rows, self.solution.contact_names.len())
+    }
+
+    /// Writes into a checked target as `vito solve` does (staged, then committed).
+    fn write_to(&self, target: report::OutputTarget) -> PyResult<PathBuf> {
+        target
+            .stage()
+            .map_err(report::ReportError::from)
+            .and_then(|staged| report::write_outputs(staged, &self.problem, &self.solution))
+            .map_err(|e| vito_error(&e))
     }
 }
 
@@ -540,11 +591,7 @@ impl Solution {
     /// Normal contact impulses per interval, shape (N−1, nc); columns `contact_names`.
     #[getter]
     fn normal_impulse<'py>(&self, py: Python<'py>) -> Bound<'py, PyAny> {
-        matrix(
-            py,
-            &self.solution.normal_impulse,
-            self.solution.contact_names.len(),
-        )
+        self.per_contact(py, &self.solution.normal_impulse)
     }
 
     /// Friction impulses per interval, shape (N−1, nc, nd); axes `contact_names`,
@@ -570,11 +617,7 @@ impl Solution {
     /// (N−1, nc); columns `contact_names`.
     #[getter]
     fn signed_distance<'py>(&self, py: Python<'py>) -> Bound<'py, PyAny> {
-        matrix(
-            py,
-            &self.solution.signed_distance,
-            self.solution.contact_names.len(),
-        )
+        self.per_contact(py, &self.solution.signed_distance)
     }
 
     /// Slacks per interval, shape (N−1, slacks per interval).
@@ -630,30 +673,6 @@ impl Solution {
         Ok(d)
     }
 
-    /// The header of `trajectory.csv` (names with `[unit]`), in order.
-    #[getter]
-    fn columns(&self) -> PyResult<Vec<String>> {
-        Ok(csv_columns(&self.csv())?
-            .into_iter()
-            .map(|(h, _)| h)
-            .collect())
-    }
-
-    /// trajectory_csv() -> str
-    ///
-    /// The text of `trajectory.csv` exactly as `vito solve` writes it.
-    fn trajectory_csv(&self) -> String {
-        self.csv()
-    }
-
-    /// to_pandas() -> pandas.DataFrame
-    ///
-    /// The trajectory as `trajectory.csv` holds it: one row per knot, its columns (names
-    /// with units) in its order, blank cells NaN. Needs pandas.
-    fn to_pandas<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        csv_dataframe(py, &self.csv())
-    }
-
     /// write(dir) -> str
     ///
     /// Writes what `vito solve --out DIR` writes (trajectory.csv, summary.json, the plots),
@@ -662,11 +681,7 @@ impl Solution {
     fn write(&self, py: Python<'_>, dir: PathBuf) -> PyResult<PathBuf> {
         let target = pipeline::checked_output_dir(&self.problem, Some(&dir))
             .map_err(|e| vito_error(&report::ReportError::from(e)))?;
-        py.detach(|| {
-            let staged = target.stage().map_err(report::ReportError::from)?;
-            report::write_outputs(staged, &self.problem, &self.solution)
-        })
-        .map_err(|e| vito_error(&e))
+        py.detach(|| self.write_to(target))
     }
 
     fn __repr__(&self) -> String {
@@ -682,7 +697,7 @@ impl Solution {
 }
 
 /// A forward simulation's result (`vito simulate`): its summary and trajectory.
-#[pyclass(module = "vito", frozen)]
+#[pyclass(module = "vito", frozen, extends = Trajectory)]
 struct Simulation {
     problem: Arc<LoadedProblem>,
     sim: vito::sim::Simulation,
@@ -693,9 +708,31 @@ struct Simulation {
 }
 
 impl Simulation {
-    fn csv(&self) -> String {
+    /// The Python object, with its `trajectory.csv` text in the base class.
+    fn into_py(self, py: Python<'_>) -> PyResult<Py<Simulation>> {
         let units = report::column_units(&self.problem.robot, &self.problem.units);
-        vito::trajectory_csv::write_trajectory(&self.columns.trajectory(&self.sim), &units)
+        let csv =
+            vito::trajectory_csv::write_trajectory(&self.columns.trajectory(&self.sim), &units);
+        Py::new(
+            py,
+            PyClassInitializer::from(Trajectory { csv }).add_subclass(self),
+        )
+    }
+
+    /// Writes into a checked target as `vito simulate` does (staged, then committed).
+    fn write_to(&self, target: report::OutputTarget) -> PyResult<PathBuf> {
+        target
+            .stage()
+            .map_err(report::ReportError::from)
+            .and_then(|staged| {
+                report::write_trajectory_outputs(
+                    staged,
+                    &self.problem,
+                    &self.columns.trajectory(&self.sim),
+                    &self.summary,
+                )
+            })
+            .map_err(|e| vito_error(&e))
     }
 }
 
@@ -745,48 +782,22 @@ impl Simulation {
         self.problem.robot.inputs.clone()
     }
 
-    /// The header of the simulation's `trajectory.csv`, in order.
-    #[getter]
-    fn columns(&self) -> PyResult<Vec<String>> {
-        Ok(csv_columns(&self.csv())?
-            .into_iter()
-            .map(|(h, _)| h)
-            .collect())
-    }
-
-    /// trajectory_csv() -> str
-    ///
-    /// The text of `trajectory.csv` exactly as `vito simulate` writes it.
-    fn trajectory_csv(&self) -> String {
-        self.csv()
-    }
-
-    /// to_pandas() -> pandas.DataFrame
-    ///
-    /// The trajectory as its `trajectory.csv` holds it (columns with units). Needs pandas.
-    fn to_pandas<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        csv_dataframe(py, &self.csv())
-    }
-
     /// write(dir) -> str
     ///
     /// Writes what `vito simulate --out DIR` writes, atomically, with the command's rules
     /// for the directory. Returns the directory.
     fn write(&self, py: Python<'_>, dir: PathBuf) -> PyResult<PathBuf> {
-        let protected: Vec<&Path> = self.inputs.iter().map(PathBuf::as_path).collect();
-        let target = report::OutputTarget::check(&dir, &protected)
-            .map_err(|e| vito_error(&report::ReportError::from(e)))?;
-        py.detach(|| {
-            let staged = target.stage().map_err(report::ReportError::from)?;
-            report::write_trajectory_outputs(
-                staged,
-                &self.problem,
-                &self.columns.trajectory(&self.sim),
-                &self.summary,
-            )
-        })
-        .map_err(|e| vito_error(&e))
+        let target = output_target(&dir, &self.inputs)?;
+        py.detach(|| self.write_to(target))
     }
+}
+
+/// `dir` checked as `vito simulate --out DIR` checks it (never one of `inputs`, only vito's
+/// own results or an empty directory replaced).
+fn output_target(dir: &Path, inputs: &[PathBuf]) -> PyResult<report::OutputTarget> {
+    let protected: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
+    report::OutputTarget::check(dir, &protected)
+        .map_err(|e| vito_error(&report::ReportError::from(e)))
 }
 
 /// A trajectory argument of `simulate`: a path, or a `Solution` (its `trajectory.csv` in a
@@ -807,7 +818,7 @@ fn trajectory_path(
             }
         };
         let path = dir.path().join(format!("{name}.csv"));
-        std::fs::write(&path, solution.get().csv())
+        std::fs::write(&path, &solution.as_super().get().csv)
             .map_err(|e| VitoError::new_err(format!("{}: {e}", path.display())))?;
         return Ok(Some(path));
     }
@@ -839,7 +850,7 @@ fn simulate(
     rate: Option<f64>,
     integrator: Option<String>,
     out: Option<PathBuf>,
-) -> PyResult<Simulation> {
+) -> PyResult<Py<Simulation>> {
     let mut scratch = None;
     let gains: Vec<String> = match gains {
         None => Vec::new(),
@@ -883,13 +894,7 @@ fn simulate(
     let loaded = problem.loaded.clone();
     let prepared = pipeline::prepare_simulation(&loaded, &request).map_err(|e| vito_error(&e))?;
     let target = match &out {
-        Some(dir) => {
-            let protected: Vec<&Path> = prepared.inputs.iter().map(PathBuf::as_path).collect();
-            Some(
-                report::OutputTarget::check(dir, &protected)
-                    .map_err(|e| vito_error(&report::ReportError::from(e)))?,
-            )
-        }
+        Some(dir) => Some(output_target(dir, &prepared.inputs)?),
         None => None,
     };
     let (sim, wall) = py
@@ -918,18 +923,9 @@ fn simulate(
         inputs,
     };
     if let Some(target) = target {
-        py.detach(|| {
-            let staged = target.stage().map_err(report::ReportError::from)?;
-            report::write_trajectory_outputs(
-                staged,
-                &simulation.problem,
-                &simulation.columns.trajectory(&simulation.sim),
-                &simulation.summary,
-            )
-        })
-        .map_err(|e| vito_error(&e))?;
+        py.detach(|| simulation.write_to(target))?;
     }
-    Ok(simulation)
+    simulation.into_py(py)
 }
 
 /// _sweep(problem, axes, exe, out, jobs, time_limit, warm_start) -> str
@@ -1013,6 +1009,7 @@ fn _vito(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("VitoError", py.get_type::<VitoError>())?;
     m.add("ProblemError", py.get_type::<ProblemError>())?;
     m.add_class::<Problem>()?;
+    m.add_class::<Trajectory>()?;
     m.add_class::<Solution>()?;
     m.add_class::<Simulation>()?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;

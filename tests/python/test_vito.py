@@ -256,3 +256,18 @@ def test_write_never_replaces_what_vito_did_not_write(tmp_path, hopper_solution)
         hopper_solution.write(str(mine))
     assert (mine / "notes.txt").read_text() == "keep me"
     assert sorted(p.name for p in mine.iterdir()) == ["notes.txt"]
+
+
+def test_the_friction_sweep_example_runs(tmp_path):
+    import sys
+
+    run = subprocess.run(
+        [sys.executable, str(ROOT / "examples" / "friction_sweep.py"), "--mu", "0.6", "0.8",
+         "--out", str(tmp_path)],
+        capture_output=True, text=True, cwd=ROOT,
+    )
+    assert run.returncode == 0, run.stderr
+    lines = run.stdout.splitlines()
+    assert lines[1].split()[:2] == ["0.6", "solve_succeeded"]
+    assert lines[2].split()[:2] == ["0.8", "solve_succeeded"]
+    assert (tmp_path / "objective_vs_friction.png").is_file()
