@@ -202,6 +202,25 @@ def test_ctrl_c_from_another_thread_stops_the_solve_and_keeps_the_iterate(hopper
     assert hopper.solve().iterations == 102
 
 
+def test_ctrl_c_stops_a_solve_without_a_progress_callable(hopper):
+    # No Python code runs during this solve but vito's signal check at each iteration: the
+    # SIGINT sent from another thread after 0.3 s must stop it there (unstopped it runs for
+    # 784 iterations).
+    long = hopper.with_set({"horizon.knots": 81, "horizon.time_step": 0.0125})
+    main = threading.main_thread().ident
+    timer = threading.Timer(0.3, lambda: signal.pthread_kill(main, signal.SIGINT))
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt) as caught:
+            long.solve()
+    finally:
+        timer.cancel()
+    solution = caught.value.solution
+    assert solution.status == "user_requested_stop"
+    assert solution.iterations < 784
+    assert solution.q.shape == (81, 4)
+
+
 def test_an_exception_in_progress_stops_the_solve(hopper):
     def progress(p):
         if p["iteration"] == 2:
