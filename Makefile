@@ -1,6 +1,8 @@
 # vito's set-up, build and test commands (see README.md).
 #   make demo       install missing Debian packages, build, solve the default problem
-#   make test       install missing Debian packages, run the test suite (optimised build)
+#   make test       install missing Debian packages, run the test suite (optimised build), then
+#                   the Python package's (pytest, tests/python/) in .venv
+#   make python     the Python package (`import vito`) built into .venv (maturin), with pytest
 #   make test-slow  the slow tests (#[ignore]d by default)
 #   make lint       rustfmt and clippy, as CI checks them
 #   make test-slurm a sweep through `sbatch --array` on a private single-node Slurm (root, apt)
@@ -18,7 +20,7 @@ OUT ?= out/hopper_2d
 # solve lock already gives one solve per process); parallel work uses processes.
 export OPENBLAS_NUM_THREADS ?= 1
 
-.PHONY: deps build demo test test-slow test-slurm lint bench bench-casadi fuzz test-debian13
+.PHONY: deps build demo python test test-python test-slow test-slurm lint bench bench-casadi fuzz test-debian13
 
 deps:
 	bash vendor-config/install-deps.sh
@@ -29,9 +31,22 @@ build: deps
 demo: build
 	$(CARGO) run --release -- solve $(PROBLEM) --out $(OUT)
 
-# Solving tests need the optimised profile; `--release` is the default test run.
+# The Python package in the project's virtual environment .venv (vendor-config/install-python.sh:
+# python3 -m venv, maturin, numpy, pandas, matplotlib and pytest from PyPI, `maturin develop
+# --release`, .venv/bin/vito linked to target/release/vito).
+python: deps
+	bash vendor-config/install-python.sh
+
+# Solving tests need the optimised profile; `--release` is the default test run. Then the Python
+# package's tests; pytest's exit 5 (no test collected) is a failure with its own message.
 test: deps
 	$(CARGO) test --release
+	$(MAKE) --no-print-directory test-python
+
+test-python: python
+	.venv/bin/python -m pytest -q tests/python; status=$$?; \
+	if [ $$status -eq 5 ]; then echo "test-python: pytest collected no test in tests/python" >&2; fi; \
+	exit $$status
 
 test-slow: deps
 	$(CARGO) test --release -- --ignored --skip cli::sweep_slurm

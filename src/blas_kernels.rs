@@ -19,11 +19,11 @@
 use std::ffi::OsStr;
 
 /// The environment variable OpenBLAS reads its core type from.
-const VARIABLE: &str = "OPENBLAS_CORETYPE";
+pub const VARIABLE: &str = "OPENBLAS_CORETYPE";
 
 /// The pinned OpenBLAS core type for this CPU, if vito pins one.
 #[cfg(target_arch = "x86_64")]
-fn coretype() -> Option<&'static str> {
+pub fn coretype() -> Option<&'static str> {
     if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") {
         Some("Haswell")
     } else {
@@ -31,8 +31,9 @@ fn coretype() -> Option<&'static str> {
     }
 }
 
+/// The pinned OpenBLAS core type for this CPU, if vito pins one.
 #[cfg(not(target_arch = "x86_64"))]
-fn coretype() -> Option<&'static str> {
+pub fn coretype() -> Option<&'static str> {
     None
 }
 

@@ -35,9 +35,12 @@
 //!   by `report` and read by `problem` for warm starts.
 //! - `names`: how messages list names.
 //! - `input`: reading the files a user names: regular files only, of bounded size.
+//! - `blas_kernels`: the pinned OpenBLAS core type (set by the `vito` binary before OpenBLAS
+//!   loads, and by the Python package before it loads the library).
 #![deny(unsafe_code)]
 
 pub mod autodiff;
+pub mod blas_kernels;
 pub mod contact;
 pub mod dependency;
 pub mod discrete;

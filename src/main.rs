@@ -4,10 +4,9 @@ use std::process::ExitCode;
 
 use clap::Parser;
 
-mod blas_kernels;
 mod cli;
 
 fn main() -> ExitCode {
-    blas_kernels::pin();
+    vito::blas_kernels::pin();
     cli::run(cli::Args::parse())
 }

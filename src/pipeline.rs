@@ -412,6 +412,29 @@ pub fn conservative_energies(
     ))
 }
 
+/// `summary.json` of a simulation as `vito simulate` writes it (with the PD law that ran,
+/// when it tracked a trajectory); `energies` are its [`conservative_energies`].
+pub fn simulation_summary(
+    problem: &LoadedProblem,
+    prepared: &PreparedSimulation,
+    sim: &crate::sim::Simulation,
+    energies: Option<&[f64]>,
+    wall_time_s: f64,
+) -> serde_json::Value {
+    let mut summary = crate::report::simulation_summary_json(
+        problem,
+        sim,
+        prepared.options.integrator,
+        energies,
+        wall_time_s,
+    );
+    if let crate::sim::InputSource::Track { feedback, .. } = &prepared.source {
+        // Which PD law ran: the numbers differ at stiff gains.
+        summary["feedback"] = serde_json::Value::from(feedback.name());
+    }
+    summary
+}
+
 /// One contact's distance to the terrain at the first and last knot of the initial guess
 /// (length units; negative below the terrain).
 #[derive(Debug, Clone, PartialEq)]

@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Runs the README's two set-up commands, `make demo` and `make test`, on Debian 13 (trixie):
-# Ipopt 3.14 with the MPI build of MUMPS, where the host has bookworm's 3.11.
+# Ipopt 3.14 with the MPI build of MUMPS, where the host has bookworm's 3.11. `make test` runs
+# the Python package's pytest suite too (Debian 13's python3-venv, Python 3.13; maturin, numpy,
+# pandas, matplotlib, pytest from PyPI into /src/.venv).
 #
 #   sudo bash tools/test-debian13.sh        (or: make test-debian13)
 #
@@ -15,6 +17,7 @@
 #      as the lower layer of an overlay (the chroot reuses the downloaded crates; whatever it
 #      adds goes to the temporary directory, never to the host's ~/.cargo);
 #   4. chroot and run `make demo && make test` there, as root with CI=true, from /src.
+# Needs the network to PyPI as well (the Python package's set-up).
 #
 # Needs root, a Debian-like host with apt-get (debootstrap is installed when missing) and the
 # network to Debian's archive (and crates.io for crates the host has not downloaded yet).

@@ -36,17 +36,8 @@ pub(super) fn simulate(
     let sim = sim?;
     let wall = start.elapsed().as_secs_f64();
     let energies = pipeline::conservative_energies(&prepared, &sim);
-    let mut summary = report::simulation_summary_json(
-        &problem,
-        &sim,
-        prepared.options.integrator,
-        energies.as_deref(),
-        wall,
-    );
-    if let vito::sim::InputSource::Track { feedback, .. } = &prepared.source {
-        // Which PD law ran: the numbers differ at stiff gains.
-        summary["feedback"] = serde_json::Value::from(feedback.name());
-    }
+    let summary =
+        pipeline::simulation_summary(&problem, &prepared, &sim, energies.as_deref(), wall);
     let columns = report::SimulationColumns::new(&problem, &sim, prepared.ctx.nd());
     let staged = target.stage().map_err(report::ReportError::from)?;
     let written =

@@ -27,6 +27,9 @@ pub struct LoadedProblem {
     pub sha256: String,
     /// The `--set` overrides applied, as `path = value` strings.
     pub parameters: Vec<(String, String)>,
+    /// A family's `[parameters]`: each declared parameter's value, overrides applied
+    /// (empty for a file that declares none).
+    pub family_parameters: crate::problem::family::Parameters,
     /// Output directory from the file (`output.dir`), if any.
     pub output_dir: Option<PathBuf>,
     /// Length, mass and time unit names (from `robot.units`; SI by default).
@@ -105,6 +108,7 @@ fn check_text(
         urdf_text,
     };
     let mut table: toml::Table = toml::from_str(&text).map_err(|e| ctx.serde_error(&e, &text))?;
+    let mut parameters = family::Parameters::new();
     let raw: ProblemFile = if overrides.is_empty()
         && !table.contains_key(family::PARAMETERS)
         && !family::has_expressions(&table)
@@ -117,7 +121,7 @@ fn check_text(
             remove_alternative(&mut table, &o.path);
         }
         let family_error = |e: family::FamilyError| ctx.invalid(&e.field, e.message);
-        let parameters = family::take_parameters(&mut table).map_err(family_error)?;
+        parameters = family::take_parameters(&mut table).map_err(family_error)?;
         family::evaluate_expressions(&mut table, &parameters).map_err(family_error)?;
         let rewritten = toml::to_string(&table).map_err(|e| ProblemError::Override {
             arg: String::new(),
@@ -127,6 +131,7 @@ fn check_text(
     };
     let mut loaded = check(&ctx, raw)?;
     loaded.sha256 = sha256;
+    loaded.family_parameters = parameters;
     loaded.parameters = given
         .iter()
         .map(|o| (o.path.clone(), o.value.to_string()))

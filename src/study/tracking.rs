@@ -293,12 +293,7 @@ impl Tracking {
                 // its slack), but is not tracked.
                 if method == Method::Variational {
                     let name = format!("{} K={knots}", method.name());
-                    let warm = WarmStart {
-                        source: PathBuf::from(&name),
-                        times: plan.times.clone(),
-                        q: plan.q.clone(),
-                        u: plan.u.clone(),
-                    };
+                    let warm = plan.warm_start(PathBuf::from(&name));
                     previous = Some((name, warm));
                 }
                 if relaxed {

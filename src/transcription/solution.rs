@@ -72,3 +72,16 @@ pub struct Solution {
     /// Which of `starts` this solution is.
     pub best_start: usize,
 }
+
+impl Solution {
+    /// This solution as a warm start (its knot times, configurations and inputs), as a
+    /// `trajectory.csv` of it would give; `source` names it in messages.
+    pub fn warm_start(&self, source: std::path::PathBuf) -> crate::problem::WarmStart {
+        crate::problem::WarmStart {
+            source,
+            times: self.times.clone(),
+            q: self.q.clone(),
+            u: self.u.clone(),
+        }
+    }
+}

@@ -135,6 +135,7 @@ pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, Pr
         file: ctx.file.clone(),
         sha256: String::new(),
         parameters: Vec::new(),
+        family_parameters: Default::default(),
         // Relative to the problem file, like every path in it (`--out` is relative to the
         // working directory).
         output_dir: raw

@@ -1,0 +1,152 @@
+"""vito from Python: variational contact-implicit trajectory optimisation for legged robots.
+
+The functions and classes here call the same Rust library the ``vito`` command runs (problem
+loading and checking, the solve, the output writer, the simulator, the sweep runner), so a
+result from Python is the command's result::
+
+    import vito
+    problem = vito.Problem("problems/hopper_2d.toml", set={"contacts.friction": 0.6})
+    solution = problem.solve()
+    solution.status, solution.objective, solution.q.shape
+    frame = solution.to_pandas()            # the columns of trajectory.csv (needs pandas)
+    warm = problem.with_set({"contacts.friction": 0.7}).solve(warm_start=solution)
+    table = vito.sweep(problem, grid={"contacts.friction": [0.4, 0.6]}, out="out/sweep")
+
+See README.md, section "Python".
+"""
+
+import os as _os
+import shutil as _shutil
+import sys as _sys
+import sysconfig as _sysconfig
+
+# OpenBLAS reads its core type and thread count once, when the library loads (the native
+# module links Ipopt, MUMPS and OpenBLAS), so they are set here, before it loads. The `vito`
+# command pins the core type (re-executing itself with it) so that results do not depend on
+# the CPU's kernels; `vito._vito.pinned_coretype()` is that rule, and the test suite checks
+# that the value set here is the same. One BLAS thread: parallel work uses processes.
+def _pinned_coretype():
+    import platform
+
+    if _sys.platform != "linux" or platform.machine() != "x86_64":
+        return None
+    try:
+        with open("/proc/cpuinfo", encoding="ascii", errors="replace") as f:
+            for line in f:
+                if line.startswith("flags"):
+                    flags = set(line.split(":", 1)[1].split())
+                    return "Haswell" if {"avx2", "fma"} <= flags else "Prescott"
+    except OSError:
+        pass
+    return None
+
+
+_coretype = _pinned_coretype()
+if _coretype is not None:
+    _os.environ["OPENBLAS_CORETYPE"] = _coretype
+_os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+_os.environ.setdefault("OMP_NUM_THREADS", "1")
+
+from ._vito import (  # noqa: E402
+    IPOPT_VERSION,
+    Problem,
+    ProblemError,
+    Simulation,
+    Solution,
+    Trajectory,
+    VitoError,
+    __version__,
+    pinned_coretype,
+    simulate,
+)
+from . import _vito  # noqa: E402
+
+__all__ = [
+    "IPOPT_VERSION",
+    "Problem",
+    "ProblemError",
+    "Simulation",
+    "Solution",
+    "Trajectory",
+    "VitoError",
+    "__version__",
+    "find_executable",
+    "simulate",
+    "sweep",
+]
+
+if _coretype != pinned_coretype():
+    import warnings
+
+    warnings.warn(
+        f"vito: OPENBLAS_CORETYPE was set to {_coretype!r}, the command pins "
+        f"{pinned_coretype()!r}: results may differ from the `vito` command's",
+        RuntimeWarning,
+        stacklevel=2,
+    )
+
+
+def find_executable():
+    """The `vito` command that sweeps run (one `vito solve` process per grid point).
+
+    In order: the environment variable ``VITO_EXE``; ``vito`` beside this Python interpreter
+    (the project's set-up links ``.venv/bin/vito`` to ``target/release/vito``); ``vito`` on
+    ``PATH``. Raises ``VitoError`` naming these when none is found.
+    """
+    candidates = [
+        _os.environ.get("VITO_EXE"),
+        _os.path.join(_sysconfig.get_path("scripts"), "vito"),
+        _shutil.which("vito"),
+    ]
+    for path in candidates:
+        if path and _os.path.isfile(path) and _os.access(path, _os.X_OK):
+            return path
+    raise VitoError(
+        "cannot find the `vito` command that runs a sweep's solves: set VITO_EXE, or build it "
+        "(`cargo build --release`) and link it into this environment's bin directory "
+        "(the project's `make python` does), or put it on PATH"
+    )
+
+
+def sweep(problem, grid, out, jobs=None, time_limit=None, warm_start=None, exe=None):
+    """Solve ``problem`` over a grid of values, each point in its own process, like ``vito sweep``.
+
+    ``problem``: a :class:`Problem` (its overrides apply to every run). ``grid``: a dict
+    ``{key: [values]}`` of swept keys (any ``set`` key or family parameter; the grid is the
+    product, the last key varying fastest). ``out``: the sweep directory (created, or a
+    sweep's, which resumes: finished points are not solved again). ``jobs``: runs at a time
+    (default: the number of cores). ``time_limit``: seconds per run. ``warm_start``: None, or
+    ``"neighbour"`` to start each run from its nearest finished point. ``exe``: the ``vito``
+    command (default :func:`find_executable`).
+
+    Returns the sweep table (``sweep.csv``, one row per point) as a pandas DataFrame.
+    Releases the GIL while the runs go.
+    """
+    import pandas
+
+    if warm_start not in (None, "none", "neighbour"):
+        raise VitoError(f"warm_start={warm_start!r}: give None or 'neighbour'")
+    axes = []
+    for key, values in grid.items():
+        if isinstance(values, (str, bytes)) or not hasattr(values, "__iter__"):
+            values = [values]
+        axes.append(f"{key}=" + ",".join(_value_text(v) for v in values))
+    table = _vito._sweep(
+        problem,
+        axes,
+        exe if exe is not None else find_executable(),
+        _os.fspath(out),
+        jobs if jobs is not None else (_os.cpu_count() or 1),
+        time_limit,
+        warm_start == "neighbour",
+    )
+    return pandas.read_csv(table)
+
+
+def _value_text(value):
+    """A grid value as the command line writes it (``repr`` keeps a float's digits)."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, float):
+        return repr(value)
+    return str(value)
