@@ -40,7 +40,7 @@ fn set(symbol: &CStr, n: c_int) -> bool {
     // SAFETY: OpenBLAS's `openblas_set_num_threads`, BLIS's `bli_thread_set_num_threads`
     // and OpenMP's `omp_set_num_threads` all have the C signature `void (int)`; the address
     // is that function's, as the loader resolved it.
-    let f: extern "C" fn(c_int) = unsafe { std::mem::transmute(address) };
+    let f = unsafe { std::mem::transmute::<*mut c_void, extern "C" fn(c_int)>(address) };
     f(n);
     true
 }
@@ -50,7 +50,7 @@ fn get(symbol: &CStr) -> Option<i64> {
     let address = lookup(symbol)?;
     // SAFETY: `openblas_get_num_threads` and `omp_get_max_threads` have the C signature
     // `int (void)`.
-    let f: extern "C" fn() -> c_int = unsafe { std::mem::transmute(address) };
+    let f = unsafe { std::mem::transmute::<*mut c_void, extern "C" fn() -> c_int>(address) };
     Some(i64::from(f()))
 }
 
@@ -59,7 +59,8 @@ fn text(symbol: &CStr) -> Option<String> {
     let address = lookup(symbol)?;
     // SAFETY: `openblas_get_config` and `openblas_get_corename` have the C signature
     // `char *(void)` and return a pointer to a static NUL-terminated string (or null).
-    let f: extern "C" fn() -> *const c_char = unsafe { std::mem::transmute(address) };
+    let f =
+        unsafe { std::mem::transmute::<*mut c_void, extern "C" fn() -> *const c_char>(address) };
     let p = f();
     if p.is_null() {
         return None;

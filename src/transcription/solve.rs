@@ -561,7 +561,7 @@ fn slack_peak<M: MechanicsDerivatives>(
     let (index, slack) = x[l.slacks()].iter().copied().enumerate().fold(
         None,
         |best: Option<(usize, f64)>, (i, s)| match best {
-            Some((_, b)) if !(s > b) => best,
+            Some((_, b)) if s <= b || s.is_nan() => best,
             _ => Some((i, s)),
         },
     )?;

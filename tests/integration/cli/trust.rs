@@ -231,7 +231,7 @@ fn same_trajectory_under_any_thread_settings() {
             None => first = Some((csv, objective)),
             Some((csv0, objective0)) => {
                 assert_eq!(&objective, objective0, "{name}: objective");
-                assert!(&csv == csv0, "{name}: trajectory.csv differs");
+                assert!(csv == *csv0, "{name}: trajectory.csv differs");
             }
         }
     }
