@@ -1,4 +1,9 @@
-//! One set of BLAS kernels on every machine.
+//! One set of BLAS kernels, on one thread, on every machine.
+//!
+//! The same holds for OpenBLAS's thread count: with `OPENBLAS_NUM_THREADS` unset OpenBLAS
+//! takes every core, splits MUMPS's larger BLAS calls and sums in another order, and
+//! LittleDog's step ends at 62.92 instead of 50.59. The re-execution below also sets
+//! `OPENBLAS_NUM_THREADS=1` and `OMP_NUM_THREADS=1` (read at load time too).
 //!
 //! OpenBLAS picks its kernels by CPU when it loads, before `main`, unless `OPENBLAS_CORETYPE`
 //! names them; the robots' nonconvex solves round their way to different local optima with
@@ -37,27 +42,36 @@ pub fn coretype() -> Option<&'static str> {
     None
 }
 
-/// Re-executes this binary with `OPENBLAS_CORETYPE` set to the pinned core type unless it
-/// already holds it; returns only when no re-execution is needed or it failed (then with a
-/// warning on stderr).
+/// The variables OpenBLAS and OpenMP runtimes read their thread counts from when they load:
+/// one thread per solve (parallel work uses processes, as sweeps do). The library also sets
+/// them at run time before every solve (`ipopt::pin_one_thread`); set here too, they hold
+/// from the start, for whichever BLAS Debian's alternatives chose.
+const THREADS: [(&str, &str); 2] = [("OPENBLAS_NUM_THREADS", "1"), ("OMP_NUM_THREADS", "1")];
+
+/// Re-executes this binary with `OPENBLAS_CORETYPE` set to the pinned core type and
+/// [`THREADS`] set unless they already hold them; returns only when no re-execution is
+/// needed or it failed (then with a warning on stderr).
 pub fn pin() {
-    let Some(coretype) = coretype() else {
-        return;
-    };
+    let mut pinned: Vec<(&str, &str)> = THREADS.to_vec();
+    if let Some(coretype) = coretype() {
+        pinned.push((VARIABLE, coretype));
+    }
     if !cfg!(target_os = "linux")
-        || std::env::var_os(VARIABLE).as_deref() == Some(OsStr::new(coretype))
+        || pinned
+            .iter()
+            .all(|(name, value)| std::env::var_os(name).as_deref() == Some(OsStr::new(value)))
     {
         return;
     }
-    reexec(coretype);
+    reexec(&pinned);
 }
 
 #[cfg(unix)]
-fn reexec(coretype: &str) {
+fn reexec(pinned: &[(&str, &str)]) {
     use std::os::unix::process::CommandExt;
     let exe = match std::env::current_exe() {
         Ok(exe) => exe,
-        Err(e) => return warn(coretype, &e.to_string()),
+        Err(e) => return warn(pinned, &e.to_string()),
     };
     let mut args = std::env::args_os();
     let mut command = std::process::Command::new(exe);
@@ -65,15 +79,17 @@ fn reexec(coretype: &str) {
         command.arg0(arg0);
     }
     // `exec` returns only on failure.
-    let error = command.args(args).env(VARIABLE, coretype).exec();
-    warn(coretype, &error.to_string());
+    let error = command.args(args).envs(pinned.iter().copied()).exec();
+    warn(pinned, &error.to_string());
 }
 
 #[cfg(not(unix))]
-fn reexec(_coretype: &str) {}
+fn reexec(_pinned: &[(&str, &str)]) {}
 
-fn warn(coretype: &str, why: &str) {
+fn warn(pinned: &[(&str, &str)], why: &str) {
+    let settings: Vec<String> = pinned.iter().map(|(n, v)| format!("{n}={v}")).collect();
     eprintln!(
-        "warning: could not restart vito with {VARIABLE}={coretype} ({why}); BLAS kernels are this CPU's choice, so results may differ from other machines'"
+        "warning: could not restart vito with {} ({why}); BLAS kernels are this CPU's choice, so results may differ from other machines'",
+        settings.join(" ")
     );
 }

@@ -176,10 +176,7 @@ fn solve_and_compare(
     };
     let objective = summary["objective"].as_f64().unwrap_or(f64::NAN);
     let status_text = summary["status"].as_str().unwrap_or("?").to_owned();
-    let solved = matches!(
-        status_text.as_str(),
-        "solve_succeeded" | "solved_to_acceptable_level"
-    );
+    let solved = crate::report::summary_verdict(&summary).is_some_and(|v| v.is_solved());
     let verdict = match (&recorded, solved) {
         (_, false) => Verdict::Fail,
         (None, true) => Verdict::New,

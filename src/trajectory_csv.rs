@@ -5,10 +5,11 @@
 //! `<name>_dot [m/s|rad/s]` (v_0 on the first row, the backward difference (q_k − q_{k−1})/h
 //! after); each input `u_<name> [N|N·m]`; per contact `<contact>_normal [N·s]`, its friction
 //! impulses `<contact>_friction_<dir> [N·s]` (dir +x, −x in the plane; +x, +y, −x, −y in
-//! space) and its signed distance `<contact>_distance [m]`; the slacks `slack` (or
-//! `slack_<j>` in per-contact mode). Interval quantities (inputs, impulses, distances at the
-//! interval's end knot, slacks) sit on the interval's first knot; the last row leaves them
-//! empty. Units follow the robot's (`robot.units`).
+//! space) and its signed distance `<contact>_distance [m]` at the row's own knot; the slacks
+//! `slack` (or `slack_<j>` in per-contact mode). Interval quantities (inputs, impulses,
+//! slacks) sit on the interval's first knot; the last row leaves them empty. The impulses of
+//! row k are complementary to the distance of row k + 1 (c_k·φ(q_{k+1}) ≤ s_k). Units follow
+//! the robot's (`robot.units`). Numbers are shortest round-trip decimals ([`number`]).
 //!
 //! This module knows the format only (column names, units, number text, parsing), not where
 //! the numbers come from, so that both `report` (above it) and `problem` can use it.
@@ -38,7 +39,7 @@ pub struct Trajectory<'a> {
     pub normal_impulse: &'a [Vec<f64>],
     /// Friction impulses per interval (N−1 × nc × nd).
     pub friction_impulse: &'a [Vec<Vec<f64>>],
-    /// Signed distances per interval (N−1 × nc).
+    /// Signed distances at every knot (N × nc).
     pub signed_distance: &'a [Vec<f64>],
     /// Slacks per interval (N−1 × slacks per interval).
     pub slack: &'a [Vec<f64>],
@@ -81,9 +82,40 @@ fn header(name: &str, unit: &str) -> String {
     }
 }
 
-fn number(x: f64) -> String {
-    // `{:e}`-free shortest round-trip representation: Rust's Display for f64 is exact.
-    format!("{x}")
+/// A number as the file writes it: the shortest decimal that reads back to the same f64
+/// (Rust's `Display` and `LowerExp` both print the fewest such digits), positional for
+/// 1e-5 ≤ |x| < 1e16 (`0.15`, `2`), with an exponent otherwise (`-6.88e-14`).
+pub fn number(x: f64) -> String {
+    let a = x.abs();
+    if a != 0.0 && a.is_finite() && !(1e-5..1e16).contains(&a) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
+}
+
+/// The time of knot k after k equal steps h: the exact decimal product of k and h's
+/// shortest decimal, rounded once, so that 3 steps of 0.05 end at 0.15 (k·h in floating
+/// point gives 0.15000000000000002, which is what h = 0.05 written in a file means only up
+/// to round-off).
+pub fn knot_time(k: usize, h: f64) -> f64 {
+    let fallback = k as f64 * h;
+    let text = format!("{h:e}");
+    let Some((mantissa, exponent)) = text.split_once('e') else {
+        return fallback;
+    };
+    let (int, frac) = mantissa.split_once('.').unwrap_or((mantissa, ""));
+    let (Ok(digits), Ok(exponent)) = (
+        format!("{int}{frac}").parse::<i128>(),
+        exponent.parse::<i32>(),
+    ) else {
+        return fallback;
+    };
+    let Some(product) = digits.checked_mul(k as i128) else {
+        return fallback;
+    };
+    let exponent = exponent - frac.len() as i32;
+    format!("{product}e{exponent}").parse().unwrap_or(fallback)
 }
 
 /// Renders the trajectory CSV.
@@ -141,7 +173,13 @@ pub fn write_trajectory(trajectory: &Trajectory<'_>, units: &ColumnUnits) -> Str
                         .and_then(|b| b.get(d)),
                 ));
             }
-            row.push(cell(s.signed_distance.get(k).and_then(|p| p.get(i))));
+            // A knot quantity: on every row, the last included.
+            row.push(
+                s.signed_distance
+                    .get(k)
+                    .and_then(|p| p.get(i))
+                    .map_or(String::new(), |&d| number(d)),
+            );
         }
         for j in 0..slacks {
             row.push(cell(s.slack.get(k).and_then(|x| x.get(j))));
@@ -280,6 +318,33 @@ mod tests {
     use super::*;
 
     #[test]
+    fn numbers_are_shortest_round_trip_and_times_decimal() {
+        for x in [
+            0.15,
+            0.1 + 0.2,
+            -6.88338275267597e-14,
+            1e-9,
+            2.0,
+            1e300,
+            123456.789,
+            0.0,
+        ] {
+            assert_eq!(number(x).parse::<f64>().unwrap(), x, "{}", number(x));
+        }
+        assert_eq!(number(-6.88338275267597e-14), "-6.88338275267597e-14");
+        assert_eq!(number(2.0), "2");
+        assert_eq!(number(0.15), "0.15");
+        // k·h in floating point: 3·0.05 = 0.15000000000000002, 3·0.1 = 0.30000000000000004.
+        assert_eq!(number(knot_time(3, 0.05)), "0.15");
+        assert_eq!(number(knot_time(3, 0.1)), "0.3");
+        assert_eq!(number(knot_time(29, 0.1)), "2.9");
+        assert_eq!(knot_time(0, 0.1), 0.0);
+        assert_eq!(knot_time(7, 0.25), 1.75);
+        let h = 0.123456789012345678;
+        assert!((knot_time(11, h) - 11.0 * h).abs() <= 2.0 * f64::EPSILON * 11.0 * h);
+    }
+
+    #[test]
     fn written_trajectory_reads_back_by_name() {
         let names = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<_>>();
         let coordinates = names(&["x", "theta"]);
@@ -297,7 +362,7 @@ mod tests {
             friction_directions: 2,
             normal_impulse: &[vec![1.0], vec![0.0]],
             friction_impulse: &[vec![vec![0.5, 0.0]], vec![vec![0.0, 0.0]]],
-            signed_distance: &[vec![0.0], vec![0.1]],
+            signed_distance: &[vec![0.0], vec![0.1], vec![0.25]],
             slack: &[vec![1e-9], vec![2e-9]],
         };
         let units = ColumnUnits {
@@ -315,7 +380,8 @@ mod tests {
                  toe_normal [N·s],toe_friction_+x [N·s],toe_friction_-x [N·s],toe_distance [m],slack"
             )
         );
-        assert_eq!(text.lines().nth(3), Some("0.3,0.5,2,1.25,17.5,,,,,,"));
+        assert_eq!(text.lines().nth(3), Some("0.3,0.5,2,1.25,17.5,,,,,0.25,"));
+        assert_eq!(text.lines().nth(1), Some("0,0,0.5,0,0,3,1,0.5,0,0,1e-9"));
         // Asked in another order than written.
         let back = read_trajectory(&text, &names(&["theta", "x"]), &inputs).unwrap();
         assert_eq!(back.times, [0.0, 0.1, 0.3]);

@@ -525,7 +525,7 @@ impl Solution {
     /// Whether the verdict counts as solved (the command's exit code 0).
     #[getter]
     fn solved(&self) -> bool {
-        report::is_solved(self.solution.status)
+        self.solution.verdict().is_solved()
     }
 
     /// Total objective (problem cost + slack penalty).

@@ -59,6 +59,10 @@ pub(super) fn check(file: &Path, set: &[String]) -> Result<u8, CliError> {
         s.slack_weight
     );
     out!(
+        "  solved when: Ipopt's optimum with every slack <= slack.tolerance {:e} (else relaxed_contact, exit 1)",
+        s.slack_tolerance
+    );
+    out!(
         "  NLP size:    {} variables, {} constraints, nnz J {}, nnz H {} ({} friction directions per contact, {} loop-closure rows per interval)",
         size.n_variables,
         size.n_constraints,

@@ -18,7 +18,7 @@ use vito::pipeline;
 use vito::problem::{
     LoadedProblem, OptionValue, Override, ProblemError, RobotInfo, TimeSteps, load,
 };
-use vito::report::{self, is_solved, status_name};
+use vito::report::{self, status_name};
 use vito::transcription::Solution;
 
 /// A closed stdout (`vito check x | head -1`) ends the command quietly with success,

@@ -79,7 +79,7 @@ pub(super) fn solve(
     };
     let written = report::write_outputs(staged, &problem, &solution)?;
     print_summary(&problem, &solution, &written)?;
-    Ok(if is_solved(solution.status) { 0 } else { 1 })
+    Ok(if solution.verdict().is_solved() { 0 } else { 1 })
 }
 
 /// Calls the transcription's solver with live progress (stderr) and the cancel flag.
@@ -113,7 +113,12 @@ pub(super) fn print_summary(
     dir: &Path,
 ) -> Result<(), CliError> {
     out!("problem      {}", problem.spec.name);
-    out!("status       {}", status_name(s.status));
+    let verdict = s.verdict();
+    if verdict.name() == status_name(s.status) {
+        out!("status       {verdict}");
+    } else {
+        out!("status       {verdict} (Ipopt: {})", status_name(s.status));
+    }
     out!("objective    {:.10e}", s.objective);
     for (name, value) in &s.objective_terms {
         out!("  {name:<22} {value:.6e}");
@@ -139,7 +144,7 @@ pub(super) fn print_summary(
     for (k, r) in s.starts.iter().enumerate() {
         out!(
             "  start {k:<3} {:<28} objective {:.10e}  max slack {:.3e}  {} iterations{}",
-            status_name(r.status),
+            r.verdict.name(),
             r.objective,
             r.max_slack,
             r.iterations,
@@ -159,5 +164,62 @@ pub(super) fn print_summary(
         out!("horizon      T = {t:.6} {}", problem.units.time);
     }
     out!("written to   {}", dir.display());
+    for line in verdict_explanation(s, &problem.units.time) {
+        out!("{line}");
+    }
     Ok(())
+}
+
+/// Why a solve is not solved and what to try, one line each (nothing when it is solved):
+/// where a relaxed plan breaks contact, or the rows an unsolved one violates most.
+pub(super) fn verdict_explanation(s: &Solution, time_unit: &str) -> Vec<String> {
+    use vito::transcription::SolveVerdict;
+    let mut lines = Vec::new();
+    match s.verdict() {
+        SolveVerdict::Solved(_) => {}
+        SolveVerdict::RelaxedContact => {
+            let at = match &s.slack_peak {
+                Some(p) => {
+                    let knots = match (s.times.get(p.interval), s.times.get(p.interval + 1)) {
+                        (Some(a), Some(b)) => format!(", t = {a}–{b} {time_unit}"),
+                        _ => String::new(),
+                    };
+                    let contact = p
+                        .contact
+                        .as_deref()
+                        .map_or("contact".to_owned(), |c| format!("contact `{c}`"));
+                    format!(
+                        "{contact} at interval {} (knots {}–{}{knots}, row {} of trajectory.csv)",
+                        p.interval,
+                        p.interval,
+                        p.interval + 1,
+                        p.interval
+                    )
+                }
+                None => "some contact".to_owned(),
+            };
+            lines.push(format!(
+                "not solved:  Ipopt's optimum relaxes the contact model: {at} keeps slack {:.3e}, above slack.tolerance {:e}",
+                s.max_slack, s.slack_tolerance
+            ));
+            lines.push(
+                "try:         --starts 4 (other starts), a warm start ([initial_guess] warm_start = a solved trajectory.csv), \
+                 or a higher slack weight (--set slack.weight=..., or slack.target for a continuation)"
+                    .to_owned(),
+            );
+        }
+        SolveVerdict::NotSolved(_) => {
+            if !s.worst_rows.is_empty() {
+                lines.push(
+                    "worst rows:  the most violated constraints (knots and intervals from 0; \
+                     `vito check --derivatives` names rows alike)"
+                        .to_owned(),
+                );
+                for r in &s.worst_rows {
+                    lines.push(format!("  [{}]  violation {:.3e}", r.row, r.violation));
+                }
+            }
+        }
+    }
+    lines
 }

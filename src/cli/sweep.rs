@@ -83,7 +83,8 @@ pub(super) fn sweep(args: SweepRunArgs) -> Result<u8, CliError> {
     let solved = table.rows.iter().all(|r| {
         r.solver_status
             .as_deref()
-            .is_some_and(|s| s == "solve_succeeded" || s == "solved_to_acceptable_level")
+            .and_then(vito::transcription::SolveVerdict::from_name)
+            .is_some_and(|v| v.is_solved())
     });
     out!(
         "{} runs: {} finished ({} of them before this sweep), {} failed, {} timed out, in {:.1} s; table in {}",

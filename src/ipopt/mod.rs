@@ -13,7 +13,10 @@
 //!   unwound into C++; a NaN or Inf output is reported to Ipopt as a failed evaluation;
 //! - `linear_solver` other than `mumps` is refused (`ma97` would end the process: `exit(1)` in
 //!   3.11, a segfault in 3.14.17);
-//! - no stray `ipopt.opt` in the working directory is read.
+//! - no stray `ipopt.opt` in the working directory is read;
+//! - the linear algebra runs on one thread whatever the environment says
+//!   ([`pin_one_thread`], before every solve), so that a result does not depend on the
+//!   machine's core count.
 //!
 //! ```no_run
 //! use vito::ipopt::{Solver, Status};
@@ -36,6 +39,7 @@ mod options;
 mod solver;
 mod status;
 mod sys;
+mod threads;
 
 pub use compat::{LONG_VERSION, MpiState, VERSION, mpi_state};
 pub use error::IpoptError;
@@ -46,3 +50,4 @@ pub use options::{
 };
 pub use solver::{CallbackSplit, CallbackStat, Multipliers, SolveReport, Solver};
 pub use status::Status;
+pub use threads::{BlasThreads, pin_one_thread};

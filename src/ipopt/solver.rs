@@ -268,6 +268,7 @@ impl Solver {
     /// `hessian_nnz` the solve uses `hessian_approximation limited-memory`.
     pub fn solve<P: Nlp + ?Sized>(&mut self, problem: &mut P) -> Result<SolveReport, IpoptError> {
         let lock = IpoptLock::acquire()?;
+        super::threads::pin_one_thread();
         let wall_start = Instant::now();
         let setup = catch_unwind(AssertUnwindSafe(|| Setup::query(problem)));
         let setup = match setup {

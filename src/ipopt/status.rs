@@ -205,6 +205,14 @@ impl Status {
         self.entry().2
     }
 
+    /// The variant named `name` in snake case (as [`Status::as_snake_case`] writes it).
+    pub fn from_snake_case(name: &str) -> Option<Status> {
+        TABLE
+            .iter()
+            .find(|(_, _, n)| *n == name)
+            .map(|&(_, status, _)| status)
+    }
+
     /// Whether the solve reached an optimum: [`Status::SolveSucceeded`] or
     /// [`Status::SolvedToAcceptableLevel`].
     pub fn is_success(&self) -> bool {
@@ -239,6 +247,10 @@ mod tests {
             let hits = TABLE.iter().filter(|(_, s, _)| s == status).count();
             assert_eq!(hits, 1, "{status:?}");
             assert_eq!(Status::from_code(status.code()), Some(*status));
+            assert_eq!(
+                Status::from_snake_case(status.as_snake_case()),
+                Some(*status)
+            );
             for other in &Status::ALL[i + 1..] {
                 assert_ne!(status.code(), other.code());
                 assert_ne!(status.as_snake_case(), other.as_snake_case());

@@ -422,6 +422,9 @@ pub struct SlackSection {
     pub weight: f64,
     /// `"per_interval"` (default, the paper's) or `"per_contact"`.
     pub mode: Option<String>,
+    /// Largest slack of a solved plan (default 1e-4, problem units); a solve ending above it
+    /// is `relaxed_contact`, not solved.
+    pub tolerance: Option<f64>,
     /// Largest slack a solution may keep (e.g. the paper's 1e-5). When a solve ends above it,
     /// vito multiplies the weight by `growth` and solves again from that solution.
     pub target: Option<f64>,

@@ -283,6 +283,9 @@ pub struct ProblemSpec {
     pub slack_mode: SlackMode,
     /// Upper bound on every ψ (sliding speed), when set.
     pub max_slip_speed: Option<f64>,
+    /// Largest slack of a solved plan (`slack.tolerance`): above it the plan relaxes the
+    /// contact model and is not solved ([`crate::transcription::SolveVerdict`]).
+    pub slack_tolerance: f64,
     /// Re-solve with a growing slack weight until the largest slack is below a target.
     pub slack_continuation: Option<SlackContinuation>,
     /// q_1 (length n): fixed, except where `q_initial_free` is set (there only the guess).

@@ -182,7 +182,12 @@ mod tests {
                 vec![vec![0.2, 0.1], vec![0.0, 0.0]],
                 vec![vec![0.0, 1.0], vec![0.0, 0.0]],
             ],
-            signed_distance: vec![vec![0.1, 0.0], vec![0.0, 0.05], vec![0.0, 0.2]],
+            signed_distance: vec![
+                vec![0.0, 0.0],
+                vec![0.1, 0.0],
+                vec![0.0, 0.05],
+                vec![0.0, 0.2],
+            ],
             // The toe moves back 0.05 on the first interval, the heel only forwards.
             contact_positions: [[0.0, -0.05, 0.1, 0.2], [0.0, 0.1, 0.2, 0.3]].iter().fold(
                 vec![Vec::new(); 4],
@@ -195,8 +200,15 @@ mod tests {
             ),
             slack: vec![vec![1e-9], vec![2e-9], vec![3e-9]],
             max_slack: 3e-9,
+            slack_peak: Some(crate::transcription::SlackPeak {
+                interval: 2,
+                contact: None,
+                slack: 3e-9,
+            }),
+            slack_tolerance: crate::transcription::DEFAULT_SLACK_TOLERANCE,
             max_complementarity: 1e-9,
             max_constraint_violation: 1e-10,
+            worst_rows: Vec::new(),
             slack_weight: 100.0,
             solves: 1,
             starts: Vec::new(),
@@ -259,7 +271,7 @@ mod output_tests {
         s.u = vec![vec![1.0, 2.0]; 3];
         s.normal_impulse = vec![vec![1.0]; 3];
         s.friction_impulse = vec![vec![vec![0.1, 0.0]]; 3];
-        s.signed_distance = vec![vec![0.0]; 3];
+        s.signed_distance = vec![vec![0.0]; 4];
         s.contact_positions = vec![vec![[0.0; 3]]; 4];
         s
     }

@@ -5,19 +5,43 @@ use serde_json::{Map, Value, json};
 use crate::ipopt::Status;
 use crate::problem::LoadedProblem;
 use crate::report::modes::{FLIGHT_RELATIVE, SLIDE_CONE_FRACTION};
-use crate::transcription::Solution;
+use crate::transcription::{DEFAULT_SLACK_TOLERANCE, Solution, SolveVerdict};
 
 /// Ipopt's return status in snake case, e.g. `solve_succeeded`.
 pub fn status_name(status: Status) -> &'static str {
     status.as_snake_case()
 }
 
-/// Whether a status counts as solved (exit code 0).
-pub fn is_solved(status: Status) -> bool {
-    matches!(
-        status,
-        Status::SolveSucceeded | Status::SolvedToAcceptableLevel
-    )
+/// The verdict a `summary.json` records ([`SolveVerdict`]): its `status` where it records
+/// `ipopt_status` beside it; in a summary written before vito judged the slack, from
+/// `status`, `max_slack` and [`DEFAULT_SLACK_TOLERANCE`]. None when the status is not one vito
+/// writes.
+pub fn summary_verdict(summary: &Value) -> Option<SolveVerdict> {
+    let status = summary["status"].as_str()?;
+    if summary["ipopt_status"].is_string() {
+        return SolveVerdict::from_name(status);
+    }
+    let max_slack = summary["max_slack"].as_f64().unwrap_or(f64::NAN);
+    Some(SolveVerdict::new(
+        Status::from_snake_case(status)?,
+        max_slack,
+        DEFAULT_SLACK_TOLERANCE,
+    ))
+}
+
+/// The threads a solve's arithmetic ran on: the linear algebra's (one, set before every
+/// solve by [`crate::ipopt::pin_one_thread`]; null for a library that is not loaded) and
+/// rayon's (the derivatives' blocks, whose results do not depend on it).
+fn threads_json() -> Value {
+    let blas = crate::ipopt::pin_one_thread();
+    json!({
+        "openblas": blas.openblas_threads,
+        "openblas_config": blas.openblas_config,
+        "openblas_core": blas.openblas_core,
+        "blis": blas.blis.then_some(1),
+        "openmp": blas.omp_threads,
+        "rayon": rayon::current_num_threads(),
+    })
 }
 
 /// JSON-safe number: NaN and ±∞ become null.
@@ -47,8 +71,16 @@ pub fn summary_json(problem: &LoadedProblem, solution: &Solution) -> Value {
             final_q.insert(name.clone(), num(*v));
         }
     }
+    let verdict = s.verdict();
+    let worst_rows: Vec<Value> = s
+        .worst_rows
+        .iter()
+        .map(|r| json!({"row": r.row, "violation": num(r.violation)}))
+        .collect();
     let mut summary = json!({
-        "status": status_name(s.status),
+        "status": verdict.name(),
+        "solved": verdict.is_solved(),
+        "ipopt_status": status_name(s.status),
         "objective": num(s.objective),
         "objective_terms": terms,
         "iterations": s.iterations,
@@ -62,8 +94,14 @@ pub fn summary_json(problem: &LoadedProblem, solution: &Solution) -> Value {
             .map(|(name, stat)| (name.to_string(), json!({"calls": stat.calls, "seconds": num(stat.seconds)})))
             .collect::<Map<String, Value>>(),
         "max_slack": num(s.max_slack),
+        "max_slack_at": s.slack_peak.as_ref().map(|p| json!({
+            "interval": p.interval,
+            "contact": p.contact,
+        })),
+        "slack_tolerance": num(s.slack_tolerance),
         "max_complementarity": num(s.max_complementarity),
         "max_constraint_violation": num(s.max_constraint_violation),
+        "worst_rows": worst_rows,
         "slack_weight": num(s.slack_weight),
         "solves": s.solves,
         "n_variables": s.size.n_variables,
@@ -81,6 +119,7 @@ pub fn summary_json(problem: &LoadedProblem, solution: &Solution) -> Value {
         "ipopt_version": crate::ipopt::VERSION,
         // The BLAS kernels (the `vito` binary pins them; see its `blas_kernels`).
         "openblas_coretype": std::env::var("OPENBLAS_CORETYPE").ok(),
+        "threads": threads_json(),
         "units": {
             "length": problem.units.length,
             "mass": problem.units.mass,
@@ -110,7 +149,8 @@ pub fn summary_json(problem: &LoadedProblem, solution: &Solution) -> Value {
             .map(|r| {
                 json!({
                     "seed": r.seed,
-                    "status": status_name(r.status),
+                    "status": r.verdict.name(),
+                    "ipopt_status": status_name(r.status),
                     "objective": num(r.objective),
                     "max_slack": num(r.max_slack),
                     "max_constraint_violation": num(r.max_constraint_violation),

@@ -84,7 +84,8 @@ pub struct Simulation {
     pub u: Vec<Vec<f64>>,
     /// Impulses per interval (N).
     pub impulses: Vec<Impulses>,
-    /// Signed distance per contact at each interval's end knot (N × nc).
+    /// Signed distance per contact at every knot (N + 1 × nc): the impulses of step k are
+    /// complementary to the distance at knot k + 1.
     pub distance: Vec<Vec<f64>>,
     /// Newton iterations per step (N).
     pub iterations: Vec<usize>,
@@ -127,6 +128,11 @@ pub fn simulate<M: MechanicsDerivatives, U: Into<StepInput>>(
         times: vec![0.0],
         q: vec![q0.to_vec()],
         v: vec![v0.to_vec()],
+        distance: vec![
+            (0..mech.num_contacts())
+                .map(|i| crate::transcription::distance_with_gradient(mech, ctx, i, q0).0)
+                .collect(),
+        ],
         ..Simulation::default()
     };
     let mut warm = Impulses::zeros(ctx, mech.num_contacts());
@@ -214,7 +220,7 @@ pub fn simulate<M: MechanicsDerivatives, U: Into<StepInput>>(
                 bound,
             });
         }
-        sim.times.push((k + 1) as f64 * h);
+        sim.times.push(crate::trajectory_csv::knot_time(k + 1, h));
         sim.q.push(outcome.q_next);
         sim.v.push(v_next);
         sim.u.push(outcome.input.clone());

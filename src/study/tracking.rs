@@ -18,12 +18,7 @@ use crate::discrete::Mechanics;
 use crate::problem::{InitialGuess, Override, TimeSteps, WarmStart, load};
 use crate::sim::{InputSource, Simulation, SimulationOptions, StepOptions, simulate};
 use crate::trajectory_csv::RecordedTrajectory;
-use crate::transcription::{Context, SolveOptions};
-
-/// The largest complementarity slack of a plan the study tracks: above it the plan relaxes
-/// contact (its feet push through the ground or pull on it), no simulation can follow it,
-/// and it is recorded as `relaxed contact` and not tracked (it still warm starts the chain).
-pub const RELAXED_SLACK: f64 = 1e-4;
+use crate::transcription::{Context, SolveOptions, SolveVerdict};
 
 /// The header of `tracking_plans.csv`.
 pub const PLANS_CSV_HEADER: &str =
@@ -55,7 +50,9 @@ pub struct PlanRecord {
     /// beyond a few tenths of a radian.
     pub max_deviation: Option<f64>,
     /// `tracked`, or why the plan has no error row (Ipopt's status when it was not solved,
-    /// `relaxed contact` when its slack exceeds [`RELAXED_SLACK`],
+    /// `relaxed contact` when its slack exceeds the problem's `slack.tolerance`
+    /// ([`SolveVerdict::RelaxedContact`]: its feet push through the ground or pull on it, and
+    /// no simulation can follow it; it still warm starts the chain),
     /// the simulation's failure); the study goes on without it.
     pub outcome: String,
 }
@@ -261,8 +258,10 @@ impl Tracking {
                     None => "guess".to_owned(),
                 };
                 let plan = crate::pipeline::solve(&problem.spec, &SolveOptions::default())?;
-                let solved = crate::report::is_solved(plan.status);
-                let relaxed = plan.max_slack > RELAXED_SLACK;
+                let verdict = plan.verdict();
+                let relaxed = verdict == SolveVerdict::RelaxedContact;
+                // Solved, or an optimum of the relaxed problem (which still warm starts).
+                let solved = verdict.is_solved() || relaxed;
                 let units = crate::report::column_units(&problem.robot, &problem.units);
                 plans.push(PlanRecord {
                     knots,
@@ -277,8 +276,8 @@ impl Tracking {
                         format!("not solved: {}", crate::report::status_name(plan.status))
                     } else if relaxed {
                         format!(
-                            "relaxed contact: max slack {:.3e} above {RELAXED_SLACK:e}",
-                            plan.max_slack
+                            "relaxed contact: max slack {:.3e} above slack.tolerance {:e}",
+                            plan.max_slack, plan.slack_tolerance
                         )
                     } else {
                         "tracked".to_owned()

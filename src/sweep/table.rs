@@ -165,7 +165,9 @@ pub fn read_finished(
         .unwrap_or_default();
     listed.remove(WARM_START_KEY);
     let same_parameters = summary["parameters"].is_object() && &listed == parameters;
-    let status = summary["status"].as_str().map(str::to_owned);
+    let status = crate::report::summary_verdict(&summary)
+        .map(|v| v.name().to_owned())
+        .or_else(|| summary["status"].as_str().map(str::to_owned));
     let interrupted = status.as_deref().is_some_and(|s| INTERRUPTED.contains(&s));
     if !same_problem || !same_parameters || status.is_none() || interrupted {
         return false;

@@ -55,18 +55,28 @@ impl<M: MechanicsDerivatives> Transcription<M> {
     /// Largest violation of the constraint rows (|g| for equalities, the shortfall below
     /// the lower bound for inequalities) and the 2-norm of the equality residuals at x.
     pub fn violation(&self, x: &[f64]) -> (f64, f64) {
+        let (violations, g) = self.row_violations(x);
+        let max = violations.iter().fold(0.0_f64, |a, &b| a.max(b));
+        let sq: f64 = g
+            .iter()
+            .enumerate()
+            .filter(|&(r, _)| self.layout.is_equality(r))
+            .map(|(_, gr)| gr * gr)
+            .sum();
+        (max, sq.sqrt())
+    }
+
+    /// Each constraint row's violation at x (how far g_r lies outside [g_lower, g_upper],
+    /// 0 inside), and g itself.
+    pub fn row_violations(&self, x: &[f64]) -> (Vec<f64>, Vec<f64>) {
         let mut g = vec![0.0; self.layout.num_constraints()];
         self.constraints(x, &mut g);
-        let mut max = 0.0_f64;
-        let mut sq = 0.0;
-        for (r, &gr) in g.iter().enumerate() {
-            let v = (self.g_lower[r] - gr).max(gr - self.g_upper[r]).max(0.0);
-            max = max.max(v);
-            if self.layout.is_equality(r) {
-                sq += gr * gr;
-            }
-        }
-        (max, sq.sqrt())
+        let violations = g
+            .iter()
+            .enumerate()
+            .map(|(r, &gr)| (self.g_lower[r] - gr).max(gr - self.g_upper[r]).max(0.0))
+            .collect();
+        (violations, g)
     }
 
     /// Problem cost per term (names as in `Solution::objective_terms`) and the slack penalty.

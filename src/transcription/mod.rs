@@ -25,6 +25,7 @@ mod solution;
 mod solve;
 mod start;
 mod structure;
+mod verdict;
 
 pub use crate::discrete::{
     Mechanics, MechanicsDerivatives, ModelMechanics, contact_jet_by_autodiff,
@@ -45,6 +46,9 @@ pub use solution::{NlpSize, Solution};
 pub use solve::{
     BenchRow, MultiStart, PERTURBATION, SolveOptions, StartRecord, bench, bench_with,
     evaluate_initial_guess, solve, solve_with,
+};
+pub use verdict::{
+    DEFAULT_SLACK_TOLERANCE, RELAXED_CONTACT, RowViolation, SlackPeak, SolveVerdict,
 };
 
 #[allow(unused_imports)]

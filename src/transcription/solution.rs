@@ -48,20 +48,29 @@ pub struct Solution {
     pub normal_impulse: Vec<Vec<f64>>,
     /// Friction impulses β_k,i (N−1 × nc × nd).
     pub friction_impulse: Vec<Vec<Vec<f64>>>,
-    /// Signed distance φ_i(q_{k+1}) per interval (N−1 × nc).
+    /// Signed distance φ_i(q_k) at every knot (N × nc); the normal impulse of interval k is
+    /// complementary to the distance at knot k + 1.
     pub signed_distance: Vec<Vec<f64>>,
     /// World position of every contact point at every knot (N × nc).
     pub contact_positions: Vec<Vec<[f64; 3]>>,
     /// Slacks per interval (N−1 × slacks per interval: 1, or 3·nc in per-contact mode).
     pub slack: Vec<Vec<f64>>,
-    /// Largest slack value.
+    /// Largest slack value (at least 0: Ipopt's bound relaxation leaves slacks at −1e-8).
     pub max_slack: f64,
+    /// Where the largest slack sits (None without slacks).
+    pub slack_peak: Option<super::SlackPeak>,
+    /// The problem's `slack.tolerance`: the largest slack of a solved plan.
+    pub slack_tolerance: f64,
     /// Largest contact complementarity residual Σ_i max(c, 0)·max(φ, 0) over intervals (the
     /// clipped c·φ of SPEC.md). ηᵀβ and ψ(μc − eᵀβ) are not reported: ψ and η are
     /// undetermined in flight and stick, and their rows are covered by the slack.
     pub max_complementarity: f64,
     /// Largest constraint-row violation at the point Ipopt returned.
     pub max_constraint_violation: f64,
+    /// The most violated rows at that point, worst first (at most
+    /// [`Solution::WORST_ROWS`], only rows violated by more than 1e-6: Ipopt's bound
+    /// relaxation leaves 1e-8 on solved points).
+    pub worst_rows: Vec<super::RowViolation>,
     /// Slack weight α of the last solve (the problem's, or raised by `[slack] target`).
     pub slack_weight: f64,
     /// Ipopt solves made (more than 1 with `[slack] target`); iterations and times are their
@@ -83,5 +92,14 @@ impl Solution {
             q: self.q.clone(),
             u: self.u.clone(),
         }
+    }
+
+    /// How many of the most violated rows a solution keeps.
+    pub const WORST_ROWS: usize = 5;
+
+    /// Whether this solution is solved ([`super::SolveVerdict`]: Ipopt's optimum with every
+    /// slack within `slack.tolerance`).
+    pub fn verdict(&self) -> super::SolveVerdict {
+        super::SolveVerdict::new(self.status, self.max_slack, self.slack_tolerance)
     }
 }

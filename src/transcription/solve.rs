@@ -8,8 +8,8 @@ use std::time::Instant;
 use super::blocks::VectorKind;
 use super::nlp::{ProgressFn, TranscriptionNlp};
 use super::{
-    InitialGuessReport, MechanicsDerivatives, ModelMechanics, NlpSize, Solution, Transcription,
-    TranscriptionError,
+    InitialGuessReport, MechanicsDerivatives, ModelMechanics, NlpSize, Solution, SolveVerdict,
+    Transcription, TranscriptionError,
 };
 use crate::autodiff::VectorFunction;
 use crate::ipopt::{self, Multipliers, Solver};
@@ -51,6 +51,8 @@ pub struct StartRecord {
     pub seed: Option<u64>,
     /// Ipopt's status.
     pub status: ipopt::Status,
+    /// The start's verdict (Ipopt's status and its slack).
+    pub verdict: SolveVerdict,
     /// Objective at the end of the start.
     pub objective: f64,
     /// Largest slack.
@@ -72,6 +74,8 @@ pub struct BenchRow {
     pub size: NlpSize,
     /// Ipopt's final status.
     pub status: ipopt::Status,
+    /// Whether it is solved (Ipopt's status and the slack).
+    pub verdict: SolveVerdict,
     /// Final objective.
     pub objective: f64,
     /// Ipopt iterations (summed over the solves of a slack continuation).
@@ -195,6 +199,7 @@ fn solve_from<M: MechanicsDerivatives>(
     records.push(StartRecord {
         seed,
         status: solution.status,
+        verdict: solution.verdict(),
         objective: solution.objective,
         max_slack: solution.max_slack,
         max_constraint_violation: solution.max_constraint_violation,
@@ -204,14 +209,18 @@ fn solve_from<M: MechanicsDerivatives>(
     Ok(solution)
 }
 
-/// Feasible (a converged status) beats infeasible; then the lower objective; among
-/// infeasible ones, the smaller constraint violation.
+/// A solved start ([`Solution::verdict`]) beats a relaxed one, which beats an unsolved one;
+/// then, among solved ones the lower objective, among relaxed ones the smaller slack, among
+/// unsolved ones the smaller constraint violation.
 fn better(a: &Solution, b: &Solution) -> bool {
-    match (converged(a.status), converged(b.status)) {
-        (true, false) => true,
-        (false, true) => false,
-        (true, true) => a.objective < b.objective,
-        (false, false) => a.max_constraint_violation < b.max_constraint_violation,
+    let (va, vb) = (a.verdict(), b.verdict());
+    if va.rank() != vb.rank() {
+        return va.rank() < vb.rank();
+    }
+    match va {
+        SolveVerdict::Solved(_) => a.objective < b.objective,
+        SolveVerdict::RelaxedContact => a.max_slack < b.max_slack,
+        SolveVerdict::NotSolved(_) => a.max_constraint_violation < b.max_constraint_violation,
     }
 }
 
@@ -274,7 +283,7 @@ fn solve_transcription<M: MechanicsDerivatives>(
         }
         weight *= continuation.growth;
         transcription.set_slack_weight(weight);
-        let restart = if converged(solution.status) {
+        let restart = if solution.status.is_success() {
             continuation.restart
         } else {
             SlackRestart::InitialGuess
@@ -366,6 +375,7 @@ pub fn bench_with<M: MechanicsDerivatives>(
         name: spec.name.clone(),
         size: s.size,
         status: s.status,
+        verdict: s.verdict(),
         objective: s.objective,
         iterations: s.iterations,
         solves: s.solves,
@@ -397,19 +407,11 @@ fn ipopt_drops_fixed_variables(spec: &ProblemSpec, options: &SolveOptions) -> bo
 /// Not after a cancel, a failure in the problem's functions or an infeasibility verdict.
 fn restartable(status: ipopt::Status) -> bool {
     use ipopt::Status::*;
-    converged(status)
+    status.is_success()
         || matches!(
             status,
             MaximumIterationsExceeded | MaximumCpuTimeExceeded | SearchDirectionBecomesTooSmall
         )
-}
-
-/// Whether a solve ended at a (possibly relaxed) optimum, a point to warm-start from.
-fn converged(status: ipopt::Status) -> bool {
-    matches!(
-        status,
-        ipopt::Status::SolveSucceeded | ipopt::Status::SolvedToAcceptableLevel
-    )
 }
 
 /// Signed distance φ_i(q) of every contact at q.
@@ -440,10 +442,19 @@ fn fill_solution<M: MechanicsDerivatives>(
     let x = &report.x;
     let q: Vec<Vec<f64>> = (0..l.knots).map(|k| x[l.q(k)].to_vec()).collect();
     let time_steps: Vec<f64> = (0..l.intervals()).map(|j| x[l.h(j)]).collect();
-    let mut times = vec![0.0];
-    for h in &time_steps {
-        times.push(times.last().copied().unwrap_or(0.0) + h);
-    }
+    let times: Vec<f64> = match time_steps.first() {
+        // Equal steps (fixed, or free steps that ended equal): t_k = k·h, in decimal.
+        Some(&h) if time_steps.iter().all(|&s| s == h) => (0..l.knots)
+            .map(|k| crate::trajectory_csv::knot_time(k, h))
+            .collect(),
+        _ => {
+            let mut times = vec![0.0];
+            for h in &time_steps {
+                times.push(times.last().copied().unwrap_or(0.0) + h);
+            }
+            times
+        }
+    };
     let mut v = vec![x[l.v0()].to_vec()];
     for j in 0..l.intervals() {
         v.push(
@@ -456,11 +467,12 @@ fn fill_solution<M: MechanicsDerivatives>(
     }
     let mut normal_impulse = Vec::new();
     let mut friction_impulse = Vec::new();
-    let mut signed_distance = Vec::new();
     let mut slack = Vec::new();
     let mut max_complementarity = 0.0_f64;
+    // φ at every knot; the impulses of interval j are complementary to φ at knot j + 1.
+    let signed_distance: Vec<Vec<f64>> = q.iter().map(|qk| distances(t, qk)).collect();
     for j in 0..l.intervals() {
-        let phi = distances(t, &q[j + 1]);
+        let phi = &signed_distance[j + 1];
         let c: Vec<f64> = (0..l.nc).map(|i| x[l.c(j, i)]).collect();
         let beta: Vec<Vec<f64>> = (0..l.nc).map(|i| x[l.beta(j, i)].to_vec()).collect();
         // SPEC.md: report the slack and the clipped c·φ. The other two products (ηᵀβ and
@@ -471,10 +483,12 @@ fn fill_solution<M: MechanicsDerivatives>(
         max_complementarity = max_complementarity.max(contact_gap);
         normal_impulse.push(c);
         friction_impulse.push(beta);
-        signed_distance.push(phi);
-        slack.push(x[l.slack(j)].to_vec());
+        // A slack is ≥ 0; Ipopt's bound relaxation leaves it at −1e-8 where it is 0.
+        slack.push(x[l.slack(j)].iter().map(|s| s.max(0.0)).collect());
     }
     let max_slack = x[l.slacks()].iter().fold(0.0_f64, |a, &b| a.max(b));
+    let contact_names: Vec<String> = spec.contacts.iter().map(|c| c.name.clone()).collect();
+    let slack_peak = slack_peak(t, x, &signed_distance, &contact_names);
     let contact_positions = q
         .iter()
         .map(|qk| {
@@ -483,6 +497,19 @@ fn fill_solution<M: MechanicsDerivatives>(
                 .collect()
         })
         .collect();
+    let (row_violations, _) = t.row_violations(x);
+    let max_constraint_violation = row_violations.iter().fold(0.0_f64, |a, &b| a.max(b));
+    let coordinate_names = t.mechanics().coordinate_names();
+    let input_names = t.mechanics().input_names();
+    let worst_rows = worst_rows(
+        l,
+        &row_violations,
+        crate::transcription::EntryNames {
+            coordinates: &coordinate_names,
+            inputs: &input_names,
+            contacts: &contact_names,
+        },
+    );
     Solution {
         status: report.status,
         objective: report.objective,
@@ -493,9 +520,9 @@ fn fill_solution<M: MechanicsDerivatives>(
         ipopt_time_s: report.ipopt_time_s,
         callback_split: report.callback_split,
         size: t.size(),
-        coordinate_names: t.mechanics().coordinate_names(),
-        input_names: t.mechanics().input_names(),
-        contact_names: spec.contacts.iter().map(|c| c.name.clone()).collect(),
+        coordinate_names,
+        input_names,
+        contact_names,
         friction_directions: l.nd,
         times,
         time_steps,
@@ -508,11 +535,83 @@ fn fill_solution<M: MechanicsDerivatives>(
         contact_positions,
         slack,
         max_slack,
+        slack_peak,
+        slack_tolerance: spec.slack_tolerance,
         max_complementarity,
-        max_constraint_violation: t.violation(x).0,
+        max_constraint_violation,
+        worst_rows,
         slack_weight: t.slack_weight(),
         solves: 1,
         starts: Vec::new(),
         best_start: 0,
     }
+}
+
+/// Where the largest slack of x sits: its interval, and the contact it relaxes (its own in
+/// per-contact mode; else the contact with the largest clipped product c·φ, ηᵀβ or
+/// ψ(μc − eᵀβ) in that interval).
+fn slack_peak<M: MechanicsDerivatives>(
+    t: &Transcription<M>,
+    x: &[f64],
+    distance: &[Vec<f64>],
+    contacts: &[String],
+) -> Option<crate::transcription::SlackPeak> {
+    let l = t.layout();
+    let per = l.slacks_per_interval();
+    let (index, slack) = x[l.slacks()].iter().copied().enumerate().fold(
+        None,
+        |best: Option<(usize, f64)>, (i, s)| match best {
+            Some((_, b)) if s <= b || s.is_nan() => best,
+            _ => Some((i, s)),
+        },
+    )?;
+    let interval = index / per;
+    let contact = if per > 1 {
+        // Per-contact mode: three slacks per contact, in contact order.
+        Some((index % per) / 3)
+    } else {
+        let j = interval;
+        let product = |i: usize| {
+            let (c, beta) = (x[l.c(j, i)], &x[l.beta(j, i)]);
+            let (psi, eta) = (x[l.psi(j, i)], &x[l.eta(j, i)]);
+            let gap = c.max(0.0) * distance[j + 1][i].max(0.0);
+            let eta_beta: f64 = eta.iter().zip(beta).map(|(e, b)| e * b).sum();
+            let cone = t.context().friction[i] * c - beta.iter().sum::<f64>();
+            gap.max(eta_beta).max(psi * cone)
+        };
+        (0..l.nc)
+            .map(|i| (i, product(i)))
+            .filter(|&(_, p)| p > 0.0)
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+            .map(|(i, _)| i)
+    };
+    Some(crate::transcription::SlackPeak {
+        interval,
+        contact: contact.and_then(|i| contacts.get(i).cloned()),
+        slack: slack.max(0.0),
+    })
+}
+
+/// A row violated by at most this much is not listed among the worst rows: Ipopt relaxes
+/// bounds by 1e-8 (`bound_relax_factor`), so solved points show violations of that order.
+const LISTED_VIOLATION: f64 = 1e-6;
+
+/// The most violated rows (at most [`Solution::WORST_ROWS`], each by more than
+/// [`LISTED_VIOLATION`]), worst first, named as `vito check --derivatives` names them.
+fn worst_rows(
+    l: &crate::transcription::Layout,
+    violations: &[f64],
+    names: crate::transcription::EntryNames,
+) -> Vec<crate::transcription::RowViolation> {
+    let mut rows: Vec<usize> = (0..violations.len())
+        .filter(|&r| violations[r] > LISTED_VIOLATION)
+        .collect();
+    rows.sort_by(|&a, &b| violations[b].total_cmp(&violations[a]).then(a.cmp(&b)));
+    rows.truncate(Solution::WORST_ROWS);
+    rows.into_iter()
+        .map(|r| crate::transcription::RowViolation {
+            row: l.row_name(r, names),
+            violation: violations[r],
+        })
+        .collect()
 }

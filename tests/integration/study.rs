@@ -199,7 +199,8 @@ fn tracking_study_variational_error_is_below_and_falls_faster_on_a_smooth_swing(
 /// from it.
 #[test]
 fn tracking_study_records_but_does_not_track_a_relaxed_plan() {
-    use vito::study::tracking::{RELAXED_SLACK, Tracking};
+    use vito::study::tracking::Tracking;
+    use vito::transcription::DEFAULT_SLACK_TOLERANCE;
     let result = Tracking {
         knots: vec![10],
         gains: vec!["theta=50,5".into(), "r=1000,50".into()],
@@ -215,7 +216,7 @@ fn tracking_study_records_but_does_not_track_a_relaxed_plan() {
     print!("{}", result.plans_csv());
     assert_eq!(result.plans.len(), 2);
     for p in &result.plans {
-        assert!(p.max_slack > RELAXED_SLACK, "{p:?}");
+        assert!(p.max_slack > DEFAULT_SLACK_TOLERANCE, "{p:?}");
         assert!(p.outcome.starts_with("relaxed contact"), "{}", p.outcome);
         assert_eq!(p.max_deviation, None);
     }

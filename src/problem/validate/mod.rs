@@ -57,7 +57,7 @@ pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, Pr
     let joint_limits = raw.robot.joint_limits.unwrap_or(true);
     let input_bounds = inputs::check_inputs(ctx, &raw, &robot)?;
     let costs = crate::problem::costs::check_costs(ctx, &raw, &robot, &endpoints.goal)?;
-    let (slack_weight, slack_mode) = slack::check_slack_penalty(ctx, &raw)?;
+    let (slack_weight, slack_mode, slack_tolerance) = slack::check_slack_penalty(ctx, &raw)?;
     let max_slip_speed = contacts::check_max_slip_speed(ctx, &raw)?;
     let slack_continuation = slack::check_slack_continuation(ctx, &raw)?;
     let constraints = crate::problem::constraints::check_constraints(ctx, &raw, &robot, knots)?;
@@ -113,6 +113,7 @@ pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, Pr
         integrator,
         slack_weight,
         slack_mode,
+        slack_tolerance,
         slack_continuation,
         max_slip_speed,
         q_initial,

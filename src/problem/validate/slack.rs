@@ -5,12 +5,16 @@ use super::values::positive;
 use crate::problem::schema::ProblemFile;
 use crate::problem::{ProblemError, SlackContinuation, SlackMode, SlackRestart};
 
-/// (weight α, mode).
+/// (weight α, mode, tolerance).
 pub(super) fn check_slack_penalty(
     ctx: &Context,
     raw: &ProblemFile,
-) -> Result<(f64, SlackMode), ProblemError> {
+) -> Result<(f64, SlackMode, f64), ProblemError> {
     let slack_weight = positive(ctx, "slack.weight", raw.slack.weight)?;
+    let slack_tolerance = match raw.slack.tolerance {
+        None => crate::transcription::DEFAULT_SLACK_TOLERANCE,
+        Some(t) => positive(ctx, "slack.tolerance", t)?,
+    };
     let slack_mode = match raw.slack.mode.as_deref() {
         None | Some("per_interval") => SlackMode::PerInterval,
         Some("per_contact") => SlackMode::PerContact,
@@ -19,7 +23,7 @@ pub(super) fn check_slack_penalty(
             return Err(ctx.unknown_name("slack.mode", "slack mode", other, &valid));
         }
     };
-    Ok((slack_weight, slack_mode))
+    Ok((slack_weight, slack_mode, slack_tolerance))
 }
 
 /// `slack.target`, `growth` and `rounds`, if a target is given.

@@ -16,3 +16,4 @@ mod sphere_contacts;
 mod study;
 pub mod sweep;
 mod sweep_slurm;
+mod trust;

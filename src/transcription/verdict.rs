@@ -1,0 +1,140 @@
+//! Whether a solve is solved: the one definition `vito solve`, multi-start, `vito bench`,
+//! sweeps, `vito regress` and the studies use.
+//!
+//! Ipopt's optimum of the relaxed NLP is a plan of the contact model only when its slacks are
+//! (near) zero: a slack s lets a foot push while above the ground (c·φ ≤ s), slide without
+//! friction's resistance or stick while sliding. A solve is solved when Ipopt reached an
+//! optimum ([`Status::is_success`]) and its largest slack is within the problem's
+//! `slack.tolerance` ([`DEFAULT_SLACK_TOLERANCE`] by default).
+
+use crate::ipopt::Status;
+
+/// `slack.tolerance` when the problem file gives none (problem units: the products c·φ, ηᵀβ,
+/// ψ(μc − eᵀβ) in impulse × length or impulse × speed), the paper's order of a closed slack.
+pub const DEFAULT_SLACK_TOLERANCE: f64 = 1e-4;
+
+/// The status name of a plan whose slack exceeds its tolerance.
+pub const RELAXED_CONTACT: &str = "relaxed_contact";
+
+/// How a solve ended, judged.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SolveVerdict {
+    /// Ipopt reached an optimum (its status) and every slack is within the tolerance.
+    Solved(Status),
+    /// Ipopt reached an optimum of the relaxed problem, but a slack exceeds the tolerance:
+    /// the plan breaks the contact model.
+    RelaxedContact,
+    /// Ipopt did not reach an optimum (its status).
+    NotSolved(Status),
+}
+
+impl SolveVerdict {
+    /// The verdict on a solve that ended with Ipopt's `status` and largest slack `max_slack`
+    /// (a NaN slack is not within any tolerance).
+    pub fn new(status: Status, max_slack: f64, tolerance: f64) -> SolveVerdict {
+        if !status.is_success() {
+            SolveVerdict::NotSolved(status)
+        } else if max_slack <= tolerance {
+            SolveVerdict::Solved(status)
+        } else {
+            SolveVerdict::RelaxedContact
+        }
+    }
+
+    /// Whether the plan can be used (exit code 0).
+    pub fn is_solved(self) -> bool {
+        matches!(self, SolveVerdict::Solved(_))
+    }
+
+    /// The status as reports print it: Ipopt's name in snake case, or
+    /// [`RELAXED_CONTACT`].
+    pub fn name(self) -> &'static str {
+        match self {
+            SolveVerdict::Solved(s) | SolveVerdict::NotSolved(s) => s.as_snake_case(),
+            SolveVerdict::RelaxedContact => RELAXED_CONTACT,
+        }
+    }
+
+    /// The verdict [`SolveVerdict::name`] names (None for a name it never gives).
+    pub fn from_name(name: &str) -> Option<SolveVerdict> {
+        if name == RELAXED_CONTACT {
+            return Some(SolveVerdict::RelaxedContact);
+        }
+        let status = Status::from_snake_case(name)?;
+        Some(if status.is_success() {
+            SolveVerdict::Solved(status)
+        } else {
+            SolveVerdict::NotSolved(status)
+        })
+    }
+
+    /// The order in which multi-start prefers solves: solved, then relaxed, then the rest.
+    pub fn rank(self) -> u8 {
+        match self {
+            SolveVerdict::Solved(_) => 0,
+            SolveVerdict::RelaxedContact => 1,
+            SolveVerdict::NotSolved(_) => 2,
+        }
+    }
+}
+
+impl std::fmt::Display for SolveVerdict {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Where a solution relaxes its contact model most: the largest slack.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SlackPeak {
+    /// The interval (0-based; row `interval` of `trajectory.csv`) holding the largest slack.
+    pub interval: usize,
+    /// The contact relaxed there: the slack's own contact in per-contact mode, else the one
+    /// whose complementarity products are largest; None when no contact's is positive.
+    pub contact: Option<String>,
+    /// The slack's value.
+    pub slack: f64,
+}
+
+/// A constraint row by name (as `vito check --derivatives` names rows) with its violation.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RowViolation {
+    /// The row, e.g. `DEL base_x, knot 19`.
+    pub row: String,
+    /// How far the row's value lies outside its bounds (problem units).
+    pub violation: f64,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn solved_needs_an_optimum_and_a_closed_slack() {
+        let v = |s, slack| SolveVerdict::new(s, slack, 1e-4);
+        assert!(v(Status::SolveSucceeded, 1e-4).is_solved());
+        assert!(v(Status::SolvedToAcceptableLevel, 0.0).is_solved());
+        assert_eq!(
+            v(Status::SolveSucceeded, 0.307),
+            SolveVerdict::RelaxedContact
+        );
+        assert_eq!(v(Status::SolveSucceeded, 0.307).name(), "relaxed_contact");
+        assert_eq!(
+            v(Status::SolveSucceeded, f64::NAN),
+            SolveVerdict::RelaxedContact
+        );
+        let failed = v(Status::MaximumIterationsExceeded, 0.0);
+        assert!(!failed.is_solved());
+        assert_eq!(failed.name(), "maximum_iterations_exceeded");
+        assert!(v(Status::SolveSucceeded, 0.0).rank() < v(Status::SolveSucceeded, 1.0).rank());
+        assert!(v(Status::SolveSucceeded, 1.0).rank() < failed.rank());
+        for verdict in [
+            v(Status::SolveSucceeded, 0.0),
+            v(Status::SolveSucceeded, 1.0),
+            failed,
+        ] {
+            assert_eq!(SolveVerdict::from_name(verdict.name()), Some(verdict));
+        }
+        assert_eq!(SolveVerdict::from_name("solved"), None);
+    }
+}
