@@ -47,7 +47,7 @@ pub(super) fn simulate(
         // Which PD law ran: the numbers differ at stiff gains.
         summary["feedback"] = serde_json::Value::from(feedback.name());
     }
-    let columns = report::SimulationColumns::new(&problem, &sim, prepared.ctx.nd());
+    let columns = report::SimulationColumns::new(&problem, &sim, prepared.contact.nd());
     let staged = target.stage().map_err(report::ReportError::from)?;
     let written =
         report::write_trajectory_outputs(staged, &problem, &columns.trajectory(&sim), &summary)?;

@@ -5,8 +5,8 @@
 use nalgebra::{DMatrix, DVector};
 
 use super::step::{Before, ContactStep, Impulses, StepFailure, StepInput, StepOptions};
+use crate::contact::ContactModel;
 use crate::discrete::{Integrator, MechanicsDerivatives, incoming_momentum, initial_momentum};
-use crate::transcription::Context;
 
 /// Settings of a simulation.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -115,7 +115,7 @@ impl Simulation {
 /// after each step.
 pub fn simulate<M: MechanicsDerivatives, U: Into<StepInput>>(
     mech: &M,
-    ctx: &Context,
+    contact: &ContactModel,
     q0: &[f64],
     v0: &[f64],
     options: &SimulationOptions,
@@ -129,7 +129,7 @@ pub fn simulate<M: MechanicsDerivatives, U: Into<StepInput>>(
         v: vec![v0.to_vec()],
         ..Simulation::default()
     };
-    let mut warm = Impulses::zeros(ctx, mech.num_contacts());
+    let mut warm = Impulses::zeros(mech, contact);
     for k in 0..options.steps {
         let t = k as f64 * h;
         let u: StepInput = input(k, t, &sim.q[k], &sim.v[k]).into();
@@ -176,7 +176,7 @@ pub fn simulate<M: MechanicsDerivatives, U: Into<StepInput>>(
             .collect();
         let step = ContactStep {
             mech,
-            ctx,
+            contact,
             integrator: options.integrator,
             before,
             q_curr,

@@ -18,7 +18,7 @@ use crate::discrete::Mechanics;
 use crate::problem::{InitialGuess, Override, TimeSteps, WarmStart, load};
 use crate::sim::{InputSource, Simulation, SimulationOptions, StepOptions, simulate};
 use crate::trajectory_csv::RecordedTrajectory;
-use crate::transcription::{Context, SolveOptions};
+use crate::transcription::SolveOptions;
 
 /// The largest complementarity slack of a plan the study tracks: above it the plan relaxes
 /// contact (its feet push through the ground or pull on it), no simulation can follow it,
@@ -310,7 +310,7 @@ impl Tracking {
                     u: plan.u.clone(),
                 };
                 let mech = crate::pipeline::mechanics(&problem.spec)?;
-                let ctx = Context::new(&mech, &problem.spec);
+                let contact = problem.spec.contact_model(&mech);
                 let h = 1.0 / self.rate;
                 let duration = plan.times.last().copied().unwrap_or(0.0);
                 let options = SimulationOptions {
@@ -337,7 +337,7 @@ impl Tracking {
                 let m = mech.nu();
                 let sim = simulate(
                     &mech,
-                    &ctx,
+                    &contact,
                     &plan.q[0],
                     &plan.v[0],
                     &options,
