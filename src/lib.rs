@@ -14,15 +14,18 @@
 //! - `discrete`: the robot's mechanics traits (`Mechanics`, `MechanicsDerivatives`, for a URDF
 //!   robot `ModelMechanics`), discrete Lagrangians (midpoint, first-order Euler) and forces, the
 //!   DEL equations (`discrete/del.rs`), forward stepping. A new integrator goes here.
-//! - `contact`: terrain (`contact/terrain.rs`), signed distance, the friction basis and its one
-//!   rule (`FrictionBasis::for_robot`, from `Model::moves_in_xz_plane`).
-//! - `transcription`: variable layout, constraint blocks (contact complementarity rows in
-//!   `transcription/blocks/contact.rs`), cost terms (one file each in `transcription/costs/`),
-//!   placement, sparsity, start, evaluation, the NLP adapter for Ipopt.
+//! - `contact`: contact physics: terrain (`contact/terrain/`), signed distance, the friction
+//!   basis and its one rule (`FrictionBasis::for_robot`, from `Model::moves_in_xz_plane`), the
+//!   contact model of a problem, and the contact rows (distance, impulses, tangential velocity,
+//!   friction cone, complementarity) with their closed-form derivatives, for the NLP and `sim`.
+//! - `transcription`: variable layout, constraint blocks (placing `contact`'s rows), cost
+//!   terms (one file each in `transcription/costs/`), placement, sparsity, start, evaluation,
+//!   the NLP adapter for Ipopt.
 //! - `problem`: TOML schema, validation into a checked `ProblemSpec`.
 //! - `report`: trajectory CSV, summary JSON, SVG plots, regression records.
 //! - `sim`: forward simulation with the same DEL and contact rows as the NLP (each step a
-//!   small complementarity problem), the inputs of `vito simulate`.
+//!   small complementarity problem, solved by the strategies of `sim/ncp/`), the inputs of
+//!   `vito simulate`.
 //! - `study`: the paper's accuracy studies (figures 5 and 6) over `sim` and `pipeline`.
 //! - `testing`: the seeded generator of test and benchmark inputs.
 //! - `pipeline`: the steps the commands run on a loaded problem (Ipopt's option check, the

@@ -185,8 +185,8 @@ pub struct SimulateRequest {
 pub struct PreparedSimulation {
     /// The robot.
     pub mech: ModelMechanics,
-    /// The contact constants (the NLP's).
-    pub ctx: transcription::Context,
+    /// The contact model (the NLP's).
+    pub contact: crate::contact::ContactModel,
     /// Initial configuration and velocity.
     pub q0: Vec<f64>,
     /// v_0 (the problem's, else zero).
@@ -307,7 +307,7 @@ pub fn prepare_simulation(
         ));
     }
     let mech = mechanics(spec)?;
-    let ctx = transcription::Context::new(&mech, spec);
+    let contact = spec.contact_model(&mech);
     let gravity = spec.robot.gravity.iter().map(|g| g * g).sum::<f64>().sqrt();
     Ok(PreparedSimulation {
         q0: spec.q_initial.clone(),
@@ -327,7 +327,7 @@ pub fn prepare_simulation(
         source,
         inputs,
         mech,
-        ctx,
+        contact,
     })
 }
 
@@ -382,7 +382,7 @@ pub fn run_simulation(
     let (m, h) = (p.mech.nu(), p.options.h);
     crate::sim::simulate(
         &p.mech,
-        &p.ctx,
+        &p.contact,
         &p.q0,
         &p.v0,
         &p.options,
@@ -474,7 +474,7 @@ pub fn feasibility<M: MechanicsDerivatives>(
     let layout = nlp.layout();
     let x = nlp.initial_point();
     let mech = nlp.mechanics();
-    let terrain = &nlp.context().terrain;
+    let terrain = &nlp.context().contact.terrain;
     let last = layout.knots - 1;
     let distance = |i: usize, k: usize| {
         crate::contact::signed_distance(terrain, &mech.contact_position(i, &x[layout.q(k)]))

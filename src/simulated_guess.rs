@@ -9,7 +9,6 @@ use std::time::Instant;
 use crate::discrete::MechanicsDerivatives;
 use crate::problem::{Constraint, Interval, ProblemSpec, SimulatedGuess, WarmStart};
 use crate::sim::{SimulationError, SimulationOptions, StepOptions, simulate};
-use crate::transcription::Context;
 
 /// The guess and how well the simulation settled.
 #[derive(Debug, Clone, PartialEq)]
@@ -82,12 +81,12 @@ fn simulate_with<M: MechanicsDerivatives>(
             ..StepOptions::default()
         },
     };
-    let ctx = Context::new(mech, spec);
+    let contact = spec.contact_model(mech);
     let n = spec.q_initial.len();
     let v0 = spec.v_initial.clone().unwrap_or_else(|| vec![0.0; n]);
     let sim = simulate(
         mech,
-        &ctx,
+        &contact,
         &spec.q_initial,
         &v0,
         &options,

@@ -906,7 +906,7 @@ fn simulate(
         .map_err(|e| vito_error(&e))?;
     let energies = pipeline::conservative_energies(&prepared, &sim);
     let summary = pipeline::simulation_summary(&loaded, &prepared, &sim, energies.as_deref(), wall);
-    let columns = report::SimulationColumns::new(&loaded, &sim, prepared.ctx.nd());
+    let columns = report::SimulationColumns::new(&loaded, &sim, prepared.contact.nd());
     // The temporary CSVs are gone once this returns; the output rules need only the
     // problem's own files then.
     let inputs: Vec<PathBuf> = prepared

@@ -38,7 +38,7 @@ pub(super) fn simulate(
     let energies = pipeline::conservative_energies(&prepared, &sim);
     let summary =
         pipeline::simulation_summary(&problem, &prepared, &sim, energies.as_deref(), wall);
-    let columns = report::SimulationColumns::new(&problem, &sim, prepared.ctx.nd());
+    let columns = report::SimulationColumns::new(&problem, &sim, prepared.contact.nd());
     let staged = target.stage().map_err(report::ReportError::from)?;
     let written =
         report::write_trajectory_outputs(staged, &problem, &columns.trajectory(&sim), &summary)?;

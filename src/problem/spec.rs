@@ -10,8 +10,9 @@ use std::path::PathBuf;
 
 use super::constraints::Constraint;
 use super::costs::CostTerm;
-use crate::contact::Terrain;
+use crate::contact::{ContactModel, Terrain};
 pub use crate::discrete::Integrator;
+use crate::discrete::Mechanics;
 use crate::model::{Actuation, BaseType};
 
 /// How the Lagrangian Hessian is obtained.
@@ -311,4 +312,17 @@ pub struct ProblemSpec {
     pub solver_options: Vec<(String, OptionValue)>,
     /// What the summary reports under `metrics`.
     pub metrics: MetricsSpec,
+}
+
+impl ProblemSpec {
+    /// The contact model of the problem for the robot `mech`, whose contacts are
+    /// [`ProblemSpec::contacts`] in order: the NLP and the forward simulator build their contact
+    /// rows from this.
+    pub fn contact_model<M: Mechanics>(&self, mech: &M) -> ContactModel {
+        ContactModel::new(
+            mech.moves_in_xz_plane(),
+            self.contacts.iter().map(|c| c.friction).collect(),
+            self.terrain.clone(),
+        )
+    }
 }

@@ -1,16 +1,15 @@
 //! Forward simulation with the planner's own mechanics and contact model: each step solves
 //! the problem of eq. (32) of the paper, the knot's discrete equations (`crate::discrete::del`,
-//! midpoint or Euler) with the NLP's contact rows (`crate::transcription`'s contact blocks:
-//! impulses J(q)ᵀλ, signed distance, tangential velocity, polyhedral friction cone) held as
+//! midpoint or Euler) with the NLP's contact rows (`crate::contact`: impulses J(q)ᵀλ, signed distance, tangential velocity, polyhedral friction cone) held as
 //! exact complementarity, by a smoothed Fischer–Burmeister Newton method with warm starts.
 //!
-//! Where things are: `step` (one step's complementarity problem and its solver), `run` (a
-//! horizon: warm starts, the per-step record, knot energies), `inputs` (zero, replayed or
-//! PD-tracking inputs), `lemke` (the pivoting method the step solver falls back on for the
-//! contact mode).
+//! Where things are: `step` (one step's complementarity problem: its data, equations and the
+//! order in which the solvers are tried), `ncp` (the complementarity solvers, one file per
+//! strategy, with Lemke's pivoting method), `run` (a horizon: warm starts, the per-step
+//! record, knot energies), `inputs` (zero, replayed or PD-tracking inputs).
 
 mod inputs;
-mod lemke;
+mod ncp;
 mod run;
 mod step;
 

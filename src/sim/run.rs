@@ -5,8 +5,8 @@
 use nalgebra::{DMatrix, DVector};
 
 use super::step::{Before, ContactStep, Impulses, StepFailure, StepInput, StepOptions};
+use crate::contact::ContactModel;
 use crate::discrete::{Integrator, MechanicsDerivatives, incoming_momentum, initial_momentum};
-use crate::transcription::Context;
 
 /// Settings of a simulation.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -116,7 +116,7 @@ impl Simulation {
 /// after each step.
 pub fn simulate<M: MechanicsDerivatives, U: Into<StepInput>>(
     mech: &M,
-    ctx: &Context,
+    contact: &ContactModel,
     q0: &[f64],
     v0: &[f64],
     options: &SimulationOptions,
@@ -130,12 +130,12 @@ pub fn simulate<M: MechanicsDerivatives, U: Into<StepInput>>(
         v: vec![v0.to_vec()],
         distance: vec![
             (0..mech.num_contacts())
-                .map(|i| crate::transcription::distance_with_gradient(mech, ctx, i, q0).0)
+                .map(|i| crate::contact::distance_with_gradient(mech, contact, i, q0).0)
                 .collect(),
         ],
         ..Simulation::default()
     };
-    let mut warm = Impulses::zeros(ctx, mech.num_contacts());
+    let mut warm = Impulses::zeros(mech, contact);
     for k in 0..options.steps {
         let t = k as f64 * h;
         let u: StepInput = input(k, t, &sim.q[k], &sim.v[k]).into();
@@ -182,7 +182,7 @@ pub fn simulate<M: MechanicsDerivatives, U: Into<StepInput>>(
             .collect();
         let step = ContactStep {
             mech,
-            ctx,
+            contact,
             integrator: options.integrator,
             before,
             q_curr,

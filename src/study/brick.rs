@@ -5,11 +5,11 @@
 //! rad for the brick), q_ref linear between the reference's knots.
 
 use super::{Method, StudyError, StudyRow, StudyTable};
+use crate::contact::ContactModel;
 use crate::discrete::{Mechanics, ModelMechanics};
 use crate::problem::ProblemSpec;
 use crate::sim::{Simulation, SimulationOptions, StepOptions, simulate};
 use crate::testing::SeededRng;
-use crate::transcription::Context;
 
 /// The study's settings.
 #[derive(Debug, Clone, PartialEq)]
@@ -117,7 +117,7 @@ impl BrickAccuracy {
     ) -> Result<StudyTable, StudyError> {
         self.check()?;
         let mech = crate::pipeline::mechanics(spec)?;
-        let ctx = Context::new(&mech, spec);
+        let contact = spec.contact_model(&mech);
         if mech.nq() != 6 || mech.nu() != 0 {
             return Err(StudyError::Invalid {
                 field: "--problem".into(),
@@ -147,7 +147,7 @@ impl BrickAccuracy {
             let steps = (self.horizon * self.reference_rate).round() as usize;
             let reference = run_method(
                 &mech,
-                &ctx,
+                &contact,
                 &q0,
                 &v0,
                 Method::FirstOrder,
@@ -165,7 +165,7 @@ impl BrickAccuracy {
                 let steps = row.knots - 1;
                 let sim = run_method(
                     &mech,
-                    &ctx,
+                    &contact,
                     &q0,
                     &v0,
                     row.method,
@@ -193,7 +193,7 @@ impl BrickAccuracy {
 #[allow(clippy::too_many_arguments)]
 fn run_method(
     mech: &ModelMechanics,
-    ctx: &Context,
+    contact: &ContactModel,
     q0: &[f64],
     v0: &[f64],
     method: Method,
@@ -210,7 +210,15 @@ fn run_method(
             ..StepOptions::default()
         },
     };
-    simulate(mech, ctx, q0, v0, &options, |_, _, _, _| Vec::new(), |_| {})
+    simulate(
+        mech,
+        contact,
+        q0,
+        v0,
+        &options,
+        |_, _, _, _| Vec::new(),
+        |_| {},
+    )
 }
 
 /// √(mean over the knots of `sim` of d(q_k, q_ref(t_k))²), q_ref linear between the

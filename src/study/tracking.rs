@@ -18,7 +18,7 @@ use crate::discrete::Mechanics;
 use crate::problem::{InitialGuess, Override, TimeSteps, WarmStart, load};
 use crate::sim::{InputSource, Simulation, SimulationOptions, StepOptions, simulate};
 use crate::trajectory_csv::RecordedTrajectory;
-use crate::transcription::{Context, SolveOptions, SolveVerdict};
+use crate::transcription::{SolveOptions, SolveVerdict};
 
 /// The header of `tracking_plans.csv`.
 pub const PLANS_CSV_HEADER: &str =
@@ -304,7 +304,7 @@ impl Tracking {
                     u: plan.u.clone(),
                 };
                 let mech = crate::pipeline::mechanics(&problem.spec)?;
-                let ctx = Context::new(&mech, &problem.spec);
+                let contact = problem.spec.contact_model(&mech);
                 let h = 1.0 / self.rate;
                 let duration = plan.times.last().copied().unwrap_or(0.0);
                 let options = SimulationOptions {
@@ -331,7 +331,7 @@ impl Tracking {
                 let m = mech.nu();
                 let sim = simulate(
                     &mech,
-                    &ctx,
+                    &contact,
                     &plan.q[0],
                     &plan.v[0],
                     &options,

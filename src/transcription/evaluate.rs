@@ -11,19 +11,21 @@ use nalgebra::DMatrix;
 use rayon::prelude::*;
 
 use super::blocks::{
-    Block, ContactGeometry, ScalarBlockFn, ScalarKind, VectorBlockFn, VectorKind,
-    complementarity_hessian, complementarity_jacobian, contact_work_gradient, contact_work_hessian,
-    contact_work_hessian_in, contact_work_third, contact_work_third_in, distance_hessian,
-    distance_hessian_in, distance_jacobian, distance_jacobian_in, loop_closure_hessian,
+    Block, ScalarBlockFn, ScalarKind, VectorBlockFn, VectorKind, loop_closure_hessian,
     loop_closure_jacobian, loop_work_gradient, loop_work_hessian, loop_work_third,
-    tangential_rate_hessian, tangential_rate_hessian_in, tangential_rate_jacobian,
-    tangential_rate_jacobian_in,
 };
 use super::structure::NO_SLOT;
 use super::{InitialGuessReport, Transcription};
 use crate::autodiff::{
     Restricted, SymmetricGroups, ThirdOrder, gradient, gradient_hessian, gradient_hessian_third,
     grouped_hessian, jacobian, weighted_hessian,
+};
+use crate::contact::{
+    ContactGeometry, complementarity_hessian, complementarity_jacobian, contact_work_gradient,
+    contact_work_hessian, contact_work_hessian_in, contact_work_third, contact_work_third_in,
+    distance_hessian, distance_hessian_in, distance_jacobian, distance_jacobian_in,
+    tangential_rate_hessian, tangential_rate_hessian_in, tangential_rate_jacobian,
+    tangential_rate_jacobian_in,
 };
 use crate::discrete::MechanicsDerivatives;
 
@@ -165,14 +167,10 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                 (&VectorKind::TangentialRate { contact }, Some(g))
                     if !self.mech.contact_rolls(contact) =>
                 {
-                    tangential_rate_jacobian_in(g, &self.ctx, &z)
+                    tangential_rate_jacobian_in(g, &z)
                 }
-                (VectorKind::Distance { .. }, Some(g)) => {
-                    distance_jacobian_in(g, &self.ctx, &z, false)
-                }
-                (VectorKind::ContactGap { .. }, Some(g)) => {
-                    distance_jacobian_in(g, &self.ctx, &z, true)
-                }
+                (VectorKind::Distance { .. }, Some(g)) => distance_jacobian_in(g, &z, false),
+                (VectorKind::ContactGap { .. }, Some(g)) => distance_jacobian_in(g, &z, true),
                 _ => self.vector_block_jacobian(b, &z, self.contact_derivatives),
             }
         });
@@ -182,7 +180,7 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         let gradient = self.map_blocks(&self.gradient_blocks, |b| {
             let z = gather(x, &b.vars);
             match shared.get_scalar(&b.kind, &b.vars, self.ctx.n, &build) {
-                Some(g) => contact_work_hessian_in(g, &self.ctx, &z),
+                Some(g) => contact_work_hessian_in(g, &z),
                 None => self.gradient_block_hessian(b, &z, self.contact_derivatives),
             }
         });
@@ -221,14 +219,10 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                 (&VectorKind::TangentialRate { contact }, Some(g))
                     if !self.mech.contact_rolls(contact) =>
                 {
-                    tangential_rate_hessian_in(g, &self.ctx, &z, &w)
+                    tangential_rate_hessian_in(g, &z, &w)
                 }
-                (VectorKind::Distance { .. }, Some(g)) => {
-                    distance_hessian_in(g, &self.ctx, &z, w[0], false)
-                }
-                (VectorKind::ContactGap { .. }, Some(g)) => {
-                    distance_hessian_in(g, &self.ctx, &z, w[0], true)
-                }
+                (VectorKind::Distance { .. }, Some(g)) => distance_hessian_in(g, &z, w[0], false),
+                (VectorKind::ContactGap { .. }, Some(g)) => distance_hessian_in(g, &z, w[0], true),
                 _ => self.vector_block_hessian(b, &z, &w, self.contact_derivatives),
             }
         });
@@ -239,7 +233,7 @@ impl<M: MechanicsDerivatives> Transcription<M> {
             let dir = weights(&b.targets);
             let z = gather(x, &b.vars);
             if let Some(g) = shared.get_scalar(&b.kind, &b.vars, self.ctx.n, &build)
-                && let Some((_, contracted)) = contact_work_third_in(g, &self.ctx, &z, &dir)
+                && let Some((_, contracted)) = contact_work_third_in(g, &z, &dir)
             {
                 return contracted;
             }
@@ -349,7 +343,7 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         x: &[f64],
         (contact, q, order): (usize, &[usize], usize),
     ) -> ContactGeometry<'_> {
-        ContactGeometry::new(&self.mech, &self.ctx, contact, &gather(x, q), order)
+        ContactGeometry::new(&self.mech, &self.ctx.contact, contact, &gather(x, q), order)
     }
 
     /// `f` over the blocks on one thread: f, ∇f and g, which Ipopt asks at every trial
@@ -407,7 +401,7 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         if let ScalarKind::ContactWork { contact } = b.kind
             && contacts == ContactDerivatives::ChainRule
         {
-            return contact_work_gradient(&self.mech, &self.ctx, contact, z);
+            return contact_work_gradient(&self.mech, &self.ctx.contact, contact, z);
         }
         if b.kind == ScalarKind::LoopWork && contacts == ContactDerivatives::ChainRule {
             return loop_work_gradient(&self.mech, z);
@@ -431,7 +425,7 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         if let ScalarKind::ContactWork { contact } = b.kind
             && contacts == ContactDerivatives::ChainRule
         {
-            return contact_work_hessian(&self.mech, &self.ctx, contact, z);
+            return contact_work_hessian(&self.mech, &self.ctx.contact, contact, z);
         }
         if b.kind == ScalarKind::LoopWork && contacts == ContactDerivatives::ChainRule {
             return loop_work_hessian(&self.mech, z);
@@ -457,7 +451,7 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         if let ScalarKind::ContactWork { contact } = b.kind
             && contacts == ContactDerivatives::ChainRule
             && let Some((hessian, contracted)) =
-                contact_work_third(&self.mech, &self.ctx, contact, z, dir)
+                contact_work_third(&self.mech, &self.ctx.contact, contact, z, dir)
         {
             return ThirdOrder {
                 value: 0.0,
@@ -482,16 +476,16 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         if contacts == ContactDerivatives::ChainRule {
             match &b.kind {
                 &VectorKind::TangentialRate { contact } => {
-                    return tangential_rate_jacobian(&self.mech, &self.ctx, contact, z);
+                    return tangential_rate_jacobian(&self.mech, &self.ctx.contact, contact, z);
                 }
                 VectorKind::Complementarity { contacts, slacks } => {
-                    return complementarity_jacobian(&self.ctx, contacts, *slacks, z);
+                    return complementarity_jacobian(&self.ctx.contact, contacts, *slacks, z);
                 }
                 &VectorKind::Distance { contact } => {
-                    return distance_jacobian(&self.mech, &self.ctx, contact, z, false);
+                    return distance_jacobian(&self.mech, &self.ctx.contact, contact, z, false);
                 }
                 &VectorKind::ContactGap { contact } => {
-                    return distance_jacobian(&self.mech, &self.ctx, contact, z, true);
+                    return distance_jacobian(&self.mech, &self.ctx.contact, contact, z, true);
                 }
                 VectorKind::LoopClosure => return loop_closure_jacobian(&self.mech, z),
                 _ => {}
@@ -513,16 +507,23 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                 // A rolling contact's rate has no chain rule: generic AD below, over the
                 // block's Hessian inputs only.
                 &VectorKind::TangentialRate { contact } if !self.mech.contact_rolls(contact) => {
-                    return tangential_rate_hessian(&self.mech, &self.ctx, contact, z, w);
+                    return tangential_rate_hessian(&self.mech, &self.ctx.contact, contact, z, w);
                 }
                 VectorKind::Complementarity { contacts, .. } => {
-                    return complementarity_hessian(&self.ctx, contacts, z.len(), w);
+                    return complementarity_hessian(&self.ctx.contact, contacts, z.len(), w);
                 }
                 &VectorKind::Distance { contact } => {
-                    return distance_hessian(&self.mech, &self.ctx, contact, z, w[0], false);
+                    return distance_hessian(
+                        &self.mech,
+                        &self.ctx.contact,
+                        contact,
+                        z,
+                        w[0],
+                        false,
+                    );
                 }
                 &VectorKind::ContactGap { contact } => {
-                    return distance_hessian(&self.mech, &self.ctx, contact, z, w[0], true);
+                    return distance_hessian(&self.mech, &self.ctx.contact, contact, z, w[0], true);
                 }
                 VectorKind::LoopClosure => return loop_closure_hessian(&self.mech, z, w),
                 _ => {}

@@ -5,7 +5,7 @@
 //! sparse derivatives from per-block derivatives.
 //!
 //! Where things are: `layout` (variable and row indices), `blocks` (what each block computes:
-//! dynamics pieces from `discrete::del`, contact rows; cost terms, one file each, are
+//! dynamics pieces from `discrete::del`, contact rows from `crate::contact`; cost terms, one file each, are
 //! `crate::problem::costs`), `placement` (which blocks exist and what they read and write), `structure` (sparsity patterns), `start`
 //! (bounds, initial guess, warm start), `evaluate` (values and derivatives), `program` (the
 //! [`Transcription`] itself), `nlp` (the Ipopt callbacks' adapter), `solve` (solving a problem
@@ -31,11 +31,6 @@ pub use crate::discrete::{
     Mechanics, MechanicsDerivatives, ModelMechanics, contact_jet_by_autodiff,
 };
 pub use blocks::{Context, ScalarKind, VectorKind};
-/// The NLP's contact rows, which the forward simulator solves too (one definition).
-pub(crate) use blocks::{
-    contact_work_gradient, contact_work_hessian, distance_with_gradient, spin_friction_jacobian,
-    tangential_rate, tangential_rate_jacobian,
-};
 pub use derivative_check::{DerivativeCheck, DerivativeKind, EntryCheck};
 pub use error::TranscriptionError;
 pub use layout::{Dims, EntryNames, Layout};

@@ -576,7 +576,7 @@ fn slack_peak<M: MechanicsDerivatives>(
             let (psi, eta) = (x[l.psi(j, i)], &x[l.eta(j, i)]);
             let gap = c.max(0.0) * distance[j + 1][i].max(0.0);
             let eta_beta: f64 = eta.iter().zip(beta).map(|(e, b)| e * b).sum();
-            let cone = t.context().friction[i] * c - beta.iter().sum::<f64>();
+            let cone = t.context().contact.friction[i] * c - beta.iter().sum::<f64>();
             gap.max(eta_beta).max(psi * cone)
         };
         (0..l.nc)

@@ -184,7 +184,7 @@ fn simulated_trot_keeps_the_loops_closed() {
     guess.cycles = 2;
     let guess = guess.clone();
     let mech = vito::pipeline::mechanics(&p.spec).unwrap_or_else(|e| panic!("{e}"));
-    let ctx = vito::transcription::Context::new(&mech, &p.spec);
+    let contact = p.spec.contact_model(&mech);
     let options = vito::sim::SimulationOptions {
         integrator: p.spec.integrator,
         h: 1.0,
@@ -196,7 +196,7 @@ fn simulated_trot_keeps_the_loops_closed() {
     };
     let sim = vito::sim::simulate(
         &mech,
-        &ctx,
+        &contact,
         &p.spec.q_initial,
         &[0.0; 38],
         &options,

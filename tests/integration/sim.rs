@@ -5,7 +5,6 @@ use vito::discrete::{Integrator, Mechanics, ModelMechanics};
 use vito::pipeline;
 use vito::problem::ProblemSpec;
 use vito::sim::{Simulation, SimulationOptions, StepOptions, simulate};
-use vito::transcription::Context;
 
 use crate::common::reference;
 
@@ -19,7 +18,7 @@ fn run(
     steps: usize,
 ) -> (ModelMechanics, Simulation) {
     let mech = pipeline::mechanics(spec).expect("robot loads");
-    let ctx = Context::new(&mech, spec);
+    let contact = spec.contact_model(&mech);
     let options = SimulationOptions {
         integrator,
         h,
@@ -29,7 +28,7 @@ fn run(
     let m = mech.nu();
     let sim = simulate(
         &mech,
-        &ctx,
+        &contact,
         q0,
         v0,
         &options,
@@ -128,20 +127,14 @@ fn brick_on_a_slope_slides_only_when_steeper_than_the_friction_angle() {
 /// 10,000 steps (h = 0.01 s).
 #[test]
 fn contact_free_midpoint_is_the_discrete_step_and_conserves_energy() {
-    use vito::contact::{FrictionBasis, Terrain};
+    use vito::contact::{ContactModel, FrictionBasis, Terrain};
     use vito::model::{BaseType, Model, sample};
     let model = Model::from_urdf_str(&sample::double_pendulum(), BaseType::Fixed).unwrap();
     let mech = ModelMechanics::with_contacts(model.clone(), Vec::new());
-    let ctx = Context {
-        n: 2,
-        m: mech.nu(),
-        nl: 0,
+    let contact = ContactModel {
         basis: FrictionBasis::Planar,
         friction: vec![],
         terrain: Terrain::flat(),
-        integrator: Integrator::Midpoint,
-        costs: vec![],
-        constraints: vec![],
     };
     let (h, steps) = (0.01, 10_000);
     let options = SimulationOptions {
@@ -154,7 +147,7 @@ fn contact_free_midpoint_is_the_discrete_step_and_conserves_energy() {
     let q0 = [1.0, -0.5];
     let sim = simulate(
         &mech,
-        &ctx,
+        &contact,
         &q0,
         &[0.0, 0.0],
         &options,
@@ -218,7 +211,7 @@ fn replayed_hopper_plan_reproduces_its_states() {
     };
     let plan = pipeline::solve(&spec, &options).expect("hopper solves");
     let mech = pipeline::mechanics(&spec).unwrap();
-    let ctx = Context::new(&mech, &spec);
+    let contact = spec.contact_model(&mech);
     let h = plan.time_steps[0];
     let knots = 6;
     let sim_options = SimulationOptions {
@@ -229,7 +222,7 @@ fn replayed_hopper_plan_reproduces_its_states() {
     };
     let sim = simulate(
         &mech,
-        &ctx,
+        &contact,
         &plan.q[0],
         &plan.v[0],
         &sim_options,
@@ -268,8 +261,8 @@ fn four_bar_stays_closed_in_simulated_steps() {
     let mech = ModelMechanics::with_contacts(model, Vec::new());
     let mut spec = reference::brick_3d();
     spec.contacts.clear();
-    let ctx = Context::new(&mech, &spec);
-    assert_eq!(ctx.nl, 2);
+    let contact = spec.contact_model(&mech);
+    assert_eq!(mech.num_loop_constraints(), 2);
     for integrator in [Integrator::Midpoint, Integrator::Euler] {
         let options = SimulationOptions {
             integrator,
@@ -279,7 +272,7 @@ fn four_bar_stays_closed_in_simulated_steps() {
         };
         let sim = simulate(
             &mech,
-            &ctx,
+            &contact,
             &[0.0; 3],
             &v0,
             &options,
@@ -318,7 +311,7 @@ fn littledog_collapsing_without_inputs_solves_every_step() {
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/littledog_step.toml");
     let problem = vito::problem::load(&file, &[]).expect("loads");
     let mech = vito::pipeline::mechanics(&problem.spec).expect("mechanics");
-    let ctx = Context::new(&mech, &problem.spec);
+    let contact = problem.spec.contact_model(&mech);
     let m = mech.nu();
     let options = SimulationOptions {
         integrator: Integrator::Midpoint,
@@ -329,7 +322,7 @@ fn littledog_collapsing_without_inputs_solves_every_step() {
     let v0 = vec![0.0; mech.nq()];
     let sim = simulate(
         &mech,
-        &ctx,
+        &contact,
         &problem.spec.q_initial,
         &v0,
         &options,
@@ -364,21 +357,15 @@ fn track_pendulum(
     h: f64,
     steps: usize,
 ) -> Result<Simulation, vito::sim::SimulationError> {
-    use vito::contact::{FrictionBasis, Terrain};
+    use vito::contact::{ContactModel, FrictionBasis, Terrain};
     use vito::model::{BaseType, Model, sample};
     use vito::sim::{Gain, InputSource};
     let model = Model::from_urdf_str(&sample::pendulum(), BaseType::Fixed).unwrap();
     let mech = ModelMechanics::with_contacts(model, Vec::new());
-    let ctx = Context {
-        n: 1,
-        m: mech.nu(),
-        nl: 0,
+    let contact = ContactModel {
         basis: FrictionBasis::Planar,
         friction: vec![],
         terrain: Terrain::flat(),
-        integrator,
-        costs: vec![],
-        constraints: vec![],
     };
     let options = SimulationOptions {
         integrator,
@@ -400,7 +387,7 @@ fn track_pendulum(
     let m = mech.nu();
     simulate(
         &mech,
-        &ctx,
+        &contact,
         &q0,
         &[0.0],
         &options,

@@ -5,20 +5,11 @@
 //! *gradient* block (a scalar whose gradient components add into rows, like the DEL
 //! equations, which are sums of gradients of Ld; derivatives by the third-order driver),
 //! or a *cost* block (a scalar added to the objective; each term's value is in
-//! `transcription/costs/`). The dynamics blocks evaluate the DEL pieces of `discrete::del`.
+//! `transcription/costs/`). The dynamics blocks evaluate the DEL pieces of `discrete::del`,
+//! the contact blocks the contact rows of `crate::contact`.
 
-mod contact;
-mod contact_geometry;
 mod loops;
 
-pub(crate) use contact::{
-    complementarity_hessian, complementarity_jacobian, contact_work_gradient, contact_work_hessian,
-    contact_work_hessian_in, contact_work_third, contact_work_third_in, distance_hessian,
-    distance_hessian_in, distance_jacobian, distance_jacobian_in, distance_with_gradient,
-    spin_friction_jacobian, tangential_rate, tangential_rate_hessian, tangential_rate_hessian_in,
-    tangential_rate_jacobian, tangential_rate_jacobian_in,
-};
-pub(crate) use contact_geometry::ContactGeometry;
 pub(crate) use loops::{
     loop_closure_hessian, loop_closure_jacobian, loop_work_gradient, loop_work_hessian,
     loop_work_third,
@@ -26,10 +17,8 @@ pub(crate) use loops::{
 
 use std::sync::Arc;
 
-use num_dual::Dual;
-
 use crate::autodiff::{ScalarFunction, SymmetricGroups, VectorFunction};
-use crate::contact::{FrictionBasis, Terrain, tangential_coordinates};
+use crate::contact::{self, ContactModel};
 use crate::discrete::{
     Mechanics, SegmentLagrangian, euler_knot, half_force, initial_momentum, loop_work,
 };
@@ -46,12 +35,8 @@ pub struct Context {
     pub m: usize,
     /// Loop constraints nl.
     pub nl: usize,
-    /// Friction basis (nd = 2 planar, 4 spatial).
-    pub basis: FrictionBasis,
-    /// Friction coefficient per contact.
-    pub friction: Vec<f64>,
-    /// Terrain of every contact.
-    pub terrain: Terrain,
+    /// The contact model: terrain, friction basis and coefficients.
+    pub contact: ContactModel,
     /// Discrete mechanics used by the dynamics rows.
     pub integrator: Integrator,
     /// The problem's cost terms (blocks refer to them by index).
@@ -62,17 +47,13 @@ pub struct Context {
 
 impl Context {
     /// The constants of `spec` for the robot `mech` (whose contacts are `spec.contacts`, in
-    /// order), the friction basis by its one rule ([`FrictionBasis::for_robot`]).
-    /// The NLP and the forward simulator build their contact conditions from this.
+    /// order; the contact model by [`ProblemSpec::contact_model`]).
     pub fn new<M: Mechanics>(mech: &M, spec: &ProblemSpec) -> Context {
-        let basis = FrictionBasis::for_robot(mech.moves_in_xz_plane());
         Context {
             n: mech.nq(),
             m: mech.nu(),
             nl: mech.num_loop_constraints(),
-            basis,
-            friction: spec.contacts.iter().map(|c| c.friction).collect(),
-            terrain: spec.terrain.clone(),
+            contact: spec.contact_model(mech),
             integrator: spec.integrator,
             costs: spec.costs.clone(),
             constraints: spec.constraints.clone(),
@@ -81,7 +62,7 @@ impl Context {
 
     /// Friction directions per contact.
     pub fn nd(&self) -> usize {
-        self.basis.num_directions()
+        self.contact.nd()
     }
 }
 
@@ -217,24 +198,29 @@ impl<M: Mechanics> VectorFunction for VectorBlockFn<'_, M> {
     }
     fn eval<D: Scalar>(&self, z: &[D], out: &mut [D]) {
         let (mech, ctx) = (self.mech, self.ctx);
+        let model = &ctx.contact;
         match self.kind {
             VectorKind::HalfForce => half_force(mech, z, out),
             VectorKind::InitialMomentum => initial_momentum(mech, z, out),
             VectorKind::EulerKnot { first_step } => euler_knot(mech, *first_step, z, out),
             VectorKind::TangentialRate { contact } => {
-                contact::tangential_rate(mech, ctx, *contact, z, out)
+                contact::tangential_rate(mech, model, *contact, z, out)
             }
             VectorKind::TangentialSlack => contact::tangential_slack(z, out),
-            VectorKind::SpinFriction { contact } => spin_friction(mech, ctx, *contact, z, out),
-            VectorKind::ContactGap { contact } => {
-                out[0] = contact::contact_gap(mech, ctx, *contact, z)
+            VectorKind::SpinFriction { contact } => {
+                contact::spin_friction(mech, model, *contact, z, out)
             }
-            VectorKind::Distance { contact } => out[0] = contact::distance(mech, ctx, *contact, z),
+            VectorKind::ContactGap { contact } => {
+                out[0] = contact::contact_gap(mech, model, *contact, z)
+            }
+            VectorKind::Distance { contact } => {
+                out[0] = contact::distance(mech, model, *contact, z)
+            }
             VectorKind::FrictionCone { contact } => {
-                out[0] = contact::friction_cone(ctx, *contact, z)
+                out[0] = contact::friction_cone(model, *contact, z)
             }
             VectorKind::Complementarity { contacts, slacks } => {
-                contact::complementarity(ctx, contacts, *slacks, z, out)
+                contact::complementarity(model, contacts, *slacks, z, out)
             }
             VectorKind::LoopClosure => mech.loop_residual(z, out),
             VectorKind::EqualStep => out[0] = z[0] - z[1],
@@ -263,64 +249,14 @@ impl<M: Mechanics> ScalarFunction for ScalarBlockFn<'_, M> {
         let (mech, ctx) = (self.mech, self.ctx);
         match self.kind {
             ScalarKind::Segment => SegmentLagrangian { mech }.eval(z),
-            ScalarKind::ContactWork { contact } => contact::contact_work(mech, ctx, *contact, z),
+            ScalarKind::ContactWork { contact } => {
+                contact::contact_work(mech, &ctx.contact, *contact, z)
+            }
             ScalarKind::LoopWork => loop_work(mech, z),
             ScalarKind::Cost { term } => {
                 let sizes = CostSizes { n: ctx.n, m: ctx.m };
                 cost_value(&ctx.costs[*term], sizes, z)
             }
-        }
-    }
-}
-
-/// Tangential velocity D_i(q)·q̇ of contact `i` at q moving with q̇ into `out` (length
-/// tangents): the friction directions D_i are defined here, for the NLP and the simulator.
-/// For a point, the rate of its tangential coordinates (a forward directional derivative
-/// of its position); for a rolling sphere, that of its lowest material point, which adds
-/// the spin columns ([`Mechanics::contact_spin_columns`]).
-fn tangential_rates<D: Scalar, M: Mechanics>(
-    mech: &M,
-    ctx: &Context,
-    contact: usize,
-    q: &[D],
-    qdot: &[D],
-    out: &mut [D],
-) {
-    let moving: Vec<Dual<D>> = q.iter().zip(qdot).map(|(&a, &b)| Dual::new(a, b)).collect();
-    let p = mech.contact_position(contact, &moving);
-    let mut t = [Dual::from_re(D::from(0.0)); 2];
-    tangential_coordinates(ctx.basis, &p, &mut t);
-    for (o, ti) in out.iter_mut().zip(t) {
-        *o = ti.eps;
-    }
-    for (i, column) in mech.contact_spin_columns(contact, q) {
-        let mut s = [D::from(0.0); 2];
-        tangential_coordinates(ctx.basis, &column, &mut s);
-        for (o, si) in out.iter_mut().zip(s) {
-            *o += si * qdot[i];
-        }
-    }
-}
-
-/// The spin part of a rolling contact's friction impulse, Σ_d (β⁺_d − β⁻_d)·S_dᵀ with S_d
-/// the tangential components of the spin columns (D_d = ∂t_d/∂q + S_d), into `out` (length
-/// n); z = [q; c; β]. [`contact::contact_work`]'s gradient holds the rest of Nᵀc + Pᵀβ.
-fn spin_friction<D: Scalar, M: Mechanics>(
-    mech: &M,
-    ctx: &Context,
-    contact: usize,
-    z: &[D],
-    out: &mut [D],
-) {
-    let (n, nd) = (ctx.n, ctx.nd());
-    let nt = nd / 2;
-    let beta = &z[n + 1..n + 1 + nd];
-    out.fill(D::from(0.0));
-    for (i, column) in mech.contact_spin_columns(contact, &z[..n]) {
-        let mut s = [D::from(0.0); 2];
-        tangential_coordinates(ctx.basis, &column, &mut s);
-        for d in 0..nt {
-            out[i] += (beta[d] - beta[d + nt]) * s[d];
         }
     }
 }

@@ -5,18 +5,18 @@
 
 use nalgebra::{DMatrix, Matrix3, Vector3};
 
-use super::Context;
+use super::ContactModel;
+use super::{signed_distance, tangential_coordinates};
 use crate::autodiff::{
     ScalarFunction, ThirdOrder, gradient_hessian_into, gradient_hessian_third_into,
 };
-use crate::contact::{signed_distance, tangential_coordinates};
 use crate::discrete::MechanicsDerivatives;
 use crate::model::PointJet;
 use crate::scalar::Scalar;
 
 /// κ_k(p): the k-th terrain coordinate (0: signed distance, 1 + d: tangential d) of a point.
 struct TerrainCoordinate<'a> {
-    ctx: &'a Context,
+    model: &'a ContactModel,
     component: usize,
 }
 
@@ -27,17 +27,17 @@ impl ScalarFunction for TerrainCoordinate<'_> {
     fn eval<D: Scalar>(&self, p: &[D]) -> D {
         let p = [p[0], p[1], p[2]];
         if self.component == 0 {
-            return signed_distance(&self.ctx.terrain, &p);
+            return signed_distance(&self.model.terrain, &p);
         }
         let mut t = [D::from(0.0); 2];
-        tangential_coordinates(self.ctx.basis, &p, &mut t);
+        tangential_coordinates(self.model.basis, &p, &mut t);
         t[self.component - 1]
     }
 }
 
 /// K(q) and its derivatives at one configuration.
 pub(crate) struct ContactGeometry<'a> {
-    ctx: &'a Context,
+    model: &'a ContactModel,
     n: usize,
     jet: PointJet,
     /// Rows of K: 1 + tangents.
@@ -55,26 +55,29 @@ impl<'a> ContactGeometry<'a> {
     /// [`ContactGeometry::third`], which needs order 3).
     pub(crate) fn new<M: MechanicsDerivatives>(
         mech: &M,
-        ctx: &'a Context,
+        model: &'a ContactModel,
         contact: usize,
         q: &[f64],
         order: usize,
     ) -> Self {
         let jet = mech.contact_jet(contact, q, order);
-        let rows = 1 + ctx.nd() / 2;
+        let rows = 1 + model.nd() / 2;
         let mut value = [0.0; 3];
         let mut gradient = [Vector3::zeros(); 3];
         let mut hessian = [Matrix3::zeros(); 3];
         let (mut g, mut h) = ([0.0; 3], DMatrix::zeros(3, 3));
         for k in 0..rows {
             // One tile of three inputs: κ is a function of p alone.
-            let f = TerrainCoordinate { ctx, component: k };
+            let f = TerrainCoordinate {
+                model,
+                component: k,
+            };
             value[k] = gradient_hessian_into::<3, _>(&f, &jet.position, &mut g, &mut h);
             gradient[k] = Vector3::from(g);
             hessian[k] = Matrix3::from_column_slice(h.as_slice());
         }
         ContactGeometry {
-            ctx,
+            model,
             n: q.len(),
             jet,
             rows,
@@ -82,6 +85,16 @@ impl<'a> ContactGeometry<'a> {
             gradient,
             hessian,
         }
+    }
+
+    /// Coordinates n.
+    pub(super) fn n(&self) -> usize {
+        self.n
+    }
+
+    /// The contact model it was built with.
+    pub(super) fn model(&self) -> &'a ContactModel {
+        self.model
     }
 
     /// K(q) (length `rows`; the rest zero).
@@ -171,7 +184,7 @@ impl<'a> ContactGeometry<'a> {
                 continue;
             }
             let f = TerrainCoordinate {
-                ctx: self.ctx,
+                model: self.model,
                 component: k,
             };
             let mut s = ThirdOrder::zeros(3);
