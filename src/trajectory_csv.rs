@@ -340,7 +340,7 @@ mod tests {
         assert_eq!(number(knot_time(29, 0.1)), "2.9");
         assert_eq!(knot_time(0, 0.1), 0.0);
         assert_eq!(knot_time(7, 0.25), 1.75);
-        let h = 0.123456789012345678;
+        let h = 0.123_456_789_012_345_68;
         assert!((knot_time(11, h) - 11.0 * h).abs() <= 2.0 * f64::EPSILON * 11.0 * h);
     }
 

@@ -192,7 +192,9 @@ fn summary_records_one_blas_thread_whatever_the_environment() {
 fn same_trajectory_under_any_thread_settings() {
     let file = problems_dir().join("littledog_step.toml");
     let t = TestDir::new("same-trajectory");
-    let variants: [(&str, &[(&str, Option<&str>)], bool); 6] = [
+    /// (name, environment: a value or removed, run under `taskset -c 0`).
+    type Variant<'a> = (&'a str, &'a [(&'a str, Option<&'a str>)], bool);
+    let variants: [Variant; 6] = [
         ("blas1", &[("OPENBLAS_NUM_THREADS", Some("1"))], false),
         ("blas2", &[("OPENBLAS_NUM_THREADS", Some("2"))], false),
         (
