@@ -48,23 +48,25 @@ pub struct Independent {
 
 impl Independent {
     /// The interpreter is `$VITO_PYTHON` or `python3`; the script `$VITO_CASADI_SCRIPT`, else
-    /// [`SCRIPT`] under the current directory, else under the repository vito was built from.
+    /// [`SCRIPT`] in the repository vito was built from (never the working directory: a
+    /// dataset's `tools/` or `casadi.py` is not run). Python runs isolated (`-I`: neither the
+    /// working directory, nor the script's, nor `PYTHON*` variables reach `sys.path`).
     /// `Err` says what is missing and how to get it.
     pub fn locate() -> Result<Independent, String> {
         let python =
             std::env::var_os("VITO_PYTHON").map_or_else(|| "python3".into(), PathBuf::from);
         let script = match std::env::var_os("VITO_CASADI_SCRIPT") {
             Some(s) => PathBuf::from(s),
-            None => [Path::new("."), Path::new(env!("CARGO_MANIFEST_DIR"))]
-                .iter()
-                .map(|root| root.join(SCRIPT))
-                .find(|p| p.is_file())
-                .ok_or_else(|| format!("{SCRIPT} not found (set VITO_CASADI_SCRIPT)"))?,
+            None => Path::new(env!("CARGO_MANIFEST_DIR")).join(SCRIPT),
         };
-        if !script.is_file() {
-            return Err(format!("{} is not a file", script.display()));
+        if !script.is_absolute() || !script.is_file() {
+            return Err(format!(
+                "{} is not a file given by an absolute path (a vito built outside its repository \
+                 has no CasADi script: set VITO_CASADI_SCRIPT)",
+                script.display()
+            ));
         }
-        let imports = Command::new(&python)
+        let imports = Self::isolated(&python)
             .args(["-c", "import casadi"])
             .output()
             .map_err(|e| format!("cannot run {}: {e}", python.display()))?;
@@ -77,9 +79,16 @@ impl Independent {
         Ok(Independent { python, script })
     }
 
+    /// `python -I`: the working directory never reaches `sys.path`.
+    fn isolated(python: &Path) -> Command {
+        let mut command = Command::new(python);
+        command.arg("-I");
+        command
+    }
+
     /// Solves `problem` (one of [`PROBLEMS`]) once with the CasADi implementation.
     pub fn bench(&self, problem: &str) -> Result<IndependentRow, String> {
-        let out = Command::new(&self.python)
+        let out = Self::isolated(&self.python)
             .arg(&self.script)
             .args(["--bench", problem])
             .output()

@@ -18,18 +18,35 @@ pub fn list_names<S: AsRef<str>>(names: &[S], max: usize) -> String {
     }
 }
 
-/// `text` with every control character but newline and tab written as an escape (`\u{1b}`),
-/// so that a name from a URDF cannot send escape sequences to the terminal.
+/// Whether `c` changes how text around it shows rather than showing itself: a control
+/// character, or an invisible format character (the bidirectional overrides, embeddings and
+/// isolates that reorder a name on screen, zero-width characters, line and paragraph
+/// separators, the byte-order mark).
+pub fn is_hidden_char(c: char) -> bool {
+    c.is_control()
+        || matches!(
+            c,
+            '\u{061C}'
+                | '\u{200B}'..='\u{200F}'
+                | '\u{2028}'..='\u{202E}'
+                | '\u{2060}'..='\u{2069}'
+                | '\u{FEFF}'
+        )
+}
+
+/// `text` with every hidden character ([`is_hidden_char`]) but newline and tab written as an
+/// escape (`\u{1b}`), so that a name from a URDF cannot send escape sequences to the terminal
+/// or reorder what it shows.
 pub fn escape_controls(text: &str) -> std::borrow::Cow<'_, str> {
     if !text
         .chars()
-        .any(|c| c.is_control() && c != '\n' && c != '\t')
+        .any(|c| is_hidden_char(c) && c != '\n' && c != '\t')
     {
         return std::borrow::Cow::Borrowed(text);
     }
     let mut out = String::with_capacity(text.len() + 8);
     for c in text.chars() {
-        if c.is_control() && c != '\n' && c != '\t' {
+        if is_hidden_char(c) && c != '\n' && c != '\t' {
             out.extend(c.escape_default());
         } else {
             out.push(c);

@@ -128,8 +128,21 @@ pub fn point_from_trajectory<M: MechanicsDerivatives>(
             x[i] = *v;
         }
     }
+    let (lower, upper) = nlp.variable_bounds();
     for j in 0..l.intervals() {
-        x[l.h(j)] = recorded.times[j + 1] - recorded.times[j];
+        let h = recorded.times[j + 1] - recorded.times[j];
+        // The problem's step bounds, with the round-off of times written as decimals.
+        let slack = 1e-9 * upper[l.h(j)].abs().max(1.0);
+        if !(lower[l.h(j)] - slack..=upper[l.h(j)] + slack).contains(&h) {
+            return Err(format!(
+                "rows {} and {} are {h} apart in time, outside the problem's step [{}, {}]",
+                j + 2,
+                j + 3,
+                lower[l.h(j)],
+                upper[l.h(j)]
+            ));
+        }
+        x[l.h(j)] = h;
         if let Some(u) = recorded.u.get(j) {
             for (i, v) in l.u(j).zip(u) {
                 x[i] = *v;
@@ -222,11 +235,11 @@ pub fn prepare_simulation(
     };
     let duration = positive("--duration", request.duration)?;
     let rate = positive("--rate", request.rate)?;
-    let h = match (rate, spec.time_steps) {
-        (Some(r), _) => 1.0 / r,
-        (None, TimeSteps::Fixed(h)) => h,
-        (None, TimeSteps::FreeEqual { t_max, .. }) => t_max / (spec.knots - 1) as f64,
+    let problem_h = match spec.time_steps {
+        TimeSteps::Fixed(h) => h,
+        TimeSteps::FreeEqual { t_max, .. } => t_max / (spec.knots - 1) as f64,
     };
+    let h = rate.map_or(problem_h, |r| 1.0 / r);
     let robot = &problem.robot;
     let read = |path: &Path| -> Result<_, TranscriptionError> {
         let text =
@@ -236,8 +249,20 @@ pub fn prepare_simulation(
                     format!("cannot read {}: {e}", path.display()),
                 )
             })?;
-        crate::trajectory_csv::read_trajectory(&text, &robot.coordinates, &robot.inputs)
-            .map_err(|m| invalid("--inputs/--track", format!("{}: {m}", path.display())))
+        let r = crate::trajectory_csv::read_trajectory(&text, &robot.coordinates, &robot.inputs)
+            .map_err(|m| invalid("--inputs/--track", format!("{}: {m}", path.display())))?;
+        // Replayed or fed forward, the inputs are the file's: every one needs its column.
+        if r.u.is_empty() && !robot.inputs.is_empty() {
+            return Err(invalid(
+                "--inputs/--track",
+                format!(
+                    "{} has no column for every input (u_<name> for {})",
+                    path.display(),
+                    crate::names::list_names(&robot.inputs, 12)
+                ),
+            ));
+        }
+        Ok(r)
     };
     let mut inputs: Vec<PathBuf> = vec![problem.file.clone(), spec.robot.urdf.clone()];
     let (source, recorded_end) = match (&request.inputs, &request.track) {
@@ -249,16 +274,6 @@ pub fn prepare_simulation(
         }
         (Some(path), None) => {
             let r = read(path)?;
-            if r.u.is_empty() && !robot.inputs.is_empty() {
-                return Err(invalid(
-                    "--inputs",
-                    format!(
-                        "{} has no column for every input (u_<name> for {})",
-                        path.display(),
-                        crate::names::list_names(&robot.inputs, 12)
-                    ),
-                ));
-            }
             inputs.push(path.clone());
             let end = r.times.last().copied();
             (InputSource::Replay(r), end)
@@ -298,12 +313,15 @@ pub fn prepare_simulation(
     };
     let duration = duration
         .or(recorded_end)
-        .unwrap_or(h * (spec.knots - 1) as f64);
+        .unwrap_or(problem_h * (spec.knots - 1) as f64);
     let steps = (duration / h).round();
     if !(1.0..=1e8).contains(&steps) {
         return Err(invalid(
-            "--duration",
-            format!("{duration} at a step of {h} gives {steps} steps; choose 1 to 10⁸"),
+            "--duration/--rate",
+            format!(
+                "{duration} at a step of {h} (rate {}) gives {steps} steps; choose 1 to 10⁸",
+                1.0 / h
+            ),
         ));
     }
     let mech = mechanics(spec)?;

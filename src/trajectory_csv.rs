@@ -212,7 +212,31 @@ impl CsvTable {
     }
 }
 
-/// Parses a numeric CSV with a header row; the message names the row and column at fault.
+/// Longest column name read (bytes), as the problem file's names.
+const MAX_COLUMN_NAME: usize = 200;
+
+/// The shape of a trajectory CSV's header, for messages.
+const EXPECTED_HEADER: &str = "a trajectory CSV header (`time [s],<coordinate> [m|rad],…`, \
+     as `vito solve` writes it)";
+
+/// `cell` as a message may quote it: a short number-like cell as it is, anything else only
+/// described, so that an error never shows what some other file holds.
+fn quote_cell(cell: &str) -> String {
+    let number_like = cell.len() <= 24
+        && cell
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || matches!(c, '.' | '+' | '-'));
+    if number_like {
+        format!("`{cell}`")
+    } else {
+        format!("a {}-byte cell that is not a number", cell.len())
+    }
+}
+
+/// Parses a numeric CSV with a trajectory header row (`time` first, names of printable
+/// text, each once); a file whose first line is no such header is refused before any row is
+/// read. Cells are finite numbers or empty (NaN). The message names the row and column at
+/// fault and the shape expected, never more of the file than a short number-like cell.
 pub fn read_csv(text: &str) -> Result<CsvTable, String> {
     let mut lines = text.lines().filter(|l| !l.trim().is_empty());
     let header = lines.next().ok_or("the file is empty")?;
@@ -223,6 +247,27 @@ pub fn read_csv(text: &str) -> Result<CsvTable, String> {
             None => h.trim().to_owned(),
         })
         .collect();
+    let plain = |n: &String| {
+        !n.is_empty()
+            && n.len() <= MAX_COLUMN_NAME
+            && !n
+                .chars()
+                .any(|c| crate::names::is_hidden_char(c) || c == '"')
+    };
+    if names.first().map(String::as_str) != Some("time") || !names.iter().all(plain) {
+        return Err(format!(
+            "its first line is not {EXPECTED_HEADER}; nothing of it was read"
+        ));
+    }
+    for (c, name) in names.iter().enumerate() {
+        if let Some(first) = names[..c].iter().position(|n| n == name) {
+            return Err(format!(
+                "columns {} and {} are both `{name}`; each column appears once",
+                first + 1,
+                c + 1
+            ));
+        }
+    }
     let mut columns = vec![Vec::new(); names.len()];
     for (r, line) in lines.enumerate() {
         let cells: Vec<&str> = line.split(',').collect();
@@ -239,13 +284,19 @@ pub fn read_csv(text: &str) -> Result<CsvTable, String> {
             let v = if cell.is_empty() {
                 f64::NAN
             } else {
-                cell.parse::<f64>().map_err(|_| {
-                    format!(
-                        "row {}, column `{}`: `{cell}` is not a number",
-                        r + 2,
-                        names[c]
-                    )
-                })?
+                match cell.parse::<f64>() {
+                    Ok(v) if v.is_finite() => v,
+                    _ => {
+                        return Err(format!(
+                            "row {}, column {} (`{}`): {} where a finite decimal number \
+                             (such as 0.25 or -1e-3) or an empty cell belongs",
+                            r + 2,
+                            c + 1,
+                            names[c],
+                            quote_cell(cell)
+                        ));
+                    }
+                }
             };
             columns[c].push(v);
         }
@@ -261,8 +312,8 @@ pub struct RecordedTrajectory {
     pub times: Vec<f64>,
     /// Configurations at those times, in the order of the names asked for.
     pub q: Vec<Vec<f64>>,
-    /// Inputs per interval (one fewer than times), empty when some input has no column;
-    /// empty cells read as 0.
+    /// Inputs per interval (one fewer than times), empty when some input has no column
+    /// (an empty cell on a row but the last is an error).
     pub u: Vec<Vec<f64>>,
 }
 
@@ -289,7 +340,7 @@ pub fn read_trajectory(
         })?;
         for (k, v) in column.iter().enumerate() {
             if v.is_nan() {
-                return Err(format!("coordinate `{name}` has no value in row {}", k + 1));
+                return Err(format!("coordinate `{name}` has no value in row {}", k + 2));
             }
             q[k][j] = *v;
         }
@@ -301,13 +352,20 @@ pub fn read_trajectory(
         .collect();
     if !inputs.is_empty() && input_columns.iter().all(Option::is_some) {
         for k in 0..times.len() - 1 {
-            u.push(
-                input_columns
-                    .iter()
-                    .map(|c| c.as_ref().map_or(0.0, |c| c[k]))
-                    .map(|v| if v.is_nan() { 0.0 } else { v })
-                    .collect(),
-            );
+            let mut row = Vec::with_capacity(inputs.len());
+            for (name, column) in inputs.iter().zip(&input_columns) {
+                let v = column.as_ref().map_or(f64::NAN, |c| c[k]);
+                if v.is_nan() {
+                    return Err(format!(
+                        "row {}, column `{}` is empty: every row but the last holds the \
+                         inputs of its interval",
+                        k + 2,
+                        input_column_name(name)
+                    ));
+                }
+                row.push(v);
+            }
+            u.push(row);
         }
     }
     Ok(RecordedTrajectory { times, q, u })

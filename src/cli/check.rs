@@ -82,7 +82,7 @@ pub(super) fn check(file: &Path, set: &[String]) -> Result<u8, CliError> {
         }
     }
     for w in &feasibility.warnings {
-        eprintln!("{}", vito::names::escape_controls(&format!("warning: {w}")));
+        note!("warning: {w}");
     }
     Ok(0)
 }

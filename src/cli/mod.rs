@@ -2,8 +2,7 @@
 //! each subcommand's reading of its arguments and printing of its results in its own file.
 //! The work itself is the library's.
 //!
-//! Exit codes: 0 solved (or check/inspect/regress passed), 1 solved but not optimal (or a
-//! regression differs), 2 input or usage error, 3 internal error.
+//! Exit codes: [`EXIT_CODE_TABLE`].
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -27,6 +26,15 @@ fn exit_quietly_on_broken_pipe(e: &std::io::Error) {
     if e.kind() == std::io::ErrorKind::BrokenPipe {
         std::process::exit(0);
     }
+}
+
+/// `eprintln!` that escapes control characters and never fails: a standard error that
+/// cannot be written (`2> /dev/full`) must not stop a command before its results are
+/// written; the failure is remembered and turns the exit code into [`EXIT_OUTPUT`].
+macro_rules! note {
+    ($($arg:tt)*) => {
+        $crate::cli::write_stderr(&format!($($arg)*))
+    };
 }
 
 /// `println!` that escapes control characters (names from a URDF reach it) and treats a
@@ -54,6 +62,20 @@ use solve::*;
 use study::*;
 use sweep::*;
 
+/// Set when standard output or standard error could not be written.
+static OUTPUT_FAILED: AtomicBool = AtomicBool::new(false);
+
+/// Writes one line to stderr (see [`note!`]).
+pub(crate) fn write_stderr(line: &str) {
+    let mut stderr = std::io::stderr().lock();
+    if writeln!(stderr, "{}", vito::names::escape_controls(line))
+        .and_then(|()| stderr.flush())
+        .is_err()
+    {
+        OUTPUT_FAILED.store(true, Ordering::SeqCst);
+    }
+}
+
 /// Writes one line to stdout (see [`out!`]).
 fn write_stdout(line: &str) -> Result<(), CliError> {
     let mut stdout = std::io::stdout().lock();
@@ -61,35 +83,86 @@ fn write_stdout(line: &str) -> Result<(), CliError> {
         writeln!(stdout, "{}", vito::names::escape_controls(line)).and_then(|()| stdout.flush());
     result.map_err(|e| {
         exit_quietly_on_broken_pipe(&e);
+        OUTPUT_FAILED.store(true, Ordering::SeqCst);
         CliError::Output(e.to_string())
     })
 }
 
-const EXIT_CODES: &str = "Exit codes:\n  0  solved (check, inspect, regress: passed)\n  1  finished but not optimal (or stopped with Ctrl-C; regress: a result differs)\n  2  input or usage error (the message names the file, line and field)\n  3  internal error";
+/// Exit code: solved (check, inspect, regress: passed).
+pub const EXIT_OK: u8 = 0;
+/// Exit code: finished but not solved.
+pub const EXIT_NOT_SOLVED: u8 = 1;
+/// Exit code: input or usage error (clap's usage errors are 2 as well).
+pub const EXIT_INPUT: u8 = 2;
+/// Exit code: internal error (a bug, or the solver failing to start).
+pub const EXIT_INTERNAL: u8 = 3;
+/// Exit code: standard output or standard error could not be written.
+pub const EXIT_OUTPUT: u8 = 4;
+
+/// Every exit code vito returns and what it means: the one table behind `--help` and the
+/// README's.
+pub const EXIT_CODE_TABLE: [(u8, &str); 5] = [
+    (EXIT_OK, "solved (check, inspect, regress: passed)"),
+    (
+        EXIT_NOT_SOLVED,
+        "finished but not solved (not optimal, relaxed_contact; stopped by Ctrl-C or SIGTERM; regress: a result differs; sweep collect: points missing)",
+    ),
+    (
+        EXIT_INPUT,
+        "input or usage error (the message names the file, line and field), found before solving",
+    ),
+    (EXIT_INTERNAL, "internal error"),
+    (
+        EXIT_OUTPUT,
+        "standard output or error could not be written (a full disk, `> /dev/full`); the result files were written",
+    ),
+];
+
+/// [`EXIT_CODE_TABLE`] as `--help` prints it.
+fn exit_codes_help() -> String {
+    let mut text = "Exit codes:".to_owned();
+    for (code, meaning) in EXIT_CODE_TABLE {
+        text.push_str(&format!("\n  {code}  {meaning}"));
+    }
+    text
+}
 
 /// vito: variational contact-implicit trajectory optimisation for legged robots.
 #[derive(Debug, Parser)]
-#[command(name = "vito", version = vito::ipopt::LONG_VERSION, about, after_help = EXIT_CODES)]
+#[command(name = "vito", version = vito::ipopt::LONG_VERSION, about, after_help = exit_codes_help())]
 pub struct Args {
     #[command(subcommand)]
     pub command: Command,
 }
 
-/// Base joint choice on the command line.
+/// Base joint choice on the command line (`init` and `inspect` alike).
 #[derive(Debug, Clone, Copy, ValueEnum)]
 pub enum BaseArg {
+    /// `fixed` when the URDF already moves its root itself (prismatic joints from its root
+    /// link, as a planar hopper's x and z), else `floating`.
+    Auto,
     Fixed,
     Planar,
     Floating,
 }
 
-impl From<BaseArg> for BaseType {
-    fn from(b: BaseArg) -> BaseType {
-        match b {
+impl BaseArg {
+    /// The base for `urdf`: as asked, or for `auto` by [`vito::model::Model::slides_its_root`].
+    fn resolve(self, urdf: &Path) -> Result<BaseType, CliError> {
+        Ok(match self {
+            BaseArg::Auto => {
+                let fixed = vito::model::Model::from_urdf_file(urdf, BaseType::Fixed)
+                    .map_err(|e| CliError::Input(vito::model::describe(urdf, &e)))?;
+                if fixed.slides_its_root() {
+                    BaseType::Fixed
+                } else {
+                    BaseType::Floating
+                }
+            }
             BaseArg::Fixed => BaseType::Fixed,
             BaseArg::Planar => BaseType::Planar,
             BaseArg::Floating => BaseType::Floating,
-        }
+        })
     }
 }
 
@@ -129,7 +202,7 @@ impl From<FeedbackArg> for vito::sim::Feedback {
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Solve a problem file and write trajectory.csv, summary.json and plots.
-    #[command(after_help = EXIT_CODES)]
+    #[command(after_help = exit_codes_help())]
     Solve {
         /// Problem file (TOML).
         file: PathBuf,
@@ -156,7 +229,7 @@ pub enum Command {
         seed: u64,
     },
     /// Simulate a problem file's robot forward with the planner's mechanics and contact model.
-    #[command(after_help = EXIT_CODES)]
+    #[command(after_help = exit_codes_help())]
     Simulate {
         /// Problem file (TOML): robot, terrain, contacts, initial state.
         file: PathBuf,
@@ -195,13 +268,13 @@ pub enum Command {
         quiet: bool,
     },
     /// The paper's accuracy studies: first-order against variational time stepping.
-    #[command(after_help = EXIT_CODES)]
+    #[command(after_help = exit_codes_help())]
     Study {
         #[command(subcommand)]
         study: StudyKind,
     },
     /// Check a problem file without solving and print its size.
-    #[command(after_help = EXIT_CODES)]
+    #[command(after_help = exit_codes_help())]
     Check {
         /// Problem file (TOML).
         file: PathBuf,
@@ -224,8 +297,10 @@ pub enum Command {
     Init {
         /// Robot model (URDF).
         urdf: PathBuf,
-        /// Base joint.
-        #[arg(long, value_enum, default_value = "floating")]
+        /// Base joint [default: auto: fixed when the URDF already moves its root itself
+        /// (prismatic joints from its root link, like the planar hopper's x and z: a free base
+        /// would add coordinates it already has), else floating (a legged robot's torso)].
+        #[arg(long, value_enum, default_value = "auto", hide_default_value = true)]
         base: BaseArg,
         /// File to write (refuses to overwrite an existing one).
         #[arg(long)]
@@ -235,8 +310,10 @@ pub enum Command {
     Inspect {
         /// Robot model (URDF).
         urdf: PathBuf,
-        /// Base joint.
-        #[arg(long, value_enum, default_value = "fixed")]
+        /// Base joint [default: auto: fixed when the URDF already moves its root itself
+        /// (prismatic joints from its root link, like the planar hopper's x and z: a free base
+        /// would add coordinates it already has), else floating (a legged robot's torso)].
+        #[arg(long, value_enum, default_value = "auto", hide_default_value = true)]
         base: BaseArg,
         /// Print JSON instead of text.
         #[arg(long)]
@@ -267,7 +344,7 @@ pub enum Command {
         run: SweepRunArgs,
     },
     /// Solve every problem of the regression record and compare objectives; `--bless` rewrites it.
-    #[command(after_help = EXIT_CODES)]
+    #[command(after_help = exit_codes_help())]
     Regress {
         /// Rewrite the record with the new results (atomically).
         #[arg(long)]
@@ -463,10 +540,8 @@ impl CliError {
     pub fn exit_code(&self) -> u8 {
         match self {
             // Like an output directory that cannot be written: the user's redirection.
-            CliError::Problem(_)
-            | CliError::Input(_)
-            | CliError::Golden(_)
-            | CliError::Output(_) => 2,
+            CliError::Problem(_) | CliError::Input(_) | CliError::Golden(_) => EXIT_INPUT,
+            CliError::Output(_) => EXIT_OUTPUT,
             CliError::Transcription(e) => match e {
                 vito::transcription::TranscriptionError::Solver(_) => 3,
                 _ => 2,
@@ -505,6 +580,8 @@ pub fn run(args: Args) -> ExitCode {
         ))
     });
     match result {
+        // A command that did its work but could not say so completely.
+        Ok(_) if OUTPUT_FAILED.load(Ordering::SeqCst) => ExitCode::from(EXIT_OUTPUT),
         Ok(code) => ExitCode::from(code),
         Err(e) => {
             print_error(&e);
@@ -618,8 +695,8 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
                     out,
                 },
         } => tracking_collect(&dirs, max_deviation, &out),
-        Command::Init { urdf, base, out } => init(&urdf, base.into(), out.as_deref()),
-        Command::Inspect { urdf, base, json } => inspect(&urdf, base.into(), json),
+        Command::Init { urdf, base, out } => init(&urdf, base.resolve(&urdf)?, out.as_deref()),
+        Command::Inspect { urdf, base, json } => inspect(&urdf, base.resolve(&urdf)?, json),
         Command::Bench {
             files,
             set,
@@ -648,11 +725,7 @@ fn print_error(e: &CliError) {
         }
         source = s.source();
     }
-    let _ = writeln!(
-        std::io::stderr(),
-        "{}",
-        vito::names::escape_controls(&message)
-    );
+    write_stderr(&message);
 }
 
 fn parse_overrides(set: &[String]) -> Result<Vec<Override>, CliError> {
@@ -665,9 +738,6 @@ fn parse_overrides(set: &[String]) -> Result<Vec<Override>, CliError> {
 /// The URDF reader's warnings (repairs, ignored elements), on stderr.
 fn print_model_warnings(robot: &RobotInfo) {
     for w in &robot.warnings {
-        eprintln!(
-            "{}",
-            vito::names::escape_controls(&format!("warning: {}: {w}", robot.urdf.display()))
-        );
+        note!("warning: {}: {w}", robot.urdf.display());
     }
 }

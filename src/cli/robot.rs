@@ -28,7 +28,8 @@ pub(super) fn init(urdf: &Path, base: BaseType, out: Option<&Path>) -> Result<u8
                 .to_string(),
         },
     };
-    let text = vito::problem::starter_problem(&model, &robot, base, &urdf_text);
+    let text = vito::problem::starter_problem(&model, &robot, base, &urdf_text)
+        .map_err(|e| CliError::Input(format!("{}: {e}", urdf.display())))?;
     match out {
         None => {
             let mut stdout = std::io::stdout().lock();
@@ -41,15 +42,24 @@ pub(super) fn init(urdf: &Path, base: BaseType, out: Option<&Path>) -> Result<u8
             }
         }
         Some(path) => {
-            if path.exists() {
-                return Err(CliError::Input(format!(
-                    "{} exists; vito init never overwrites a file (choose another --out)",
-                    path.display()
-                )));
+            let cannot = |e: std::io::Error| {
+                CliError::Input(if e.kind() == std::io::ErrorKind::AlreadyExists {
+                    format!(
+                        "{} exists (a file, directory or link); vito init never overwrites or \
+                         follows one (choose another --out)",
+                        path.display()
+                    )
+                } else {
+                    format!("cannot write {}: {e}", path.display())
+                })
+            };
+            let mut file = report::create_new_file(path).map_err(cannot)?;
+            if let Err(e) = file.write_all(text.as_bytes()) {
+                // The half-written file is the one just created.
+                let _ = std::fs::remove_file(path);
+                return Err(cannot(e));
             }
-            std::fs::write(path, text)
-                .map_err(|e| CliError::Input(format!("cannot write {}: {e}", path.display())))?;
-            eprintln!("wrote {}", path.display());
+            note!("wrote {}", path.display());
         }
     }
     Ok(0)

@@ -53,24 +53,28 @@ pub(super) fn solve(
         // first (which sets the same kind of flag) in place.
         let _ = ctrlc::set_handler(move || {
             if cancel.swap(true, Ordering::SeqCst) {
-                eprintln!("interrupted again: exiting without writing results");
+                note!("interrupted again: exiting without writing results");
                 std::process::exit(1);
             }
-            eprintln!("interrupted: stopping after this iteration (Ctrl-C again to quit now)");
+            note!("interrupted: stopping after this iteration (Ctrl-C again to quit now)");
         });
     }
     if !quiet {
         if let vito::problem::InitialGuess::Simulation(g) = &problem.spec.initial_guess {
-            eprintln!(
+            note!(
                 "simulating the initial guess: {} periods of {} {} on {} knots",
-                g.cycles, g.period, problem.units.time, problem.spec.knots
+                g.cycles,
+                g.period,
+                problem.units.time,
+                problem.spec.knots
             );
         }
-        eprintln!(
+        note!(
             "solving {} ({} knots)",
-            problem.spec.name, problem.spec.knots
+            problem.spec.name,
+            problem.spec.knots
         );
-        eprintln!(" iter       objective     inf_pr     inf_du  max_slack");
+        note!(" iter       objective     inf_pr     inf_du  max_slack");
     }
     let solution = run_solver(&problem, cancel.clone(), quiet, ipopt_options, multi_start)?;
     let staged = match staged {
@@ -92,7 +96,7 @@ pub(super) fn run_solver(
 ) -> Result<Solution, CliError> {
     let progress = move |p: &vito::transcription::Progress| {
         if !quiet {
-            eprintln!(
+            note!(
                 "{}",
                 progress_line(p.iteration, p.objective, p.inf_pr, p.inf_du, p.max_slack)
             );

@@ -371,6 +371,16 @@ impl Model {
         out
     }
 
+    /// Whether the URDF moves its root link itself: some coordinate translates the robot
+    /// along a world axis ([`Model::translation_coordinates`]: a prismatic joint with only
+    /// prismatic or fixed joints above it, as a planar hopper's `x` and `z` sliders). Such a
+    /// URDF needs no free base (one would add coordinates it already has); a URDF whose root
+    /// link is the torso does.
+    pub fn slides_its_root(&self) -> bool {
+        let base = self.base.coordinate_names().len();
+        self.translation_coordinates().iter().skip(base).any(|&t| t)
+    }
+
     /// Viscous damping per coordinate (URDF `<dynamics damping>`), 0 where none.
     pub fn damping(&self) -> &[f64] {
         &self.damping

@@ -31,6 +31,23 @@ pub struct FamilyError {
     pub message: String,
 }
 
+/// Deepest nesting of parentheses and unary signs in an expression (and of `.`-separated
+/// keys in a `--set` path): far beyond any real use, far below what overflows the stack.
+pub const MAX_NESTING: usize = 64;
+
+/// Longest expression echoed in an error message (characters); longer ones are cut.
+const ECHO_CHARS: usize = 60;
+
+/// `s` as an error message quotes it: at most [`ECHO_CHARS`] characters.
+pub(crate) fn echo(s: &str) -> String {
+    if s.chars().count() <= ECHO_CHARS {
+        s.to_owned()
+    } else {
+        let head: String = s.chars().take(ECHO_CHARS).collect();
+        format!("{head}… ({} characters)", s.chars().count())
+    }
+}
+
 /// The declared parameters (name → value, defaults with `--set` applied).
 pub type Parameters = BTreeMap<String, f64>;
 
@@ -102,19 +119,51 @@ pub fn evaluate_expressions(
 
 /// Whether any string in `value` is an expression.
 pub fn has_expressions(root: &toml::Table) -> bool {
-    fn any(value: &toml::Value) -> bool {
+    fn any(key: &str, value: &toml::Value) -> bool {
+        if is_text_field(key) {
+            return false;
+        }
         match value {
             toml::Value::String(s) => expression_of(s).is_some(),
-            toml::Value::Array(a) => a.iter().any(any),
-            toml::Value::Table(t) => t.values().any(any),
+            toml::Value::Array(a) => a.iter().any(|v| any(key, v)),
+            toml::Value::Table(t) => t.iter().any(|(k, v)| any(k, v)),
             _ => false,
         }
     }
-    root.values().any(any)
+    root.iter().any(|(k, v)| any(k, v))
 }
 
 fn expression_of(s: &str) -> Option<&str> {
     s.trim_start().strip_prefix('=')
+}
+
+/// The schema's fields that hold only text (names, paths, choices), by their key: a string
+/// there is never an expression, whatever it starts with (`name = "=x"` is the name `=x`).
+const TEXT_FIELDS: [&str; 17] = [
+    "name",
+    "description",
+    "urdf",
+    "base",
+    "units",
+    "link",
+    "coordinate",
+    "mode",
+    "restart",
+    "warm_start",
+    "report",
+    "forward",
+    "vertical",
+    "integrator",
+    "hessian",
+    "dir",
+    "type",
+];
+
+/// Whether the field at TOML path `field` holds only text ([`TEXT_FIELDS`]).
+fn is_text_field(field: &str) -> bool {
+    let key = field.rsplit('.').next().unwrap_or(field);
+    let key = key.split('[').next().unwrap_or(key);
+    TEXT_FIELDS.contains(&key)
 }
 
 fn evaluate_value(
@@ -122,12 +171,15 @@ fn evaluate_value(
     field: &str,
     parameters: &Parameters,
 ) -> Result<(), FamilyError> {
+    if is_text_field(field) {
+        return Ok(());
+    }
     match value {
         toml::Value::String(s) => {
             if let Some(expression) = expression_of(s) {
                 let x = evaluate(expression, parameters).map_err(|message| FamilyError {
                     field: field.to_owned(),
-                    message: format!("expression `{s}`: {message}"),
+                    message: format!("expression `{}`: {message}", echo(s)),
                 })?;
                 *value = number_value(x);
             }
@@ -168,6 +220,7 @@ pub fn evaluate(expression: &str, parameters: &Parameters) -> Result<f64, String
     let mut parser = Parser {
         tokens: &tokens,
         at: 0,
+        depth: 0,
         parameters,
     };
     let x = parser.sum()?;
@@ -269,10 +322,23 @@ fn tokenize(s: &str) -> Result<Vec<Token>, String> {
 struct Parser<'a> {
     tokens: &'a [Token],
     at: usize,
+    /// Open parentheses and unary signs around the current token.
+    depth: usize,
     parameters: &'a Parameters,
 }
 
 impl Parser<'_> {
+    /// One level deeper (a `(` or a unary sign), refused beyond [`MAX_NESTING`].
+    fn deeper(&mut self) -> Result<(), String> {
+        self.depth += 1;
+        if self.depth > MAX_NESTING {
+            return Err(format!(
+                "it nests parentheses and signs more than {MAX_NESTING} deep; write it flatter"
+            ));
+        }
+        Ok(())
+    }
+
     fn peek_op(&self) -> Option<char> {
         match self.tokens.get(self.at) {
             Some(Token::Op(c)) => Some(*c),
@@ -302,13 +368,12 @@ impl Parser<'_> {
 
     fn unary(&mut self) -> Result<f64, String> {
         match self.peek_op() {
-            Some('-') => {
+            Some(sign @ ('-' | '+')) => {
                 self.at += 1;
-                Ok(-self.unary()?)
-            }
-            Some('+') => {
-                self.at += 1;
-                self.unary()
+                self.deeper()?;
+                let x = self.unary()?;
+                self.depth -= 1;
+                Ok(if sign == '-' { -x } else { x })
             }
             _ => self.atom(),
         }
@@ -341,7 +406,9 @@ impl Parser<'_> {
                 format!("unknown parameter `{name}`{hint}; {declared}")
             }),
             Token::Op('(') => {
+                self.deeper()?;
                 let x = self.sum()?;
+                self.depth -= 1;
                 match self.tokens.get(self.at) {
                     Some(Token::Op(')')) => {
                         self.at += 1;

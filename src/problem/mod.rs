@@ -27,6 +27,6 @@ pub use overrides::Override;
 pub use robot::{RobotError, RobotInfo, UrdfContact};
 pub use source::{edit_distance, nearest};
 pub use spec::*;
-pub use starter::starter_problem;
+pub use starter::{StarterError, starter_problem};
 pub use tracking::{TrackingFeedback, TrackingGain};
 pub use units::Units;

@@ -18,7 +18,7 @@ impl Override {
     /// Parses `key.path=value`.
     pub fn parse(arg: &str) -> Result<Override, ProblemError> {
         let err = |message: &str| ProblemError::Override {
-            arg: arg.to_owned(),
+            arg: crate::problem::family::echo(arg),
             message: message.to_owned(),
         };
         let (path, raw) = arg
@@ -28,7 +28,18 @@ impl Override {
         if path.is_empty() {
             return Err(err("the key path is empty"));
         }
+        if path.split('.').count() > crate::problem::family::MAX_NESTING {
+            return Err(err(&format!(
+                "the key path has more than {} parts",
+                crate::problem::family::MAX_NESTING
+            )));
+        }
         let raw = raw.trim();
+        if raw.contains(['\n', '\r']) {
+            return Err(err(
+                "the value holds a line break: one --set sets one value (give each key its own --set)",
+            ));
+        }
         let value = match toml::from_str::<toml::Table>(&format!("v = {raw}")) {
             Ok(mut t) => t.remove("v").ok_or_else(|| err("no value"))?,
             Err(_) => toml::Value::String(raw.to_owned()),

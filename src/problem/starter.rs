@@ -108,30 +108,105 @@ fn height(model: &Model, foot: &Foot, q: &[f64]) -> f64 {
     })
 }
 
+/// The coordinate that lifts every foot straight up, one to one: a translation coordinate
+/// ([`Model::translation_coordinates`]) along world z, a free base's `base_z` or a URDF's own
+/// vertical slider.
+fn lift_coordinate(model: &Model, feet: &[Foot], q: &[f64]) -> Option<usize> {
+    model
+        .translation_coordinates()
+        .iter()
+        .enumerate()
+        .filter(|&(_, &t)| t)
+        .map(|(j, _)| j)
+        .find(|&j| {
+            let mut up = q.to_vec();
+            up[j] += 1.0;
+            !feet.is_empty()
+                && feet
+                    .iter()
+                    .all(|f| (height(model, f, &up) - height(model, f, q) - 1.0).abs() < 1e-9)
+        })
+}
+
+/// `q` with the robot lifted ([`lift_coordinate`]) so that its lowest foot touches z = 0,
+/// where a coordinate can lift it.
+fn lift_onto_ground(model: &Model, feet: &[Foot], q: &mut [f64]) {
+    let lowest = feet
+        .iter()
+        .map(|f| height(model, f, q))
+        .fold(f64::INFINITY, f64::min);
+    if let Some(z) = lift_coordinate(model, feet, q)
+        && lowest.is_finite()
+    {
+        q[z] -= lowest;
+    }
+}
+
 /// The stand-in-place pose and its feet: the nominal pose with the base raised so that the
 /// lowest feet touch z = 0.
 fn standing(model: &Model, robot: &RobotInfo) -> (Vec<f64>, Vec<Foot>) {
     let mut q = nominal_pose(robot);
     let feet = find_feet(model, robot, &q);
-    let lowest = feet
-        .iter()
-        .map(|f| height(model, f, &q))
-        .fold(f64::INFINITY, f64::min);
-    if let Some(z) = robot.coordinates.iter().position(|c| c == "base_z")
-        && lowest.is_finite()
-    {
-        q[z] -= lowest;
-    }
+    lift_onto_ground(model, &feet, &mut q);
     (q, feet)
+}
+
+/// Why no starter can be written.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error(
+    "the starter's pose puts contact `{contact}` {depth:.3} m below the ground and no \
+     coordinate of a {base} base lifts the robot onto it; use --base floating (or planar), \
+     or a URDF whose root slides vertically"
+)]
+pub struct StarterError {
+    /// The lowest contact.
+    pub contact: String,
+    /// How far below the ground it starts (m, positive).
+    pub depth: f64,
+    /// The base asked for.
+    pub base: &'static str,
 }
 
 /// A starter problem: every coordinate named with its limits, the contacts, a fixed
 /// horizon, a state-tracking and an input cost, and the reference Ipopt options. With a
 /// fixed base it moves the first coordinate to 0; with a free base it stands in place on
 /// its feet (`model` finds them and the base height).
-pub fn starter_problem(model: &Model, robot: &RobotInfo, base: BaseType, urdf: &str) -> String {
+///
+/// A starter whose contacts would start below the ground (a fixed base that nothing lifts)
+/// is an error, not a file `vito check` would warn about.
+pub fn starter_problem(
+    model: &Model,
+    robot: &RobotInfo,
+    base: BaseType,
+    urdf: &str,
+) -> Result<String, StarterError> {
     if base != BaseType::Fixed {
-        return standing_problem(model, robot, base, urdf);
+        return Ok(standing_problem(model, robot, base, urdf));
+    }
+    let contacts: Vec<Foot> = robot
+        .contacts
+        .iter()
+        .map(|c| Foot {
+            name: c.name.clone(),
+            link: c.link.clone(),
+            centre: c.point,
+            radius: c.radius,
+            from_urdf: true,
+        })
+        .collect();
+    let mut pose = nominal_pose(robot);
+    lift_onto_ground(model, &contacts, &mut pose);
+    if let Some((foot, z)) = contacts
+        .iter()
+        .map(|f| (f, height(model, f, &pose)))
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .filter(|&(_, z)| z < -1e-9)
+    {
+        return Err(StarterError {
+            contact: foot.name.clone(),
+            depth: -z,
+            base: "fixed",
+        });
     }
     let mut t = robot_section(base, urdf);
     t.push_str("[contacts]\n");
@@ -159,7 +234,7 @@ pub fn starter_problem(model: &Model, robot: &RobotInfo, base: BaseType, urdf: &
     t.push_str("[horizon]\nknots = 21\ntime_step = 0.05   # fixed h [s]; or total_time = [t_min, t_max] for free equal steps\n\n");
     t.push_str("[initial]\nv = \"zero\"   # \"zero\", \"free\" or a table by coordinate\n");
     t.push_str("[initial.q]   # q_1, fixed; every coordinate (limits from the URDF in comments)\n");
-    t.push_str(&pose_table(robot, &nominal_pose(robot)));
+    t.push_str(&pose_table(robot, &pose));
     t.push_str("\n[final]   # q_N: coordinates not named keep their initial value\n");
     t.push_str("tolerance = 0.0   # q_N within goal ± tolerance (0: fixed)\n");
     t.push_str("[final.q]\n");
@@ -189,7 +264,7 @@ pub fn starter_problem(model: &Model, robot: &RobotInfo, base: BaseType, urdf: &
     t.push_str("[slack]\nweight = 100.0   # α on Σ s (complementarity relaxation)\nmode = \"per_interval\"\n\n");
     t.push_str("[initial_guess]\nto = \"final\"   # q linear from q_1 to the goal; or warm_start = \"out/x/trajectory.csv\"\n\n");
     t.push_str(SOLVER);
-    t
+    Ok(t)
 }
 
 /// The `[solver]` sections of every starter.

@@ -414,10 +414,31 @@ impl Drop for StagedDir {
     }
 }
 
-/// Writes `contents` to `path` atomically (temp file in the same directory, then rename).
+/// Creates the file `path` for writing, only if nothing is there: not a file, not a
+/// directory, not a symbolic link (dangling or not, it is never followed; `O_CREAT | O_EXCL
+/// | O_NOFOLLOW`). Every file vito writes outside a directory of its own is created so.
+pub fn create_new_file(path: &Path) -> io::Result<std::fs::File> {
+    use std::os::unix::fs::OpenOptionsExt;
+    std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .custom_flags(rustix::fs::OFlags::NOFOLLOW.bits() as i32)
+        .open(path)
+}
+
+/// Writes `contents` to `path` atomically (a new temp file in the same directory, then rename).
 pub fn write_file_atomic(path: &Path, contents: &[u8]) -> io::Result<()> {
     let tmp = sibling(path, "tmp");
-    std::fs::write(&tmp, contents)?;
+    let written = create_new_file(&tmp).and_then(|mut file| {
+        io::Write::write_all(&mut file, contents)?;
+        file.sync_all()
+    });
+    if let Err(e) = written {
+        if e.kind() != io::ErrorKind::AlreadyExists {
+            let _ = std::fs::remove_file(&tmp);
+        }
+        return Err(e);
+    }
     std::fs::rename(&tmp, path).inspect_err(|_| {
         let _ = std::fs::remove_file(&tmp);
     })

@@ -45,7 +45,9 @@ pub(crate) fn load(xml: &str, origin: &str, base: BaseType) -> Result<Model, Mod
         message: e.to_string(),
     })?;
     values::check_values(&robot, &extensions)?;
-    build::build(&robot, &extensions, base, origin, warnings)
+    let model = build::build(&robot, &extensions, base, origin, warnings)?;
+    limits::check_coordinates(&model, origin)?;
+    Ok(model)
 }
 
 pub(super) fn xml_error(origin: &str, e: roxmltree::Error) -> ModelError {

@@ -30,17 +30,59 @@ pub(super) fn nlp_estimate(robot: &RobotInfo, contacts: usize, knots: usize) -> 
     (variables, bytes)
 }
 
-/// The memory this process may use: the machine's RAM (`MemTotal`), or 16 GiB where
-/// `/proc/meminfo` cannot be read.
-fn memory_available() -> f64 {
-    std::fs::read_to_string("/proc/meminfo")
+/// The memory this process may use: the least of the machine's RAM (`MemTotal`), the
+/// address-space limit (`ulimit -v`, `RLIMIT_AS`) and the memory limit of its cgroup (v2
+/// `memory.max`, v1 `memory.limit_in_bytes`: a Slurm job's `--mem`, a container's); 16 GiB
+/// where none can be read.
+pub fn memory_available() -> f64 {
+    let ram = std::fs::read_to_string("/proc/meminfo")
         .ok()
         .and_then(|text| {
             let line = text.lines().find(|l| l.starts_with("MemTotal:"))?;
             let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
             Some(kib * 1024.0)
-        })
+        });
+    let address_space = rustix::process::getrlimit(rustix::process::Resource::As)
+        .current
+        .map(|b| b as f64);
+    [ram, address_space, cgroup_limit()]
+        .into_iter()
+        .flatten()
+        .reduce(f64::min)
         .unwrap_or(16.0 * 1024.0 * 1024.0 * 1024.0)
+}
+
+/// The memory limit of this process's cgroup and its ancestors (the least), if any is set.
+fn cgroup_limit() -> Option<f64> {
+    let membership = std::fs::read_to_string("/proc/self/cgroup").ok()?;
+    let mut limits = Vec::new();
+    for line in membership.lines() {
+        // `hierarchy-id:controllers:path`; v2 is `0::path`, v1's memory line names `memory`.
+        let mut parts = line.splitn(3, ':');
+        let (_, controllers, path) = (parts.next()?, parts.next()?, parts.next()?);
+        let (root, file) = if controllers.is_empty() {
+            ("/sys/fs/cgroup", "memory.max")
+        } else if controllers.split(',').any(|c| c == "memory") {
+            ("/sys/fs/cgroup/memory", "memory.limit_in_bytes")
+        } else {
+            continue;
+        };
+        let mut dir = std::path::PathBuf::from(root);
+        dir.push(path.trim_start_matches('/'));
+        // The limit of every cgroup from this one up to the root of the hierarchy.
+        loop {
+            if let Some(bytes) = std::fs::read_to_string(dir.join(file))
+                .ok()
+                .and_then(|t| t.trim().parse::<u64>().ok())
+            {
+                limits.push(bytes as f64);
+            }
+            if dir == std::path::Path::new(root) || !dir.pop() {
+                break;
+            }
+        }
+    }
+    limits.into_iter().reduce(f64::min)
 }
 
 /// Refuses a horizon whose NLP would need more memory than the machine has, saying how much.
@@ -58,7 +100,7 @@ pub(super) fn check_nlp_fits(
             "horizon.knots",
             format!(
                 "{knots} knots make an NLP of about {variables:.2e} variables that would need \
-                 about {:.3e} GiB of memory, more than this machine's {:.1} GiB: use fewer knots",
+                 about {:.3e} GiB of memory, more than the {:.1} GiB this process may use (RAM, `ulimit -v`, cgroup): use fewer knots",
                 gib(bytes),
                 gib(available)
             ),

@@ -85,7 +85,8 @@ pub(super) fn bound(
 }
 
 /// A name the problem file defines (a contact's): not empty, at most 200 bytes, no control
-/// characters (they would reach the terminal and the CSV header).
+/// or invisible formatting characters (they would reach the terminal, the CSV header and
+/// directory names).
 pub(super) fn plain_name<'a>(
     ctx: &Context,
     field: &str,
@@ -98,10 +99,13 @@ pub(super) fn plain_name<'a>(
             format!("must be 1 to 200 bytes long, got {} bytes", name.len()),
         ));
     }
-    if name.chars().any(char::is_control) {
+    if name.chars().any(crate::names::is_hidden_char) {
         return Err(ctx.invalid(
             field,
-            format!("\"{shown}\" holds control characters; use printable text"),
+            format!(
+                "\"{shown}\" holds control or invisible formatting characters (such as a \
+                 right-to-left override); use printable text"
+            ),
         ));
     }
     Ok(name)

@@ -97,7 +97,14 @@ fn init_accepts_every_urdf_that_inspect_loads() {
                 continue;
             }
             let out = t.path().join(format!("{i}_{base}.toml"));
-            init(&t, urdf, base, &out).assert_exit(0);
+            let made = init(&t, urdf, base, &out).run();
+            // The other documented refusal: a fixed base whose contacts start under the
+            // ground and that nothing lifts.
+            if made.code == 2 && made.stderr.contains("below the ground") {
+                assert_eq!(base, "fixed", "{}", urdf.display());
+                continue;
+            }
+            assert_eq!(made.code, 0, "{} ({base}): {}", urdf.display(), made.stderr);
             let run = t
                 .vito()
                 .args([std::ffi::OsStr::new("check"), out.as_os_str()])
