@@ -20,6 +20,14 @@ pub fn is_solved(status: Status) -> bool {
     )
 }
 
+/// Whether a status read back from a `summary.json` (its snake-case name) counts as solved:
+/// [`is_solved`] for results on disk (sweeps, `regress`).
+pub fn is_solved_name(name: &str) -> bool {
+    Status::ALL
+        .iter()
+        .any(|s| s.as_snake_case() == name && is_solved(*s))
+}
+
 /// JSON-safe number: NaN and ±∞ become null.
 fn num(x: f64) -> Value {
     if x.is_finite() { json!(x) } else { Value::Null }
