@@ -83,6 +83,22 @@ pub fn read_regular_text(path: &Path, max_bytes: u64) -> io::Result<String> {
         .map_err(|_| io::Error::new(io::ErrorKind::InvalidData, "it is not UTF-8 text"))
 }
 
+/// Largest duration or rate given on the command line (`--time-limit` in seconds,
+/// `--duration` in time units, `--rate` in steps per time unit): 10⁹.
+pub const MAX_SPAN: f64 = 1e9;
+
+/// Checks a duration or rate given on the command line: a finite number in (0, [`MAX_SPAN`]];
+/// the message names `option` and the range.
+pub fn checked_span(option: &str, value: f64) -> Result<f64, String> {
+    if value.is_finite() && value > 0.0 && value <= MAX_SPAN {
+        Ok(value)
+    } else {
+        Err(format!(
+            "{option} {value}: give a positive number up to {MAX_SPAN:e}"
+        ))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -225,13 +225,9 @@ pub fn prepare_simulation(
     };
     let spec = &problem.spec;
     let positive = |field: &str, value: Option<f64>| -> Result<Option<f64>, TranscriptionError> {
-        match value {
-            Some(x) if !(x.is_finite() && x > 0.0) => Err(invalid(
-                field,
-                format!("{x} must be a positive finite number"),
-            )),
-            other => Ok(other),
-        }
+        value
+            .map(|x| crate::input::checked_span(field, x).map_err(|m| invalid(field, m)))
+            .transpose()
     };
     let duration = positive("--duration", request.duration)?;
     let rate = positive("--rate", request.rate)?;

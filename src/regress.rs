@@ -5,7 +5,9 @@
 use std::path::{Path, PathBuf};
 
 use crate::paths::relative_path;
-use crate::report::{DEFAULT_TOLERANCE, GoldenEntry, GoldenError, GoldenRecord, objective_matches};
+use crate::report::{
+    DEFAULT_TOLERANCE, GoldenEntry, GoldenError, GoldenRecord, objective_matches, slack_matches,
+};
 
 /// How one problem compares with the record.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -14,7 +16,7 @@ pub enum Verdict {
     Ok,
     /// Solved, not in the record yet.
     New,
-    /// Solved, objective outside the recorded tolerance.
+    /// Solved, objective outside the recorded tolerance or slack above the recorded one.
     Diff,
     /// Not solved, or no result at all.
     Fail,
@@ -42,6 +44,19 @@ pub struct RegressRow {
     pub objective: Option<f64>,
     /// The recorded objective, if any.
     pub recorded: Option<f64>,
+    /// The new largest slack and iterations, if the solve wrote them.
+    pub max_slack: Option<f64>,
+    /// The new iteration count.
+    pub iterations: Option<u64>,
+    /// The new objective's terms (name, value), from `summary.json`.
+    pub terms: Vec<(String, f64)>,
+    /// The record's entry, if any.
+    pub entry: Option<GoldenEntry>,
+    /// What else a reader should know: the problem file changed since blessing, another
+    /// platform blessed it.
+    pub notes: Vec<String>,
+    /// Where the new solution was kept (a difference or a failure).
+    pub kept: Option<PathBuf>,
     /// The comparison.
     pub verdict: Verdict,
 }
@@ -78,6 +93,14 @@ pub enum RegressError {
         /// The operating-system error.
         source: std::io::Error,
     },
+    /// A problem could not be set up (the solve's input error, exit 2): not a regression.
+    #[error("{message}")]
+    Setup {
+        /// The problem file.
+        file: PathBuf,
+        /// The solve's error message.
+        message: String,
+    },
     /// The scratch directory for the solves' outputs could not be made.
     #[error("cannot create {dir}: {source}")]
     Scratch {
@@ -89,8 +112,9 @@ pub enum RegressError {
 }
 
 /// Solves the record's problems plus `files` (relative to the working directory) with
-/// `vito_exe solve`, one process each, and compares them with the record. With `bless`, the
-/// record is rewritten (atomically) with every solved result.
+/// `vito_exe solve`, one process each, into a fresh private temporary directory, and compares
+/// them with the record. A problem that differs or fails keeps its solution (the row's
+/// `kept`). With `bless`, the record is rewritten (atomically) with every solved result.
 pub fn regress(
     vito_exe: &Path,
     record_path: &Path,
@@ -98,17 +122,13 @@ pub fn regress(
     bless: bool,
 ) -> Result<Vec<RegressRow>, RegressError> {
     let mut record = GoldenRecord::read(record_path)?;
-    let base = record_path.parent().unwrap_or(Path::new("")).to_owned();
+    let base = match record_path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_owned(),
+        _ => PathBuf::from("."),
+    };
     let mut names: Vec<String> = record.problem.iter().map(|e| e.file.clone()).collect();
     for f in files {
-        let name = relative_path(
-            f,
-            if base.as_os_str().is_empty() {
-                Path::new(".")
-            } else {
-                &base
-            },
-        );
+        let name = relative_path(f, &base);
         if !names.contains(&name) {
             names.push(name);
         }
@@ -119,20 +139,28 @@ pub fn regress(
             missing: !record_path.exists(),
         });
     }
-    let scratch = scratch_dir(record_path)?;
+    let scratch = tempfile::Builder::new()
+        .prefix("vito-regress-")
+        .tempdir()
+        .map_err(|source| RegressError::Scratch {
+            dir: std::env::temp_dir(),
+            source,
+        })?;
     let mut rows = Vec::new();
     for name in &names {
-        let out = scratch.join(name.replace(['/', '\\'], "_"));
-        let row = solve_and_compare(vito_exe, &base.join(name), &out, name, &mut record, bless);
-        match row {
-            Ok(row) => rows.push(row),
-            Err(e) => {
-                let _ = std::fs::remove_dir_all(&scratch);
-                return Err(e);
-            }
+        let out = scratch.path().join(name.replace(['/', '\\'], "_"));
+        let mut row =
+            solve_and_compare(vito_exe, &base.join(name), &out, name, &mut record, bless)?;
+        if matches!(row.verdict, Verdict::Diff | Verdict::Fail) && out.exists() {
+            row.kept = Some(out);
+        } else {
+            let _ = std::fs::remove_dir_all(&out);
         }
+        rows.push(row);
     }
-    let _ = std::fs::remove_dir_all(&scratch);
+    if rows.iter().any(|r| r.kept.is_some()) {
+        let _ = scratch.keep();
+    }
     if bless {
         record.write(record_path)?;
     }
@@ -140,7 +168,8 @@ pub fn regress(
 }
 
 /// Solves one problem in a child process and compares its `summary.json` with the record
-/// (a child's exit status alone is never trusted: it must have written a result).
+/// (a child's exit status alone is never trusted: it must have written a result). A child
+/// that exits 2 (an input error) is a setup error, not a regression.
 fn solve_and_compare(
     vito_exe: &Path,
     problem: &Path,
@@ -149,40 +178,94 @@ fn solve_and_compare(
     record: &mut GoldenRecord,
     bless: bool,
 ) -> Result<RegressRow, RegressError> {
-    let status = std::process::Command::new(vito_exe)
+    let output = std::process::Command::new(vito_exe)
         .arg("solve")
         .arg(problem)
         .arg("--out")
         .arg(out)
         .arg("--quiet")
+        .stdin(std::process::Stdio::null())
         .stdout(std::process::Stdio::null())
-        .status()
+        .stderr(std::process::Stdio::piped())
+        .output()
         .map_err(|source| RegressError::Spawn {
             exe: vito_exe.to_owned(),
             source,
         })?;
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    if output.status.code() == Some(2) {
+        let message = stderr
+            .lines()
+            .filter(|l| !l.starts_with("warning:"))
+            .collect::<Vec<_>>()
+            .join("\n  ");
+        let message = message.strip_prefix("error: ").unwrap_or(&message);
+        let shown = problem.display().to_string();
+        return Err(RegressError::Setup {
+            file: problem.to_owned(),
+            message: if message.contains(&shown) {
+                message.to_owned()
+            } else {
+                format!("{shown}: {message}")
+            },
+        });
+    }
     let summary = std::fs::read_to_string(out.join("summary.json"))
         .ok()
         .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok());
     let recorded = record.entry(name).cloned();
+    let mut row = RegressRow {
+        file: name.to_owned(),
+        status: String::new(),
+        objective: None,
+        recorded: recorded.as_ref().map(|e| e.objective),
+        max_slack: None,
+        iterations: None,
+        terms: Vec::new(),
+        entry: recorded.clone(),
+        notes: Vec::new(),
+        kept: None,
+        verdict: Verdict::Fail,
+    };
     let Some(summary) = summary else {
-        return Ok(RegressRow {
-            file: name.to_owned(),
-            status: format!("no result (exit {})", status.code().unwrap_or(-1)),
-            objective: None,
-            recorded: recorded.as_ref().map(|e| e.objective),
-            verdict: Verdict::Fail,
-        });
+        row.status = format!("no result (exit {})", output.status.code().unwrap_or(-1));
+        if let Some(e) = stderr.lines().rev().find(|l| l.starts_with("error:")) {
+            row.notes.push(e.to_owned());
+        }
+        return Ok(row);
     };
     let objective = summary["objective"].as_f64().unwrap_or(f64::NAN);
+    let max_slack = summary["max_slack"].as_f64().unwrap_or(f64::NAN);
     let status_text = summary["status"].as_str().unwrap_or("?").to_owned();
+    let sha256 = summary["problem_sha256"].as_str().map(str::to_owned);
     let solved = crate::report::summary_verdict(&summary).is_some_and(|v| v.is_solved());
-    let verdict = match (&recorded, solved) {
+    row.verdict = match (&recorded, solved) {
         (_, false) => Verdict::Fail,
         (None, true) => Verdict::New,
-        (Some(e), true) if objective_matches(e, objective) => Verdict::Ok,
+        (Some(e), true) if objective_matches(e, objective) && slack_matches(e, max_slack) => {
+            Verdict::Ok
+        }
         (Some(_), true) => Verdict::Diff,
     };
+    let platform = crate::report::platform();
+    if let Some(e) = &recorded {
+        if let (Some(old), Some(new)) = (&e.problem_sha256, &sha256)
+            && old != new
+        {
+            row.notes.push(format!(
+                "{name} has changed since it was blessed (SHA-256 {}… then, {}… now)",
+                &old[..old.len().min(12)],
+                &new[..new.len().min(12)]
+            ));
+        }
+        if row.verdict != Verdict::Ok
+            && let Some(p) = e.platform.as_ref().filter(|p| **p != platform)
+        {
+            row.notes.push(format!(
+                "blessed on {p}, solved here on {platform}: another MUMPS or BLAS may reach another optimum"
+            ));
+        }
+    }
     if bless && solved {
         record.upsert(GoldenEntry {
             file: name.to_owned(),
@@ -190,31 +273,21 @@ fn solve_and_compare(
             tolerance: recorded.as_ref().map_or(DEFAULT_TOLERANCE, |e| e.tolerance),
             status: status_text.clone(),
             iterations: summary["iterations"].as_u64().unwrap_or(0) as usize,
-            max_slack: summary["max_slack"].as_f64().unwrap_or(f64::NAN),
+            max_slack,
             source: Some(format!("vito {}", env!("CARGO_PKG_VERSION"))),
+            problem_sha256: sha256,
+            platform: Some(platform),
         });
     }
-    Ok(RegressRow {
-        file: name.to_owned(),
-        status: status_text,
-        objective: Some(objective),
-        recorded: recorded.as_ref().map(|e| e.objective),
-        verdict,
-    })
-}
-
-fn scratch_dir(record_path: &Path) -> Result<PathBuf, RegressError> {
-    let dir = std::env::temp_dir().join(format!(
-        "vito-regress-{}-{}",
-        std::process::id(),
-        record_path
-            .file_stem()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_default()
-    ));
-    std::fs::create_dir_all(&dir).map_err(|source| RegressError::Scratch {
-        dir: dir.clone(),
-        source,
-    })?;
-    Ok(dir)
+    row.status = status_text;
+    row.objective = Some(objective);
+    row.max_slack = Some(max_slack);
+    row.iterations = summary["iterations"].as_u64();
+    if let Some(terms) = summary["objective_terms"].as_object() {
+        row.terms = terms
+            .iter()
+            .filter_map(|(k, v)| v.as_f64().map(|x| (k.clone(), x)))
+            .collect();
+    }
+    Ok(row)
 }

@@ -47,6 +47,7 @@ macro_rules! out {
 }
 
 mod check;
+mod interrupt;
 mod regress;
 mod robot;
 mod simulate;
@@ -55,6 +56,7 @@ mod study;
 mod sweep;
 
 use check::*;
+use interrupt::*;
 use regress::*;
 use robot::*;
 use simulate::*;
@@ -105,11 +107,11 @@ pub const EXIT_CODE_TABLE: [(u8, &str); 5] = [
     (EXIT_OK, "solved (check, inspect, regress: passed)"),
     (
         EXIT_NOT_SOLVED,
-        "finished but not solved (not optimal, relaxed_contact; stopped by Ctrl-C or SIGTERM; regress: a result differs; sweep collect: points missing)",
+        "finished but not solved (not optimal, relaxed_contact); stopped by a signal (Ctrl-C, SIGTERM, SIGHUP); a sweep with a run that did not solve or was stopped; sweep collect with points missing; regress: a result differs",
     ),
     (
         EXIT_INPUT,
-        "input or usage error (the message names the file, line and field), found before solving",
+        "input or usage error (the message names the file, line and field), found before solving; also a problem regress cannot set up",
     ),
     (EXIT_INTERNAL, "internal error"),
     (
@@ -227,6 +229,9 @@ pub enum Command {
         /// Seed of the multi-start perturbations.
         #[arg(long, default_value_t = 0)]
         seed: u64,
+        /// Internal: the process id of the sweep that started this run (the run dies with it).
+        #[arg(long, hide = true, value_name = "PID")]
+        sweep_parent: Option<u32>,
     },
     /// Simulate a problem file's robot forward with the planner's mechanics and contact model.
     #[command(after_help = exit_codes_help())]
@@ -333,7 +338,7 @@ pub enum Command {
     },
     /// Solve a problem over a grid of values, each run in its own process; resumable.
     #[command(
-        after_help = "Examples:\n  vito sweep problems/hopper_2d.toml --grid contacts.friction=0.3,0.8 --grid slack.weight=10,100 --out out/sweep\n  vito sweep report out/sweep --metric objective\n  vito sweep collect out/shard-0 out/shard-1 --out out/all\n\nExit codes: 0 every run finished and solved, 1 some run failed, timed out or did not solve, 2 input or usage error, 3 internal error",
+        after_help = "Examples:\n  vito sweep problems/hopper_2d.toml --grid contacts.friction=0.3,0.8 --grid slack.weight=10,100 --out out/sweep\n  vito sweep report out/sweep --metric objective\n  vito sweep collect out/shard-0 out/shard-1 --out out/all\n\nExit codes: 0 every run finished and solved, 1 some run failed, timed out, did not solve or was stopped by a signal (collect: points missing, without --partial), 2 input or usage error, 3 internal error",
         args_conflicts_with_subcommands = true,
         subcommand_negates_reqs = true
     )]
@@ -343,15 +348,17 @@ pub enum Command {
         #[command(flatten)]
         run: SweepRunArgs,
     },
-    /// Solve every problem of the regression record and compare objectives; `--bless` rewrites it.
+    /// Solve every problem of a regression record and compare status, objective and max
+    /// slack; `--bless` rewrites it.
     #[command(after_help = exit_codes_help())]
     Regress {
         /// Rewrite the record with the new results (atomically).
         #[arg(long)]
         bless: bool,
-        /// The regression record.
-        #[arg(long, default_value = "problems/golden.toml")]
-        record: PathBuf,
+        /// The regression record [default: `golden.toml` beside the first FILE, else
+        /// problems/golden.toml].
+        #[arg(long)]
+        record: Option<PathBuf>,
         /// Problems to check or add (relative to the working directory); default: the record's.
         files: Vec<PathBuf>,
     },
@@ -507,6 +514,9 @@ pub enum SweepAction {
         /// Directory for the merged table.
         #[arg(long)]
         out: PathBuf,
+        /// Exit 0 even when points have no result (without it: exit 1 naming them).
+        #[arg(long)]
+        partial: bool,
     },
 }
 
@@ -555,6 +565,8 @@ impl CliError {
             CliError::Sweep(e) => match e {
                 vito::sweep::SweepError::Usage(_)
                 | vito::sweep::SweepError::NotOurs { .. }
+                | vito::sweep::SweepError::Link { .. }
+                | vito::sweep::SweepError::NoTable { .. }
                 | vito::sweep::SweepError::Table { .. } => 2,
                 _ => 3,
             },
@@ -600,12 +612,21 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
             ipopt_log,
             starts,
             seed,
+            sweep_parent,
         } => {
             if starts == 0 {
                 return Err(CliError::Input("--starts 0: give at least 1".into()));
             }
             let multi_start = vito::transcription::MultiStart { starts, seed };
-            solve(&file, &set, out.as_deref(), quiet, ipopt_log, multi_start)
+            solve(
+                &file,
+                &set,
+                out.as_deref(),
+                quiet,
+                ipopt_log,
+                multi_start,
+                sweep_parent,
+            )
         }
         Command::Check {
             file,
@@ -706,10 +727,12 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
             bless,
             record,
             files,
-        } => regress(&record, &files, bless),
+        } => regress(&record_path(record.as_deref(), &files), &files, bless),
         Command::Sweep { action, run } => match action {
             Some(SweepAction::Report { dir, metric }) => sweep_report(&dir, &metric),
-            Some(SweepAction::Collect { dirs, out }) => sweep_collect(&dirs, &out),
+            Some(SweepAction::Collect { dirs, out, partial }) => {
+                sweep_collect(&dirs, &out, partial)
+            }
             None => sweep(run),
         },
     }

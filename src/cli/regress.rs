@@ -151,12 +151,24 @@ fn print_side_by_side(
     Ok(())
 }
 
+/// The record `vito regress` uses: `--record`, else the `golden.toml` beside the first
+/// problem named, else `problems/golden.toml`.
+pub(super) fn record_path(record: Option<&Path>, files: &[PathBuf]) -> PathBuf {
+    match (record, files.first()) {
+        (Some(r), _) => r.to_owned(),
+        (None, Some(f)) => f.with_file_name("golden.toml"),
+        (None, None) => PathBuf::from("problems/golden.toml"),
+    }
+}
+
 pub(super) fn regress(record_path: &Path, files: &[PathBuf], bless: bool) -> Result<u8, CliError> {
     use vito::regress::{RegressError, Verdict};
     let exe = std::env::current_exe().map_err(|e| CliError::Internal(e.to_string()))?;
     let rows = vito::regress::regress(&exe, record_path, files, bless).map_err(|e| match e {
         RegressError::Record(e) => CliError::Golden(e),
-        e @ RegressError::NoProblems { .. } => CliError::Input(e.to_string()),
+        e @ (RegressError::NoProblems { .. } | RegressError::Setup { .. }) => {
+            CliError::Input(e.to_string())
+        }
         e @ (RegressError::Spawn { .. } | RegressError::Scratch { .. }) => {
             CliError::Internal(e.to_string())
         }
@@ -169,8 +181,8 @@ pub(super) fn regress(record_path: &Path, files: &[PathBuf], bless: bool) -> Res
         "recorded",
         "rel. diff"
     );
+    let fmt = |x: Option<f64>| x.map_or("-".to_owned(), |v| format!("{v:.10e}"));
     for r in &rows {
-        let fmt = |x: Option<f64>| x.map_or("-".to_owned(), |v| format!("{v:.10e}"));
         let diff = r
             .relative_difference()
             .map_or("-".to_owned(), |d| format!("{d:.2e}"));
@@ -183,6 +195,54 @@ pub(super) fn regress(record_path: &Path, files: &[PathBuf], bless: bool) -> Res
             diff,
             r.verdict
         );
+    }
+    for r in &rows {
+        if !matches!(r.verdict, Verdict::Diff | Verdict::Fail) && r.notes.is_empty() {
+            continue;
+        }
+        out!("\n{} ({}):", r.file, r.verdict);
+        if r.objective.is_some() {
+            let e = r.entry.as_ref();
+            out!("  {:<24} {:>18} {:>18}", "", "now", "recorded");
+            out!(
+                "  {:<24} {:>18} {:>18}",
+                "status",
+                r.status,
+                e.map_or("-", |e| e.status.as_str())
+            );
+            out!(
+                "  {:<24} {:>18} {:>18}",
+                "objective",
+                fmt(r.objective),
+                fmt(r.recorded)
+            );
+            for (name, value) in &r.terms {
+                out!(
+                    "  {:<24} {:>18} {:>18}",
+                    format!("  {name}"),
+                    format!("{value:.10e}"),
+                    "-"
+                );
+            }
+            out!(
+                "  {:<24} {:>18} {:>18}",
+                "iterations",
+                r.iterations.map_or("-".to_owned(), |i| i.to_string()),
+                e.map_or("-".to_owned(), |e| e.iterations.to_string())
+            );
+            out!(
+                "  {:<24} {:>18} {:>18}",
+                "max slack",
+                r.max_slack.map_or("-".to_owned(), |x| format!("{x:.3e}")),
+                e.map_or("-".to_owned(), |e| format!("{:.3e}", e.max_slack))
+            );
+        }
+        for n in &r.notes {
+            out!("  {n}");
+        }
+        if let Some(k) = &r.kept {
+            out!("  new solution kept in {}", k.display());
+        }
     }
     if bless {
         out!("blessed {}", record_path.display());

@@ -20,8 +20,17 @@ pub(super) fn solve(
     quiet: bool,
     ipopt_log: bool,
     multi_start: vito::transcription::MultiStart,
+    sweep_parent: Option<u32>,
 ) -> Result<u8, CliError> {
-    vito::sweep::die_with_sweep();
+    if let Some(parent) = sweep_parent
+        && !vito::sweep::die_with_sweep(parent)
+    {
+        eprintln!(
+            "error: {} {parent}: the sweep that started this run has ended; not solving",
+            vito::sweep::PARENT_FLAG
+        );
+        return Ok(1);
+    }
     let overrides = parse_overrides(set)?;
     let problem = load(file, &overrides)?;
     print_model_warnings(&problem.robot);
@@ -44,21 +53,16 @@ pub(super) fn solve(
         ipopt_options.push(("output_file".to_owned(), OptionValue::Str(log.to_owned())));
         ipopt_options.push(("file_print_level".to_owned(), OptionValue::Int(5)));
     }
-    let cancel = Arc::new(AtomicBool::new(false));
-    {
-        let cancel = cancel.clone();
-        // First Ctrl-C: stop at the next iteration and write the best iterate. A second one
-        // exits at once (exit 1) without writing, leaving any previous output untouched.
-        // A second handler cannot be installed in one process; ignoring that error keeps the
-        // first (which sets the same kind of flag) in place.
-        let _ = ctrlc::set_handler(move || {
-            if cancel.swap(true, Ordering::SeqCst) {
-                note!("interrupted again: exiting without writing results");
-                std::process::exit(1);
-            }
-            note!("interrupted: stopping after this iteration (Ctrl-C again to quit now)");
-        });
-    }
+    // SIGINT, SIGTERM, SIGHUP: stop at the next iteration and write the iterate
+    // (`user_requested_stop`, exit 1). A later request exits at once (exit 1) without
+    // writing, leaving any previous output untouched.
+    let cancel = on_stop_request(
+        || note!("interrupted: stopping after this iteration (interrupt again to quit now)"),
+        || {
+            note!("interrupted again: exiting without writing results");
+            std::process::exit(1);
+        },
+    );
     if !quiet {
         if let vito::problem::InitialGuess::Simulation(g) = &problem.spec.initial_guess {
             note!(

@@ -3,7 +3,7 @@
 use super::*;
 
 pub(super) fn sweep(args: SweepRunArgs) -> Result<u8, CliError> {
-    use vito::sweep::{Axis, Grid, Shard, SweepOptions, WarmStart};
+    use vito::sweep::{Axis, Event, Grid, Shard, SweepOptions, WarmStart};
     let file = args
         .file
         .ok_or_else(|| CliError::Input("give a problem file".into()))?;
@@ -19,26 +19,39 @@ pub(super) fn sweep(args: SweepRunArgs) -> Result<u8, CliError> {
         .map(Shard::parse)
         .transpose()?
         .unwrap_or(Shard::ALL);
-    let time_limit = match args.time_limit {
-        Some(t) if !(t.is_finite() && t > 0.0) => {
-            return Err(CliError::Input(format!(
-                "--time-limit {t}: give a positive number of seconds"
-            )));
-        }
-        t => t.map(std::time::Duration::from_secs_f64),
-    };
+    let time_limit = args
+        .time_limit
+        .map(|t| vito::input::checked_span("--time-limit", t))
+        .transpose()
+        .map_err(CliError::Input)?
+        .map(std::time::Duration::from_secs_f64);
     if args.jobs == Some(0) {
         return Err(CliError::Input("--jobs 0: give at least 1".into()));
     }
     let overrides = parse_overrides(&args.set)?;
     let problem = load(&file, &overrides)?;
-    vito::sweep::check_grid_keys(&file, &overrides, &grid)?;
+    vito::sweep::check_grid(&file, &overrides, &grid)?;
     let out = args.out.unwrap_or_else(|| {
         let stem = file
             .file_stem()
             .map_or("problem".into(), |s| s.to_string_lossy());
         PathBuf::from(format!("out/sweep-{stem}"))
     });
+    // SIGINT, SIGTERM, SIGHUP: no new run starts; the running ones stop after their current
+    // iteration and write their iterates (a rerun redoes them); a later request quits at once.
+    let stop = on_stop_request(
+        || {
+            eprintln!(
+                "interrupted: stopping the running runs after their current iteration (interrupt again to quit now)"
+            )
+        },
+        || {
+            eprintln!(
+                "interrupted again: exiting; the running runs are killed, the table holds every run finished so far"
+            );
+            std::process::exit(1);
+        },
+    );
     let options = SweepOptions {
         exe: std::env::current_exe().map_err(|e| CliError::Internal(e.to_string()))?,
         problem: std::path::absolute(&file).map_err(|e| CliError::Internal(e.to_string()))?,
@@ -54,49 +67,162 @@ pub(super) fn sweep(args: SweepRunArgs) -> Result<u8, CliError> {
             WarmStartArg::None => WarmStart::None,
             WarmStartArg::Neighbour => WarmStart::Neighbour,
         },
+        stop: Some(stop),
     };
-    let bar = indicatif::ProgressBar::new(0);
-    bar.set_style(
-        indicatif::ProgressStyle::with_template(
-            "{bar:30} {pos}/{len} runs  {msg}  elapsed {elapsed}, ETA {eta}",
-        )
-        .map_err(|e| CliError::Internal(e.to_string()))?,
-    );
     let started = std::time::Instant::now();
-    let (table, counts) = vito::sweep::run_sweep(&options, &problem.sha256, |p| {
-        bar.set_length(p.total as u64);
-        bar.set_position((p.done + p.failed) as u64);
-        bar.set_message(format!(
-            "done {}, failed {}, running {}{}",
+    let mut display = SweepDisplay::new(started)?;
+    let outcome = vito::sweep::run_sweep(&options, &problem.sha256, |event| {
+        match event {
+        Event::Progress(p) => display.progress(p),
+        Event::Ended(row, p) => {
+            display.line(&run_line(row, p));
+            display.progress(p);
+        }
+        Event::Stopping { running } => display.line(&format!(
+            "stopping: {running} running runs asked to stop after their current iteration; no new run starts"
+        )),
+    }
+    })?;
+    display.finish();
+    let table = &outcome.table;
+    print_sweep_table(table)?;
+    out!(
+        "{} runs: {} finished ({} of them before this sweep), {} failed, {} timed out, {} interrupted, {} not run, in {:.1} s; table in {}",
+        table.rows.len(),
+        table.count(vito::sweep::RunStatus::Finished),
+        outcome.counts.skipped,
+        table.count(vito::sweep::RunStatus::Failed),
+        table.count(vito::sweep::RunStatus::Timeout),
+        table.count(vito::sweep::RunStatus::Interrupted),
+        table.count(vito::sweep::RunStatus::Pending),
+        started.elapsed().as_secs_f64(),
+        out.join(vito::sweep::TABLE_CSV).display()
+    );
+    if outcome.interrupted {
+        out!(
+            "interrupted: the table holds every run finished so far; run the same command again to do the rest"
+        );
+    }
+    Ok(if table.all_solved() && !outcome.interrupted {
+        0
+    } else {
+        1
+    })
+}
+
+/// One line per finished run: its point, where it stands, solver status, objective, time.
+fn run_line(row: &vito::sweep::Row, p: &vito::sweep::Progress) -> String {
+    let point = row.point_label();
+    let ended = p.done + p.failed + p.interrupted;
+    let mut line = format!(
+        "[{ended}/{}] point {} ({point}): {}",
+        p.total,
+        row.index,
+        row.status.name()
+    );
+    if let Some(s) = &row.solver_status {
+        line.push_str(&format!(" {s}"));
+    }
+    if let Some(o) = row.objective {
+        line.push_str(&format!(", objective {o:.6e}"));
+    }
+    if let Some(t) = row.wall_time_s {
+        line.push_str(&format!(", {t:.2} s"));
+    }
+    if row.status != vito::sweep::RunStatus::Finished && !row.note.is_empty() {
+        line.push_str(&format!(" ({})", row.note));
+    }
+    line
+}
+
+/// A sweep's progress on stderr: a bar with the counts and an ETA on a terminal; plain lines
+/// otherwise (a log file, a Slurm job's output).
+struct SweepDisplay {
+    bar: Option<indicatif::ProgressBar>,
+    started: std::time::Instant,
+    last: Option<vito::sweep::Progress>,
+}
+
+impl SweepDisplay {
+    fn new(started: std::time::Instant) -> Result<SweepDisplay, CliError> {
+        use std::io::IsTerminal;
+        let bar = if std::io::stderr().is_terminal() {
+            let bar = indicatif::ProgressBar::new(0);
+            bar.set_style(
+                indicatif::ProgressStyle::with_template(
+                    "{bar:30} {pos}/{len} runs  {msg}  elapsed {elapsed}, ETA {eta}",
+                )
+                .map_err(|e| CliError::Internal(e.to_string()))?,
+            );
+            Some(bar)
+        } else {
+            None
+        };
+        Ok(SweepDisplay {
+            bar,
+            started,
+            last: None,
+        })
+    }
+
+    fn line(&self, text: &str) {
+        let text = vito::names::escape_controls(text);
+        match &self.bar {
+            Some(bar) => bar.println(text),
+            None => eprintln!("{text}"),
+        }
+    }
+
+    fn progress(&mut self, p: &vito::sweep::Progress) {
+        let counts = format!(
+            "done {}, running {}, failed {}{}{}",
             p.done,
-            p.failed,
             p.running,
+            p.failed,
+            if p.interrupted > 0 {
+                format!(", interrupted {}", p.interrupted)
+            } else {
+                String::new()
+            },
             if p.skipped > 0 {
                 format!(" ({} finished before)", p.skipped)
             } else {
                 String::new()
             }
-        ));
-    })?;
-    bar.finish_and_clear();
-    print_sweep_table(&table)?;
-    let solved = table.rows.iter().all(|r| {
-        r.solver_status
-            .as_deref()
-            .and_then(vito::transcription::SolveVerdict::from_name)
-            .is_some_and(|v| v.is_solved())
-    });
-    out!(
-        "{} runs: {} finished ({} of them before this sweep), {} failed, {} timed out, in {:.1} s; table in {}",
-        table.rows.len(),
-        table.count(vito::sweep::RunStatus::Finished),
-        counts.skipped,
-        table.count(vito::sweep::RunStatus::Failed),
-        table.count(vito::sweep::RunStatus::Timeout),
-        started.elapsed().as_secs_f64(),
-        out.join(vito::sweep::TABLE_CSV).display()
-    );
-    Ok(if solved { 0 } else { 1 })
+        );
+        let ended = p.done + p.failed + p.interrupted;
+        match &self.bar {
+            Some(bar) => {
+                bar.set_length(p.total as u64);
+                bar.set_position(ended as u64);
+                bar.set_message(counts);
+            }
+            None => {
+                // Plain lines only when a run ended (a start changes only `running`).
+                let ended_before = self
+                    .last
+                    .map_or(usize::MAX, |l| l.done + l.failed + l.interrupted);
+                if ended != ended_before {
+                    let ran = ended - p.skipped;
+                    let left = p.total - ended;
+                    let eta = if ran > 0 && left > 0 {
+                        let per_run = self.started.elapsed().as_secs_f64() / ran as f64;
+                        format!(", ETA {:.0} s", per_run * left as f64)
+                    } else {
+                        String::new()
+                    };
+                    eprintln!("progress: {ended}/{} runs, {counts}{eta}", p.total);
+                }
+            }
+        }
+        self.last = Some(*p);
+    }
+
+    fn finish(&self) {
+        if let Some(bar) = &self.bar {
+            bar.finish_and_clear();
+        }
+    }
 }
 
 /// Prints a sweep table with aligned columns (the CSV's columns).
@@ -165,9 +291,10 @@ pub(super) fn sweep_report(dir: &Path, metric: &str) -> Result<u8, CliError> {
     Ok(0)
 }
 
-pub(super) fn sweep_collect(dirs: &[PathBuf], out: &Path) -> Result<u8, CliError> {
-    vito::sweep::prepare_dir(out)?;
+pub(super) fn sweep_collect(dirs: &[PathBuf], out: &Path, partial: bool) -> Result<u8, CliError> {
+    // Read the shards before making anything: a wrong directory leaves nothing behind.
     let table = vito::sweep::collect(dirs, out)?;
+    vito::sweep::prepare_dir(out)?;
     table.write(out)?;
     print_sweep_table(&table)?;
     out!(
@@ -177,8 +304,24 @@ pub(super) fn sweep_collect(dirs: &[PathBuf], out: &Path) -> Result<u8, CliError
         table.count(vito::sweep::RunStatus::Finished),
         table.count(vito::sweep::RunStatus::Failed),
         table.count(vito::sweep::RunStatus::Timeout),
-        table.count(vito::sweep::RunStatus::Pending),
+        table.missing().count(),
         out.join(vito::sweep::TABLE_CSV).display()
     );
-    Ok(0)
+    let missing: Vec<String> = table
+        .missing()
+        .map(|r| format!("{} ({})", r.index, r.point_label()))
+        .collect();
+    if missing.is_empty() || partial {
+        return Ok(0);
+    }
+    const SHOWN: usize = 20;
+    eprintln!(
+        "error: {} of {} points have no result (a shard not run, not finished or not named): {}{}; \
+         give every shard's directory, rerun the missing shards, or pass --partial to accept a partial table",
+        missing.len(),
+        table.rows.len(),
+        missing[..missing.len().min(SHOWN)].join(", "),
+        if missing.len() > SHOWN { ", …" } else { "" }
+    );
+    Ok(1)
 }

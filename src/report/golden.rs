@@ -23,6 +23,13 @@ pub struct GoldenEntry {
     /// What produced the numbers, e.g. `vito 0.1.0` or the independent CasADi implementation.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub source: Option<String>,
+    /// SHA-256 of the problem file blessed (`regress` says when the file has changed since).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub problem_sha256: Option<String>,
+    /// The platform blessed on (operating system, architecture): another MUMPS or BLAS may
+    /// reach another optimum, and `regress` says so beside a difference.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub platform: Option<String>,
 }
 
 /// The whole record.
@@ -125,15 +132,32 @@ impl GoldenRecord {
         Ok(())
     }
 
-    /// Writes the record atomically.
+    /// Writes the record atomically. A record named through a symbolic link is written to
+    /// the link's target (the record the user named), atomically beside it; a link that
+    /// leads nowhere is refused.
     pub fn write(&self, path: &Path) -> Result<(), GoldenError> {
         let body = toml::to_string(self).map_err(|e| GoldenError::Parse {
             path: path.to_owned(),
             message: e.to_string(),
         })?;
-        crate::report::write_file_atomic(path, format!("{HEADER}{body}").as_bytes()).map_err(
+        let target = match std::fs::symlink_metadata(path) {
+            Ok(m) if m.is_symlink() => {
+                std::fs::canonicalize(path).map_err(|source| GoldenError::Io {
+                    path: path.to_owned(),
+                    source: std::io::Error::new(
+                        source.kind(),
+                        format!(
+                            "the record is a symbolic link whose target cannot be resolved \
+                             ({source}); name the record itself with --record"
+                        ),
+                    ),
+                })?
+            }
+            _ => path.to_owned(),
+        };
+        crate::report::write_file_atomic(&target, format!("{HEADER}{body}").as_bytes()).map_err(
             |source| GoldenError::Io {
-                path: path.to_owned(),
+                path: target.clone(),
                 source,
             },
         )
@@ -150,6 +174,28 @@ impl GoldenRecord {
         self.problem.push(entry);
         self.problem.sort_by(|a, b| a.file.cmp(&b.file));
     }
+}
+
+/// How far a new largest slack may exceed the recorded one (problem units).
+pub const SLACK_ALLOWANCE: f64 = 1e-6;
+
+/// Whether a new largest slack is no worse than the recorded one (within
+/// [`SLACK_ALLOWANCE`]).
+pub fn slack_matches(entry: &GoldenEntry, max_slack: f64) -> bool {
+    max_slack <= entry.max_slack.max(0.0) + SLACK_ALLOWANCE
+}
+
+/// The platform results are made on: operating system (`/etc/os-release`) and architecture.
+pub fn platform() -> String {
+    let os = std::fs::read_to_string("/etc/os-release")
+        .ok()
+        .and_then(|t| {
+            t.lines()
+                .find_map(|l| l.strip_prefix("PRETTY_NAME="))
+                .map(|v| v.trim_matches('"').to_owned())
+        })
+        .unwrap_or_else(|| std::env::consts::OS.to_owned());
+    format!("{os}, {}", std::env::consts::ARCH)
 }
 
 /// Whether `objective` matches the recorded one within its tolerance.
@@ -175,6 +221,8 @@ mod tests {
             iterations: 12,
             max_slack: 1e-9,
             source: None,
+            problem_sha256: None,
+            platform: None,
         };
         record.upsert(entry.clone());
         record.upsert(GoldenEntry {

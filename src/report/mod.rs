@@ -308,11 +308,24 @@ mod output_tests {
         // Not vito's: refused and left alone. Once marked as vito's, it is replaced whole.
         assert!(OutputTarget::check(&target, &[]).is_err());
         assert!(target.join("stale.txt").exists());
+        // A marker without vito's list of what it wrote: the file beside it is not vito's.
         std::fs::write(target.join(MARKER), "").unwrap();
+        let refused = OutputTarget::check(&target, &[]).unwrap_err().to_string();
+        assert!(refused.contains("`stale.txt`"), "{refused}");
+        std::fs::remove_file(target.join("stale.txt")).unwrap();
         let checked = OutputTarget::check(&target, &[]).unwrap();
         let written = write_outputs(checked.stage().unwrap(), &problem, &s).unwrap();
         assert_eq!(written, target);
-        assert!(!target.join("stale.txt").exists());
+        // vito's own results, listed in the marker, are replaceable; a file added later is
+        // not deleted: the directory is refused, naming it.
+        OutputTarget::check(&target, &[]).unwrap();
+        std::fs::write(target.join("notes.txt"), "mine").unwrap();
+        let refused = OutputTarget::check(&target, &[]).unwrap_err().to_string();
+        assert!(
+            refused.contains("holds 1 entry that vito did not write (`notes.txt`"),
+            "{refused}"
+        );
+        std::fs::remove_file(target.join("notes.txt")).unwrap();
         for svg in ["coordinates.svg", "inputs.svg", "contact_modes.svg"] {
             let text = std::fs::read_to_string(target.join(svg)).unwrap();
             assert!(text.contains("<svg"), "{svg} is not an SVG");

@@ -1,7 +1,8 @@
 //! Output directories that never cost a user a file.
 //!
 //! The rule: vito replaces only a directory it wrote itself (it holds the marker file
-//! [`MARKER`]) or an empty one. Anything else at the target — a file, a symbolic link, a
+//! [`MARKER`], which lists every entry vito wrote there, and nothing else) or an empty one.
+//! A file added to it later is never deleted: the directory is refused, naming the file. Anything else at the target — a file, a symbolic link, a
 //! directory with other content — is refused, and so is a target that is the current
 //! directory, an ancestor of it, or a directory holding one of the run's input files (the
 //! problem file, its robot), before any solving ([`OutputTarget::check`]).
@@ -162,11 +163,7 @@ impl OutputTarget {
             committed: false,
         };
         let marker = staged.staging.join(MARKER);
-        std::fs::write(
-            &marker,
-            "This directory was written by vito, which may replace it on the next run.\n",
-        )
-        .map_err(io_error(&marker))?;
+        std::fs::write(&marker, format!("{MARKER_TEXT}\n")).map_err(io_error(&marker))?;
         Ok(staged)
     }
 }
@@ -267,44 +264,94 @@ fn replaceable(path: &Path) -> Result<(), OutputDirError> {
     if !meta.is_dir() {
         return Err(not_ours("is a file, not a directory".into()));
     }
-    if is_marked(path) {
+    let entries = entries_besides_marker(path)?;
+    let manifest = if is_marked(path) {
+        read_manifest(path)
+    } else {
+        None
+    };
+    let foreign: Vec<&String> = entries
+        .iter()
+        .filter(|e| !manifest.as_ref().is_some_and(|m| m.contains(*e)))
+        .collect();
+    if foreign.is_empty() {
         return Ok(());
     }
-    let entries = std::fs::read_dir(path).map_err(io_error(path))?.count();
-    if entries == 0 {
-        Ok(())
-    } else {
-        Err(not_ours(format!(
-            "holds {entries} entr{} that vito did not write",
-            if entries == 1 { "y" } else { "ies" }
-        )))
-    }
+    const SHOWN: usize = 8;
+    let names = foreign
+        .iter()
+        .take(SHOWN)
+        .map(|n| format!("`{n}`"))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let more = if foreign.len() > SHOWN { ", …" } else { "" };
+    Err(not_ours(match manifest {
+        Some(_) => format!(
+            "holds {} entr{} that vito did not write ({names}{more}; its own are listed in `{MARKER}`)",
+            foreign.len(),
+            if foreign.len() == 1 { "y" } else { "ies" }
+        ),
+        None if is_marked(path) => format!(
+            "was written by a vito that did not list its files in `{MARKER}`, and holds {names}{more}"
+        ),
+        None => format!(
+            "holds {} entr{} that vito did not write ({names}{more})",
+            foreign.len(),
+            if foreign.len() == 1 { "y" } else { "ies" }
+        ),
+    }))
 }
 
-/// Files a run writes; a directory holding only these, with a `summary.json` that names a
-/// vito version, was written by a vito older than the marker.
-const OUTPUT_FILES: [&str; 5] = [
-    "trajectory.csv",
-    "summary.json",
-    "coordinates.svg",
-    "inputs.svg",
-    "contact_modes.svg",
-];
+/// The first line of [`MARKER`]; each entry vito wrote follows on a line of its own after
+/// [`MANIFEST_PREFIX`].
+const MARKER_TEXT: &str =
+    "This directory was written by vito, which may replace it on the next run.";
+/// The prefix of a manifest line of [`MARKER`].
+const MANIFEST_PREFIX: &str = "wrote: ";
 
 fn is_marked(dir: &Path) -> bool {
-    if std::fs::symlink_metadata(dir.join(MARKER)).is_ok_and(|m| m.is_file()) {
-        return true;
+    std::fs::symlink_metadata(dir.join(MARKER)).is_ok_and(|m| m.is_file())
+}
+
+/// The entries [`MARKER`] lists as vito's (`None`: a marker without a list).
+fn read_manifest(dir: &Path) -> Option<Vec<String>> {
+    let text =
+        crate::input::read_regular_text(&dir.join(MARKER), crate::input::MAX_TEXT_BYTES).ok()?;
+    let names: Vec<String> = text
+        .lines()
+        .filter_map(|l| l.strip_prefix(MANIFEST_PREFIX))
+        .map(str::to_owned)
+        .collect();
+    // A complete list ends with MANIFEST_END (the list of an empty result is empty).
+    (text.lines().any(|l| l == MANIFEST_END) || !names.is_empty()).then_some(names)
+}
+
+/// Last line of a complete manifest.
+const MANIFEST_END: &str = "end of list";
+
+/// The names in `dir` other than [`MARKER`], sorted.
+fn entries_besides_marker(dir: &Path) -> Result<Vec<String>, OutputDirError> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .map_err(io_error(dir))?
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n != MARKER)
+        .collect();
+    names.sort();
+    Ok(names)
+}
+
+/// Writes the [`MARKER`] of a staged directory with the list of everything in it.
+fn write_manifest(dir: &Path) -> Result<(), OutputDirError> {
+    let names = entries_besides_marker(dir)?;
+    let mut text = format!("{MARKER_TEXT}\nIt replaces only the entries listed here.\n");
+    for n in &names {
+        text.push_str(&format!("{MANIFEST_PREFIX}{n}\n"));
     }
-    let Ok(entries) = std::fs::read_dir(dir) else {
-        return false;
-    };
-    let only_outputs = entries.flatten().all(|e| {
-        OUTPUT_FILES.contains(&e.file_name().to_string_lossy().as_ref())
-            && e.file_type().is_ok_and(|t| t.is_file())
-    });
-    only_outputs
-        && std::fs::read_to_string(dir.join("summary.json"))
-            .is_ok_and(|text| text.contains("\"vito_version\""))
+    text.push_str(MANIFEST_END);
+    text.push('\n');
+    let marker = dir.join(MARKER);
+    write_file_atomic(&marker, text.as_bytes()).map_err(io_error(&marker))
 }
 
 fn name_of(target: &Path) -> String {
@@ -384,6 +431,7 @@ impl StagedDir {
     /// previous results. The target is checked again first, in case something else took
     /// its place while the run was solving.
     pub fn commit(mut self) -> Result<PathBuf, OutputDirError> {
+        write_manifest(&self.staging)?;
         replaceable(&self.target)?;
         if self.target.exists() {
             rustix::fs::renameat_with(CWD, &self.staging, CWD, &self.target, RenameFlags::EXCHANGE)
@@ -501,14 +549,34 @@ mod tests {
         let err = OutputTarget::check(&link, &[]).unwrap_err();
         assert!(err.to_string().contains("symbolic link"), "{err}");
 
-        // Results of a vito older than the marker are recognised by their files.
-        let legacy = dir.path().join("legacy");
-        std::fs::create_dir(&legacy).unwrap();
-        std::fs::write(legacy.join("summary.json"), r#"{"vito_version": "0.1.0"}"#).unwrap();
-        std::fs::write(legacy.join("trajectory.csv"), "t\n").unwrap();
-        assert!(OutputTarget::check(&legacy, &[]).is_ok());
-        std::fs::write(legacy.join("notes.md"), "mine").unwrap();
-        assert!(OutputTarget::check(&legacy, &[]).is_err());
+        // Files that only look like vito's results (no marker) are not taken as vito's.
+        let lookalike = dir.path().join("lookalike");
+        std::fs::create_dir(&lookalike).unwrap();
+        std::fs::write(
+            lookalike.join("summary.json"),
+            r#"{"vito_version": "0.1.0"}"#,
+        )
+        .unwrap();
+        std::fs::write(lookalike.join("trajectory.csv"), "t\n").unwrap();
+        let err = OutputTarget::check(&lookalike, &[]).unwrap_err();
+        assert!(
+            err.to_string().contains("`summary.json`, `trajectory.csv`"),
+            "{err}"
+        );
+
+        // A marked directory: only the entries its marker lists are vito's.
+        let marked = dir.path().join("marked");
+        std::fs::create_dir(&marked).unwrap();
+        std::fs::write(marked.join("summary.json"), "{}").unwrap();
+        std::fs::write(
+            marked.join(MARKER),
+            format!("{MARKER_TEXT}\n{MANIFEST_PREFIX}summary.json\n{MANIFEST_END}\n"),
+        )
+        .unwrap();
+        assert!(OutputTarget::check(&marked, &[]).is_ok());
+        std::fs::write(marked.join("notes.md"), "mine").unwrap();
+        let err = OutputTarget::check(&marked, &[]).unwrap_err();
+        assert!(err.to_string().contains("(`notes.md`;"), "{err}");
 
         let empty = dir.path().join("empty");
         std::fs::create_dir(&empty).unwrap();

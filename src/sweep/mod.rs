@@ -19,10 +19,10 @@ use std::path::PathBuf;
 pub use grid::{Axis, Grid, Point, Shard};
 pub use plot::metric_svg;
 pub use run::{
-    LOGS, PARENT_ENV, Progress, SWEEP_MARKER, SweepOptions, WarmStart, die_with_sweep, prepare_dir,
-    run_sweep,
+    Event, LOGS, Outcome, PARENT_FLAG, Progress, SWEEP_MARKER, SweepOptions, WarmStart,
+    die_with_sweep, prepare_dir, run_sweep,
 };
-pub use table::{RUNS, Row, RunStatus, TABLE_CSV, TABLE_JSON, Table, collect};
+pub use table::{OnDisk, RUNS, Row, RunStatus, TABLE_CSV, TABLE_JSON, Table, collect, read_result};
 
 /// Why a sweep could not run.
 #[derive(Debug, thiserror::Error)]
@@ -38,6 +38,25 @@ pub enum SweepError {
     NotOurs {
         /// The directory.
         path: PathBuf,
+    },
+    /// A symbolic link inside the sweep's own directories (vito never makes one there).
+    #[error(
+        "{path} is a symbolic link, which vito did not create: vito does not follow links \
+         inside its own directories; remove it (or choose another --out)"
+    )]
+    Link {
+        /// The link.
+        path: PathBuf,
+    },
+    /// The sweep table a command needs does not exist.
+    #[error(
+        "{path} does not exist: {dir} is not a sweep directory (name the --out of a `vito sweep`)"
+    )]
+    NoTable {
+        /// The missing table.
+        path: PathBuf,
+        /// The directory named.
+        dir: PathBuf,
     },
     /// A file could not be read or written.
     #[error("{path}: {source}")]
@@ -76,25 +95,94 @@ pub enum SweepError {
     Internal(String),
 }
 
-/// Loads the problem `file` with `overrides` at every point of `grid`, before any run. Keys
-/// that do not exist (a typo in an axis or a `--set`) are usage errors, returned once here;
-/// values the checks reject are results of the sweep (that point's run fails), so they pass.
-pub fn check_grid_keys(
+/// Checks every value of every axis against the problem before any run: the problem `file`
+/// with `overrides` is loaded once per value of each axis (the other axes at their first
+/// values), so the work grows with the sum of the axes' lengths, not with their product. A
+/// key the problem does not have or a value its checks reject is a usage error naming the
+/// `--grid` argument (and, for a key, the full keys and `[parameters]` it may have meant).
+pub fn check_grid(
     file: &std::path::Path,
     overrides: &[crate::problem::Override],
     grid: &Grid,
-) -> Result<(), crate::problem::ProblemError> {
+) -> Result<(), SweepError> {
     use crate::problem::{Override, ProblemError, load};
-    for point in grid.points() {
-        let mut all = overrides.to_vec();
-        for arg in point.set_args() {
-            all.push(Override::parse(&arg)?);
-        }
-        if let Err(e @ (ProblemError::UnknownKey { .. } | ProblemError::Override { .. })) =
-            load(file, &all)
-        {
-            return Err(e);
+    let usage = |e: ProblemError| SweepError::Usage(e.to_string());
+    for (a, axis) in grid.axes.iter().enumerate() {
+        for value in &axis.values {
+            let mut all = overrides.to_vec();
+            for (b, other) in grid.axes.iter().enumerate() {
+                let v = if a == b { value } else { &other.values[0] };
+                all.push(Override::parse(&format!("{}={v}", other.key)).map_err(usage)?);
+            }
+            let Err(e) = load(file, &all) else { continue };
+            let argument = format!("--grid {}={}", axis.key, axis.values.join(","));
+            let unknown_key = matches!(e, ProblemError::UnknownKey { .. })
+                && e.to_string()
+                    .contains(&format!("`{}`", last_part(&axis.key)));
+            return Err(SweepError::Usage(if unknown_key {
+                format!(
+                    "{argument}: `{}` is not a key of {}{}\n  {e}",
+                    axis.key,
+                    file.display(),
+                    key_hint(file, &axis.key)
+                )
+            } else {
+                format!("{argument}: the value `{value}` is not valid here\n  {e}")
+            }));
         }
     }
     Ok(())
+}
+
+fn last_part(key: &str) -> &str {
+    key.rsplit('.').next().unwrap_or(key)
+}
+
+/// "; did you mean …" for a swept key: the file's full key paths that end in it, and the
+/// names of its `[parameters]`.
+fn key_hint(file: &std::path::Path, key: &str) -> String {
+    let Ok(text) = crate::input::read_regular_text(file, crate::input::MAX_TEXT_BYTES) else {
+        return String::new();
+    };
+    let Ok(table) = toml::from_str::<toml::Table>(&text) else {
+        return String::new();
+    };
+    let mut paths = Vec::new();
+    leaf_paths(&table, "", &mut paths);
+    let tail = format!(".{}", last_part(key));
+    let mut hint = String::new();
+    let full: Vec<String> = paths
+        .iter()
+        .filter(|p| p.ends_with(&tail) && !p.starts_with("parameters."))
+        .map(|p| format!("`{p}`"))
+        .collect();
+    if !full.is_empty() {
+        hint.push_str(&format!("; did you mean {}?", full.join(" or ")));
+    }
+    hint.push_str(" A swept key is a full key path as for --set (e.g. `contacts.friction`)");
+    match table.get("parameters").and_then(toml::Value::as_table) {
+        Some(p) if !p.is_empty() => hint.push_str(&format!(
+            " or a name of the file's [parameters]: {}",
+            p.keys()
+                .map(|k| format!("`{k}`"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        )),
+        _ => hint.push_str(" or a name of the file's [parameters] (it has none)"),
+    }
+    hint
+}
+
+fn leaf_paths(table: &toml::Table, prefix: &str, out: &mut Vec<String>) {
+    for (k, v) in table {
+        let path = if prefix.is_empty() {
+            k.clone()
+        } else {
+            format!("{prefix}.{k}")
+        };
+        match v {
+            toml::Value::Table(t) => leaf_paths(t, &path, out),
+            _ => out.push(path),
+        }
+    }
 }

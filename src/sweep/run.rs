@@ -3,10 +3,12 @@
 
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use crate::sweep::table::{
-    RUNS, Row, RunStatus, Table, WARM_START_KEY, expected_parameters, read_finished,
+    OnDisk, RUNS, Row, RunStatus, Table, WARM_START_KEY, expected_parameters, read_result,
 };
 use crate::sweep::{Grid, Point, Shard, SweepError};
 
@@ -14,8 +16,10 @@ use crate::sweep::{Grid, Point, Shard, SweepError};
 pub const LOGS: &str = "logs";
 /// Marks a directory as a sweep's (vito adds to it and rewrites its tables).
 pub const SWEEP_MARKER: &str = ".vito-sweep";
-/// Set in each run's environment to the sweep's process id: the run dies with the sweep.
-pub const PARENT_ENV: &str = "VITO_SWEEP_PARENT";
+/// The hidden `vito solve` option a sweep gives each run, with the sweep's process id: the
+/// run dies with the sweep. (An option, not an environment variable: a user's environment
+/// cannot turn it on by accident.)
+pub const PARENT_FLAG: &str = "--sweep-parent";
 
 /// Where a run starts from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -47,6 +51,9 @@ pub struct SweepOptions {
     pub out: PathBuf,
     /// Warm starts across the grid.
     pub warm_start: WarmStart,
+    /// A stop request (a signal): no new run starts, the running ones are asked to stop
+    /// after their current iteration (SIGTERM) and are waited for.
+    pub stop: Option<Arc<AtomicBool>>,
 }
 
 /// Counts for a progress display.
@@ -56,12 +63,39 @@ pub struct Progress {
     pub done: usize,
     /// Runs that failed or timed out in this sweep.
     pub failed: usize,
+    /// Runs stopped by a stop request in this sweep (their iterates kept, run again on resume).
+    pub interrupted: usize,
     /// Runs going now.
     pub running: usize,
     /// Runs of this shard.
     pub total: usize,
     /// Finished before this sweep started (skipped).
     pub skipped: usize,
+}
+
+/// What a sweep reports while it runs.
+#[derive(Debug, Clone, Copy)]
+pub enum Event<'a> {
+    /// The counts changed (a run started).
+    Progress(&'a Progress),
+    /// A run ended; its row is up to date and the counts include it.
+    Ended(&'a Row, &'a Progress),
+    /// A stop request arrived: `running` runs were asked to stop, no new run starts.
+    Stopping {
+        /// Runs asked to stop.
+        running: usize,
+    },
+}
+
+/// How a sweep ended.
+#[derive(Debug, Clone)]
+pub struct Outcome {
+    /// The table (also on disk).
+    pub table: Table,
+    /// The final counts.
+    pub counts: Progress,
+    /// Whether a stop request ended it early.
+    pub interrupted: bool,
 }
 
 /// Prepares `dir` as a sweep directory: creates it, or accepts it when empty or already a
@@ -72,11 +106,12 @@ pub fn prepare_dir(dir: &Path) -> Result<(), SweepError> {
         path: dir.to_owned(),
         source,
     };
+    let marker = dir.join(SWEEP_MARKER);
+    let marked = || std::fs::symlink_metadata(&marker).is_ok_and(|m| m.is_file());
     match std::fs::symlink_metadata(dir) {
         Ok(m) if m.is_dir() => {
-            let marked = dir.join(SWEEP_MARKER).is_file();
             let empty = std::fs::read_dir(dir).map_err(io)?.next().is_none();
-            if !marked && !empty {
+            if !marked() && !empty {
                 return Err(SweepError::NotOurs {
                     path: dir.to_owned(),
                 });
@@ -89,18 +124,69 @@ pub fn prepare_dir(dir: &Path) -> Result<(), SweepError> {
         }
         Err(_) => std::fs::create_dir_all(dir).map_err(io)?,
     }
-    let marker = dir.join(SWEEP_MARKER);
-    if !marker.is_file() {
-        std::fs::write(
-            &marker,
-            "This directory holds a vito sweep; vito adds runs to it and rewrites its tables.\n",
+    if !marked() {
+        let mut f = create_new_file(&marker)?;
+        std::io::Write::write_all(
+            &mut f,
+            b"This directory holds a vito sweep; vito adds runs to it and rewrites its tables.\n",
         )
         .map_err(|source| SweepError::Io {
-            path: marker,
+            path: marker.clone(),
             source,
         })?;
     }
     Ok(())
+}
+
+/// Makes `dir/sub` (one of the sweep's own subdirectories), or accepts it when it is a
+/// directory; a symbolic link there is refused, never followed.
+fn own_subdir(dir: &Path, sub: &str) -> Result<PathBuf, SweepError> {
+    let path = dir.join(sub);
+    match std::fs::symlink_metadata(&path) {
+        Ok(m) if m.is_dir() => Ok(path),
+        Ok(m) if m.is_symlink() => Err(SweepError::Link { path }),
+        Ok(_) => Err(SweepError::NotOurs { path }),
+        Err(_) => match std::fs::create_dir(&path) {
+            Ok(()) => Ok(path),
+            Err(source) => Err(SweepError::Io { path, source }),
+        },
+    }
+}
+
+/// Creates (or truncates) a file of the sweep's own: never through a symbolic link planted
+/// at its name (refused), never anything but a regular file.
+fn create_own_file(path: &Path) -> Result<std::fs::File, SweepError> {
+    use std::os::unix::fs::OpenOptionsExt;
+    std::fs::OpenOptions::new()
+        .write(true)
+        .create(true)
+        .truncate(true)
+        .custom_flags(rustix::fs::OFlags::NOFOLLOW.bits() as i32)
+        .open(path)
+        .map_err(|source| {
+            if std::fs::symlink_metadata(path).is_ok_and(|m| m.is_symlink()) {
+                SweepError::Link {
+                    path: path.to_owned(),
+                }
+            } else {
+                SweepError::Io {
+                    path: path.to_owned(),
+                    source,
+                }
+            }
+        })
+}
+
+/// Creates a new file (never through a link, never over an existing file).
+fn create_new_file(path: &Path) -> Result<std::fs::File, SweepError> {
+    std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(path)
+        .map_err(|source| SweepError::Io {
+            path: path.to_owned(),
+            source,
+        })
 }
 
 struct Running {
@@ -110,19 +196,17 @@ struct Running {
 }
 
 /// Runs the shard's points that have no finished result yet and returns the table (also
-/// written to `out` after each run) with the final counts. `progress` is called whenever a
-/// count changes.
+/// written to `out` after each run) with the final counts. `on_event` hears of every run
+/// that starts or ends and of a stop request.
 pub fn run_sweep(
     options: &SweepOptions,
     sha256: &str,
-    mut progress: impl FnMut(&Progress),
-) -> Result<(Table, Progress), SweepError> {
+    mut on_event: impl FnMut(Event),
+) -> Result<Outcome, SweepError> {
     let out = &options.out;
     prepare_dir(out)?;
-    for sub in [RUNS, LOGS] {
-        let path = out.join(sub);
-        std::fs::create_dir_all(&path).map_err(|source| SweepError::Io { path, source })?;
-    }
+    let runs = own_subdir(out, RUNS)?;
+    own_subdir(out, LOGS)?;
     let points: Vec<Point> = options
         .grid
         .points()
@@ -142,7 +226,7 @@ pub fn run_sweep(
         let name = p.run_name();
         let mut row = Row::pending(p, format!("{RUNS}/{name}"));
         let parameters = expected_parameters(&options.sets, p)?;
-        if !read_finished(&mut row, &out.join(RUNS).join(&name), sha256, &parameters) {
+        if read_result(&mut row, &runs.join(&name), sha256, &parameters) != OnDisk::Finished {
             queue.push(p.clone());
         }
         table.rows.push(row);
@@ -154,12 +238,34 @@ pub fn run_sweep(
         skipped: points.len() - queue.len(),
         ..Progress::default()
     };
-    progress(&counts);
+    on_event(Event::Progress(&counts));
     queue.reverse(); // pop() takes them in grid order
     let mut running: Vec<Running> = Vec::new();
     let jobs = options.jobs.max(1);
-    while !queue.is_empty() || !running.is_empty() {
-        while running.len() < jobs {
+    let mut stopping = false;
+    let stop_requested = || {
+        options
+            .stop
+            .as_ref()
+            .is_some_and(|s| s.load(Ordering::SeqCst))
+    };
+    while (!queue.is_empty() && !stopping) || !running.is_empty() {
+        if !stopping && stop_requested() {
+            stopping = true;
+            // Runs in the sweep's process group heard a terminal's Ctrl-C already; the
+            // request counts once whoever sends it twice (vito solve takes signals within a
+            // second as one).
+            for r in &running {
+                let _ = rustix::process::kill_process(
+                    rustix::process::Pid::from_child(&r.child),
+                    rustix::process::Signal::TERM,
+                );
+            }
+            on_event(Event::Stopping {
+                running: running.len(),
+            });
+        }
+        while running.len() < jobs && !stopping {
             let Some(point) = queue.pop() else { break };
             let warm = match options.warm_start {
                 WarmStart::None => None,
@@ -181,7 +287,7 @@ pub fn run_sweep(
                 started: Instant::now(),
             });
             counts.running = running.len();
-            progress(&counts);
+            on_event(Event::Progress(&counts));
         }
         std::thread::sleep(Duration::from_millis(20));
         let mut i = 0;
@@ -209,18 +315,26 @@ pub fn run_sweep(
                 continue;
             };
             let r = running.swap_remove(i);
-            let finished = record(options, &mut table, &r.point, code, killed, sha256)?;
-            if finished {
-                counts.done += 1;
-            } else {
-                counts.failed += 1;
+            match record(options, &mut table, &r.point, code, killed, sha256)? {
+                OnDisk::Finished => counts.done += 1,
+                OnDisk::Interrupted => counts.interrupted += 1,
+                OnDisk::Nothing => counts.failed += 1,
             }
             counts.running = running.len();
             table.write(out)?;
-            progress(&counts);
+            let row = table
+                .rows
+                .iter()
+                .find(|row| row.index == r.point.index)
+                .ok_or_else(|| SweepError::Internal("a point without a row".into()))?;
+            on_event(Event::Ended(row, &counts));
         }
     }
-    Ok((table, counts))
+    Ok(Outcome {
+        table,
+        counts,
+        interrupted: stopping,
+    })
 }
 
 fn table_rows(table: &Table) -> Vec<(usize, RunStatus)> {
@@ -249,16 +363,14 @@ fn spawn(options: &SweepOptions, point: &Point, warm: Option<&Point>) -> Result<
     let out = &options.out;
     let name = point.run_name();
     let log_path = out.join(LOGS).join(format!("{name}.log"));
-    let log = std::fs::File::create(&log_path).map_err(|source| SweepError::Io {
-        path: log_path.clone(),
-        source,
-    })?;
+    let log = create_own_file(&log_path)?;
     let log_err = log.try_clone().map_err(|source| SweepError::Io {
         path: log_path.clone(),
         source,
     })?;
     let mut cmd = Command::new(&options.exe);
-    cmd.arg("solve").arg(&options.problem).arg("--quiet");
+    // Not --quiet: the log shows each iteration, so a killed or stopped run shows where it was.
+    cmd.arg("solve").arg(&options.problem);
     for s in options.sets.iter().cloned().chain(point.set_args()) {
         cmd.arg("--set").arg(s);
     }
@@ -278,7 +390,8 @@ fn spawn(options: &SweepOptions, point: &Point, warm: Option<&Point>) -> Result<
     }
     cmd.arg("--out")
         .arg(out.join(RUNS).join(&name))
-        .env(PARENT_ENV, std::process::id().to_string())
+        .arg(PARENT_FLAG)
+        .arg(std::process::id().to_string())
         .stdin(Stdio::null())
         .stdout(log)
         .stderr(log_err);
@@ -288,7 +401,7 @@ fn spawn(options: &SweepOptions, point: &Point, warm: Option<&Point>) -> Result<
     })
 }
 
-/// Records a run that ended; returns whether it finished (complete summary on disk).
+/// Records a run that ended; returns what it left on disk.
 fn record(
     options: &SweepOptions,
     table: &mut Table,
@@ -296,7 +409,7 @@ fn record(
     code: Option<i32>,
     killed: bool,
     sha256: &str,
-) -> Result<bool, SweepError> {
+) -> Result<OnDisk, SweepError> {
     let name = point.run_name();
     let parameters = expected_parameters(&options.sets, point)?;
     let row = table
@@ -305,16 +418,25 @@ fn record(
         .find(|r| r.index == point.index)
         .ok_or_else(|| SweepError::Internal("a point without a row".into()))?;
     let warm_note = std::mem::take(&mut row.note);
-    if !killed
-        && read_finished(
+    if !killed {
+        match read_result(
             row,
             &options.out.join(RUNS).join(&name),
             sha256,
             &parameters,
-        )
-    {
-        row.note = warm_note;
-        return Ok(true);
+        ) {
+            OnDisk::Finished => {
+                row.note = warm_note;
+                return Ok(OnDisk::Finished);
+            }
+            OnDisk::Interrupted => {
+                row.note = format!(
+                    "stopped by a signal; its iterate is in {RUNS}/{name}; a rerun of the sweep runs it again"
+                );
+                return Ok(OnDisk::Interrupted);
+            }
+            OnDisk::Nothing => {}
+        }
     }
     let log = std::fs::read_to_string(options.out.join(LOGS).join(format!("{name}.log")))
         .unwrap_or_default();
@@ -340,22 +462,14 @@ fn record(
             None => format!("{exit} without a complete summary.json (see {LOGS}/{name}.log)"),
         }
     };
-    Ok(false)
+    Ok(OnDisk::Nothing)
 }
 
-/// In a run started by a sweep: ask the kernel to kill this process when the sweep dies, so
-/// that killing a sweep leaves no solve running (a rerun then starts from what is on disk).
-pub fn die_with_sweep() {
-    let Some(parent) = std::env::var(PARENT_ENV)
-        .ok()
-        .and_then(|p| p.parse::<i32>().ok())
-    else {
-        return;
-    };
+/// In a run started by a sweep (`parent`, the sweep's process id): asks the kernel to kill
+/// this process when the sweep dies, so that killing a sweep leaves no solve running (a
+/// rerun then starts from what is on disk). Returns false when the sweep has already ended.
+pub fn die_with_sweep(parent: u32) -> bool {
     let _ = rustix::process::set_parent_process_death_signal(Some(rustix::process::Signal::KILL));
     // The sweep may have died before the request above took effect.
-    let alive = rustix::process::getppid().is_some_and(|p| p.as_raw_nonzero().get() == parent);
-    if !alive {
-        std::process::exit(1);
-    }
+    rustix::process::getppid().is_some_and(|p| p.as_raw_nonzero().get() as u32 == parent)
 }

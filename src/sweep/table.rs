@@ -30,6 +30,8 @@ pub enum RunStatus {
     Failed,
     /// Killed at the per-run time limit.
     Timeout,
+    /// Stopped by a signal (its iterate is in its directory); run again on resume.
+    Interrupted,
     /// Not run yet (in this shard: not started; in a collected table: no shard has it).
     Pending,
 }
@@ -41,6 +43,7 @@ impl RunStatus {
             RunStatus::Finished => "finished",
             RunStatus::Failed => "failed",
             RunStatus::Timeout => "timeout",
+            RunStatus::Interrupted => "interrupted",
             RunStatus::Pending => "pending",
         }
     }
@@ -89,6 +92,15 @@ impl Row {
             dir,
             note: String::new(),
         }
+    }
+
+    /// The point's values as `key=value` pairs separated by spaces.
+    pub fn point_label(&self) -> String {
+        self.values
+            .iter()
+            .map(|(k, v)| format!("{k}={v}"))
+            .collect::<Vec<_>>()
+            .join(" ")
     }
 
     /// The value of a column by name: `objective`, `iterations`, `wall_time_s`, `max_slack`
@@ -143,19 +155,30 @@ pub fn expected_parameters(
 /// is run again.
 const INTERRUPTED: &[&str] = &["user_requested_stop"];
 
+/// What a run directory holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum OnDisk {
+    /// A complete `summary.json` of this problem and point.
+    Finished,
+    /// A complete `summary.json` of this problem and point, stopped by a signal.
+    Interrupted,
+    /// No result of this problem and point.
+    Nothing,
+}
+
 /// Fills `row` from `run_dir/summary.json` when that is complete, is of this problem
-/// (`sha256`) and lists exactly `parameters`; returns whether it did.
-pub fn read_finished(
+/// (`sha256`) and lists exactly `parameters`, and says what it found.
+pub fn read_result(
     row: &mut Row,
     run_dir: &Path,
     sha256: &str,
     parameters: &serde_json::Map<String, Value>,
-) -> bool {
+) -> OnDisk {
     let Ok(text) = std::fs::read_to_string(run_dir.join("summary.json")) else {
-        return false;
+        return OnDisk::Nothing;
     };
     let Ok(summary) = serde_json::from_str::<Value>(&text) else {
-        return false;
+        return OnDisk::Nothing;
     };
     let same_problem = summary["problem_sha256"].as_str() == Some(sha256);
     // How a run was started is not part of what it solved.
@@ -168,11 +191,15 @@ pub fn read_finished(
     let status = crate::report::summary_verdict(&summary)
         .map(|v| v.name().to_owned())
         .or_else(|| summary["status"].as_str().map(str::to_owned));
-    let interrupted = status.as_deref().is_some_and(|s| INTERRUPTED.contains(&s));
-    if !same_problem || !same_parameters || status.is_none() || interrupted {
-        return false;
+    if !same_problem || !same_parameters || status.is_none() {
+        return OnDisk::Nothing;
     }
-    row.status = RunStatus::Finished;
+    let interrupted = status.as_deref().is_some_and(|s| INTERRUPTED.contains(&s));
+    row.status = if interrupted {
+        RunStatus::Interrupted
+    } else {
+        RunStatus::Finished
+    };
     row.solver_status = status;
     row.objective = summary["objective"].as_f64();
     row.iterations = summary["iterations"].as_u64();
@@ -180,7 +207,11 @@ pub fn read_finished(
     row.max_slack = summary["max_slack"].as_f64();
     row.metrics.clear();
     flatten_numbers(&summary["metrics"], "", &mut row.metrics);
-    true
+    if interrupted {
+        OnDisk::Interrupted
+    } else {
+        OnDisk::Finished
+    }
 }
 
 fn flatten_numbers(value: &Value, prefix: &str, out: &mut BTreeMap<String, f64>) {
@@ -209,6 +240,24 @@ impl Table {
     pub fn metric_names(&self) -> Vec<String> {
         let names: BTreeSet<&String> = self.rows.iter().flat_map(|r| r.metrics.keys()).collect();
         names.into_iter().cloned().collect()
+    }
+
+    /// Whether every row finished with a solved verdict ([`crate::transcription::SolveVerdict`]).
+    pub fn all_solved(&self) -> bool {
+        self.rows.iter().all(|r| {
+            r.status == RunStatus::Finished
+                && r.solver_status
+                    .as_deref()
+                    .and_then(crate::transcription::SolveVerdict::from_name)
+                    .is_some_and(|v| v.is_solved())
+        })
+    }
+
+    /// The rows without a result: not run (pending) or stopped by a signal (interrupted).
+    pub fn missing(&self) -> impl Iterator<Item = &Row> {
+        self.rows
+            .iter()
+            .filter(|r| matches!(r.status, RunStatus::Pending | RunStatus::Interrupted))
     }
 
     /// Counts of rows per status.
@@ -292,9 +341,15 @@ impl Table {
     pub fn read(dir: &Path) -> Result<Table, SweepError> {
         let path = dir.join(TABLE_JSON);
         let text = crate::input::read_regular_text(&path, crate::input::MAX_TEXT_BYTES).map_err(
-            |source| SweepError::Io {
-                path: path.clone(),
-                source,
+            |source| match source.kind() {
+                std::io::ErrorKind::NotFound => SweepError::NoTable {
+                    path: path.clone(),
+                    dir: dir.to_owned(),
+                },
+                _ => SweepError::Io {
+                    path: path.clone(),
+                    source,
+                },
             },
         )?;
         serde_json::from_str(&text).map_err(|e| SweepError::Table {

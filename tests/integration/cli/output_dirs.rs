@@ -106,3 +106,36 @@ fn vitos_own_results_are_replaced() {
     assert!(leftovers.is_empty(), "{leftovers:?}");
     untouched(&t);
 }
+
+/// A file a user adds to vito's results is never deleted by the next run: the directory is
+/// refused, naming it; and a directory with only a `summary.json` naming `vito_version` and a
+/// `trajectory.csv` (no marker) is not taken as vito's.
+#[test]
+fn files_added_to_vitos_results_are_kept() {
+    let t = workspace("outdirs-added");
+    t.vito()
+        .args(["solve", "prob.toml", "--quiet", "--out", "res"])
+        .assert_exit(0);
+    let marker = std::fs::read_to_string(t.path().join("res/.vito-output")).unwrap();
+    assert!(marker.contains("wrote: summary.json\n"), "{marker}");
+    t.write("res/notes.txt", "mine");
+    let run = t
+        .vito()
+        .args(["solve", "prob.toml", "--quiet", "--out", "res"])
+        .assert_exit(2);
+    assert!(run.stderr.contains("`notes.txt`"), "{}", run.stderr);
+    assert_eq!(
+        std::fs::read_to_string(t.path().join("res/notes.txt")).unwrap(),
+        "mine"
+    );
+    std::fs::create_dir(t.path().join("look")).unwrap();
+    t.write("look/summary.json", "{\"vito_version\": \"0.1.0\"}");
+    t.write("look/trajectory.csv", "mine");
+    t.vito()
+        .args(["solve", "prob.toml", "--quiet", "--out", "look"])
+        .assert_exit(2);
+    assert_eq!(
+        std::fs::read_to_string(t.path().join("look/trajectory.csv")).unwrap(),
+        "mine"
+    );
+}

@@ -21,11 +21,11 @@ fn golden_record_lists_the_quick_problems() {
     }
 }
 
-/// A problem that cannot be solved shows as FAIL in the table and the exit code is 1; the
-/// record is not rewritten without --bless.
+/// A problem that cannot be set up (an input error of its solve) is an input error of
+/// `regress` (exit 2, naming the file and field), never a `FAIL`; the record is untouched.
 #[test]
-fn regress_reports_a_failing_problem() {
-    let t = TestDir::with_hopper("regress_reports_a_failing_problem");
+fn regress_setup_error_is_an_input_error_not_a_failure() {
+    let t = TestDir::with_hopper("regress_setup_error_is_an_input_error_not_a_failure");
     t.write(
         "broken.toml",
         &hopper_text().replace("knots = 21", "knots = 1"),
@@ -35,20 +35,129 @@ fn regress_reports_a_failing_problem() {
     let run = t
         .vito()
         .args(["regress", "--record", "golden.toml"])
-        .assert_exit(1);
-    let row = run
-        .stdout
-        .lines()
-        .find(|l| l.starts_with("broken.toml"))
-        .unwrap_or_default();
+        .assert_exit(2);
     assert!(
-        row.contains("no result (exit 2)") && row.ends_with("FAIL"),
+        run.stderr.contains("broken.toml") && run.stderr.contains("field `horizon.knots`"),
         "{}",
-        run.stdout
+        run.stderr
     );
+    assert!(!run.stdout.contains("FAIL"), "{}", run.stdout);
     assert_eq!(
         std::fs::read_to_string(t.path().join("golden.toml")).unwrap(),
         record
+    );
+}
+
+/// A user's own problem, in their own directory: `--bless FILE` makes the record beside it
+/// (with the file's hash and the platform); a difference shows the terms, iterations and
+/// slack beside the record and keeps the new solution; blessing through a symbolic link
+/// writes the record the link names.
+#[test]
+fn regress_blesses_and_checks_a_users_own_problem() {
+    let t = TestDir::with_hopper("regress_blesses_and_checks_a_users_own_problem");
+    t.write("hop_up.toml", &hopper_text());
+    let run = t
+        .vito()
+        .args(["regress", "--bless", "hop_up.toml"])
+        .assert_exit(0);
+    assert!(run.stdout.contains("blessed golden.toml"), "{}", run.stdout);
+    let text = std::fs::read_to_string(t.path().join("golden.toml")).unwrap();
+    let record: toml::Table = toml::from_str(&text).unwrap();
+    let e = &record["problem"].as_array().unwrap()[0];
+    assert_eq!(e["file"].as_str(), Some("hop_up.toml"));
+    let summary_hash = {
+        use sha2::Digest;
+        let bytes = std::fs::read(t.path().join("hop_up.toml")).unwrap();
+        sha2::Sha256::digest(&bytes)
+            .iter()
+            .map(|b| format!("{b:02x}"))
+            .collect::<String>()
+    };
+    assert_eq!(e["problem_sha256"].as_str(), Some(summary_hash.as_str()));
+    assert!(
+        e["platform"]
+            .as_str()
+            .unwrap()
+            .contains(std::env::consts::ARCH)
+    );
+    let objective = e["objective"].as_float().unwrap();
+
+    // The record named through a link: --bless rewrites its target, the link stays.
+    std::os::unix::fs::symlink("golden.toml", t.path().join("link.toml")).unwrap();
+    let shifted = text.replace(
+        &format!("objective = {objective:?}"),
+        &format!("objective = {:?}", objective + 0.5),
+    );
+    assert_ne!(shifted, text);
+    std::fs::write(t.path().join("golden.toml"), &shifted).unwrap();
+    let run = t
+        .vito()
+        .args(["regress", "--record", "link.toml"])
+        .assert_exit(1);
+    assert!(run.stdout.contains("DIFF"), "{}", run.stdout);
+    for shown in ["hop_up.toml (DIFF):", "input", "iterations", "max slack"] {
+        assert!(run.stdout.contains(shown), "{shown}: {}", run.stdout);
+    }
+    let kept = run
+        .stdout
+        .lines()
+        .find_map(|l| l.trim().strip_prefix("new solution kept in "))
+        .expect("the kept solution's path");
+    let kept = std::path::Path::new(kept);
+    assert!(kept.join("summary.json").is_file() && kept.join("trajectory.csv").is_file());
+    std::fs::remove_dir_all(kept.parent().unwrap()).unwrap();
+    t.vito()
+        .args(["regress", "--bless", "--record", "link.toml"])
+        .assert_exit(0);
+    assert!(
+        std::fs::symlink_metadata(t.path().join("link.toml"))
+            .unwrap()
+            .is_symlink()
+    );
+    let blessed = std::fs::read_to_string(t.path().join("golden.toml")).unwrap();
+    assert!(
+        blessed.contains(&format!("objective = {objective:?}")),
+        "{blessed}"
+    );
+}
+
+/// The solves' scratch directory is a fresh private one: a directory planted at the old
+/// predictable name (`$TMPDIR/vito-regress-<pid>-<record stem>`) is neither used nor emptied.
+#[test]
+fn regress_scratch_is_a_fresh_private_directory() {
+    let t = TestDir::with_hopper("regress_scratch_is_a_fresh_private_directory");
+    t.write("hop_up.toml", &hopper_text());
+    let tmp = t.path().join("tmp");
+    std::fs::create_dir(&tmp).unwrap();
+    // `exec` keeps the shell's pid, so the shell knows the name vito would have used.
+    let script = format!(
+        "mkdir \"$TMPDIR/vito-regress-$$-golden\" && echo mine > \"$TMPDIR/vito-regress-$$-golden/keep.txt\" && exec '{}' regress --bless hop_up.toml",
+        env!("CARGO_BIN_EXE_vito")
+    );
+    let output = std::process::Command::new("sh")
+        .args(["-c", &script])
+        .current_dir(t.path())
+        .env("TMPDIR", &tmp)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert_eq!(output.status.code(), Some(0), "{stdout}");
+    assert!(stdout.contains("NEW"), "{stdout}");
+    // Nothing left behind after a pass, and the planted directory untouched.
+    let left: Vec<String> = std::fs::read_dir(&tmp)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .collect();
+    assert_eq!(left.len(), 1, "{left:?}");
+    let planted = tmp.join(&left[0]);
+    assert_eq!(
+        std::fs::read_dir(&planted).unwrap().count(),
+        1,
+        "{planted:?} was used"
+    );
+    assert_eq!(
+        std::fs::read_to_string(planted.join("keep.txt")).unwrap(),
+        "mine\n"
     );
 }
 

@@ -216,23 +216,26 @@ fn hamr_trot_solves() {
     );
 }
 
-/// Ctrl-C stops the solve cleanly: the iterate is written with `user_requested_stop`, exit 1.
-#[test]
+/// Starts a brick solve (in its own process group), waits for its second progress line, runs
+/// `kill ARGS` for each of `kills` in turn (`{pid}` replaced by the solve's process id) and
+/// checks that the solve stopped cleanly: the iterate written with `user_requested_stop`,
+/// exit 1.
 #[cfg(unix)]
-fn ctrl_c_writes_the_iterate_and_exits_1() {
+fn signal_writes_the_iterate(name: &str, kills: &[&[&str]]) {
     use std::io::{BufRead, BufReader};
-    let t = TestDir::new("ctrl_c_writes_the_iterate_and_exits_1");
+    use std::os::unix::process::CommandExt;
+    let t = TestDir::new(name);
     let out = t.path().join("out");
     let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_vito"))
         .arg("solve")
         .arg(problems_dir().join("brick_3d.toml"))
         .arg("--out")
         .arg(&out)
+        .process_group(0)
         .stdout(std::process::Stdio::piped())
         .stderr(std::process::Stdio::piped())
         .spawn()
         .unwrap();
-    // Wait for the second progress line, then interrupt as a terminal would.
     let stderr = BufReader::new(child.stderr.take().unwrap());
     let mut lines = stderr.lines();
     let mut iterations = 0;
@@ -246,20 +249,56 @@ fn ctrl_c_writes_the_iterate_and_exits_1() {
         }
     }
     let pid = child.id().to_string();
-    assert!(
-        std::process::Command::new("kill")
-            .args(["-INT", &pid])
-            .status()
-            .unwrap()
-            .success()
-    );
-    for _ in lines {}
+    for kill_args in kills {
+        let args: Vec<String> = kill_args.iter().map(|a| a.replace("{pid}", &pid)).collect();
+        assert!(
+            std::process::Command::new("kill")
+                .args(&args)
+                .status()
+                .unwrap()
+                .success()
+        );
+    }
+    let rest: Vec<String> = lines.map(|l| l.unwrap()).collect();
     let status = child.wait().unwrap();
-    assert_eq!(status.code(), Some(1));
+    assert_eq!(status.code(), Some(1), "{}", rest.join("\n"));
     let s = summary(&out);
     assert_eq!(s["status"], "user_requested_stop");
     assert!(s["iterations"].as_u64().unwrap() < 50);
     check_csv_agrees(&out, &s);
+}
+
+/// Ctrl-C stops the solve cleanly: the iterate is written with `user_requested_stop`, exit 1.
+#[test]
+#[cfg(unix)]
+fn ctrl_c_writes_the_iterate_and_exits_1() {
+    signal_writes_the_iterate(
+        "ctrl_c_writes_the_iterate_and_exits_1",
+        &[&["-INT", "{pid}"]],
+    );
+}
+
+/// SIGTERM (`scancel`, a Slurm time limit) stops the solve as Ctrl-C does.
+#[test]
+#[cfg(unix)]
+fn sigterm_writes_the_iterate_and_exits_1() {
+    signal_writes_the_iterate(
+        "sigterm_writes_the_iterate_and_exits_1",
+        &[&["-TERM", "{pid}"]],
+    );
+}
+
+/// Signals arriving together are one stop request: SIGINT to the process and its group at
+/// once (as `timeout -s INT` sends it; two SIGINTs may merge in the kernel), then SIGTERM (as
+/// `scancel` sends it to every process of a job; a different signal is always delivered on
+/// its own, so the solve sees a second signal at once). The iterate is written.
+#[test]
+#[cfg(unix)]
+fn signals_arriving_together_are_one_request() {
+    signal_writes_the_iterate(
+        "signals_arriving_together_are_one_request",
+        &[&["-INT", "--", "{pid}", "-{pid}"], &["-TERM", "{pid}"]],
+    );
 }
 
 #[test]

@@ -19,8 +19,9 @@ pub fn hopper_family() -> String {
         + "\n[parameters]\nn = 21\n"
 }
 
-/// The grid of the resume test: finished, failed, finished, timeout.
-const GRID: [&str; 6] = ["sweep", "fam.toml", "--grid", "n=5,1,6,2000", "--out", "sw"];
+/// The grid of the resume test: finished, failed (its run directory holds a file that is not
+/// vito's), finished, timeout.
+const GRID: [&str; 6] = ["sweep", "fam.toml", "--grid", "n=5,7,6,2000", "--out", "sw"];
 const OPTIONS: [&str; 4] = ["--jobs", "1", "--time-limit", "8"];
 
 fn table(dir: &Path) -> serde_json::Value {
@@ -46,6 +47,9 @@ fn sweep_isolates_failures_and_resumes_after_a_kill() {
     let t = TestDir::with_hopper("sweep_isolates_failures_and_resumes_after_a_kill");
     t.write("fam.toml", &hopper_family());
     let sw = t.path().join("sw");
+    std::fs::create_dir_all(sw.join("runs/n-7")).unwrap();
+    t.write("sw/.vito-sweep", "");
+    t.write("sw/runs/n-7/notes.txt", "mine");
 
     // Kill the sweep (SIGKILL: no chance to clean up) once its first run is finished.
     let mut sweep = Command::new(env!("CARGO_BIN_EXE_vito"))
@@ -84,8 +88,12 @@ fn sweep_isolates_failures_and_resumes_after_a_kill() {
     let rows = table(&sw)["rows"].as_array().unwrap().clone();
     let note = rows[1]["note"].as_str().unwrap();
     assert!(
-        note.starts_with("exit 2: error:") && note.contains("field `horizon.time_step`"),
+        note.starts_with("exit 2: error:") && note.contains("n-7"),
         "{note}"
+    );
+    assert_eq!(
+        std::fs::read_to_string(sw.join("runs/n-7/notes.txt")).unwrap(),
+        "mine"
     );
     assert!(
         rows[3]["note"]
@@ -143,12 +151,27 @@ fn sweep_shards_collect_into_one_table_and_report_plots_it() {
             .assert_exit(0);
         assert_eq!(statuses(&t.path().join(&out)), ["finished", "finished"]);
     }
-    // One shard alone leaves half the grid missing.
-    says(
+    // One shard alone leaves half the grid missing: an error naming the points, unless
+    // --partial accepts it.
+    let run = says(
         &t,
         &["sweep", "collect", "shard-1", "--out", "half"],
-        0,
+        1,
         "2 finished, 0 failed, 0 timed out, 2 missing",
+    );
+    assert!(
+        run.stderr.contains(
+            "2 of 4 points have no result (a shard not run, not finished or not named): \
+             0 (n=5 contacts.friction=0.5), 2 (n=6 contacts.friction=0.5)"
+        ),
+        "{}",
+        run.stderr
+    );
+    says(
+        &t,
+        &["sweep", "collect", "shard-1", "--out", "half", "--partial"],
+        0,
+        "2 missing",
     );
     assert_eq!(
         statuses(&t.path().join("half")),
@@ -252,6 +275,26 @@ fn sweep_refuses_foreign_directories_and_bad_grids() {
             vec!["--grid", "n=5", "--time-limit", "0"],
             "positive number",
         ),
+        // Beyond what a duration can hold (it panicked in Duration::from_secs_f64).
+        (
+            vec!["--grid", "n=5", "--time-limit", "1e20"],
+            "--time-limit 100000000000000000000: give a positive number up to 1e9",
+        ),
+        // Every value is checked before the first run: n = 1 divides by zero.
+        (
+            vec!["--grid", "n=5,1", "--jobs", "1"],
+            "--grid n=5,1: the value `1` is not valid here",
+        ),
+        (
+            vec!["--grid", "contacts.friction=0.3,abc"],
+            "--grid contacts.friction=0.3,abc: the value `abc` is not valid here",
+        ),
+        // A bare key: the full key path and the file's [parameters] are suggested.
+        (
+            vec!["--grid", "friction=0.3,0.6"],
+            "did you mean `contacts.friction`? A swept key is a full key path as for --set \
+             (e.g. `contacts.friction`) or a name of the file's [parameters]: `n`",
+        ),
     ] {
         let run = t
             .vito()
@@ -260,6 +303,160 @@ fn sweep_refuses_foreign_directories_and_bad_grids() {
             .assert_exit(2);
         assert!(run.stderr.contains(message), "{args:?}: {}", run.stderr);
         assert!(!t.path().join("new").exists(), "{args:?}");
+    }
+    // Report and collect on a directory without a sweep table: input errors.
+    says(
+        &t,
+        &["sweep", "report", "mine"],
+        2,
+        "is not a sweep directory",
+    );
+    says(
+        &t,
+        &["sweep", "collect", "mine", "--out", "all"],
+        2,
+        "is not a sweep directory",
+    );
+    assert!(!t.path().join("all").exists());
+}
+
+/// A 10⁶-point grid is checked axis by axis (the problem loaded once per value, not once per
+/// point): a bad value on the last axis is found before anything runs, also with --shard.
+#[test]
+fn sweep_checks_a_million_point_grid_by_axis() {
+    let t = TestDir::with_hopper("sweep_checks_a_million_point_grid_by_axis");
+    t.write("fam.toml", &hopper_family());
+    let values = |n: usize| {
+        (0..n)
+            .map(|i| format!("{}", 0.3 + i as f64 * 1e-4))
+            .collect::<Vec<_>>()
+            .join(",")
+    };
+    let friction = format!("contacts.friction={}", values(1000));
+    let weight = format!("slack.weight={},-1", values(999));
+    let run = t
+        .vito()
+        .args(["sweep", "fam.toml", "--out", "big", "--shard", "3/7"])
+        .args(["--grid", &friction, "--grid", &weight])
+        .assert_exit(2);
+    assert!(
+        run.stderr.contains("the value `-1` is not valid here"),
+        "{}",
+        run.stderr
+    );
+    assert!(!t.path().join("big").exists());
+}
+
+/// Symbolic links planted inside a sweep directory are refused, never followed.
+#[test]
+fn sweep_refuses_links_planted_in_its_directory() {
+    let t = TestDir::with_hopper("sweep_refuses_links_planted_in_its_directory");
+    t.write("fam.toml", &hopper_family());
+    std::fs::create_dir(t.path().join("elsewhere")).unwrap();
+    t.write("elsewhere/n-5.log", "precious");
+    for planted in ["logs", "runs"] {
+        let sw = t.path().join(format!("sw-{planted}"));
+        std::fs::create_dir(&sw).unwrap();
+        std::fs::write(sw.join(".vito-sweep"), "").unwrap();
+        std::os::unix::fs::symlink(t.path().join("elsewhere"), sw.join(planted)).unwrap();
+        let out = format!("sw-{planted}");
+        says(
+            &t,
+            &["sweep", "fam.toml", "--grid", "n=5", "--out", &out],
+            2,
+            "which vito did not create",
+        );
+    }
+    // A link planted at a run's log name.
+    let sw = t.path().join("sw-log");
+    std::fs::create_dir_all(sw.join("logs")).unwrap();
+    std::fs::write(sw.join(".vito-sweep"), "").unwrap();
+    std::os::unix::fs::symlink(t.path().join("elsewhere/n-5.log"), sw.join("logs/n-5.log"))
+        .unwrap();
+    says(
+        &t,
+        &["sweep", "fam.toml", "--grid", "n=5", "--out", "sw-log"],
+        2,
+        "which vito did not create",
+    );
+    assert_eq!(
+        std::fs::read_to_string(t.path().join("elsewhere/n-5.log")).unwrap(),
+        "precious"
+    );
+    let left: Vec<_> = std::fs::read_dir(t.path().join("elsewhere"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(left.len(), 1, "{left:?}");
+}
+
+/// A sweep stopped by a signal stops its running runs after their current iteration (their
+/// iterates kept), starts no new one, prints its state and exits 1; the stopped run is
+/// `interrupted`, never "without a complete summary.json".
+#[test]
+#[cfg(unix)]
+fn sweep_stopped_by_a_signal_keeps_the_iterates_and_says_so() {
+    use std::os::unix::process::CommandExt;
+    let t = TestDir::with_hopper("sweep_stopped_by_a_signal_keeps_the_iterates_and_says_so");
+    t.write("fam.toml", &hopper_family());
+    // SIGTERM to the sweep alone (`kill`), SIGINT to its whole group (a terminal's Ctrl-C).
+    for (out, kill) in [("term", ["-TERM", "{pid}"]), ("int", ["-INT", "-{pid}"])] {
+        let sw = t.path().join(out);
+        let child = Command::new(env!("CARGO_BIN_EXE_vito"))
+            .args(["sweep", "fam.toml", "--grid", "n=2000,5", "--jobs", "1"])
+            .args(["--out", out])
+            .current_dir(t.path())
+            .process_group(0)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        // Wait until the long run iterates.
+        let log = sw.join("logs/n-2000.log");
+        let deadline = Instant::now() + Duration::from_secs(300);
+        while !std::fs::read_to_string(&log).is_ok_and(|l| {
+            l.lines()
+                .any(|line| line.trim_start().starts_with(|c: char| c.is_ascii_digit()))
+        }) {
+            assert!(Instant::now() < deadline, "the run did not start iterating");
+            std::thread::sleep(Duration::from_millis(50));
+        }
+        let pid = child.id().to_string();
+        let args: Vec<String> = kill.iter().map(|a| a.replace("{pid}", &pid)).collect();
+        let mut kill_cmd = Command::new("kill");
+        if args[1].starts_with('-') {
+            kill_cmd.arg(&args[0]).arg("--").arg(&args[1]);
+        } else {
+            kill_cmd.args(&args);
+        }
+        assert!(kill_cmd.status().unwrap().success());
+        let output = child.wait_with_output().unwrap();
+        let stdout = String::from_utf8_lossy(&output.stdout);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(1), "{stdout}\n{stderr}");
+        assert!(
+            stderr.contains("interrupted: stopping the running runs"),
+            "{stderr}"
+        );
+        assert!(
+            stdout.contains("2 runs: 0 finished (0 of them before this sweep), 0 failed, 0 timed out, 1 interrupted, 1 not run"),
+            "{stdout}"
+        );
+        assert!(
+            stdout.contains("interrupted: the table holds every run"),
+            "{stdout}"
+        );
+        assert_eq!(statuses(&sw), ["interrupted", "pending"]);
+        let rows = table(&sw)["rows"].as_array().unwrap().clone();
+        let note = rows[0]["note"].as_str().unwrap();
+        assert!(note.starts_with("stopped by a signal"), "{note}");
+        assert_eq!(rows[0]["solver_status"], "user_requested_stop");
+        let summary = crate::cli::util::summary(&sw.join("runs/n-2000"));
+        assert_eq!(summary["status"], "user_requested_stop");
+        assert!(
+            !sw.join("runs/n-5").exists(),
+            "a run started after the stop"
+        );
     }
 }
 
@@ -297,4 +494,20 @@ fn sweep_warm_starts_from_the_nearest_finished_neighbour() {
     // A warm-started run is still the same problem: a rerun without warm starts keeps it.
     let cold = [&grid[..], &["--out", "warm"]].concat();
     says(&t, &cold, 0, "3 finished (3 of them before this sweep)");
+}
+
+/// The link between a sweep and its runs is a hidden option, not an environment variable: a
+/// `VITO_SWEEP_PARENT` in a user's environment changes nothing.
+#[test]
+fn solve_ignores_a_sweep_marker_in_the_environment() {
+    let t = TestDir::with_hopper("solve_ignores_a_sweep_marker_in_the_environment");
+    t.write("hop.toml", &hopper_text());
+    t.vito()
+        .args(["solve", "hop.toml", "--quiet", "--out", "out"])
+        .env("VITO_SWEEP_PARENT", "1")
+        .assert_exit(0);
+    assert_eq!(
+        crate::cli::util::summary(&t.path().join("out"))["status"],
+        "solve_succeeded"
+    );
 }

@@ -71,12 +71,15 @@ fn sweep_runs_as_a_slurm_array_and_collects() {
 
     let t = TestDir::with_hopper("sweep_runs_as_a_slurm_array_and_collects");
     t.write("fam.toml", &hopper_family());
-    // n = 1 fails (a division by zero in the file's expression): its task exits 1.
+    // n = 7 fails (its run directory holds a file vito did not write): its task exits 1.
+    std::fs::create_dir_all(t.path().join("shard-1/runs/n-7")).unwrap();
+    t.write("shard-1/.vito-sweep", "");
+    t.write("shard-1/runs/n-7/notes.txt", "mine");
     t.write(
         "sweep.sbatch",
         &format!(
             "#!/bin/sh\nexport OPENBLAS_NUM_THREADS=1\n\
-             exec {} sweep fam.toml --grid n=5,1,6,8 --jobs 1 \
+             exec {} sweep fam.toml --grid n=5,7,6,8 --jobs 1 \
              --shard \"$SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT\" \
              --out \"shard-$SLURM_ARRAY_TASK_ID\"\n",
             env!("CARGO_BIN_EXE_vito")
