@@ -41,6 +41,9 @@ pub enum ReportError {
     /// The output directory may not or cannot be replaced.
     #[error(transparent)]
     Output(#[from] OutputDirError),
+    /// The animation could not be made.
+    #[error(transparent)]
+    View(#[from] crate::view::ViewError),
     /// plotters failed to draw.
     #[error("cannot draw {path}: {message}")]
     Plot {
@@ -87,7 +90,7 @@ pub fn write_outputs(
 }
 
 /// Writes a trajectory (a solution's or a simulation's) as `trajectory.csv`, its `summary`
-/// as `summary.json` and the three plots into `staged`, then commits it: an existing target
+/// as `summary.json`, the plots and `animation.html` into `staged`, then commits it: an existing target
 /// is replaced only once everything is written.
 pub fn write_trajectory_outputs(
     staged: StagedDir,
@@ -127,6 +130,7 @@ pub fn write_trajectory_outputs(
         &units.time,
     )
     .map_err(plot_err("contact_modes.svg"))?;
+    crate::view::write_animation(&dir, problem, trajectory, summary)?;
     Ok(staged.commit()?)
 }
 
