@@ -95,11 +95,11 @@ fn a_decimated_simulation_keeps_its_first_and_last_step() {
     let times: Vec<f64> = (0..3999).map(|k| k as f64 * 5e-4).collect();
     let kept = frame_indices(&times, true, 1.0);
     assert_eq!(kept.last(), Some(&3998));
-    // 100 ms in milliseconds (HAMR): at least MIN_FRAMES.
+    // 100 ms in milliseconds (HAMR): about MIN_FRAMES (the steps' grid rounds the spacing up).
     let times: Vec<f64> = (0..2001).map(|k| k as f64 * 0.05).collect();
     let kept = frame_indices(&times, true, seconds_per("ms"));
     assert!(
-        kept.len() >= MIN_FRAMES - 1 && kept.len() <= MIN_FRAMES + 1,
+        kept.len() >= MIN_FRAMES * 9 / 10 && kept.len() <= MIN_FRAMES + 1,
         "{}",
         kept.len()
     );
