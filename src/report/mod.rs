@@ -120,16 +120,23 @@ pub fn write_trajectory_outputs(
     };
     coordinates_svg(&dir.join("coordinates.svg"), trajectory, &units.time)
         .map_err(plot_err("coordinates.svg"))?;
-    inputs_svg(&dir.join("inputs.svg"), trajectory, &units.time).map_err(plot_err("inputs.svg"))?;
-    let friction: Vec<f64> = problem.spec.contacts.iter().map(|c| c.friction).collect();
-    let modes = contact_modes(trajectory, &friction);
-    contact_modes_svg(
-        &dir.join("contact_modes.svg"),
-        trajectory,
-        &modes,
-        &units.time,
-    )
-    .map_err(plot_err("contact_modes.svg"))?;
+    // No empty plots: a robot without inputs has no inputs.svg, one without contacts no
+    // contact_modes.svg.
+    if !trajectory.input_names.is_empty() {
+        inputs_svg(&dir.join("inputs.svg"), trajectory, &units.time)
+            .map_err(plot_err("inputs.svg"))?;
+    }
+    if !trajectory.contact_names.is_empty() {
+        let friction: Vec<f64> = problem.spec.contacts.iter().map(|c| c.friction).collect();
+        let modes = contact_modes(trajectory, &friction);
+        contact_modes_svg(
+            &dir.join("contact_modes.svg"),
+            trajectory,
+            &modes,
+            &units.time,
+        )
+        .map_err(plot_err("contact_modes.svg"))?;
+    }
     crate::view::write_animation(&dir, problem, trajectory, summary)?;
     Ok(staged.commit()?)
 }
@@ -288,6 +295,34 @@ mod output_tests {
         assert!(text.contains("<svg") && !text.contains("NaN"), "{text}");
     }
 
+    /// A robot without inputs gets no (empty) inputs.svg; without contacts no
+    /// contact_modes.svg.
+    #[test]
+    fn no_empty_plots_without_inputs_or_contacts() {
+        let problem_file = Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/hopper_2d.toml");
+        let problem = crate::problem::load(&problem_file, &[]).unwrap();
+        let mut s = hopper_like();
+        s.input_names.clear();
+        s.u = vec![Vec::new(); 3];
+        let summary = summary_json(&problem, &s);
+        let dir = tempfile::tempdir().unwrap();
+        let target = dir.path().join("out");
+        let checked = OutputTarget::check(&target, &[]).unwrap();
+        let mut t = solution_trajectory(&s);
+        let written =
+            write_trajectory_outputs(checked.stage().unwrap(), &problem, &t, &summary).unwrap();
+        assert!(!written.join("inputs.svg").exists());
+        assert!(written.join("contact_modes.svg").exists());
+        let no_contacts: Vec<String> = Vec::new();
+        t.contact_names = &no_contacts;
+        let target = dir.path().join("out2");
+        let checked = OutputTarget::check(&target, &[]).unwrap();
+        let written =
+            write_trajectory_outputs(checked.stage().unwrap(), &problem, &t, &summary).unwrap();
+        assert!(!written.join("contact_modes.svg").exists());
+        assert!(written.join("coordinates.svg").exists());
+    }
+
     #[test]
     fn outputs_are_complete_and_agree() {
         let problem_file = Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/hopper_2d.toml");
@@ -305,6 +340,7 @@ mod output_tests {
         let written = write_outputs(checked.stage().unwrap(), &problem, &s).unwrap();
         assert_eq!(written, target);
         assert!(!target.join("stale.txt").exists());
+        assert!(target.join("animation.html").exists());
         for svg in ["coordinates.svg", "inputs.svg", "contact_modes.svg"] {
             let text = std::fs::read_to_string(target.join(svg)).unwrap();
             assert!(text.contains("<svg"), "{svg} is not an SVG");
