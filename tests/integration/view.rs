@@ -237,7 +237,7 @@ fn check(browser: &Path, dir: &str, knots: [usize; 2], keep: Option<&Path>) {
             let i = y * WIDTH + x;
             let (fx, fy) = (x as f64, y as f64);
             if (fx - base_a[0]).abs() < 25.0 && (fy - base_a[1]).abs() < 25.0 {
-                changed_near += usize::from(a.rgb[i] != b.rgb[i]);
+                changed_near += usize::from(robot_pixel(a.rgb[i]) && !robot_pixel(b.rgb[i]));
             }
             let ui = y > HEIGHT - 80 || (x < 450 && y < 200) || (x > 440 && y < 35);
             let robot = boxes
