@@ -67,3 +67,4 @@ pub mod sweep;
 pub mod testing;
 pub mod trajectory_csv;
 pub mod transcription;
+pub mod view;

@@ -54,6 +54,7 @@ mod simulate;
 mod solve;
 mod study;
 mod sweep;
+mod view;
 
 use check::*;
 use interrupt::*;
@@ -63,6 +64,7 @@ use simulate::*;
 use solve::*;
 use study::*;
 use sweep::*;
+use view::*;
 
 /// Set when standard output or standard error could not be written.
 static OUTPUT_FAILED: AtomicBool = AtomicBool::new(false);
@@ -271,6 +273,26 @@ pub enum Command {
         /// No progress bar.
         #[arg(long, short)]
         quiet: bool,
+    },
+    /// Write the animation page of result directories (one, or several overlaid), or a strip
+    /// of poses as SVG.
+    #[command(after_help = exit_codes_help())]
+    View {
+        /// Result directories (each with trajectory.csv and summary.json).
+        #[arg(required = true)]
+        dirs: Vec<PathBuf>,
+        /// The problem file (default: each summary's `problem_file`, with its parameters).
+        #[arg(long)]
+        problem: Option<PathBuf>,
+        /// The page to write (default: animation.html in the one directory given).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Poses in the strip (with --svg).
+        #[arg(long, requires = "svg")]
+        strip: Option<usize>,
+        /// Write the strip as SVG (an orthographic side view) to this file.
+        #[arg(long, requires = "strip")]
+        svg: Option<PathBuf>,
     },
     /// The paper's accuracy studies: first-order against variational time stepping.
     #[command(after_help = exit_codes_help())]
@@ -716,6 +738,19 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
                     out,
                 },
         } => tracking_collect(&dirs, max_deviation, &out),
+        Command::View {
+            dirs,
+            problem,
+            out,
+            strip,
+            svg,
+        } => view(
+            &dirs,
+            problem.as_deref(),
+            out.as_deref(),
+            strip,
+            svg.as_deref(),
+        ),
         Command::Init { urdf, base, out } => init(&urdf, base.resolve(&urdf)?, out.as_deref()),
         Command::Inspect { urdf, base, json } => inspect(&urdf, base.resolve(&urdf)?, json),
         Command::Bench {

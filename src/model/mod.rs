@@ -16,6 +16,7 @@ pub(crate) mod kinematics;
 mod loops;
 mod point_jet;
 pub mod sample;
+mod shape;
 
 pub(crate) mod spatial;
 pub(crate) mod tree;
@@ -36,6 +37,7 @@ pub use inspect::{ContactInfo, CoordinateInfo, Inspection, LoopInfo, SpringInfo,
 pub use kinematics::{link_angular_jacobian, link_pose, point_position};
 pub use loops::{LoopJet, loop_closure_jets, loop_residual};
 pub use point_jet::{PointJet, point_jet, vector_jet};
+pub use shape::{LinkGeometry, Shape, ShapeKind};
 
 pub use tree::{ContactPoint, IgnoredCollision, LinkId, LoopClosure, Model, Spring, SpringKind};
 

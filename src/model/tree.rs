@@ -238,6 +238,8 @@ pub struct Model {
     pub(crate) name: String,
     pub(crate) warnings: Vec<String>,
     pub(crate) leaf_links: Vec<String>,
+    /// Per link (in [`Model::link_names`] order): what it looks like, for drawing only.
+    pub(crate) geometry: Vec<super::LinkGeometry>,
 }
 
 impl Model {
@@ -399,6 +401,11 @@ impl Model {
     /// Effort limit per input (URDF `<limit effort>`), +inf where none.
     pub fn effort_limits(&self) -> &[f64] {
         &self.effort_limits
+    }
+
+    /// What each link looks like (in [`Model::link_names`] order), for drawing only.
+    pub fn link_geometry(&self) -> &[super::LinkGeometry] {
+        &self.geometry
     }
 
     /// URDF link names, in topological order (parents before children).

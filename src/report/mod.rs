@@ -41,6 +41,9 @@ pub enum ReportError {
     /// The output directory may not or cannot be replaced.
     #[error(transparent)]
     Output(#[from] OutputDirError),
+    /// The animation could not be made.
+    #[error(transparent)]
+    View(#[from] crate::view::ViewError),
     /// plotters failed to draw.
     #[error("cannot draw {path}: {message}")]
     Plot {
@@ -87,7 +90,7 @@ pub fn write_outputs(
 }
 
 /// Writes a trajectory (a solution's or a simulation's) as `trajectory.csv`, its `summary`
-/// as `summary.json` and the three plots into `staged`, then commits it: an existing target
+/// as `summary.json`, the plots and `animation.html` into `staged`, then commits it: an existing target
 /// is replaced only once everything is written.
 pub fn write_trajectory_outputs(
     staged: StagedDir,
@@ -117,16 +120,24 @@ pub fn write_trajectory_outputs(
     };
     coordinates_svg(&dir.join("coordinates.svg"), trajectory, &units.time)
         .map_err(plot_err("coordinates.svg"))?;
-    inputs_svg(&dir.join("inputs.svg"), trajectory, &units.time).map_err(plot_err("inputs.svg"))?;
-    let friction: Vec<f64> = problem.spec.contacts.iter().map(|c| c.friction).collect();
-    let modes = contact_modes(trajectory, &friction);
-    contact_modes_svg(
-        &dir.join("contact_modes.svg"),
-        trajectory,
-        &modes,
-        &units.time,
-    )
-    .map_err(plot_err("contact_modes.svg"))?;
+    // No empty plots: a robot without inputs has no inputs.svg, one without contacts no
+    // contact_modes.svg.
+    if !trajectory.input_names.is_empty() {
+        inputs_svg(&dir.join("inputs.svg"), trajectory, &units.time)
+            .map_err(plot_err("inputs.svg"))?;
+    }
+    if !trajectory.contact_names.is_empty() {
+        let friction: Vec<f64> = problem.spec.contacts.iter().map(|c| c.friction).collect();
+        let modes = contact_modes(trajectory, &friction);
+        contact_modes_svg(
+            &dir.join("contact_modes.svg"),
+            trajectory,
+            &modes,
+            &units.time,
+        )
+        .map_err(plot_err("contact_modes.svg"))?;
+    }
+    crate::view::write_animation(&dir, problem, trajectory, summary)?;
     Ok(staged.commit()?)
 }
 
@@ -296,6 +307,34 @@ mod output_tests {
         assert!(text.contains("<svg") && !text.contains("NaN"), "{text}");
     }
 
+    /// A robot without inputs gets no (empty) inputs.svg; without contacts no
+    /// contact_modes.svg.
+    #[test]
+    fn no_empty_plots_without_inputs_or_contacts() {
+        let problem_file = Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/hopper_2d.toml");
+        let problem = crate::problem::load(&problem_file, &[]).unwrap();
+        let mut s = hopper_like();
+        s.input_names.clear();
+        s.u = vec![Vec::new(); 3];
+        let summary = summary_json(&problem, &s);
+        let dir = tempfile::tempdir().unwrap();
+        let target = dir.path().join("out");
+        let checked = OutputTarget::check(&target, &[]).unwrap();
+        let mut t = solution_trajectory(&s);
+        let written =
+            write_trajectory_outputs(checked.stage().unwrap(), &problem, &t, &summary).unwrap();
+        assert!(!written.join("inputs.svg").exists());
+        assert!(written.join("contact_modes.svg").exists());
+        let no_contacts: Vec<String> = Vec::new();
+        t.contact_names = &no_contacts;
+        let target = dir.path().join("out2");
+        let checked = OutputTarget::check(&target, &[]).unwrap();
+        let written =
+            write_trajectory_outputs(checked.stage().unwrap(), &problem, &t, &summary).unwrap();
+        assert!(!written.join("contact_modes.svg").exists());
+        assert!(written.join("coordinates.svg").exists());
+    }
+
     #[test]
     fn outputs_are_complete_and_agree() {
         let problem_file = Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/hopper_2d.toml");
@@ -326,6 +365,7 @@ mod output_tests {
             "{refused}"
         );
         std::fs::remove_file(target.join("notes.txt")).unwrap();
+        assert!(target.join("animation.html").exists());
         for svg in ["coordinates.svg", "inputs.svg", "contact_modes.svg"] {
             let text = std::fs::read_to_string(target.join(svg)).unwrap();
             assert!(text.contains("<svg"), "{svg} is not an SVG");

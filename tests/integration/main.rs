@@ -24,3 +24,4 @@ mod transcription_derivatives;
 mod transcription_initial_guess;
 mod transcription_solve;
 mod transcription_urdf;
+mod view;

@@ -118,6 +118,7 @@ pub(super) fn build(
             .iter()
             .map(|&l| robot.links[l].name.clone())
             .collect(),
+        geometry: Vec::new(),
     };
     model.actuate_by_default();
     Ok(model)

@@ -16,13 +16,17 @@
 //! limit"), `pi`-expressions such as `-pi/4` in `<limit>`, commas in `xyz`/`rpy`, a one-value
 //! mesh `scale`, capitalised joint types, and stray `/` text.
 //!
-//! Limitations (ignored): visual elements and meshes, collision boxes, cylinders and meshes,
+//! Visual and collision shapes are kept for drawing only (`geometry`: checked, never read
+//! as mechanics; mesh files are not opened here).
+//!
+//! Limitations (ignored): collision boxes, cylinders and meshes,
 //! `velocity` limits, `friction` in `<dynamics>`, `<calibration>`,
 //! `<safety_controller>`, `mechanicalReduction` (must be 1), `<gazebo>`, Drake `<frame>`
 //! (reported as a warning), collision groups.
 
 mod build;
 mod extensions;
+mod geometry;
 mod inertia;
 mod limits;
 mod repair;
@@ -45,8 +49,20 @@ pub(crate) fn load(xml: &str, origin: &str, base: BaseType) -> Result<Model, Mod
         message: e.to_string(),
     })?;
     values::check_values(&robot, &extensions)?;
-    let model = build::build(&robot, &extensions, base, origin, warnings)?;
+    let geometry = geometry::read(&robot)?;
+    let mut model = build::build(&robot, &extensions, base, origin, warnings)?;
     limits::check_coordinates(&model, origin)?;
+    model.geometry = model
+        .link_names
+        .iter()
+        .map(|name| {
+            geometry
+                .iter()
+                .find(|(n, _)| n == name)
+                .map(|(_, g)| g.clone())
+                .unwrap_or_default()
+        })
+        .collect();
     Ok(model)
 }
 

@@ -1,0 +1,208 @@
+//! `vito view`: the animation page (and a strip as SVG) of existing result directories.
+
+use super::*;
+
+/// A result directory read back: its summary and trajectory file.
+struct Result_ {
+    dir: PathBuf,
+    summary: serde_json::Value,
+    csv: String,
+}
+
+fn read_result(dir: &Path) -> Result<Result_, CliError> {
+    let read = |name: &str| {
+        let path = dir.join(name);
+        std::fs::read_to_string(&path).map_err(|e| {
+            CliError::Input(format!(
+                "{}: {e}; give a directory `vito solve`, `vito simulate` or a sweep run wrote",
+                path.display()
+            ))
+        })
+    };
+    let summary = read("summary.json")?;
+    let summary = serde_json::from_str(&summary).map_err(|e| {
+        CliError::Input(format!(
+            "{}: not JSON ({e})",
+            dir.join("summary.json").display()
+        ))
+    })?;
+    Ok(Result_ {
+        dir: dir.to_owned(),
+        summary,
+        csv: read("trajectory.csv")?,
+    })
+}
+
+/// The problem of a result: `--problem`, else the summary's `problem_file`, with the
+/// summary's `parameters` as `--set` overrides.
+fn problem_of(result: &Result_, problem: Option<&Path>) -> Result<LoadedProblem, CliError> {
+    let file = match problem {
+        Some(p) => p.to_owned(),
+        None => {
+            let named = result.summary["problem_file"].as_str().ok_or_else(|| {
+                CliError::Input(format!(
+                    "{}: no `problem_file`; name the problem with --problem",
+                    result.dir.join("summary.json").display()
+                ))
+            })?;
+            PathBuf::from(named)
+        }
+    };
+    if !file.is_file() {
+        return Err(CliError::Input(format!(
+            "{}: the problem file {} is not found from here; run from the directory the result \
+             was made in, or name it with --problem",
+            result.dir.display(),
+            file.display()
+        )));
+    }
+    let mut set = Vec::new();
+    if let Some(parameters) = result.summary["parameters"].as_object() {
+        for (path, value) in parameters {
+            let value = toml::Value::try_from(value)
+                .map_err(|e| CliError::Input(format!("summary.json parameter `{path}`: {e}")))?;
+            set.push(format!("{path}={value}"));
+        }
+    }
+    Ok(load(&file, &parse_overrides(&set)?)?)
+}
+
+/// The motion of a result, its columns read by the problem's names.
+fn motion_of(result: &Result_, problem: &LoadedProblem) -> Result<vito::view::Motion, CliError> {
+    let bad = |m: String| {
+        CliError::Input(format!(
+            "{}: {m}",
+            result.dir.join("trajectory.csv").display()
+        ))
+    };
+    let recorded =
+        vito::trajectory_csv::read_trajectory(&result.csv, &problem.robot.coordinates, &[])
+            .map_err(bad)?;
+    let table = vito::trajectory_csv::read_csv(&result.csv).map_err(bad)?;
+    let intervals = recorded.times.len() - 1;
+    let column = |name: &str| table.column(name).map(|c| c[..intervals].to_vec());
+    let contacts: Vec<&str> = problem
+        .spec
+        .contacts
+        .iter()
+        .map(|c| c.name.as_str())
+        .collect();
+    let mut normal = vec![Vec::new(); intervals];
+    let mut friction = vec![Vec::new(); intervals];
+    for c in &contacts {
+        let n = column(&format!("{c}_normal")).unwrap_or_else(|| vec![0.0; intervals]);
+        let directions = [4, 2]
+            .into_iter()
+            .map(vito::trajectory_csv::friction_direction_names)
+            .find(|names| {
+                table
+                    .column(&format!("{c}_friction_{}", names[0]))
+                    .is_some()
+            })
+            .unwrap_or_default();
+        let betas: Vec<Vec<f64>> = directions
+            .iter()
+            .map(|d| column(&format!("{c}_friction_{d}")).unwrap_or_else(|| vec![0.0; intervals]))
+            .collect();
+        for k in 0..intervals {
+            let finite = |v: f64| if v.is_finite() { v } else { 0.0 };
+            normal[k].push(finite(n[k]));
+            friction[k].push(betas.iter().map(|b| finite(b[k])).collect());
+        }
+    }
+    let (detail, simulation) = vito::view::detail_of(&result.summary);
+    Ok(vito::view::Motion {
+        name: result.dir.display().to_string(),
+        detail,
+        times: recorded.times,
+        q: recorded.q,
+        normal,
+        friction,
+        simulation,
+    })
+}
+
+/// Refuses to replace a file vito did not write (one without `marker`).
+fn replaceable(path: &Path, marker: &str) -> Result<(), CliError> {
+    match std::fs::read_to_string(path) {
+        Ok(text) if !text.contains(marker) => Err(CliError::Input(format!(
+            "{} exists and vito did not write it; choose another file",
+            path.display()
+        ))),
+        Ok(_) => Ok(()),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
+        Err(e) => Err(CliError::Input(format!("{}: {e}", path.display()))),
+    }
+}
+
+pub(super) fn view(
+    dirs: &[PathBuf],
+    problem: Option<&Path>,
+    out: Option<&Path>,
+    strip: Option<usize>,
+    svg: Option<&Path>,
+) -> Result<u8, CliError> {
+    let results: Vec<Result_> = dirs
+        .iter()
+        .map(|d| read_result(d))
+        .collect::<Result<_, _>>()?;
+    let first = results
+        .first()
+        .ok_or_else(|| CliError::Input("give a result directory".into()))?;
+    let loaded = problem_of(first, problem)?;
+    print_model_warnings(&loaded.robot);
+    let mut motions = Vec::new();
+    for result in &results {
+        // Each result with its own problem (overrides differ between sweep runs), drawn with
+        // the first's robot: the coordinates must agree.
+        let own = problem_of(result, problem)?;
+        if own.robot.coordinates != loaded.robot.coordinates {
+            return Err(CliError::Input(format!(
+                "{} has another robot than {} ({} against {} coordinates); overlay results of one robot",
+                result.dir.display(),
+                first.dir.display(),
+                own.robot.coordinates.len(),
+                loaded.robot.coordinates.len()
+            )));
+        }
+        motions.push(motion_of(result, &own)?);
+    }
+    let scene = vito::view::scene(&loaded).map_err(|e| CliError::Input(e.to_string()))?;
+    let start = std::time::Instant::now();
+    let drawing = vito::view::drawing(&scene, &motions);
+    for w in &drawing.body.warnings {
+        eprintln!("{}", vito::names::escape_controls(&format!("warning: {w}")));
+    }
+    let write_err = |e: vito::view::ViewError| CliError::Report(report::ReportError::View(e));
+    if let (Some(n), Some(svg)) = (strip, svg) {
+        if n == 0 {
+            return Err(CliError::Input("--strip 0: give at least 1 pose".into()));
+        }
+        replaceable(svg, vito::view::SVG_MARK)?;
+        vito::view::write_atomically(svg, &vito::view::strip_svg(&scene, &drawing, n))
+            .map_err(write_err)?;
+        out!("strip        {} ({n} poses)", svg.display());
+    }
+    if out.is_some() || svg.is_none() {
+        let path = match out {
+            Some(p) => p.to_owned(),
+            None if results.len() == 1 => first.dir.join("animation.html"),
+            None => {
+                return Err(CliError::Input(
+                    "several directories: name the overlay's file with --out".into(),
+                ));
+            }
+        };
+        replaceable(&path, vito::view::PAGE_MARK)?;
+        let html = vito::view::page(&scene, &motions, &drawing);
+        vito::view::write_atomically(&path, &html).map_err(write_err)?;
+        out!(
+            "animation    {} ({} motion(s), {:.0} kB, {:.3} s)",
+            path.display(),
+            motions.len(),
+            html.len() as f64 / 1e3,
+            start.elapsed().as_secs_f64()
+        );
+    }
+    Ok(0)
+}

@@ -1,0 +1,513 @@
+//! Seeing the motion: `animation.html` (one self-contained page, its script and styles
+//! written here, [`PAGE_TEMPLATE`]) and strips as SVG.
+//!
+//! All kinematics happen here, in Rust, with the model's own forward kinematics: the page
+//! receives each link's pose (position and unit quaternion) per frame, the contact points'
+//! positions and the contact impulses, and only interpolates between frames. A plan keeps
+//! every knot; a simulation is thinned to at most [`FRAMES_PER_SECOND`] frames per second of
+//! motion (or [`MIN_FRAMES`] over the whole motion, whichever is more), keeping its first and
+//! last step.
+
+#![warn(missing_docs)]
+
+mod body;
+mod stl;
+mod svg;
+
+pub use body::{Body, Part, body, package_root, resolve_mesh};
+pub use svg::strip_svg;
+
+use std::path::{Path, PathBuf};
+
+use serde_json::{Value, json};
+
+use crate::contact::Terrain;
+use crate::discrete::Mechanics;
+use crate::model::{LinkId, link_pose};
+use crate::transcription::ModelMechanics;
+
+/// The page's script and styles, into which the scene's data is put.
+pub const PAGE_TEMPLATE: &str = include_str!("page.html");
+
+/// Text every page vito writes holds (so that `vito view` replaces only its own pages).
+pub const PAGE_MARK: &str = "id=\"vito-status\"";
+/// Text every strip vito writes holds.
+pub const SVG_MARK: &str = "<!-- vito strip -->";
+
+/// The placeholder in [`PAGE_TEMPLATE`] that the scene's JSON replaces.
+const DATA_MARK: &str = "/*VITO_DATA*/null";
+
+/// Most frames per second of motion a simulation keeps.
+pub const FRAMES_PER_SECOND: f64 = 60.0;
+/// Frames a simulation keeps at least (when it has that many steps), so that a short, fast
+/// motion still plays smoothly when slowed down.
+pub const MIN_FRAMES: usize = 121;
+
+/// Why a view could not be made.
+#[derive(Debug, thiserror::Error)]
+pub enum ViewError {
+    /// A file could not be written or read.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The operating-system error.
+        source: std::io::Error,
+    },
+    /// The input cannot be drawn (named file, field and fix in the message).
+    #[error("{0}")]
+    Input(String),
+}
+
+/// One motion to draw: a plan or a simulation, by knot.
+#[derive(Debug, Clone)]
+pub struct Motion {
+    /// Legend name (the result directory, or the problem's name).
+    pub name: String,
+    /// Legend detail: status and objective, or the integrator of a simulation.
+    pub detail: String,
+    /// Knot times (problem units).
+    pub times: Vec<f64>,
+    /// Configurations per knot.
+    pub q: Vec<Vec<f64>>,
+    /// Normal impulse per interval and contact (interval k sits on knot k).
+    pub normal: Vec<Vec<f64>>,
+    /// Friction impulses per interval, contact and direction ([+x, −x] or [+x, +y, −x, −y]).
+    pub friction: Vec<Vec<Vec<f64>>>,
+    /// A simulation (thinned to at most [`FRAMES_PER_SECOND`]) rather than a plan (every knot).
+    pub simulation: bool,
+}
+
+/// The robot, its terrain and its contacts: what every motion of a page shares.
+pub struct Scene {
+    /// The robot with its contacts, in the problem's contact order.
+    pub mechanics: ModelMechanics,
+    /// The terrain.
+    pub terrain: Terrain,
+    /// Contact names.
+    pub contacts: Vec<String>,
+    /// The URDF (mesh files are looked for beside it).
+    pub urdf: PathBuf,
+    /// Length and time unit names.
+    pub length_unit: String,
+    /// Time unit name.
+    pub time_unit: String,
+    /// Title (the problem's name).
+    pub title: String,
+}
+
+/// Seconds per time unit for the few units robot files use (1 for unknown names).
+fn seconds_per(unit: &str) -> f64 {
+    match unit {
+        "ms" => 1e-3,
+        "us" | "µs" => 1e-6,
+        "min" => 60.0,
+        _ => 1.0,
+    }
+}
+
+/// The knots a page keeps of `times` (a simulation's steps, `seconds` per unit): every one for
+/// a plan; for a simulation, those at least T / (frames − 1) after the last kept, where
+/// frames = max([`FRAMES_PER_SECOND`]·T + 1, [`MIN_FRAMES`]), and always the first and last.
+pub fn frame_indices(times: &[f64], simulation: bool, seconds: f64) -> Vec<usize> {
+    let n = times.len();
+    if n == 0 {
+        return Vec::new();
+    }
+    let span = times[n - 1] - times[0];
+    let frames = ((FRAMES_PER_SECOND * span * seconds).ceil() as usize + 1).max(MIN_FRAMES);
+    if !simulation || n <= frames || span.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+        return (0..n).collect();
+    }
+    let spacing = span / (frames - 1) as f64;
+    let mut kept = vec![0];
+    for (k, &t) in times.iter().enumerate().take(n - 1).skip(1) {
+        if t - times[kept[kept.len() - 1]] >= spacing * (1.0 - 1e-9) {
+            kept.push(k);
+        }
+    }
+    kept.push(n - 1);
+    kept
+}
+
+/// A link pose as position and unit quaternion (w, x, y, z) from a rotation matrix.
+fn quaternion(r: &[[f64; 3]; 3]) -> [f64; 4] {
+    let trace = r[0][0] + r[1][1] + r[2][2];
+    let q = if trace > 0.0 {
+        let s = (trace + 1.0).sqrt() * 2.0;
+        [
+            0.25 * s,
+            (r[2][1] - r[1][2]) / s,
+            (r[0][2] - r[2][0]) / s,
+            (r[1][0] - r[0][1]) / s,
+        ]
+    } else if r[0][0] > r[1][1] && r[0][0] > r[2][2] {
+        let s = (1.0 + r[0][0] - r[1][1] - r[2][2]).sqrt() * 2.0;
+        [
+            (r[2][1] - r[1][2]) / s,
+            0.25 * s,
+            (r[0][1] + r[1][0]) / s,
+            (r[0][2] + r[2][0]) / s,
+        ]
+    } else if r[1][1] > r[2][2] {
+        let s = (1.0 + r[1][1] - r[0][0] - r[2][2]).sqrt() * 2.0;
+        [
+            (r[0][2] - r[2][0]) / s,
+            (r[0][1] + r[1][0]) / s,
+            0.25 * s,
+            (r[1][2] + r[2][1]) / s,
+        ]
+    } else {
+        let s = (1.0 + r[2][2] - r[0][0] - r[1][1]).sqrt() * 2.0;
+        [
+            (r[1][0] - r[0][1]) / s,
+            (r[0][2] + r[2][0]) / s,
+            (r[1][2] + r[2][1]) / s,
+            0.25 * s,
+        ]
+    };
+    let norm = q.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let q = q.map(|v| v / norm);
+    // One sign per rotation: w ≥ 0.
+    if q[0] < 0.0 { q.map(|v| -v) } else { q }
+}
+
+/// The rotation matrix of a unit quaternion (w, x, y, z).
+pub fn rotation_of(q: &[f64; 4]) -> [[f64; 3]; 3] {
+    let [w, x, y, z] = *q;
+    [
+        [
+            1.0 - 2.0 * (y * y + z * z),
+            2.0 * (x * y - w * z),
+            2.0 * (x * z + w * y),
+        ],
+        [
+            2.0 * (x * y + w * z),
+            1.0 - 2.0 * (x * x + z * z),
+            2.0 * (y * z - w * x),
+        ],
+        [
+            2.0 * (x * z - w * y),
+            2.0 * (y * z + w * x),
+            1.0 - 2.0 * (x * x + y * y),
+        ],
+    ]
+}
+
+/// One kept frame of a motion: every link's pose, the contact points, the impulses.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Frame {
+    /// Time (problem units).
+    pub time: f64,
+    /// The knot it is.
+    pub knot: usize,
+    /// Per link: (position, quaternion w x y z), by the model's forward kinematics.
+    pub links: Vec<([f64; 3], [f64; 4])>,
+    /// Per contact: its point in the world.
+    pub contacts: Vec<[f64; 3]>,
+    /// Per contact: the impulse of the interval starting here as a world vector (zero on
+    /// the last knot).
+    pub impulses: Vec<[f64; 3]>,
+}
+
+/// The frames of `motion` the page keeps, with the model's kinematics at each.
+pub fn frames(scene: &Scene, motion: &Motion) -> Vec<Frame> {
+    let model = scene.mechanics.model();
+    let nc = scene.mechanics.num_contacts();
+    frame_indices(
+        &motion.times,
+        motion.simulation,
+        seconds_per(&scene.time_unit),
+    )
+    .into_iter()
+    .map(|k| {
+        let q = &motion.q[k];
+        let links = (0..model.link_names().len())
+            .map(|l| {
+                let (r, p) = link_pose(model, LinkId(l), q);
+                (p, quaternion(&r))
+            })
+            .collect();
+        let contacts = (0..nc)
+            .map(|c| scene.mechanics.contact_position(c, q))
+            .collect();
+        let impulses = (0..nc)
+            .map(|c| {
+                let normal = motion.normal.get(k).and_then(|n| n.get(c)).copied();
+                let beta = motion.friction.get(k).and_then(|f| f.get(c));
+                let b = |d: usize| beta.and_then(|b| b.get(d)).copied().unwrap_or(0.0);
+                let (fx, fy) = match beta.map_or(0, Vec::len) {
+                    4 => (b(0) - b(2), b(1) - b(3)),
+                    _ => (b(0) - b(1), 0.0),
+                };
+                let v = [fx, fy, normal.unwrap_or(0.0)];
+                v.map(|x| if x.is_finite() { x } else { 0.0 })
+            })
+            .collect();
+        Frame {
+            time: motion.times[k],
+            knot: k,
+            links,
+            contacts,
+            impulses,
+        }
+    })
+    .collect()
+}
+
+/// The robot's extent: the largest distance between link origins and contact points at the
+/// first frame (at least 1e-6 of the unit).
+fn extent(frame: &Frame) -> f64 {
+    let points: Vec<[f64; 3]> = frame
+        .links
+        .iter()
+        .map(|l| l.0)
+        .chain(frame.contacts.iter().copied())
+        .collect();
+    let mut size: f64 = 0.0;
+    for a in &points {
+        for b in &points {
+            let d = ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt();
+            size = size.max(d);
+        }
+    }
+    if size.is_finite() {
+        size.max(1e-6)
+    } else {
+        1.0
+    }
+}
+
+/// `x` rounded to `decimals` places (so that the JSON holds short numbers).
+fn round(x: f64, decimals: i32) -> f64 {
+    let f = 10f64.powi(decimals);
+    let r = (x * f).round() / f;
+    if r.is_finite() { r } else { 0.0 }
+}
+
+/// Decimal places for lengths: 1e-5 of the robot's extent.
+fn length_decimals(size: f64) -> i32 {
+    (5 - size.log10().floor() as i32).clamp(0, 12)
+}
+
+/// What a page and a strip draw, computed once.
+pub struct Drawing {
+    /// The robot's parts.
+    pub body: Body,
+    /// Per motion: its frames.
+    pub frames: Vec<Vec<Frame>>,
+    /// The robot's extent (length units).
+    pub size: f64,
+}
+
+/// Kinematics and geometry of `motions` in `scene`.
+pub fn drawing(scene: &Scene, motions: &[Motion]) -> Drawing {
+    let frames: Vec<Vec<Frame>> = motions.iter().map(|m| frames(scene, m)).collect();
+    let size = frames.first().and_then(|f| f.first()).map_or(1.0, extent);
+    let body = body(scene.mechanics.model(), &scene.urdf, size);
+    Drawing { body, frames, size }
+}
+
+/// The terrain profile z = H(x) over [x0, x1], sampled finely enough for its steps.
+fn terrain_profile(terrain: &Terrain, x0: f64, x1: f64) -> (Vec<f64>, Vec<f64>) {
+    let mut xs: Vec<f64> = (0..=200)
+        .map(|i| x0 + (x1 - x0) * i as f64 / 200.0)
+        .collect();
+    for step in &terrain.steps {
+        for i in -8..=8 {
+            xs.push(step.edge_x + step.width * 0.5 * f64::from(i));
+        }
+    }
+    xs.retain(|x| *x >= x0 && *x <= x1);
+    xs.sort_by(f64::total_cmp);
+    xs.dedup();
+    let zs = xs.iter().map(|&x| terrain.height(x)).collect();
+    (xs, zs)
+}
+
+/// The page's data: scene, parts and every motion's frames.
+pub fn page_data(scene: &Scene, motions: &[Motion], drawing: &Drawing) -> Value {
+    let d = length_decimals(drawing.size);
+    let v3 = |p: &[f64; 3]| json!([round(p[0], d), round(p[1], d), round(p[2], d)]);
+    let parts: Vec<Value> = drawing
+        .body
+        .parts
+        .iter()
+        .map(|p| {
+            json!({
+                "link": p.link,
+                "color": p.color.map(|c| round(f64::from(c), 3)),
+                "v": p.vertices.iter().flat_map(|v| v.map(|x| round(x, d))).collect::<Vec<_>>(),
+                "f": p.triangles.iter().flatten().collect::<Vec<_>>(),
+            })
+        })
+        .collect();
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+    for frame in drawing.frames.iter().flatten() {
+        for p in frame.links.iter().map(|l| &l.0).chain(&frame.contacts) {
+            if p[0].is_finite() && p[1].is_finite() {
+                x0 = x0.min(p[0]);
+                x1 = x1.max(p[0]);
+                y0 = y0.min(p[1]);
+                y1 = y1.max(p[1]);
+            }
+        }
+    }
+    if x0 > x1 {
+        (x0, x1, y0, y1) = (0.0, 0.0, 0.0, 0.0);
+    }
+    let margin = drawing.size * 0.75;
+    let (xs, zs) = terrain_profile(&scene.terrain, x0 - margin, x1 + margin);
+    let max_impulse = drawing
+        .frames
+        .iter()
+        .flatten()
+        .flat_map(|f| &f.impulses)
+        .map(|v| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt())
+        .fold(0.0, f64::max);
+    let tracks: Vec<Value> = motions
+        .iter()
+        .zip(&drawing.frames)
+        .map(|(m, frames)| {
+            json!({
+                "name": m.name,
+                "detail": m.detail,
+                "knots": m.times.iter().map(|&t| round(t, 9)).collect::<Vec<_>>(),
+                "simulation": m.simulation,
+                "t": frames.iter().map(|f| round(f.time, 9)).collect::<Vec<_>>(),
+                "k": frames.iter().map(|f| f.knot).collect::<Vec<_>>(),
+                "poses": frames.iter().map(|f| f.links.iter().flat_map(|(p, q)| {
+                    [round(p[0], d), round(p[1], d), round(p[2], d),
+                     round(q[0], 6), round(q[1], 6), round(q[2], 6), round(q[3], 6)]
+                }).collect::<Vec<_>>()).collect::<Vec<_>>(),
+                "contacts": frames.iter().map(|f| f.contacts.iter().map(v3).collect::<Vec<_>>()).collect::<Vec<_>>(),
+                "impulses": frames.iter().map(|f| f.impulses.iter().map(|v| {
+                    let s = if max_impulse > 0.0 { 1.0 / max_impulse } else { 0.0 };
+                    json!([round(v[0] * s, 4), round(v[1] * s, 4), round(v[2] * s, 4)])
+                }).collect::<Vec<_>>()).collect::<Vec<_>>(),
+            })
+        })
+        .collect();
+    json!({
+        "title": scene.title,
+        "length_unit": scene.length_unit,
+        "time_unit": scene.time_unit,
+        "seconds_per_unit": seconds_per(&scene.time_unit),
+        "size": drawing.size,
+        "links": scene.mechanics.model().link_names(),
+        "contacts": scene.contacts,
+        "parts": parts,
+        "terrain": {
+            "x": xs.iter().map(|&x| round(x, d)).collect::<Vec<_>>(),
+            "z": zs.iter().map(|&z| round(z, d)).collect::<Vec<_>>(),
+            "y": [round(y0 - margin, d), round(y1 + margin, d)],
+        },
+        "max_impulse": max_impulse,
+        "warnings": drawing.body.warnings,
+        "tracks": tracks,
+    })
+}
+
+/// The whole page of `motions`.
+pub fn page(scene: &Scene, motions: &[Motion], drawing: &Drawing) -> String {
+    // `</` cannot close the script element inside a JSON string written this way.
+    let data = page_data(scene, motions, drawing)
+        .to_string()
+        .replace("</", "<\\/");
+    PAGE_TEMPLATE.replacen(DATA_MARK, &data, 1)
+}
+
+/// Writes `path` atomically: a sibling temporary file renamed over it.
+pub fn write_atomically(path: &Path, text: &str) -> Result<(), ViewError> {
+    let io = |source| ViewError::Io {
+        path: path.to_owned(),
+        source,
+    };
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let name = path.file_name().map_or_else(
+        || "animation.html".into(),
+        |n| n.to_string_lossy().into_owned(),
+    );
+    let tmp = dir.join(format!(".{name}.tmp-{}", std::process::id()));
+    std::fs::write(&tmp, text).map_err(io)?;
+    std::fs::rename(&tmp, path).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        io(e)
+    })
+}
+
+/// The scene of a loaded problem.
+pub fn scene(problem: &crate::problem::LoadedProblem) -> Result<Scene, ViewError> {
+    let mechanics = ModelMechanics::load(&problem.spec)
+        .map_err(|e| ViewError::Input(format!("{}: {e}", problem.file.display())))?;
+    Ok(Scene {
+        mechanics,
+        terrain: problem.spec.terrain.clone(),
+        contacts: problem
+            .spec
+            .contacts
+            .iter()
+            .map(|c| c.name.clone())
+            .collect(),
+        urdf: problem.spec.robot.urdf.clone(),
+        length_unit: problem.units.length.clone(),
+        time_unit: problem.units.time.clone(),
+        title: problem.spec.name.clone(),
+    })
+}
+
+/// A motion from a trajectory file's view of a solution or simulation.
+pub fn motion(
+    trajectory: &crate::trajectory_csv::Trajectory<'_>,
+    name: &str,
+    detail: &str,
+    simulation: bool,
+) -> Motion {
+    Motion {
+        name: name.to_owned(),
+        detail: detail.to_owned(),
+        times: trajectory.times.to_vec(),
+        q: trajectory.q.to_vec(),
+        normal: trajectory.normal_impulse.to_vec(),
+        friction: trajectory.friction_impulse.to_vec(),
+        simulation,
+    }
+}
+
+/// The legend's detail of a result from its `summary.json`: status and objective of a
+/// solve, the integrator of a simulation.
+pub fn detail_of(summary: &Value) -> (String, bool) {
+    if let Some(integrator) = summary.get("integrator").and_then(Value::as_str) {
+        return (format!("simulation ({integrator})"), true);
+    }
+    let status = summary
+        .get("status")
+        .and_then(Value::as_str)
+        .unwrap_or("unknown status");
+    match summary.get("objective").and_then(Value::as_f64) {
+        Some(o) => (format!("{status}, objective {o:.6e}"), false),
+        None => (status.to_owned(), false),
+    }
+}
+
+/// Writes `animation.html` into `dir` for one trajectory (what `vito solve`, `vito simulate`
+/// and each sweep run call); returns the drawing's warnings.
+pub fn write_animation(
+    dir: &Path,
+    problem: &crate::problem::LoadedProblem,
+    trajectory: &crate::trajectory_csv::Trajectory<'_>,
+    summary: &Value,
+) -> Result<Vec<String>, ViewError> {
+    let scene = scene(problem)?;
+    let (detail, simulation) = detail_of(summary);
+    let motions = [motion(trajectory, &problem.spec.name, &detail, simulation)];
+    let drawing = drawing(&scene, &motions);
+    write_atomically(
+        &dir.join("animation.html"),
+        &page(&scene, &motions, &drawing),
+    )?;
+    Ok(drawing.body.warnings)
+}
+
+#[cfg(test)]
+mod tests;

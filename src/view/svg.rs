@@ -1,0 +1,227 @@
+//! A strip as SVG: N evenly spaced poses side by side, an orthographic view from the side
+//! (looking along +y: world x to the right, z up), each over its own piece of terrain.
+
+use std::fmt::Write;
+
+use super::{Drawing, Frame, Scene, rotation_of};
+
+/// The frame nearest each of `n` evenly spaced times of `frames` (first and last included).
+pub fn strip_frames(frames: &[Frame], n: usize) -> Vec<&Frame> {
+    let (Some(first), Some(last)) = (frames.first(), frames.last()) else {
+        return Vec::new();
+    };
+    (0..n)
+        .map(|i| {
+            let t = if n > 1 {
+                first.time + (last.time - first.time) * i as f64 / (n - 1) as f64
+            } else {
+                first.time
+            };
+            frames
+                .iter()
+                .min_by(|a, b| (a.time - t).abs().total_cmp(&(b.time - t).abs()))
+                .unwrap_or(first)
+        })
+        .collect()
+}
+
+/// Convex hull (monotone chain) of 2D points, counter-clockwise.
+fn hull(mut points: Vec<[f64; 2]>) -> Vec<[f64; 2]> {
+    points.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
+    points.dedup();
+    if points.len() < 3 {
+        return points;
+    }
+    let cross = |o: [f64; 2], a: [f64; 2], b: [f64; 2]| {
+        (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+    };
+    let mut lower: Vec<[f64; 2]> = Vec::new();
+    for &p in &points {
+        while lower.len() >= 2 && cross(lower[lower.len() - 2], lower[lower.len() - 1], p) <= 0.0 {
+            lower.pop();
+        }
+        lower.push(p);
+    }
+    let mut upper: Vec<[f64; 2]> = Vec::new();
+    for &p in points.iter().rev() {
+        while upper.len() >= 2 && cross(upper[upper.len() - 2], upper[upper.len() - 1], p) <= 0.0 {
+            upper.pop();
+        }
+        upper.push(p);
+    }
+    lower.pop();
+    upper.pop();
+    lower.extend(upper);
+    lower
+}
+
+/// One pose's parts as (depth y, colour, hull in world x–z).
+fn silhouettes(drawing: &Drawing, frame: &Frame) -> Vec<(f64, [f32; 3], Vec<[f64; 2]>)> {
+    let mut out = Vec::new();
+    for part in &drawing.body.parts {
+        let (p, q) = &frame.links[part.link];
+        let r = rotation_of(q);
+        let world = |v: &[f64; 3]| {
+            [
+                p[0] + r[0][0] * v[0] + r[0][1] * v[1] + r[0][2] * v[2],
+                p[1] + r[1][0] * v[0] + r[1][1] * v[1] + r[1][2] * v[2],
+                p[2] + r[2][0] * v[0] + r[2][1] * v[1] + r[2][2] * v[2],
+            ]
+        };
+        let points: Vec<[f64; 3]> = part.vertices.iter().map(world).collect();
+        let depth = points.iter().map(|v| v[1]).sum::<f64>() / points.len().max(1) as f64;
+        let outline = hull(points.iter().map(|v| [v[0], v[2]]).collect());
+        if outline.iter().flatten().all(|v| v.is_finite()) {
+            out.push((depth, part.color, outline));
+        }
+    }
+    // Far (large y) first, near last.
+    out.sort_by(|a, b| b.0.total_cmp(&a.0));
+    out
+}
+
+fn colour(c: [f32; 3], shade: f32) -> String {
+    let to = |v: f32| ((v * shade).clamp(0.0, 1.0) * 255.0).round() as u8;
+    format!("#{:02x}{:02x}{:02x}", to(c[0]), to(c[1]), to(c[2]))
+}
+
+/// The strip of `n` poses of the first motion of `drawing` as an SVG document.
+pub fn strip_svg(scene: &Scene, drawing: &Drawing, n: usize) -> String {
+    let frames = drawing.frames.first().map_or(&[][..], Vec::as_slice);
+    let poses = strip_frames(frames, n.max(1));
+    // Each pose's x–z box, and one panel width for all.
+    let boxes: Vec<[f64; 4]> = poses
+        .iter()
+        .map(|f| {
+            let s = silhouettes(drawing, f);
+            let mut b = [f64::MAX, f64::MAX, f64::MIN, f64::MIN];
+            for p in s.iter().flat_map(|x| &x.2) {
+                b = [
+                    b[0].min(p[0]),
+                    b[1].min(p[1]),
+                    b[2].max(p[0]),
+                    b[3].max(p[1]),
+                ];
+            }
+            for c in &f.contacts {
+                b = [
+                    b[0].min(c[0]),
+                    b[1].min(c[2]),
+                    b[2].max(c[0]),
+                    b[3].max(c[2]),
+                ];
+            }
+            b
+        })
+        .collect();
+    let margin = 0.15 * drawing.size;
+    let width = boxes
+        .iter()
+        .map(|b| b[2] - b[0])
+        .fold(0.0, f64::max)
+        .max(drawing.size * 0.5)
+        + 2.0 * margin;
+    let mut z_lo = boxes.iter().map(|b| b[1]).fold(f64::MAX, f64::min);
+    let z_hi = boxes.iter().map(|b| b[3]).fold(f64::MIN, f64::max) + margin;
+    for b in &boxes {
+        let centre = (b[0] + b[2]) / 2.0;
+        for i in 0..=20 {
+            let x = centre - width / 2.0 + width * f64::from(i) / 20.0;
+            z_lo = z_lo.min(scene.terrain.height(x));
+        }
+    }
+    let z_lo = z_lo - margin;
+    let px = 220.0 / width.max(1e-12);
+    let (panel_w, panel_h) = (width * px, (z_hi - z_lo) * px);
+    let total_w = panel_w * poses.len() as f64;
+    let label_h = 22.0;
+    let mut svg = String::new();
+    let _ = writeln!(
+        svg,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{:.0}" height="{:.0}" viewBox="0 0 {total_w:.1} {:.1}" font-family="sans-serif" font-size="13">"#,
+        total_w,
+        panel_h + label_h,
+        panel_h + label_h
+    );
+    let _ = writeln!(
+        svg,
+        r##"{}<rect width="100%" height="100%" fill="#ffffff"/><title>{}: {} poses</title>"##,
+        super::SVG_MARK,
+        scene.title,
+        poses.len()
+    );
+    for (i, (frame, b)) in poses.iter().zip(&boxes).enumerate() {
+        let centre = (b[0] + b[2]) / 2.0;
+        let x_left = centre - width / 2.0;
+        let ox = panel_w * i as f64;
+        let sx = |x: f64| ox + (x - x_left) * px;
+        let sz = |z: f64| (z_hi - z) * px;
+        let _ = writeln!(svg, r#"<g class="pose" data-time="{}">"#, frame.time);
+        // Terrain: the profile filled down to the panel's bottom.
+        let mut ground = format!("M{:.1},{:.1}", sx(x_left), sz(z_lo));
+        for j in 0..=60 {
+            let x = x_left + width * f64::from(j) / 60.0;
+            let _ = write!(ground, " L{:.1},{:.1}", sx(x), sz(scene.terrain.height(x)));
+        }
+        let _ = write!(ground, " L{:.1},{:.1} Z", sx(x_left + width), sz(z_lo));
+        let _ = writeln!(
+            svg,
+            r##"<path d="{ground}" fill="#d9d4c7" stroke="#8a8374" stroke-width="1"/>"##
+        );
+        for (_, c, outline) in silhouettes(drawing, frame) {
+            let points: Vec<String> = outline
+                .iter()
+                .map(|p| format!("{:.1},{:.1}", sx(p[0]), sz(p[1])))
+                .collect();
+            let _ = writeln!(
+                svg,
+                r#"<polygon points="{}" fill="{}" stroke="{}" stroke-width="0.8" stroke-linejoin="round"/>"#,
+                points.join(" "),
+                colour(c, 1.0),
+                colour(c, 0.55)
+            );
+        }
+        for c in &frame.contacts {
+            let _ = writeln!(
+                svg,
+                r##"<circle cx="{:.1}" cy="{:.1}" r="2.5" fill="#c0392b"/>"##,
+                sx(c[0]),
+                sz(c[2])
+            );
+        }
+        let _ = writeln!(
+            svg,
+            r##"<text x="{:.1}" y="{:.1}" text-anchor="middle" fill="#333">t = {:.4} {}</text></g>"##,
+            ox + panel_w / 2.0,
+            panel_h + 16.0,
+            frame.time,
+            scene.time_unit
+        );
+        if i > 0 {
+            let _ = writeln!(
+                svg,
+                r##"<line x1="{ox:.1}" y1="0" x2="{ox:.1}" y2="{panel_h:.1}" stroke="#bbb"/>"##
+            );
+        }
+    }
+    svg.push_str("</svg>\n");
+    svg
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hull_of_a_square_with_an_inner_point() {
+        let h = hull(vec![
+            [0.0, 0.0],
+            [1.0, 0.0],
+            [1.0, 1.0],
+            [0.0, 1.0],
+            [0.5, 0.5],
+        ]);
+        assert_eq!(h.len(), 4);
+        assert!(!h.contains(&[0.5, 0.5]));
+    }
+}

@@ -1,0 +1,148 @@
+use super::*;
+use crate::model::link_pose;
+
+fn hopper_scene() -> (crate::problem::LoadedProblem, Scene) {
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/hopper_2d.toml");
+    let problem = crate::problem::load(&file, &[]).unwrap();
+    let scene = scene(&problem).unwrap();
+    (problem, scene)
+}
+
+/// A motion of `n` knots h apart with a swinging leg and rising base.
+fn motion_of(
+    problem: &crate::problem::LoadedProblem,
+    n: usize,
+    h: f64,
+    simulation: bool,
+) -> Motion {
+    let nq = problem.robot.coordinates.len();
+    let q: Vec<Vec<f64>> = (0..n)
+        .map(|k| {
+            let s = k as f64 / n as f64;
+            let mut q = problem.spec.q_initial.clone();
+            for (j, v) in q.iter_mut().enumerate().take(nq) {
+                *v += 0.3 * s * (j as f64 + 1.0).sin();
+            }
+            q
+        })
+        .collect();
+    Motion {
+        name: "m".into(),
+        detail: "d".into(),
+        times: (0..n).map(|k| k as f64 * h).collect(),
+        q,
+        normal: vec![vec![1.0]; n - 1],
+        friction: vec![vec![vec![0.5, 0.25]]; n - 1],
+        simulation,
+    }
+}
+
+#[test]
+fn each_link_pose_per_frame_is_the_models_forward_kinematics() {
+    let (problem, scene) = hopper_scene();
+    let motion = motion_of(&problem, 30, 0.05, false);
+    let drawing = drawing(&scene, std::slice::from_ref(&motion));
+    let model = scene.mechanics.model();
+    let frames = &drawing.frames[0];
+    assert_eq!(frames.len(), 30, "a plan keeps every knot");
+    // And through the page's JSON, as the page reads it (rounded to 1e-5 of the robot).
+    let data = page_data(&scene, std::slice::from_ref(&motion), &drawing);
+    let tol = 1e-5 * drawing.size;
+    for (f, frame) in frames.iter().enumerate() {
+        assert_eq!(frame.knot, f);
+        for l in 0..model.link_names().len() {
+            let (r, p) = link_pose(model, LinkId(l), &motion.q[f]);
+            let (fp, fq) = frame.links[l];
+            let fr = rotation_of(&fq);
+            for i in 0..3 {
+                assert!((fp[i] - p[i]).abs() < 1e-12, "frame {f} link {l}");
+                for j in 0..3 {
+                    assert!((fr[i][j] - r[i][j]).abs() < 1e-12, "frame {f} link {l}");
+                }
+            }
+            let page = &data["tracks"][0]["poses"][f];
+            for i in 0..3 {
+                let v = page[7 * l + i].as_f64().unwrap();
+                assert!(
+                    (v - p[i]).abs() <= tol,
+                    "page frame {f} link {l}: {v} vs {}",
+                    p[i]
+                );
+            }
+        }
+        // The contact point is the model's, and the impulse is (friction +x − (−x), 0, normal).
+        let c = scene.mechanics.contact_position(0, &motion.q[f]);
+        assert_eq!(frame.contacts[0], c);
+        let expected = if f + 1 < 30 {
+            [0.25, 0.0, 1.0]
+        } else {
+            [0.0; 3]
+        };
+        assert_eq!(frame.impulses[0], expected);
+    }
+}
+
+#[test]
+fn a_decimated_simulation_keeps_its_first_and_last_step() {
+    // 2 s at 2 kHz: 4001 steps, at most 60 per second of motion (121 frames).
+    let times: Vec<f64> = (0..4001).map(|k| k as f64 * 5e-4).collect();
+    let kept = frame_indices(&times, true, 1.0);
+    assert_eq!(kept.first(), Some(&0));
+    assert_eq!(kept.last(), Some(&4000));
+    assert!(kept.len() <= 122 && kept.len() >= 110, "{}", kept.len());
+    assert!(kept.windows(2).all(|w| w[0] < w[1]));
+    // An odd step count: the last step is kept even off the spacing.
+    let times: Vec<f64> = (0..3999).map(|k| k as f64 * 5e-4).collect();
+    let kept = frame_indices(&times, true, 1.0);
+    assert_eq!(kept.last(), Some(&3998));
+    // 100 ms in milliseconds (HAMR): about MIN_FRAMES (the steps' grid rounds the spacing up).
+    let times: Vec<f64> = (0..2001).map(|k| k as f64 * 0.05).collect();
+    let kept = frame_indices(&times, true, seconds_per("ms"));
+    assert!(
+        kept.len() >= MIN_FRAMES * 9 / 10 && kept.len() <= MIN_FRAMES + 1,
+        "{}",
+        kept.len()
+    );
+    // A plan keeps every knot.
+    assert_eq!(frame_indices(&times, false, 1.0).len(), 2001);
+}
+
+#[test]
+fn quaternions_round_trip_rotations() {
+    for rpy in [
+        [0.1, -0.7, 2.9],
+        [3.1, 0.2, -3.0],
+        [0.0, 1.5, 0.0],
+        [3.0, 0.0, -2.5],
+    ] {
+        let (sr, cr) = f64::sin_cos(rpy[0]);
+        let (sp, cp) = f64::sin_cos(rpy[1]);
+        let (sy, cy) = f64::sin_cos(rpy[2]);
+        let r = [
+            [cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
+            [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
+            [-sp, cp * sr, cp * cr],
+        ];
+        let back = rotation_of(&quaternion(&r));
+        for i in 0..3 {
+            for j in 0..3 {
+                assert!((back[i][j] - r[i][j]).abs() < 1e-12, "{rpy:?}");
+            }
+        }
+    }
+}
+
+#[test]
+fn the_page_is_self_contained_and_its_strip_draws_n_poses() {
+    let (problem, scene) = hopper_scene();
+    let motion = motion_of(&problem, 20, 0.05, false);
+    let drawing = drawing(&scene, std::slice::from_ref(&motion));
+    let html = page(&scene, std::slice::from_ref(&motion), &drawing);
+    assert!(!html.contains(DATA_MARK));
+    for remote in ["http://", "https://", "//cdn", "src=\"", "import "] {
+        assert!(!html.contains(remote), "the page names `{remote}`");
+    }
+    let svg = strip_svg(&scene, &drawing, 5);
+    assert_eq!(svg.matches("<g class=\"pose\"").count(), 5);
+    assert!(!svg.contains("NaN"));
+}
