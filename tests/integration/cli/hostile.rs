@@ -1060,7 +1060,7 @@ fn every_exit_code_is_documented_and_reached() {
         .nth(1)
         .unwrap_or_else(|| panic!("{help}"))
         .lines()
-        .filter_map(|l| l.trim().split_whitespace().next()?.parse().ok())
+        .filter_map(|l| l.split_whitespace().next()?.parse().ok())
         .collect();
     let readme =
         std::fs::read_to_string(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("README.md"))
