@@ -51,7 +51,9 @@ fn simulate_writes_trajectory_summary_and_plots() {
         "rest height {}",
         last[3]
     );
-    for svg in ["coordinates.svg", "inputs.svg", "contact_modes.svg"] {
+    // The brick has no inputs: no (empty) inputs.svg.
+    assert!(!out.join("inputs.svg").exists());
+    for svg in ["coordinates.svg", "contact_modes.svg"] {
         assert!(out.join(svg).is_file(), "{svg}");
     }
 }
@@ -71,7 +73,7 @@ fn simulate_rejects_bad_input_before_simulating() {
     ];
     t.write(
         "plan.csv",
-        "time [s],x [m],z [m],theta [rad],r [m]\n0,0,0.5,0,0.5\n1,0,0.5,0,0.5\n",
+        "time [s],x [m],z [m],theta [rad],r [m],u_theta [N·m],u_r [N]\n0,0,0.5,0,0.5,0,0\n1,0,0.5,0,0.5,,\n",
     );
     for (args, named) in cases {
         let run = t
@@ -92,10 +94,10 @@ fn simulate_rejects_bad_input_before_simulating() {
     }
 }
 
-/// A two-knot hopper plan (the leg swings 0.1 rad and shortens 5 cm in 50 ms) for the
-/// tracking tests.
-const HOPPER_SWING_PLAN: &str =
-    "time [s],x [m],z [m],theta [rad],r [m]\n0,0,0.5,0,0.5\n0.05,0,0.5,0.1,0.45\n";
+/// A two-knot hopper plan (the leg swings 0.1 rad and shortens 5 cm in 50 ms, no
+/// feed-forward input) for the tracking tests.
+const HOPPER_SWING_PLAN: &str = "time [s],x [m],z [m],theta [rad],r [m],u_theta [N·m],u_r [N]\n\
+    0,0,0.5,0,0.5,0,0\n0.05,0,0.5,0.1,0.45,,\n";
 
 /// `[tracking] gains` in the problem file: the same simulation as the same gains given with
 /// `--gains` (byte-identical trajectory); `--gains` overrides the file per input; an unknown
