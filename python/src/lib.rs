@@ -613,8 +613,8 @@ impl Solution {
         }
     }
 
-    /// Signed distance of each contact to the terrain at each interval's end knot, shape
-    /// (N−1, nc); columns `contact_names`.
+    /// Signed distance of each contact to the terrain at every knot, shape (N, nc); columns
+    /// `contact_names`. The normal impulse of interval k is complementary to row k + 1.
     #[getter]
     fn signed_distance<'py>(&self, py: Python<'py>) -> Bound<'py, PyAny> {
         self.per_contact(py, &self.solution.signed_distance)
@@ -971,8 +971,7 @@ fn _sweep(
         .map(|s| Override::parse(s))
         .collect::<Result<_, _>>()
         .map_err(|e| problem_error(py, &e))?;
-    vito::sweep::check_grid_keys(&problem.path, &overrides, &grid)
-        .map_err(|e| problem_error(py, &e))?;
+    vito::sweep::check_grid(&problem.path, &overrides, &grid).map_err(usage)?;
     let options = SweepOptions {
         exe,
         problem: std::path::absolute(&problem.path)
@@ -988,6 +987,7 @@ fn _sweep(
         } else {
             WarmStart::None
         },
+        stop: None,
     };
     let sha = problem.loaded.sha256.clone();
     py.detach(|| vito::sweep::run_sweep(&options, &sha, |_| {}))

@@ -94,7 +94,9 @@ def test_arrays_have_named_axes_and_units(hopper_solution):
     assert s.coordinate_names == ["x", "z", "theta", "r"]
     assert s.q.shape == s.v.shape == (21, n)
     assert s.u.shape == (20, m)
-    assert s.normal_impulse.shape == s.signed_distance.shape == (20, len(s.contact_names))
+    assert s.normal_impulse.shape == (20, len(s.contact_names))
+    # The distance at every knot (the impulse of interval k pairs with knot k + 1).
+    assert s.signed_distance.shape == (21, len(s.contact_names))
     assert s.friction_impulse.shape == (20, 1, len(s.friction_directions))
     assert s.units["q"] == ["m", "m", "rad", "m"]
     assert s.units["time"] == "s"
