@@ -48,6 +48,15 @@ if [ "${1:-}" = "--inside" ]; then
             -o "lowerdir=$registry,upperdir=$work/registry-upper,workdir=$work/registry-work" \
             "$root/root/.cargo/registry"
     fi
+    # pip reaches PyPI through the host's certificate authorities (a proxy's among them):
+    # the chroot gets the host's bundle and pip, requests and OpenSSL are pointed at it.
+    ca_env=()
+    host_ca="${SSL_CERT_FILE:-/etc/ssl/certs/ca-certificates.crt}"
+    if [ -r "$host_ca" ]; then
+        cp "$host_ca" "$root/etc/vito-host-ca.crt"
+        ca_env=(PIP_CERT=/etc/vito-host-ca.crt SSL_CERT_FILE=/etc/vito-host-ca.crt
+            REQUESTS_CA_BUNDLE=/etc/vito-host-ca.crt)
+    fi
     command="${VITO_DEBIAN13_COMMAND:-make demo && make test}"
     say "running in the trixie chroot: $command"
     set +e
@@ -59,6 +68,7 @@ if [ "${1:-}" = "--inside" ]; then
         CI=true \
         LANG=C.UTF-8 \
         TERM=dumb \
+        "${ca_env[@]}" \
         /bin/bash -c "cd /src && $command" </dev/null
     status=$?
     set -e
