@@ -152,6 +152,17 @@ def test_a_sweep_of_four_points_returns_four_rows(tmp_path, hopper):
     assert (tmp_path / "sweep" / "sweep.csv").is_file()
 
 
+@pytest.fixture
+def python_ctrl_c():
+    """Python's own Ctrl-C handler, as an interactive interpreter or a script started from a
+    terminal has it. A process started in the background by a non-interactive shell (`cmd &`,
+    as CI scripts do) inherits SIGINT ignored, and Python then leaves it ignored: such a
+    process cannot be stopped with Ctrl-C at all, by vito or anything else."""
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, previous)
+
+
 def interrupt_during_solve(problem, interrupt):
     """Solves `problem` in this (the main) thread; at iteration 3 another thread calls
     `interrupt()`. Returns the exception raised and the iterations seen."""
@@ -184,7 +195,7 @@ def interrupt_during_solve(problem, interrupt):
 
 
 @pytest.mark.parametrize("how", ["pthread_kill", "interrupt_main"])
-def test_ctrl_c_from_another_thread_stops_the_solve_and_keeps_the_iterate(hopper, how):
+def test_ctrl_c_from_another_thread_stops_the_solve_and_keeps_the_iterate(hopper, how, python_ctrl_c):
     assert threading.current_thread() is threading.main_thread()
     main = threading.main_thread().ident
     interrupt = {
@@ -204,7 +215,7 @@ def test_ctrl_c_from_another_thread_stops_the_solve_and_keeps_the_iterate(hopper
     assert hopper.solve().iterations == 102
 
 
-def test_ctrl_c_stops_a_solve_without_a_progress_callable(hopper):
+def test_ctrl_c_stops_a_solve_without_a_progress_callable(hopper, python_ctrl_c):
     # No Python code runs during this solve but vito's signal check at each iteration: the
     # SIGINT sent from another thread after 0.3 s must stop it there (unstopped it runs for
     # 784 iterations).
