@@ -142,7 +142,7 @@ pub fn check_allowed(name: &str, value: &OptionValue) -> Result<(), IpoptError> 
 /// derivative test, MUMPS) and `print_level` (Ipopt's table on standard output). Anything
 /// else, in particular `output_file`, `option_file_name` and `file_print_level` (which read
 /// or write files named by the problem) is refused: a problem file is input, not code. The
-/// README lists them (a unit test keeps the two in step).
+/// docs/ipopt.md lists them (a unit test keeps the two in step).
 pub const PROBLEM_FILE_OPTIONS: &[&str] = &[
     // Termination.
     "tol",
@@ -333,7 +333,10 @@ pub fn check_problem_option(name: &str, value: &OptionValue) -> Result<(), Ipopt
     };
     if !PROBLEM_FILE_OPTIONS.contains(&name) {
         return Err(refused(
-            "a problem file may set only the options that steer the algorithm (the README              lists them); Ipopt's files (`output_file`, `option_file_name`,              `file_print_level`) are not among them: for Ipopt's log use              `vito solve --ipopt-log`, which writes `ipopt.log` into the output directory"
+            "a problem file may set only the options that steer the algorithm (docs/ipopt.md \
+             lists them); Ipopt's files (`output_file`, `option_file_name`, \
+             `file_print_level`) are not among them: for Ipopt's log use \
+             `vito solve --ipopt-log`, which writes `ipopt.log` into the output directory"
                 .to_string(),
         ));
     }
@@ -442,14 +445,14 @@ mod tests {
         assert!(check_problem_option("linear_solver", &"ma97".into()).is_err());
     }
 
-    /// Every allowed option is one Ipopt knows (3.11 to 3.14) and the README lists it.
+    /// Every allowed option is one Ipopt knows (3.11 to 3.14) and docs/ipopt.md lists it.
     #[test]
     fn allowed_options_are_ipopts_and_documented() {
-        let readme = include_str!("../../README.md");
+        let listed = include_str!("../../docs/ipopt.md");
         for name in PROBLEM_FILE_OPTIONS {
             assert!(
-                readme.contains(&format!("`{name}`")),
-                "README does not list `{name}`"
+                listed.contains(&format!("`{name}`")),
+                "docs/ipopt.md does not list `{name}`"
             );
         }
         let mut names = PROBLEM_FILE_OPTIONS.to_vec();

@@ -12,7 +12,7 @@ result from Python is the command's result::
     warm = problem.with_set({"contacts.friction": 0.7}).solve(warm_start=solution)
     table = vito.sweep(problem, grid={"contacts.friction": [0.4, 0.6]}, out="out/sweep")
 
-See README.md, section "Python".
+See docs/python.md.
 """
 
 import os as _os

@@ -5,12 +5,12 @@ use crate::problem::ProblemError;
 use crate::problem::error::list_names;
 use crate::problem::schema::NamedVector;
 
-/// Largest magnitude of a number in a problem file (README, "Sane ranges"): beyond it,
-/// squares and products downstream overflow or swamp the other terms.
+/// Largest magnitude of a number in a problem file (docs/problem-file.md, "Sane ranges"):
+/// beyond it, squares and products downstream overflow or swamp the other terms.
 pub(crate) const MAX_MAGNITUDE: f64 = 1e12;
 
-/// Smallest positive step, width or weight (README, "Sane ranges"): below it, quotients
-/// downstream overflow.
+/// Smallest positive step, width or weight (docs/problem-file.md, "Sane ranges"): below
+/// it, quotients downstream overflow.
 pub(crate) const MIN_POSITIVE: f64 = 1e-12;
 
 pub(crate) fn finite(ctx: &Context, field: &str, v: f64) -> Result<f64, ProblemError> {
