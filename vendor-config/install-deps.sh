@@ -57,13 +57,13 @@ if ! command -v dpkg-query >/dev/null 2>&1 || ! command -v apt-get >/dev/null 2>
     echo "install-deps: this script needs Debian's dpkg-query and apt-get; it installs nothing here." >&2
     echo "install-deps: install the equivalents of: ${wanted[*]}" >&2
     echo "install-deps: (Ipopt 3.11-3.14 with MUMPS and its C headers, libclang, pkg-config, a BLAS)," >&2
-    echo "install-deps: or point VITO_IPOPT_DIR at an Ipopt 3.11-3.14 prefix (see README.md)." >&2
+    echo "install-deps: or point VITO_IPOPT_DIR at an Ipopt 3.11-3.14 prefix (see docs/install.md)." >&2
     exit 1
 fi
 if [ -z "$release" ]; then
     echo "install-deps: installing only the packages Debian 12 and 13 name alike (${wanted[*]})" \
         "with apt-get; if one is missing from this release's archive, install Ipopt 3.11-3.14" \
-        "with its C headers yourself or set VITO_IPOPT_DIR (see README.md)." >&2
+        "with its C headers yourself or set VITO_IPOPT_DIR (see docs/install.md)." >&2
 fi
 
 missing=()
