@@ -9,7 +9,7 @@
 //! `crate::problem::costs`), `placement` (which blocks exist and what they read and write), `structure` (sparsity patterns), `start`
 //! (bounds, initial guess, warm start), `evaluate` (values and derivatives), `program` (the
 //! [`Transcription`] itself), `nlp` (the Ipopt callbacks' adapter), `solve` (solving a problem
-//! file's NLP, slack continuation), `robot` (a problem's URDF mechanics).
+//! file's NLP, slack continuation; the entry point is `crate::pipeline::solve`), `robot` (a problem's URDF mechanics).
 
 mod blocks;
 mod derivative_check;
@@ -38,10 +38,8 @@ pub use nlp::{Progress, ProgressFn, TranscriptionNlp};
 pub use pattern::{Pattern, PatternBuilder};
 pub use program::{InitialGuessReport, Transcription};
 pub use solution::{NlpSize, Solution};
-pub use solve::{
-    BenchRow, MultiStart, PERTURBATION, SolveOptions, StartRecord, bench, bench_with,
-    evaluate_initial_guess, solve, solve_with,
-};
+pub(crate) use solve::{bench_with, solve_with};
+pub use solve::{BenchRow, MultiStart, PERTURBATION, SolveOptions, StartRecord};
 pub use verdict::{
     DEFAULT_SLACK_TOLERANCE, RELAXED_CONTACT, RowViolation, SlackPeak, SolveVerdict,
 };

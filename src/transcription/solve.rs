@@ -1,5 +1,6 @@
-//! Solving a problem: load the robot, build the transcription, run Ipopt, fill a
-//! [`Solution`]; plus the initial-guess report and the benchmark row.
+//! Solving a problem's NLP: build the transcription, run Ipopt (multi-start, slack
+//! continuation), fill a [`Solution`]; plus the benchmark row. The entry point is
+//! [`crate::pipeline::solve`], which loads the robot and resolves the initial guess first.
 
 use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
@@ -8,8 +9,7 @@ use std::time::Instant;
 use super::blocks::VectorKind;
 use super::nlp::{ProgressFn, TranscriptionNlp};
 use super::{
-    InitialGuessReport, MechanicsDerivatives, ModelMechanics, NlpSize, Solution, SolveVerdict,
-    Transcription, TranscriptionError,
+    MechanicsDerivatives, NlpSize, Solution, SolveVerdict, Transcription, TranscriptionError,
 };
 use crate::autodiff::VectorFunction;
 use crate::ipopt::{self, Multipliers, Solver};
@@ -97,27 +97,6 @@ pub struct BenchRow {
     pub derivative_eval_s: f64,
 }
 
-fn load_mechanics(spec: &ProblemSpec) -> Result<ModelMechanics, TranscriptionError> {
-    ModelMechanics::load(spec)
-}
-
-/// Solve `spec` (robot from its URDF).
-pub fn solve(spec: &ProblemSpec, options: &SolveOptions) -> Result<Solution, TranscriptionError> {
-    solve_with(load_mechanics(spec)?, spec, options)
-}
-
-/// SPEC.md's values at the initial guess for `spec` (robot from its URDF).
-pub fn evaluate_initial_guess(
-    spec: &ProblemSpec,
-) -> Result<InitialGuessReport, TranscriptionError> {
-    Ok(Transcription::new(load_mechanics(spec)?, spec)?.initial_guess_report())
-}
-
-/// Benchmark `spec`: sizes, one derivative evaluation, and a full solve.
-pub fn bench(spec: &ProblemSpec) -> Result<BenchRow, TranscriptionError> {
-    bench_with(load_mechanics(spec)?, spec)
-}
-
 fn configure(spec: &ProblemSpec, options: &SolveOptions) -> Result<Solver, TranscriptionError> {
     let mut solver = Solver::new();
     for (name, value) in spec.solver_options.iter().chain(&options.ipopt_options) {
@@ -133,8 +112,10 @@ fn configure(spec: &ProblemSpec, options: &SolveOptions) -> Result<Solver, Trans
     Ok(solver)
 }
 
-/// Solve `spec` for the given mechanics (e.g. closed-form test robots).
-pub fn solve_with<M: MechanicsDerivatives>(
+/// Solve `spec` for the given mechanics with its initial guess as it stands (a simulated guess
+/// held at q_1): the solve behind [`crate::pipeline::solve_with`], which resolves the guess
+/// first and is the entry point.
+pub(crate) fn solve_with<M: MechanicsDerivatives>(
     mech: M,
     spec: &ProblemSpec,
     options: &SolveOptions,
@@ -345,8 +326,9 @@ fn solve_transcription<M: MechanicsDerivatives>(
     Ok(solution)
 }
 
-/// Benchmark with the given mechanics.
-pub fn bench_with<M: MechanicsDerivatives>(
+/// Benchmark with the given mechanics and the initial guess as it stands: the benchmark behind
+/// [`crate::pipeline::bench_with`], which resolves the guess first and is the entry point.
+pub(crate) fn bench_with<M: MechanicsDerivatives>(
     mech: M,
     spec: &ProblemSpec,
 ) -> Result<BenchRow, TranscriptionError> {
