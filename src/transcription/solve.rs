@@ -6,12 +6,10 @@ use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
-use super::blocks::VectorKind;
 use super::nlp::{ProgressFn, TranscriptionNlp};
 use super::{
     MechanicsDerivatives, NlpSize, Solution, SolveVerdict, Transcription, TranscriptionError,
 };
-use crate::autodiff::VectorFunction;
 use crate::ipopt::{self, Multipliers, Solver};
 use crate::problem::{HessianMode, OptionValue, ProblemSpec, SlackRestart};
 
@@ -399,19 +397,7 @@ fn restartable(status: ipopt::Status) -> bool {
 /// Signed distance φ_i(q) of every contact at q.
 fn distances<M: MechanicsDerivatives>(t: &Transcription<M>, q: &[f64]) -> Vec<f64> {
     (0..t.layout().nc)
-        .map(|i| {
-            let kind = VectorKind::Distance { contact: i };
-            let f = super::blocks::VectorBlockFn {
-                mech: t.mechanics(),
-                ctx: t.context(),
-                kind: &kind,
-                dim_in: q.len(),
-                dim_out: 1,
-            };
-            let mut out = [0.0];
-            f.eval(q, &mut out);
-            out[0]
-        })
+        .map(|i| crate::contact::distance(t.mechanics(), &t.context().contact, i, q))
         .collect()
 }
 
