@@ -71,7 +71,7 @@ fn bench_rows_from_urdf() {
         common::reference::hopper_2d(),
         common::reference::brick_3d(),
     ] {
-        let row = vito::transcription::bench(&spec).unwrap();
+        let row = vito::pipeline::bench(&spec).unwrap();
         println!(
             "{}: {} variables, {} constraints, J nnz {}, H nnz {}, {:?}, objective {:.9}, \
              {} iterations, wall {:.3} s, callbacks {:.3} s ({:.0} %), ipopt {:.3} s, \

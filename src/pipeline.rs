@@ -24,17 +24,26 @@ pub fn build_nlp(spec: &ProblemSpec) -> Result<Transcription<ModelMechanics>, Tr
     Transcription::new(mechanics(spec)?, spec)
 }
 
-/// Solves `spec` with the robot from its URDF.
+/// Solves `spec` with the robot from its URDF: the one way a problem is solved (the CLI,
+/// studies, Python and the tests all come here), its initial guess resolved first.
 pub fn solve(spec: &ProblemSpec, options: &SolveOptions) -> Result<Solution, TranscriptionError> {
-    let mech = mechanics(spec)?;
+    solve_with(mechanics(spec)?, spec, options)
+}
+
+/// Solves `spec` as [`solve`] does, for the given mechanics (e.g. closed-form test robots).
+pub fn solve_with<M: MechanicsDerivatives>(
+    mech: M,
+    spec: &ProblemSpec,
+    options: &SolveOptions,
+) -> Result<Solution, TranscriptionError> {
     let spec = resolve_initial_guess(&mech, spec)?;
     transcription::solve_with(mech, &spec, options)
 }
 
 /// `spec` with a simulated initial guess run into the warm start it stands for
 /// ([`crate::simulated_guess`]); every other guess as it is.
-pub fn resolve_initial_guess<'a>(
-    mech: &ModelMechanics,
+pub fn resolve_initial_guess<'a, M: MechanicsDerivatives>(
+    mech: &M,
     spec: &'a ProblemSpec,
 ) -> Result<Cow<'a, ProblemSpec>, TranscriptionError> {
     let InitialGuess::Simulation(guess) = &spec.initial_guess else {
@@ -62,7 +71,14 @@ pub const REFERENCE_PROBLEMS: [&str; 4] = [
 /// Benchmarks `spec` (sizes, one derivative evaluation, a full solve) with the robot from its
 /// URDF.
 pub fn bench(spec: &ProblemSpec) -> Result<BenchRow, TranscriptionError> {
-    let mech = mechanics(spec)?;
+    bench_with(mechanics(spec)?, spec)
+}
+
+/// Benchmarks `spec` as [`bench`] does, for the given mechanics.
+pub fn bench_with<M: MechanicsDerivatives>(
+    mech: M,
+    spec: &ProblemSpec,
+) -> Result<BenchRow, TranscriptionError> {
     let spec = resolve_initial_guess(&mech, spec)?;
     transcription::bench_with(mech, &spec)
 }

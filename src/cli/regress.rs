@@ -2,7 +2,7 @@
 
 use super::*;
 
-/// Prints one `transcription::bench` row per problem (sizes, solve and derivative times),
+/// Prints one `pipeline::bench` row per problem (sizes, solve and derivative times),
 /// then, where `casadi` asks for it and can, the same problems solved by the independent
 /// CasADi implementation, side by side (each CasADi solve runs right after vito's, so both
 /// see the same machine load).

@@ -11,22 +11,15 @@ use nalgebra::DMatrix;
 use rayon::prelude::*;
 
 use super::blocks::{
-    Block, ScalarBlockFn, ScalarKind, VectorBlockFn, VectorKind, loop_closure_hessian,
-    loop_closure_jacobian, loop_work_gradient, loop_work_hessian, loop_work_third,
+    Block, Eval, GeometryUse, ScalarBlockFn, ScalarKind, VectorBlockFn, VectorKind,
 };
 use super::structure::NO_SLOT;
 use super::{InitialGuessReport, Transcription};
 use crate::autodiff::{
-    Restricted, SymmetricGroups, ThirdOrder, gradient, gradient_hessian, gradient_hessian_third,
-    grouped_hessian, jacobian, weighted_hessian,
+    Restricted, ThirdOrder, gradient, gradient_hessian, gradient_hessian_third, grouped_hessian,
+    jacobian, weighted_hessian,
 };
-use crate::contact::{
-    ContactGeometry, complementarity_hessian, complementarity_jacobian, contact_work_gradient,
-    contact_work_hessian, contact_work_hessian_in, contact_work_third, contact_work_third_in,
-    distance_hessian, distance_hessian_in, distance_jacobian, distance_jacobian_in,
-    tangential_rate_hessian, tangential_rate_hessian_in, tangential_rate_jacobian,
-    tangential_rate_jacobian_in,
-};
+use crate::contact::ContactGeometry;
 use crate::discrete::MechanicsDerivatives;
 
 /// How the contact blocks (tangential rate, contact work, signed distance, c·φ,
@@ -85,10 +78,10 @@ impl<M: MechanicsDerivatives> Transcription<M> {
     pub fn objective_terms(&self, x: &[f64]) -> Vec<(String, f64)> {
         let mut terms: Vec<(String, f64)> = Vec::new();
         for b in &self.cost_blocks {
-            let ScalarKind::Cost { term } = b.kind else {
+            let ScalarKind::Cost(cost) = &b.kind else {
                 continue;
             };
-            let name = crate::problem::costs::term_name(&self.ctx.costs[term]);
+            let name = crate::problem::costs::term_name(&self.ctx.costs[cost.term]);
             let z = gather(x, &b.vars);
             let value = crate::autodiff::ScalarFunction::eval(&self.scalar_fn(b), &z);
             match terms.iter_mut().find(|(n, _)| n == name) {
@@ -145,7 +138,7 @@ impl<M: MechanicsDerivatives> Transcription<M> {
             }
         }
         let gradient = self.map_blocks_serial(&self.gradient_blocks, |b| {
-            self.gradient_block_gradient(b, &gather(x, &b.vars), self.contact_derivatives)
+            self.gradient_block_gradient(b, &gather(x, &b.vars))
         });
         for (b, out) in self.gradient_blocks.iter().zip(gradient) {
             for (rows, o) in b.targets.iter().zip(out) {
@@ -163,26 +156,16 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         let build = |key| self.contact_geometry(x, key);
         let vector = self.map_blocks(&self.vector_blocks, |b| {
             let z = gather(x, &b.vars);
-            match (&b.kind, shared.get(&b.kind, &b.vars, self.ctx.n, &build)) {
-                (&VectorKind::TangentialRate { contact }, Some(g))
-                    if !self.mech.contact_rolls(contact) =>
-                {
-                    tangential_rate_jacobian_in(g, &z)
-                }
-                (VectorKind::Distance { .. }, Some(g)) => distance_jacobian_in(g, &z, false),
-                (VectorKind::ContactGap { .. }, Some(g)) => distance_jacobian_in(g, &z, true),
-                _ => self.vector_block_jacobian(b, &z, self.contact_derivatives),
-            }
+            let geometry = shared.get(b.kind.geometry(&self.mech, self.ctx.n), &b.vars, &build);
+            self.vector_block_jacobian(b, &z, geometry)
         });
         for (b, local) in self.vector_blocks.iter().zip(vector) {
             scatter_rows(b, &local, values);
         }
         let gradient = self.map_blocks(&self.gradient_blocks, |b| {
             let z = gather(x, &b.vars);
-            match shared.get_scalar(&b.kind, &b.vars, self.ctx.n, &build) {
-                Some(g) => contact_work_hessian_in(g, &z),
-                None => self.gradient_block_hessian(b, &z, self.contact_derivatives),
-            }
+            let geometry = shared.get(b.kind.geometry(&self.mech, self.ctx.n), &b.vars, &build);
+            self.gradient_block_hessian(b, &z, geometry)
         });
         for (b, local) in self.gradient_blocks.iter().zip(gradient) {
             scatter_rows(b, &local, values);
@@ -215,16 +198,8 @@ impl<M: MechanicsDerivatives> Transcription<M> {
             }
             let z = gather(x, &b.vars);
             let w = weights(&b.targets);
-            match (&b.kind, shared.get(&b.kind, &b.vars, self.ctx.n, &build)) {
-                (&VectorKind::TangentialRate { contact }, Some(g))
-                    if !self.mech.contact_rolls(contact) =>
-                {
-                    tangential_rate_hessian_in(g, &z, &w)
-                }
-                (VectorKind::Distance { .. }, Some(g)) => distance_hessian_in(g, &z, w[0], false),
-                (VectorKind::ContactGap { .. }, Some(g)) => distance_hessian_in(g, &z, w[0], true),
-                _ => self.vector_block_hessian(b, &z, &w, self.contact_derivatives),
-            }
+            let geometry = shared.get(b.kind.geometry(&self.mech, self.ctx.n), &b.vars, &build);
+            self.vector_block_hessian(b, &z, &w, geometry)
         });
         for (b, local) in self.vector_blocks.iter().zip(vector) {
             scatter_lower(b, &local, values);
@@ -232,13 +207,8 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         let gradient = self.map_blocks(&self.gradient_blocks, |b| {
             let dir = weights(&b.targets);
             let z = gather(x, &b.vars);
-            if let Some(g) = shared.get_scalar(&b.kind, &b.vars, self.ctx.n, &build)
-                && let Some((_, contracted)) = contact_work_third_in(g, &z, &dir)
-            {
-                return contracted;
-            }
-            self.gradient_block_third(b, &z, &dir, self.contact_derivatives)
-                .contracted
+            let geometry = shared.get(b.kind.geometry(&self.mech, self.ctx.n), &b.vars, &build);
+            self.gradient_block_third(b, &z, &dir, geometry)
         });
         for (b, local) in self.gradient_blocks.iter().zip(gradient) {
             scatter_lower(b, &local, values);
@@ -255,7 +225,6 @@ impl<M: MechanicsDerivatives> Transcription<M> {
             Some(entry) => entry.1 += secs,
             None => times.push((name, secs)),
         };
-        let kind_name = |debug: String| debug.split([' ', '{']).next().unwrap_or("").to_string();
         let weights = |targets: &[Vec<usize>]| -> Vec<f64> {
             targets
                 .iter()
@@ -265,19 +234,11 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         for b in &self.vector_blocks {
             let z = gather(x, &b.vars);
             let start = std::time::Instant::now();
-            std::hint::black_box(self.vector_block_jacobian(b, &z, self.contact_derivatives));
+            std::hint::black_box(self.vector_block_jacobian(b, &z, None));
             if b.nonlinear > 0 {
-                std::hint::black_box(self.vector_block_hessian(
-                    b,
-                    &z,
-                    &weights(&b.targets),
-                    self.contact_derivatives,
-                ));
+                std::hint::black_box(self.vector_block_hessian(b, &z, &weights(&b.targets), None));
             }
-            add(
-                kind_name(format!("{:?}", b.kind)),
-                start.elapsed().as_secs_f64(),
-            );
+            add(b.kind.name().into(), start.elapsed().as_secs_f64());
         }
         for b in self.cost_blocks.iter().filter(|b| b.nonlinear > 0) {
             let z = gather(x, &b.vars);
@@ -288,17 +249,9 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         for b in &self.gradient_blocks {
             let z = gather(x, &b.vars);
             let start = std::time::Instant::now();
-            std::hint::black_box(self.gradient_block_hessian(b, &z, self.contact_derivatives));
-            std::hint::black_box(self.gradient_block_third(
-                b,
-                &z,
-                &weights(&b.targets),
-                self.contact_derivatives,
-            ));
-            add(
-                kind_name(format!("{:?}", b.kind)),
-                start.elapsed().as_secs_f64(),
-            );
+            std::hint::black_box(self.gradient_block_hessian(b, &z, None));
+            std::hint::black_box(self.gradient_block_third(b, &z, &weights(&b.targets), None));
+            add(b.kind.name().into(), start.elapsed().as_secs_f64());
         }
         times
     }
@@ -313,23 +266,19 @@ impl<M: MechanicsDerivatives> Transcription<M> {
             return shared;
         }
         let hessian = callback == Callback::Hessian;
+        let extra = usize::from(hessian);
         let mut keys: Vec<GeometryKey> = Vec::new();
         for b in &self.vector_blocks {
             if hessian && b.nonlinear == 0 {
                 continue;
             }
-            if let Some((contact, q, order)) =
-                geometry_need(&b.kind, &b.vars, self.ctx.n, callback, |c| {
-                    self.mech.contact_rolls(c)
-                })
-            {
-                shared.add(&mut keys, contact, q, order);
+            if let Some(u) = b.kind.geometry(&self.mech, self.ctx.n) {
+                shared.add(&mut keys, u.contact, &b.vars[u.q], u.order + extra);
             }
         }
         for b in &self.gradient_blocks {
-            if let ScalarKind::ContactWork { contact } = b.kind {
-                let order = if hessian { 3 } else { 2 };
-                shared.add(&mut keys, contact, &b.vars[..self.ctx.n], order);
+            if let Some(u) = b.kind.geometry(&self.mech, self.ctx.n) {
+                shared.add(&mut keys, u.contact, &b.vars[u.q], u.order + extra);
             }
         }
         shared.keys = keys;
@@ -388,149 +337,107 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         }
     }
 
+    /// Whether `b`'s closed-form derivatives are used (`set_contact_chain_rule(false)` asks
+    /// for generic AD except where the kind says otherwise).
+    fn closed_form(&self, b: &Block<ScalarKind>) -> bool {
+        self.contact_derivatives == ContactDerivatives::ChainRule || b.kind.always_closed_form()
+    }
+
+    fn eval_at<'a>(&'a self, b: &'a Block<ScalarKind>) -> Eval<'a, M> {
+        Eval {
+            mech: &self.mech,
+            ctx: &self.ctx,
+            block: b,
+            skip_fixed: self.skip_fixed,
+        }
+    }
+
     /// Gradient of a gradient block at z (the DEL-row values).
-    pub(super) fn gradient_block_gradient(
-        &self,
-        b: &Block<ScalarKind>,
-        z: &[f64],
-        contacts: ContactDerivatives,
-    ) -> Vec<f64> {
-        if b.kind == ScalarKind::Segment {
-            return self.mech.segment_gradient(z);
-        }
-        if let ScalarKind::ContactWork { contact } = b.kind
-            && contacts == ContactDerivatives::ChainRule
+    pub(super) fn gradient_block_gradient(&self, b: &Block<ScalarKind>, z: &[f64]) -> Vec<f64> {
+        if self.closed_form(b)
+            && let Some(g) = b.kind.gradient(&self.eval_at(b), z)
         {
-            return contact_work_gradient(&self.mech, &self.ctx.contact, contact, z);
-        }
-        if b.kind == ScalarKind::LoopWork && contacts == ContactDerivatives::ChainRule {
-            return loop_work_gradient(&self.mech, z);
+            return g;
         }
         gradient(&self.scalar_fn(b), z).1
     }
 
-    /// Hessian of a gradient block at z (the model's adjoint path for Ld when it has one).
+    /// Hessian of a gradient block at z (the Jacobian of its rows), from a shared contact
+    /// geometry when given.
     pub(super) fn gradient_block_hessian(
         &self,
         b: &Block<ScalarKind>,
         z: &[f64],
-        contacts: ContactDerivatives,
+        geometry: Option<&ContactGeometry>,
     ) -> DMatrix<f64> {
-        if b.kind == ScalarKind::Segment {
-            if let Some(groups) = &b.second_derivative_groups {
-                return self.mech.segment_gradient_hessian_grouped(z, groups).1;
-            }
-            return self.mech.segment_gradient_hessian(z).1;
+        if let Some(h) = geometry.and_then(|g| b.kind.hessian_in(g, z)) {
+            return h;
         }
-        if let ScalarKind::ContactWork { contact } = b.kind
-            && contacts == ContactDerivatives::ChainRule
+        if self.closed_form(b)
+            && let Some(h) = b.kind.hessian(&self.eval_at(b), z)
         {
-            return contact_work_hessian(&self.mech, &self.ctx.contact, contact, z);
-        }
-        if b.kind == ScalarKind::LoopWork && contacts == ContactDerivatives::ChainRule {
-            return loop_work_hessian(&self.mech, z);
+            return h;
         }
         gradient_hessian(&self.scalar_fn(b), z).2
     }
 
-    /// Hessian and contracted third derivative of a gradient block at z.
+    /// Third derivative of a gradient block at z contracted with `dir` (the Hessian of its
+    /// rows weighted by `dir`), from a shared contact geometry when given.
     pub(super) fn gradient_block_third(
         &self,
         b: &Block<ScalarKind>,
         z: &[f64],
         dir: &[f64],
-        contacts: ContactDerivatives,
-    ) -> ThirdOrder {
-        if b.kind == ScalarKind::Segment {
-            if let Some(groups) = self.second_derivative_groups(b) {
-                return self.mech.segment_third_order_grouped(z, dir, groups);
-            }
-            let columns = self.skip_fixed.then_some(b.free_input_mask.as_slice());
-            return self.mech.segment_third_order(z, dir, columns);
+        geometry: Option<&ContactGeometry>,
+    ) -> DMatrix<f64> {
+        if let Some(w) = geometry.and_then(|g| b.kind.contracted_third_in(g, z, dir)) {
+            return w;
         }
-        if let ScalarKind::ContactWork { contact } = b.kind
-            && contacts == ContactDerivatives::ChainRule
-            && let Some((hessian, contracted)) =
-                contact_work_third(&self.mech, &self.ctx.contact, contact, z, dir)
+        if self.closed_form(b)
+            && let Some(third) = b.kind.third(&self.eval_at(b), z, dir)
         {
-            return ThirdOrder {
-                value: 0.0,
-                gradient: Vec::new(),
-                hessian,
-                contracted,
-            };
+            return third.contracted;
         }
-        if b.kind == ScalarKind::LoopWork && contacts == ContactDerivatives::ChainRule {
-            return loop_work_third(&self.mech, z, dir);
-        }
-        gradient_hessian_third(&self.scalar_fn(b), z, dir)
+        let third: ThirdOrder = gradient_hessian_third(&self.scalar_fn(b), z, dir);
+        third.contracted
     }
 
-    /// Jacobian of a vector block at z (chain-rule assembly for the tangential rates).
+    /// Jacobian of a vector block at z, from a shared contact geometry when given.
     pub(super) fn vector_block_jacobian(
         &self,
         b: &Block<VectorKind>,
         z: &[f64],
-        contacts: ContactDerivatives,
+        geometry: Option<&ContactGeometry>,
     ) -> DMatrix<f64> {
-        if contacts == ContactDerivatives::ChainRule {
-            match &b.kind {
-                &VectorKind::TangentialRate { contact } => {
-                    return tangential_rate_jacobian(&self.mech, &self.ctx.contact, contact, z);
-                }
-                VectorKind::Complementarity { contacts, slacks } => {
-                    return complementarity_jacobian(&self.ctx.contact, contacts, *slacks, z);
-                }
-                &VectorKind::Distance { contact } => {
-                    return distance_jacobian(&self.mech, &self.ctx.contact, contact, z, false);
-                }
-                &VectorKind::ContactGap { contact } => {
-                    return distance_jacobian(&self.mech, &self.ctx.contact, contact, z, true);
-                }
-                VectorKind::LoopClosure => return loop_closure_jacobian(&self.mech, z),
-                _ => {}
-            }
+        if let Some(j) = geometry.and_then(|g| b.kind.jacobian_in(g, z)) {
+            return j;
+        }
+        if self.contact_derivatives == ContactDerivatives::ChainRule
+            && let Some(j) = b.kind.jacobian(&self.mech, &self.ctx, z)
+        {
+            return j;
         }
         jacobian(&self.vector_fn(b), z).1
     }
 
-    /// Σ_r w_r ∇²f_r of a vector block at z (chain-rule assembly for the tangential rates).
+    /// Σ_r w_r ∇²f_r of a vector block at z, from a shared contact geometry when given.
     pub(super) fn vector_block_hessian(
         &self,
         b: &Block<VectorKind>,
         z: &[f64],
         w: &[f64],
-        contacts: ContactDerivatives,
+        geometry: Option<&ContactGeometry>,
     ) -> DMatrix<f64> {
-        if contacts == ContactDerivatives::ChainRule {
-            match &b.kind {
-                // A rolling contact's rate has no chain rule: generic AD below, over the
-                // block's Hessian inputs only.
-                &VectorKind::TangentialRate { contact } if !self.mech.contact_rolls(contact) => {
-                    return tangential_rate_hessian(&self.mech, &self.ctx.contact, contact, z, w);
-                }
-                VectorKind::Complementarity { contacts, .. } => {
-                    return complementarity_hessian(&self.ctx.contact, contacts, z.len(), w);
-                }
-                &VectorKind::Distance { contact } => {
-                    return distance_hessian(
-                        &self.mech,
-                        &self.ctx.contact,
-                        contact,
-                        z,
-                        w[0],
-                        false,
-                    );
-                }
-                &VectorKind::ContactGap { contact } => {
-                    return distance_hessian(&self.mech, &self.ctx.contact, contact, z, w[0], true);
-                }
-                VectorKind::LoopClosure => return loop_closure_hessian(&self.mech, z, w),
-                _ => {}
-            }
+        if let Some(h) = geometry.and_then(|g| b.kind.hessian_in(g, z, w)) {
+            return h;
+        }
+        if self.contact_derivatives == ContactDerivatives::ChainRule
+            && let Some(h) = b.kind.hessian(&self.mech, &self.ctx, z, w)
+        {
+            return h;
         }
         let f = self.vector_fn(b);
-        let inputs = self.hessian_inputs(b);
+        let inputs = b.hessian_inputs_for(self.skip_fixed);
         if inputs.len() == b.nonlinear {
             return weighted_hessian(&f, z, w);
         }
@@ -542,32 +449,12 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         expand_hessian(&weighted_hessian(&r, &r.point(), w), inputs, z.len())
     }
 
-    /// The inputs a generic-AD Hessian of `b` runs over: those in the Hessian pattern, less
-    /// the fixed variables when [`Transcription::set_skip_fixed_variables`] is on.
-    pub(super) fn hessian_inputs<'b, K>(&self, b: &'b Block<K>) -> &'b [usize] {
-        if self.skip_fixed {
-            &b.hessian_free_inputs
-        } else {
-            &b.hessian_inputs
-        }
-    }
-
-    /// The column groups of `b`'s second derivative for the inputs its Hessian runs over
-    /// (the free ones when [`Transcription::set_skip_fixed_variables`] is on), if any.
-    fn second_derivative_groups<'b, K>(&self, b: &'b Block<K>) -> Option<&'b SymmetricGroups> {
-        if self.skip_fixed {
-            b.free_second_derivative_groups.as_deref()
-        } else {
-            b.second_derivative_groups.as_deref()
-        }
-    }
-
     /// Hessian of a cost block at z, over the inputs in the Hessian pattern only (columns
     /// seeded by groups where its dependency pattern allows).
     pub(super) fn cost_block_hessian(&self, b: &Block<ScalarKind>, z: &[f64]) -> DMatrix<f64> {
         let f = self.scalar_fn(b);
-        let inputs = self.hessian_inputs(b);
-        if let Some(groups) = self.second_derivative_groups(b) {
+        let inputs = b.hessian_inputs_for(self.skip_fixed);
+        if let Some(groups) = b.groups_for(self.skip_fixed) {
             let r = Restricted {
                 f: &f,
                 at: z,
@@ -640,42 +527,6 @@ enum Callback {
     Hessian,
 }
 
-/// The (contact, configuration variables, order) a vector block's chain-rule derivatives read
-/// in `callback`: the tangential rate at qb (a rolling contact's rate has no chain rule), the
-/// distance and the gap at q.
-fn geometry_need<'v>(
-    kind: &VectorKind,
-    vars: &'v [usize],
-    n: usize,
-    callback: Callback,
-    rolls: impl Fn(usize) -> bool,
-) -> Option<(usize, &'v [usize], usize)> {
-    let hessian = callback == Callback::Hessian;
-    let (contact, q) = geometry_site(kind, vars, n)?;
-    match *kind {
-        VectorKind::TangentialRate { .. } if rolls(contact) => None,
-        VectorKind::TangentialRate { .. } => Some((contact, q, if hessian { 3 } else { 2 })),
-        _ => Some((contact, q, if hessian { 2 } else { 1 })),
-    }
-}
-
-/// The contact and the configuration variables (qb for the tangential rate, q for the
-/// distance and the gap) at which a vector block of `kind` over `vars` reads a contact's
-/// geometry; `None` for other blocks.
-fn geometry_site<'v>(
-    kind: &VectorKind,
-    vars: &'v [usize],
-    n: usize,
-) -> Option<(usize, &'v [usize])> {
-    match *kind {
-        VectorKind::TangentialRate { contact } => Some((contact, &vars[n..2 * n])),
-        VectorKind::Distance { contact } | VectorKind::ContactGap { contact } => {
-            Some((contact, &vars[..n]))
-        }
-        _ => None,
-    }
-}
-
 /// (contact, configuration variables, order) of a shared contact geometry.
 type GeometryKey<'a> = (usize, &'a [usize], usize);
 
@@ -728,29 +579,14 @@ impl<'a> SharedGeometries<'a> {
         (key.1 == q).then(|| self.cells[i].get_or_init(|| build(key)))
     }
 
-    /// The geometry a vector block of `kind` over `vars` reads, if shared.
+    /// The shared geometry a block over `vars` reads where it declares `geometry`, if any.
     fn get(
         &self,
-        kind: &VectorKind,
+        geometry: Option<GeometryUse>,
         vars: &[usize],
-        n: usize,
         build: &(dyn Fn(GeometryKey<'a>) -> ContactGeometry<'a> + Sync),
     ) -> Option<&ContactGeometry<'a>> {
-        let (contact, q) = geometry_site(kind, vars, n)?;
-        self.lookup(contact, q, build)
-    }
-
-    /// The geometry a contact-work block over `vars` reads, if shared.
-    fn get_scalar(
-        &self,
-        kind: &ScalarKind,
-        vars: &[usize],
-        n: usize,
-        build: &(dyn Fn(GeometryKey<'a>) -> ContactGeometry<'a> + Sync),
-    ) -> Option<&ContactGeometry<'a>> {
-        let ScalarKind::ContactWork { contact } = *kind else {
-            return None;
-        };
-        self.lookup(contact, &vars[..n], build)
+        let u = geometry?;
+        self.lookup(u.contact, &vars[u.q], build)
     }
 }

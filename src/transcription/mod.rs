@@ -4,12 +4,13 @@
 //! given as [`Mechanics`] (with [`MechanicsDerivatives`]); its value methods assemble exact
 //! sparse derivatives from per-block derivatives.
 //!
-//! Where things are: `layout` (variable and row indices), `blocks` (what each block computes:
-//! dynamics pieces from `discrete::del`, contact rows from `crate::contact`; cost terms, one file each, are
+//! Where things are: `layout` (variable and row indices), `blocks` (each block kind in its own
+//! file: its value and closed-form derivatives; dynamics pieces from `discrete::del`, contact
+//! rows from `crate::contact`; cost terms, one file each, are
 //! `crate::problem::costs`), `placement` (which blocks exist and what they read and write), `structure` (sparsity patterns), `start`
 //! (bounds, initial guess, warm start), `evaluate` (values and derivatives), `program` (the
 //! [`Transcription`] itself), `nlp` (the Ipopt callbacks' adapter), `solve` (solving a problem
-//! file's NLP, slack continuation), `robot` (a problem's URDF mechanics).
+//! file's NLP, slack continuation; the entry point is `crate::pipeline::solve`), `robot` (a problem's URDF mechanics).
 
 mod blocks;
 mod derivative_check;
@@ -30,7 +31,7 @@ mod verdict;
 pub use crate::discrete::{
     Mechanics, MechanicsDerivatives, ModelMechanics, contact_jet_by_autodiff,
 };
-pub use blocks::{Context, ScalarKind, VectorKind};
+pub use blocks::Context;
 pub use derivative_check::{DerivativeCheck, DerivativeKind, EntryCheck};
 pub use error::TranscriptionError;
 pub use layout::{Dims, EntryNames, Layout};
@@ -38,10 +39,8 @@ pub use nlp::{Progress, ProgressFn, TranscriptionNlp};
 pub use pattern::{Pattern, PatternBuilder};
 pub use program::{InitialGuessReport, Transcription};
 pub use solution::{NlpSize, Solution};
-pub use solve::{
-    BenchRow, MultiStart, PERTURBATION, SolveOptions, StartRecord, bench, bench_with,
-    evaluate_initial_guess, solve, solve_with,
-};
+pub use solve::{BenchRow, MultiStart, PERTURBATION, SolveOptions, StartRecord};
+pub(crate) use solve::{bench_with, solve_with};
 pub use verdict::{
     DEFAULT_SLACK_TOLERANCE, RELAXED_CONTACT, RowViolation, SlackPeak, SolveVerdict,
 };

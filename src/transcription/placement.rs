@@ -2,7 +2,11 @@
 //! reads (its local input z = x[vars]) and which rows each output adds into.
 
 use super::Transcription;
-use super::blocks::{Block, ScalarKind, VectorKind};
+use super::blocks::{
+    Block, Complementarity, Constraint, ContactWork, Cost, Distance, EqualStep, EulerKnot,
+    FrictionCone, HalfForce, InitialMomentum, LoopClosure, LoopWork, ScalarKind, Segment,
+    SpinFriction, TangentialRate, TangentialSlack, VectorKind,
+};
 use super::layout::Layout;
 use crate::discrete::{Integrator, MechanicsDerivatives};
 use crate::problem::constraints::{ConstraintInput, KnotRef};
@@ -52,7 +56,7 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                 let targets = dyn_rows.iter().map(|&r| vec![r]).collect();
                 let len = vars.len();
                 let mut block = Block::new(
-                    VectorKind::EulerKnot { first_step: j == 0 },
+                    VectorKind::EulerKnot(EulerKnot { first_step: j == 0 }),
                     vars,
                     len,
                     targets,
@@ -75,8 +79,12 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                 }
                 targets.push(vec![]);
                 let len = vars.len();
-                self.gradient_blocks
-                    .push(Block::new(ScalarKind::Segment, vars, len, targets));
+                self.gradient_blocks.push(Block::new(
+                    ScalarKind::Segment(Segment),
+                    vars,
+                    len,
+                    targets,
+                ));
 
                 if self.mech.has_discrete_force() {
                     let mut vars = range_vec(l.q(j));
@@ -94,15 +102,19 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                         })
                         .collect();
                     let len = vars.len();
-                    self.vector_blocks
-                        .push(Block::new(VectorKind::HalfForce, vars, len, targets));
+                    self.vector_blocks.push(Block::new(
+                        VectorKind::HalfForce(HalfForce),
+                        vars,
+                        len,
+                        targets,
+                    ));
                 }
                 if j == 0 {
                     let mut vars = range_vec(l.q(0));
                     vars.extend(l.v0());
                     let targets = dyn_rows.iter().map(|&r| vec![r]).collect();
                     self.vector_blocks.push(Block::new(
-                        VectorKind::InitialMomentum,
+                        VectorKind::InitialMomentum(InitialMomentum),
                         vars,
                         2 * n,
                         targets,
@@ -123,7 +135,7 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                 if self.mech.contact_rolls(i) {
                     let rows = dyn_rows.iter().map(|&r| vec![r]).collect();
                     let mut block = Block::new(
-                        VectorKind::SpinFriction { contact: i },
+                        VectorKind::SpinFriction(SpinFriction { contact: i }),
                         vars.clone(),
                         len,
                         rows,
@@ -131,8 +143,12 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                     block.linear_from = n;
                     self.vector_blocks.push(block);
                 }
-                let mut block =
-                    Block::new(ScalarKind::ContactWork { contact: i }, vars, len, targets);
+                let mut block = Block::new(
+                    ScalarKind::ContactWork(ContactWork { contact: i }),
+                    vars,
+                    len,
+                    targets,
+                );
                 block.linear_from = n;
                 self.gradient_blocks.push(block);
             }
@@ -141,12 +157,12 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                 vars.extend(l.gamma(j));
                 let len = vars.len();
                 let targets = q_next_targets(nl);
-                let mut block = Block::new(ScalarKind::LoopWork, vars, len, targets);
+                let mut block = Block::new(ScalarKind::LoopWork(LoopWork), vars, len, targets);
                 block.linear_from = n;
                 self.gradient_blocks.push(block);
                 let targets = l.loop_rows(j).map(|r| vec![r]).collect();
                 self.vector_blocks.push(Block::new(
-                    VectorKind::LoopClosure,
+                    VectorKind::LoopClosure(LoopClosure),
                     range_vec(l.q(j + 1)),
                     n,
                     targets,
@@ -159,7 +175,7 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                 let tangential: Vec<Vec<usize>> =
                     l.tangential_rows(j, i).map(|r| vec![r]).collect();
                 self.vector_blocks.push(Block::new(
-                    VectorKind::TangentialRate { contact: i },
+                    VectorKind::TangentialRate(TangentialRate { contact: i }),
                     vars,
                     2 * n + 1,
                     tangential.clone(),
@@ -167,13 +183,16 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                 let mut vars = vec![l.psi(j, i)];
                 vars.extend(l.eta(j, i));
                 self.vector_blocks.push(Block::new(
-                    VectorKind::TangentialSlack,
+                    VectorKind::TangentialSlack(TangentialSlack),
                     vars,
                     0,
                     tangential,
                 ));
                 self.vector_blocks.push(Block::new(
-                    VectorKind::Distance { contact: i },
+                    VectorKind::Distance(Distance {
+                        contact: i,
+                        gap: false,
+                    }),
                     range_vec(l.q(j + 1)),
                     n,
                     vec![vec![l.distance_row(j, i)]],
@@ -181,7 +200,7 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                 let mut vars = vec![l.c(j, i)];
                 vars.extend(l.beta(j, i));
                 self.vector_blocks.push(Block::new(
-                    VectorKind::FrictionCone { contact: i },
+                    VectorKind::FrictionCone(FrictionCone { contact: i }),
                     vars,
                     0,
                     vec![vec![l.cone_row(j, i)]],
@@ -221,7 +240,10 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                     let mut vars = range_vec(l.q(j + 1));
                     vars.push(l.c(j, i));
                     self.vector_blocks.push(Block::new(
-                        VectorKind::ContactGap { contact: i },
+                        VectorKind::Distance(Distance {
+                            contact: i,
+                            gap: true,
+                        }),
                         vars,
                         n + 1,
                         vec![vec![block_rows[1]]],
@@ -231,10 +253,10 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                 vars.extend(own);
                 let targets = block_rows.iter().map(|&r| vec![r]).collect();
                 self.vector_blocks.push(Block::new(
-                    VectorKind::Complementarity {
+                    VectorKind::Complementarity(Complementarity {
                         contacts,
                         slacks: num_slacks,
-                    },
+                    }),
                     vars,
                     nonlinear,
                     targets,
@@ -244,7 +266,7 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         if l.equal_steps {
             for j in 0..l.knots - 2 {
                 self.vector_blocks.push(Block::new(
-                    VectorKind::EqualStep,
+                    VectorKind::EqualStep(EqualStep),
                     vec![l.h(j), l.h(j + 1)],
                     0,
                     vec![vec![l.equal_step_row(j)]],
@@ -254,7 +276,7 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         if nl > 0 {
             let targets = l.first_loop_rows().map(|r| vec![r]).collect();
             self.vector_blocks.push(Block::new(
-                VectorKind::LoopClosure,
+                VectorKind::LoopClosure(LoopClosure),
                 range_vec(l.q(0)),
                 n,
                 targets,
@@ -269,7 +291,7 @@ impl<M: MechanicsDerivatives> Transcription<M> {
             row += targets.len();
             let len = vars.len();
             self.vector_blocks.push(Block::new(
-                VectorKind::Constraint { index },
+                VectorKind::Constraint(Constraint { index }),
                 vars,
                 len,
                 targets,
@@ -279,7 +301,7 @@ impl<M: MechanicsDerivatives> Transcription<M> {
             let declared = costs::declaration(cost);
             for vars in cost_placements(l, declared.inputs) {
                 let nonlinear = if declared.linear { 0 } else { vars.len() };
-                let kind = ScalarKind::Cost { term };
+                let kind = ScalarKind::Cost(Cost { term });
                 self.cost_blocks
                     .push(Block::new(kind, vars, nonlinear, vec![]));
             }

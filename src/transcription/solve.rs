@@ -1,17 +1,15 @@
-//! Solving a problem: load the robot, build the transcription, run Ipopt, fill a
-//! [`Solution`]; plus the initial-guess report and the benchmark row.
+//! Solving a problem's NLP: build the transcription, run Ipopt (multi-start, slack
+//! continuation), fill a [`Solution`]; plus the benchmark row. The entry point is
+//! [`crate::pipeline::solve`], which loads the robot and resolves the initial guess first.
 
 use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
-use super::blocks::VectorKind;
 use super::nlp::{ProgressFn, TranscriptionNlp};
 use super::{
-    InitialGuessReport, MechanicsDerivatives, ModelMechanics, NlpSize, Solution, SolveVerdict,
-    Transcription, TranscriptionError,
+    MechanicsDerivatives, NlpSize, Solution, SolveVerdict, Transcription, TranscriptionError,
 };
-use crate::autodiff::VectorFunction;
 use crate::ipopt::{self, Multipliers, Solver};
 use crate::problem::{HessianMode, OptionValue, ProblemSpec, SlackRestart};
 
@@ -97,27 +95,6 @@ pub struct BenchRow {
     pub derivative_eval_s: f64,
 }
 
-fn load_mechanics(spec: &ProblemSpec) -> Result<ModelMechanics, TranscriptionError> {
-    ModelMechanics::load(spec)
-}
-
-/// Solve `spec` (robot from its URDF).
-pub fn solve(spec: &ProblemSpec, options: &SolveOptions) -> Result<Solution, TranscriptionError> {
-    solve_with(load_mechanics(spec)?, spec, options)
-}
-
-/// SPEC.md's values at the initial guess for `spec` (robot from its URDF).
-pub fn evaluate_initial_guess(
-    spec: &ProblemSpec,
-) -> Result<InitialGuessReport, TranscriptionError> {
-    Ok(Transcription::new(load_mechanics(spec)?, spec)?.initial_guess_report())
-}
-
-/// Benchmark `spec`: sizes, one derivative evaluation, and a full solve.
-pub fn bench(spec: &ProblemSpec) -> Result<BenchRow, TranscriptionError> {
-    bench_with(load_mechanics(spec)?, spec)
-}
-
 fn configure(spec: &ProblemSpec, options: &SolveOptions) -> Result<Solver, TranscriptionError> {
     let mut solver = Solver::new();
     for (name, value) in spec.solver_options.iter().chain(&options.ipopt_options) {
@@ -133,8 +110,10 @@ fn configure(spec: &ProblemSpec, options: &SolveOptions) -> Result<Solver, Trans
     Ok(solver)
 }
 
-/// Solve `spec` for the given mechanics (e.g. closed-form test robots).
-pub fn solve_with<M: MechanicsDerivatives>(
+/// Solve `spec` for the given mechanics with its initial guess as it stands (a simulated guess
+/// held at q_1): the solve behind [`crate::pipeline::solve_with`], which resolves the guess
+/// first and is the entry point.
+pub(crate) fn solve_with<M: MechanicsDerivatives>(
     mech: M,
     spec: &ProblemSpec,
     options: &SolveOptions,
@@ -345,8 +324,9 @@ fn solve_transcription<M: MechanicsDerivatives>(
     Ok(solution)
 }
 
-/// Benchmark with the given mechanics.
-pub fn bench_with<M: MechanicsDerivatives>(
+/// Benchmark with the given mechanics and the initial guess as it stands: the benchmark behind
+/// [`crate::pipeline::bench_with`], which resolves the guess first and is the entry point.
+pub(crate) fn bench_with<M: MechanicsDerivatives>(
     mech: M,
     spec: &ProblemSpec,
 ) -> Result<BenchRow, TranscriptionError> {
@@ -417,19 +397,7 @@ fn restartable(status: ipopt::Status) -> bool {
 /// Signed distance φ_i(q) of every contact at q.
 fn distances<M: MechanicsDerivatives>(t: &Transcription<M>, q: &[f64]) -> Vec<f64> {
     (0..t.layout().nc)
-        .map(|i| {
-            let kind = VectorKind::Distance { contact: i };
-            let f = super::blocks::VectorBlockFn {
-                mech: t.mechanics(),
-                ctx: t.context(),
-                kind: &kind,
-                dim_in: q.len(),
-                dim_out: 1,
-            };
-            let mut out = [0.0];
-            f.eval(q, &mut out);
-            out[0]
-        })
+        .map(|i| crate::contact::distance(t.mechanics(), &t.context().contact, i, q))
         .collect()
 }
 

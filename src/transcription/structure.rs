@@ -20,7 +20,7 @@ use std::sync::Arc;
 use num_dual::Dual;
 
 use super::Transcription;
-use super::blocks::{Block, ScalarKind};
+use super::blocks::Block;
 use super::evaluate::gather;
 use super::pattern::PatternBuilder;
 use crate::autodiff::{ScalarFunction, SymmetricGroups, VectorFunction};
@@ -307,8 +307,8 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         }
         let translations = self.mech.translation_coordinates();
         for (b, (jmask, _)) in self.gradient_blocks.iter_mut().zip(&structure.gradient) {
-            if b.kind == ScalarKind::Segment {
-                // The segment's rows are the gradient of Ld: their Jacobian mask is the
+            if b.kind.segment_groups() {
+                // A segment's rows are the gradient of Ld: their Jacobian mask is the
                 // pattern of the Hessian of Ld.
                 let all = vec![true; b.vars.len()];
                 b.second_derivative_groups = groups.segment(jmask, &all, &translations);

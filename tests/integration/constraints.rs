@@ -4,8 +4,9 @@
 use std::path::{Path, PathBuf};
 
 use vito::discrete::ModelMechanics;
+use vito::pipeline::solve;
 use vito::problem::{LoadedProblem, ProblemError, load_from_str};
-use vito::transcription::{SolveOptions, Transcription, solve};
+use vito::transcription::{SolveOptions, Transcription};
 
 fn hopper_file() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/hopper_2d.toml")

@@ -1,29 +1,70 @@
-//! Constraint and cost blocks: small dense functions of a few NLP variables.
+//! Constraint and cost blocks: small dense functions of a few NLP variables, one kind per file.
 //!
 //! Each block reads its local vector z = x[vars] and is either a *vector* block (outputs
-//! that add into constraint rows; derivatives by `jacobian` and `weighted_hessian`), a
-//! *gradient* block (a scalar whose gradient components add into rows, like the DEL
-//! equations, which are sums of gradients of Ld; derivatives by the third-order driver),
-//! or a *cost* block (a scalar added to the objective; each term's value is in
-//! `transcription/costs/`). The dynamics blocks evaluate the DEL pieces of `discrete::del`,
-//! the contact blocks the contact rows of `crate::contact`.
+//! that add into constraint rows, [`RowBlock`]), a *gradient* block (a scalar whose gradient
+//! components add into rows, like the DEL equations, which are sums of gradients of Ld,
+//! [`GradientBlock`]), or a *cost* block (a scalar added to the objective, the gradient kind
+//! [`cost::Cost`]; each term's value is in `crate::problem::costs`).
+//!
+//! A kind's file holds all of it: its value (generic over the scalar, so that the structure
+//! is traced from its dependencies by `structure` and generic AD differentiates it), and its
+//! closed-form derivatives where it has them (the trait methods left at their default `None`
+//! fall back to generic forward AD). The dynamics kinds evaluate the DEL pieces of
+//! `discrete::del`, the contact kinds the contact rows of `crate::contact`.
+//!
+//! To add a kind: a file here with its type implementing [`RowBlock`] or [`GradientBlock`],
+//! its line in the `vector_kinds!` or `gradient_kinds!` list below, and its placement (which
+//! variables it reads and which rows it adds into) in `placement`.
 
+mod complementarity;
+mod constraint;
+mod contact_work;
+pub(crate) mod cost;
+mod distance;
+mod equal_step;
+mod euler_knot;
+mod friction_cone;
+mod half_force;
+mod initial_momentum;
+mod loop_closure;
+mod loop_work;
 mod loops;
+mod segment;
+mod spin_friction;
+mod tangential_rate;
+mod tangential_slack;
 
-pub(crate) use loops::{
+pub(crate) use complementarity::Complementarity;
+pub(crate) use constraint::Constraint;
+pub(crate) use contact_work::ContactWork;
+pub(crate) use cost::Cost;
+pub(crate) use distance::Distance;
+pub(crate) use equal_step::EqualStep;
+pub(crate) use euler_knot::EulerKnot;
+pub(crate) use friction_cone::FrictionCone;
+pub(crate) use half_force::HalfForce;
+pub(crate) use initial_momentum::InitialMomentum;
+pub(crate) use loop_closure::LoopClosure;
+pub(crate) use loop_work::LoopWork;
+pub(crate) use segment::Segment;
+pub(crate) use spin_friction::SpinFriction;
+pub(crate) use tangential_rate::TangentialRate;
+pub(crate) use tangential_slack::TangentialSlack;
+
+use loops::{
     loop_closure_hessian, loop_closure_jacobian, loop_work_gradient, loop_work_hessian,
     loop_work_third,
 };
 
+use std::ops::Range;
 use std::sync::Arc;
 
-use crate::autodiff::{ScalarFunction, SymmetricGroups, VectorFunction};
-use crate::contact::{self, ContactModel};
-use crate::discrete::{
-    Mechanics, SegmentLagrangian, euler_knot, half_force, initial_momentum, loop_work,
-};
-use crate::problem::costs::{CostSizes, cost_value};
-use crate::problem::{Constraint, CostTerm, Integrator, ProblemSpec};
+use nalgebra::DMatrix;
+
+use crate::autodiff::{ScalarFunction, SymmetricGroups, ThirdOrder, VectorFunction};
+use crate::contact::{ContactGeometry, ContactModel};
+use crate::discrete::{Mechanics, MechanicsDerivatives};
+use crate::problem::{Constraint as ProblemConstraint, CostTerm, Integrator, ProblemSpec};
 use crate::scalar::Scalar;
 
 /// Problem constants the block functions need besides the mechanics.
@@ -42,7 +83,7 @@ pub struct Context {
     /// The problem's cost terms (blocks refer to them by index).
     pub costs: Vec<CostTerm>,
     /// The problem file's constraints (blocks refer to them by index).
-    pub constraints: Vec<Constraint>,
+    pub constraints: Vec<ProblemConstraint>,
 }
 
 impl Context {
@@ -66,54 +107,343 @@ impl Context {
     }
 }
 
-/// What a vector block computes; z layouts in the comments.
-#[derive(Debug, Clone, PartialEq)]
-pub enum VectorKind {
-    /// ½Fd(qa, qb, u, h) (midpoint rows); z = [qa; qb; u; h].
-    HalfForce,
-    /// M(q_0)v_0 (midpoint first step); z = [q_0; v_0].
-    InitialMomentum,
-    /// Semi-implicit Euler residual at a knot (eq. 1); z = [v_0; q_0; q_1; h_0; u_0] when
-    /// `first_step`, else [q_{k−1}; q_k; q_{k+1}; h_{k−1}; h_k; u_k].
-    EulerKnot { first_step: bool },
-    /// ±P_i(qb)(qb − qa)/h (tangential-velocity rows, nonlinear part); z = [qa; qb; h].
-    TangentialRate { contact: usize },
-    /// ψ e − η (tangential-velocity rows, linear part); z = [ψ; η].
-    TangentialSlack,
-    /// The spin part of a rolling sphere's friction impulse in the DEL rows (its friction
-    /// directions are no gradient, so it is not in [`ScalarKind::ContactWork`]); z = [q; c_i;
-    /// β_i], out length n.
-    SpinFriction { contact: usize },
-    /// −c_i φ_i(q) (the c·φ complementarity row's product); z = [q; c_i].
-    ContactGap { contact: usize },
-    /// φ_i(q); z = [q].
-    Distance { contact: usize },
-    /// μ c − eᵀβ; z = [c; β].
-    FrictionCone { contact: usize },
-    /// The relaxed products ηᵀβ and ψ(μc − eᵀβ) of the listed contacts with the slacks;
-    /// z = [(c, β, ψ, η) per contact; slacks (0: added by another block, 1 shared, or 3)].
-    Complementarity { contacts: Vec<usize>, slacks: usize },
-    /// a(q); z = [q].
-    LoopClosure,
-    /// h_a − h_b; z = [h_a; h_b].
-    EqualStep,
-    /// The rows of the problem file's constraint `index` (`problem::constraints`); z as it
-    /// declares.
-    Constraint { index: usize },
+/// Where a block's chain-rule derivatives read a contact's geometry ([`ContactGeometry`]:
+/// K(q) = [φ, t] and its derivatives), so that the blocks at one configuration share it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct GeometryUse {
+    /// The contact.
+    pub contact: usize,
+    /// The configuration's inputs in z.
+    pub q: Range<usize>,
+    /// The derivative order of the geometry the block's first derivatives (its Jacobian
+    /// rows) need; its second derivatives (the Hessian) need one more.
+    pub order: usize,
 }
 
-/// What a gradient (or cost) block computes.
-#[derive(Debug, Clone, PartialEq)]
-pub enum ScalarKind {
-    /// Midpoint Ld(qa, qb, h); z = [qa; qb; h].
-    Segment,
-    /// c_i φ_i(q) + β_iᵀ P_i t_i(q), whose q-gradient is contact i's J(q)ᵀλ (with
-    /// [`VectorKind::SpinFriction`] for a rolling sphere); z = [q; c_i; β_i].
-    ContactWork { contact: usize },
-    /// γᵀa(q), whose q-gradient is A(q)ᵀγ; z = [q; γ].
-    LoopWork,
-    /// Cost term `term` of the problem on one interval (or the last knot); z per term.
-    Cost { term: usize },
+/// One kind of vector block: the rows it adds into the constraints, and their derivatives.
+pub trait RowBlock {
+    /// Its name in `Transcription::derivative_time_by_kind`.
+    const NAME: &'static str;
+    /// The name of this block (its kind's [`RowBlock::NAME`] unless the kind has variants).
+    fn name(&self) -> &'static str {
+        Self::NAME
+    }
+    /// Its outputs at z (one per target of the block).
+    fn value<D: Scalar, M: Mechanics>(&self, mech: &M, ctx: &Context, z: &[D], out: &mut [D]);
+    /// Where its chain-rule derivatives read a contact's geometry (`None`: they read none).
+    fn geometry<M: Mechanics>(&self, _mech: &M, _n: usize) -> Option<GeometryUse> {
+        None
+    }
+    /// Its Jacobian from the geometry of [`RowBlock::geometry`].
+    fn jacobian_in(&self, _geometry: &ContactGeometry, _z: &[f64]) -> Option<DMatrix<f64>> {
+        None
+    }
+    /// Σ_r w_r ∇²f_r from the geometry of [`RowBlock::geometry`].
+    fn hessian_in(
+        &self,
+        _geometry: &ContactGeometry,
+        _z: &[f64],
+        _w: &[f64],
+    ) -> Option<DMatrix<f64>> {
+        None
+    }
+    /// Its Jacobian in closed form (`None`: generic forward AD).
+    fn jacobian<M: MechanicsDerivatives>(
+        &self,
+        _mech: &M,
+        _ctx: &Context,
+        _z: &[f64],
+    ) -> Option<DMatrix<f64>> {
+        None
+    }
+    /// Σ_r w_r ∇²f_r in closed form (`None`: generic forward AD over the block's Hessian
+    /// inputs).
+    fn hessian<M: MechanicsDerivatives>(
+        &self,
+        _mech: &M,
+        _ctx: &Context,
+        _z: &[f64],
+        _w: &[f64],
+    ) -> Option<DMatrix<f64>> {
+        None
+    }
+}
+
+/// What a gradient block's closed-form derivatives see besides z.
+pub struct Eval<'a, M> {
+    /// Robot mechanics.
+    pub mech: &'a M,
+    /// Problem constants.
+    pub ctx: &'a Context,
+    /// The block.
+    pub block: &'a Block<ScalarKind>,
+    /// Whether the Hessian entries of fixed variables are left out
+    /// (`Transcription::set_skip_fixed_variables`).
+    pub skip_fixed: bool,
+}
+
+/// One kind of gradient block: a scalar whose gradient components add into rows (or, for a
+/// cost, into the objective), and its derivatives.
+pub trait GradientBlock {
+    /// Its name in `Transcription::derivative_time_by_kind`.
+    const NAME: &'static str;
+    /// Whether its closed forms are used also when `set_contact_chain_rule(false)` asks for
+    /// generic AD (the mechanics' own derivatives, not a chain rule that switch compares).
+    const ALWAYS_CLOSED_FORM: bool = false;
+    /// Whether its second derivative's columns are grouped as a midpoint segment's
+    /// ([`crate::discrete::midpoint_segment_groups`]).
+    const SEGMENT_GROUPS: bool = false;
+    /// Its value at z.
+    fn value<D: Scalar, M: Mechanics>(&self, mech: &M, ctx: &Context, z: &[D]) -> D;
+    /// Where its chain-rule derivatives read a contact's geometry (`None`: they read none).
+    fn geometry<M: Mechanics>(&self, _mech: &M, _n: usize) -> Option<GeometryUse> {
+        None
+    }
+    /// Its Hessian (the Jacobian of its rows) from the geometry of
+    /// [`GradientBlock::geometry`].
+    fn hessian_in(&self, _geometry: &ContactGeometry, _z: &[f64]) -> Option<DMatrix<f64>> {
+        None
+    }
+    /// Its third derivative contracted with `dir` from the geometry of
+    /// [`GradientBlock::geometry`] (`None`: not for this direction).
+    fn contracted_third_in(
+        &self,
+        _geometry: &ContactGeometry,
+        _z: &[f64],
+        _dir: &[f64],
+    ) -> Option<DMatrix<f64>> {
+        None
+    }
+    /// Its gradient (the rows' values) in closed form (`None`: generic forward AD).
+    fn gradient<M: MechanicsDerivatives>(&self, _at: &Eval<M>, _z: &[f64]) -> Option<Vec<f64>> {
+        None
+    }
+    /// Its Hessian in closed form (`None`: generic forward AD).
+    fn hessian<M: MechanicsDerivatives>(&self, _at: &Eval<M>, _z: &[f64]) -> Option<DMatrix<f64>> {
+        None
+    }
+    /// Its Hessian and third derivative contracted with `dir` in closed form (`None`:
+    /// generic forward AD; only the Hessian and the contraction need be filled).
+    fn third<M: MechanicsDerivatives>(
+        &self,
+        _at: &Eval<M>,
+        _z: &[f64],
+        _dir: &[f64],
+    ) -> Option<ThirdOrder> {
+        None
+    }
+}
+
+/// The list of vector kinds: `Variant in module`; `module::Variant` implements [`RowBlock`].
+/// Generates [`VectorKind`] and its dispatch.
+macro_rules! vector_kinds {
+    ($($variant:ident in $module:ident),* $(,)?) => {
+        /// What a vector block computes (one kind per file; z layouts there).
+        #[derive(Debug, Clone, PartialEq)]
+        pub enum VectorKind {
+            $(
+                #[allow(missing_docs)]
+                $variant($variant),
+            )*
+        }
+
+        $(impl From<$variant> for VectorKind {
+            fn from(kind: $variant) -> Self {
+                VectorKind::$variant(kind)
+            }
+        })*
+
+        impl VectorKind {
+            /// See [`RowBlock::name`].
+            pub fn name(&self) -> &'static str {
+                match self {
+                    $(VectorKind::$variant(k) => k.name(),)*
+                }
+            }
+            /// See [`RowBlock::value`].
+            pub fn value<D: Scalar, M: Mechanics>(
+                &self,
+                mech: &M,
+                ctx: &Context,
+                z: &[D],
+                out: &mut [D],
+            ) {
+                match self {
+                    $(VectorKind::$variant(k) => k.value(mech, ctx, z, out),)*
+                }
+            }
+            /// See [`RowBlock::geometry`].
+            pub fn geometry<M: Mechanics>(&self, mech: &M, n: usize) -> Option<GeometryUse> {
+                match self {
+                    $(VectorKind::$variant(k) => k.geometry(mech, n),)*
+                }
+            }
+            /// See [`RowBlock::jacobian_in`].
+            pub fn jacobian_in(&self, g: &ContactGeometry, z: &[f64]) -> Option<DMatrix<f64>> {
+                match self {
+                    $(VectorKind::$variant(k) => k.jacobian_in(g, z),)*
+                }
+            }
+            /// See [`RowBlock::hessian_in`].
+            pub fn hessian_in(
+                &self,
+                g: &ContactGeometry,
+                z: &[f64],
+                w: &[f64],
+            ) -> Option<DMatrix<f64>> {
+                match self {
+                    $(VectorKind::$variant(k) => k.hessian_in(g, z, w),)*
+                }
+            }
+            /// See [`RowBlock::jacobian`].
+            pub fn jacobian<M: MechanicsDerivatives>(
+                &self,
+                mech: &M,
+                ctx: &Context,
+                z: &[f64],
+            ) -> Option<DMatrix<f64>> {
+                match self {
+                    $(VectorKind::$variant(k) => k.jacobian(mech, ctx, z),)*
+                }
+            }
+            /// See [`RowBlock::hessian`].
+            pub fn hessian<M: MechanicsDerivatives>(
+                &self,
+                mech: &M,
+                ctx: &Context,
+                z: &[f64],
+                w: &[f64],
+            ) -> Option<DMatrix<f64>> {
+                match self {
+                    $(VectorKind::$variant(k) => k.hessian(mech, ctx, z, w),)*
+                }
+            }
+        }
+    };
+}
+
+/// The list of gradient kinds (costs included): `Variant in module`; `module::Variant`
+/// implements [`GradientBlock`]. Generates [`ScalarKind`] and its dispatch.
+macro_rules! gradient_kinds {
+    ($($variant:ident in $module:ident),* $(,)?) => {
+        /// What a gradient (or cost) block computes (one kind per file; z layouts there).
+        #[derive(Debug, Clone, PartialEq)]
+        pub enum ScalarKind {
+            $(
+                #[allow(missing_docs)]
+                $variant($variant),
+            )*
+        }
+
+        $(impl From<$variant> for ScalarKind {
+            fn from(kind: $variant) -> Self {
+                ScalarKind::$variant(kind)
+            }
+        })*
+
+        impl ScalarKind {
+            /// See [`GradientBlock::NAME`].
+            pub fn name(&self) -> &'static str {
+                match self {
+                    $(ScalarKind::$variant(_) => <$variant as GradientBlock>::NAME,)*
+                }
+            }
+            /// See [`GradientBlock::ALWAYS_CLOSED_FORM`].
+            pub fn always_closed_form(&self) -> bool {
+                match self {
+                    $(ScalarKind::$variant(_) => <$variant as GradientBlock>::ALWAYS_CLOSED_FORM,)*
+                }
+            }
+            /// See [`GradientBlock::SEGMENT_GROUPS`].
+            pub fn segment_groups(&self) -> bool {
+                match self {
+                    $(ScalarKind::$variant(_) => <$variant as GradientBlock>::SEGMENT_GROUPS,)*
+                }
+            }
+            /// See [`GradientBlock::value`].
+            pub fn value<D: Scalar, M: Mechanics>(&self, mech: &M, ctx: &Context, z: &[D]) -> D {
+                match self {
+                    $(ScalarKind::$variant(k) => k.value(mech, ctx, z),)*
+                }
+            }
+            /// See [`GradientBlock::geometry`].
+            pub fn geometry<M: Mechanics>(&self, mech: &M, n: usize) -> Option<GeometryUse> {
+                match self {
+                    $(ScalarKind::$variant(k) => k.geometry(mech, n),)*
+                }
+            }
+            /// See [`GradientBlock::hessian_in`].
+            pub fn hessian_in(&self, g: &ContactGeometry, z: &[f64]) -> Option<DMatrix<f64>> {
+                match self {
+                    $(ScalarKind::$variant(k) => k.hessian_in(g, z),)*
+                }
+            }
+            /// See [`GradientBlock::contracted_third_in`].
+            pub fn contracted_third_in(
+                &self,
+                g: &ContactGeometry,
+                z: &[f64],
+                dir: &[f64],
+            ) -> Option<DMatrix<f64>> {
+                match self {
+                    $(ScalarKind::$variant(k) => k.contracted_third_in(g, z, dir),)*
+                }
+            }
+            /// See [`GradientBlock::gradient`].
+            pub fn gradient<M: MechanicsDerivatives>(
+                &self,
+                at: &Eval<M>,
+                z: &[f64],
+            ) -> Option<Vec<f64>> {
+                match self {
+                    $(ScalarKind::$variant(k) => k.gradient(at, z),)*
+                }
+            }
+            /// See [`GradientBlock::hessian`].
+            pub fn hessian<M: MechanicsDerivatives>(
+                &self,
+                at: &Eval<M>,
+                z: &[f64],
+            ) -> Option<DMatrix<f64>> {
+                match self {
+                    $(ScalarKind::$variant(k) => k.hessian(at, z),)*
+                }
+            }
+            /// See [`GradientBlock::third`].
+            pub fn third<M: MechanicsDerivatives>(
+                &self,
+                at: &Eval<M>,
+                z: &[f64],
+                dir: &[f64],
+            ) -> Option<ThirdOrder> {
+                match self {
+                    $(ScalarKind::$variant(k) => k.third(at, z, dir),)*
+                }
+            }
+        }
+    };
+}
+
+vector_kinds! {
+    HalfForce in half_force,
+    InitialMomentum in initial_momentum,
+    EulerKnot in euler_knot,
+    TangentialRate in tangential_rate,
+    TangentialSlack in tangential_slack,
+    SpinFriction in spin_friction,
+    Distance in distance,
+    FrictionCone in friction_cone,
+    Complementarity in complementarity,
+    LoopClosure in loop_closure,
+    EqualStep in equal_step,
+    Constraint in constraint,
+}
+
+gradient_kinds! {
+    Segment in segment,
+    ContactWork in contact_work,
+    LoopWork in loop_work,
+    Cost in cost,
 }
 
 /// Placement of one block: its variables and where its local outputs go.
@@ -151,6 +481,26 @@ pub struct Block<K> {
 }
 
 impl<K> Block<K> {
+    /// The inputs a generic-AD Hessian of the block runs over: those in the Hessian pattern,
+    /// less the fixed variables when `skip_fixed` (`Transcription::set_skip_fixed_variables`).
+    pub fn hessian_inputs_for(&self, skip_fixed: bool) -> &[usize] {
+        if skip_fixed {
+            &self.hessian_free_inputs
+        } else {
+            &self.hessian_inputs
+        }
+    }
+
+    /// The column groups of the block's second derivative for the inputs its Hessian runs
+    /// over (the free ones when `skip_fixed`), if any.
+    pub fn groups_for(&self, skip_fixed: bool) -> Option<&SymmetricGroups> {
+        if skip_fixed {
+            self.free_second_derivative_groups.as_deref()
+        } else {
+            self.second_derivative_groups.as_deref()
+        }
+    }
+
     /// Whether the lower Hessian pair (a, b ≤ a) of local inputs is in the pattern.
     pub fn has_hessian_pair(&self, a: usize, b: usize) -> bool {
         a < self.nonlinear && b < self.linear_from
@@ -197,35 +547,7 @@ impl<M: Mechanics> VectorFunction for VectorBlockFn<'_, M> {
         self.dim_out
     }
     fn eval<D: Scalar>(&self, z: &[D], out: &mut [D]) {
-        let (mech, ctx) = (self.mech, self.ctx);
-        let model = &ctx.contact;
-        match self.kind {
-            VectorKind::HalfForce => half_force(mech, z, out),
-            VectorKind::InitialMomentum => initial_momentum(mech, z, out),
-            VectorKind::EulerKnot { first_step } => euler_knot(mech, *first_step, z, out),
-            VectorKind::TangentialRate { contact } => {
-                contact::tangential_rate(mech, model, *contact, z, out)
-            }
-            VectorKind::TangentialSlack => contact::tangential_slack(z, out),
-            VectorKind::SpinFriction { contact } => {
-                contact::spin_friction(mech, model, *contact, z, out)
-            }
-            VectorKind::ContactGap { contact } => {
-                out[0] = contact::contact_gap(mech, model, *contact, z)
-            }
-            VectorKind::Distance { contact } => {
-                out[0] = contact::distance(mech, model, *contact, z)
-            }
-            VectorKind::FrictionCone { contact } => {
-                out[0] = contact::friction_cone(model, *contact, z)
-            }
-            VectorKind::Complementarity { contacts, slacks } => {
-                contact::complementarity(model, contacts, *slacks, z, out)
-            }
-            VectorKind::LoopClosure => mech.loop_residual(z, out),
-            VectorKind::EqualStep => out[0] = z[0] - z[1],
-            VectorKind::Constraint { index } => ctx.constraints[*index].value(mech, z, out),
-        }
+        self.kind.value(self.mech, self.ctx, z, out)
     }
 }
 
@@ -246,17 +568,6 @@ impl<M: Mechanics> ScalarFunction for ScalarBlockFn<'_, M> {
         self.dim
     }
     fn eval<D: Scalar>(&self, z: &[D]) -> D {
-        let (mech, ctx) = (self.mech, self.ctx);
-        match self.kind {
-            ScalarKind::Segment => SegmentLagrangian { mech }.eval(z),
-            ScalarKind::ContactWork { contact } => {
-                contact::contact_work(mech, &ctx.contact, *contact, z)
-            }
-            ScalarKind::LoopWork => loop_work(mech, z),
-            ScalarKind::Cost { term } => {
-                let sizes = CostSizes { n: ctx.n, m: ctx.m };
-                cost_value(&ctx.costs[*term], sizes, z)
-            }
-        }
+        self.kind.value(self.mech, self.ctx, z)
     }
 }

@@ -1,0 +1,77 @@
+//! c_i φ_i(q) + β_iᵀ P_i t_i(q), whose q-gradient is contact i's impulse J(q)ᵀλ in the DEL
+//! rows (with [`super::SpinFriction`] for a rolling sphere); z = [q; c_i; β_i]. Chain rule
+//! through the contact point's jet at q (shared with the other blocks there).
+
+use nalgebra::DMatrix;
+
+use super::{Context, Eval, GeometryUse, GradientBlock};
+use crate::autodiff::ThirdOrder;
+use crate::contact::{
+    self, ContactGeometry, contact_work_gradient, contact_work_hessian, contact_work_hessian_in,
+    contact_work_third, contact_work_third_in,
+};
+use crate::discrete::{Mechanics, MechanicsDerivatives};
+use crate::scalar::Scalar;
+
+/// Contact `contact`'s work.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ContactWork {
+    /// The contact.
+    pub contact: usize,
+}
+
+impl GradientBlock for ContactWork {
+    const NAME: &'static str = "ContactWork";
+    fn value<D: Scalar, M: Mechanics>(&self, mech: &M, ctx: &Context, z: &[D]) -> D {
+        contact::contact_work(mech, &ctx.contact, self.contact, z)
+    }
+    fn geometry<M: Mechanics>(&self, _: &M, n: usize) -> Option<GeometryUse> {
+        Some(GeometryUse {
+            contact: self.contact,
+            q: 0..n,
+            order: 2,
+        })
+    }
+    fn hessian_in(&self, geometry: &ContactGeometry, z: &[f64]) -> Option<DMatrix<f64>> {
+        Some(contact_work_hessian_in(geometry, z))
+    }
+    fn contracted_third_in(
+        &self,
+        geometry: &ContactGeometry,
+        z: &[f64],
+        dir: &[f64],
+    ) -> Option<DMatrix<f64>> {
+        contact_work_third_in(geometry, z, dir).map(|(_, contracted)| contracted)
+    }
+    fn gradient<M: MechanicsDerivatives>(&self, at: &Eval<M>, z: &[f64]) -> Option<Vec<f64>> {
+        Some(contact_work_gradient(
+            at.mech,
+            &at.ctx.contact,
+            self.contact,
+            z,
+        ))
+    }
+    fn hessian<M: MechanicsDerivatives>(&self, at: &Eval<M>, z: &[f64]) -> Option<DMatrix<f64>> {
+        Some(contact_work_hessian(
+            at.mech,
+            &at.ctx.contact,
+            self.contact,
+            z,
+        ))
+    }
+    fn third<M: MechanicsDerivatives>(
+        &self,
+        at: &Eval<M>,
+        z: &[f64],
+        dir: &[f64],
+    ) -> Option<ThirdOrder> {
+        let (hessian, contracted) =
+            contact_work_third(at.mech, &at.ctx.contact, self.contact, z, dir)?;
+        Some(ThirdOrder {
+            value: 0.0,
+            gradient: Vec::new(),
+            hessian,
+            contracted,
+        })
+    }
+}

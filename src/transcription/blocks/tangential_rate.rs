@@ -1,0 +1,66 @@
+//! ±P_i(qb)(qb − qa)/h, the nonlinear part of contact i's tangential-velocity rows; z = [qa;
+//! qb; h]. Chain rule through the contact point's jet at qb (shared with the other blocks
+//! there); a rolling contact's rate by generic AD ([`crate::contact::tangential_rate`]).
+
+use nalgebra::DMatrix;
+
+use super::{Context, GeometryUse, RowBlock};
+use crate::contact::{
+    self, ContactGeometry, tangential_rate_hessian, tangential_rate_hessian_in,
+    tangential_rate_jacobian, tangential_rate_jacobian_in,
+};
+use crate::discrete::{Mechanics, MechanicsDerivatives};
+use crate::scalar::Scalar;
+
+/// Contact `contact`'s tangential rate.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TangentialRate {
+    /// The contact.
+    pub contact: usize,
+}
+
+impl RowBlock for TangentialRate {
+    const NAME: &'static str = "TangentialRate";
+    fn value<D: Scalar, M: Mechanics>(&self, mech: &M, ctx: &Context, z: &[D], out: &mut [D]) {
+        contact::tangential_rate(mech, &ctx.contact, self.contact, z, out)
+    }
+    /// The geometry at qb, except for a rolling contact, whose rate has no chain rule.
+    fn geometry<M: Mechanics>(&self, mech: &M, n: usize) -> Option<GeometryUse> {
+        (!mech.contact_rolls(self.contact)).then_some(GeometryUse {
+            contact: self.contact,
+            q: n..2 * n,
+            order: 2,
+        })
+    }
+    fn jacobian_in(&self, geometry: &ContactGeometry, z: &[f64]) -> Option<DMatrix<f64>> {
+        Some(tangential_rate_jacobian_in(geometry, z))
+    }
+    fn hessian_in(&self, geometry: &ContactGeometry, z: &[f64], w: &[f64]) -> Option<DMatrix<f64>> {
+        Some(tangential_rate_hessian_in(geometry, z, w))
+    }
+    fn jacobian<M: MechanicsDerivatives>(
+        &self,
+        mech: &M,
+        ctx: &Context,
+        z: &[f64],
+    ) -> Option<DMatrix<f64>> {
+        Some(tangential_rate_jacobian(
+            mech,
+            &ctx.contact,
+            self.contact,
+            z,
+        ))
+    }
+    /// A rolling contact's rate has no chain rule: generic AD, over the block's Hessian
+    /// inputs only.
+    fn hessian<M: MechanicsDerivatives>(
+        &self,
+        mech: &M,
+        ctx: &Context,
+        z: &[f64],
+        w: &[f64],
+    ) -> Option<DMatrix<f64>> {
+        (!mech.contact_rolls(self.contact))
+            .then(|| tangential_rate_hessian(mech, &ctx.contact, self.contact, z, w))
+    }
+}
