@@ -11,10 +11,10 @@
 use std::path::Path;
 use std::time::Instant;
 
+use vito::files::trajectory_csv::RecordedTrajectory;
 use vito::pipeline::{PreparedSimulation, SimulateRequest, prepare_simulation, run_simulation};
 use vito::problem::load;
 use vito::sim::InputSource;
-use vito::trajectory_csv::RecordedTrajectory;
 use vito::transcription::SolveOptions;
 
 /// Nanoseconds this thread has spent on a CPU (Linux), if readable.

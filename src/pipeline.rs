@@ -32,7 +32,7 @@ pub fn solve(spec: &ProblemSpec, options: &SolveOptions) -> Result<Solution, Tra
 }
 
 /// `spec` with a simulated initial guess run into the warm start it stands for
-/// ([`crate::simulated_guess`]); every other guess as it is.
+/// ([`crate::sim::guess`]); every other guess as it is.
 pub fn resolve_initial_guess<'a>(
     mech: &ModelMechanics,
     spec: &'a ProblemSpec,
@@ -40,7 +40,7 @@ pub fn resolve_initial_guess<'a>(
     let InitialGuess::Simulation(guess) = &spec.initial_guess else {
         return Ok(Cow::Borrowed(spec));
     };
-    let start = crate::simulated_guess::simulate_guess(mech, spec, guess).map_err(|e| {
+    let start = crate::sim::guess::simulate_guess(mech, spec, guess).map_err(|e| {
         TranscriptionError::Invalid {
             field: "initial_guess.simulation".into(),
             message: format!("the simulation of the initial guess failed: {e}"),
@@ -110,7 +110,7 @@ pub fn point_from_trajectory<M: MechanicsDerivatives>(
     contacts: &[String],
     text: &str,
 ) -> Result<Vec<f64>, String> {
-    use crate::trajectory_csv::{friction_direction_names, read_csv, read_trajectory};
+    use crate::files::trajectory_csv::{friction_direction_names, read_csv, read_trajectory};
     let l = nlp.layout();
     let recorded = read_trajectory(text, &robot.coordinates, &robot.inputs)?;
     if recorded.times.len() != l.knots {
@@ -226,7 +226,7 @@ pub fn prepare_simulation(
     let spec = &problem.spec;
     let positive = |field: &str, value: Option<f64>| -> Result<Option<f64>, TranscriptionError> {
         value
-            .map(|x| crate::input::checked_span(field, x).map_err(|m| invalid(field, m)))
+            .map(|x| crate::files::input::checked_span(field, x).map_err(|m| invalid(field, m)))
             .transpose()
     };
     let duration = positive("--duration", request.duration)?;
@@ -239,14 +239,16 @@ pub fn prepare_simulation(
     let robot = &problem.robot;
     let read = |path: &Path| -> Result<_, TranscriptionError> {
         let text =
-            crate::input::read_regular_text(path, crate::input::MAX_TEXT_BYTES).map_err(|e| {
-                invalid(
-                    "--inputs/--track",
-                    format!("cannot read {}: {e}", path.display()),
-                )
-            })?;
-        let r = crate::trajectory_csv::read_trajectory(&text, &robot.coordinates, &robot.inputs)
-            .map_err(|m| invalid("--inputs/--track", format!("{}: {m}", path.display())))?;
+            crate::files::input::read_regular_text(path, crate::files::input::MAX_TEXT_BYTES)
+                .map_err(|e| {
+                    invalid(
+                        "--inputs/--track",
+                        format!("cannot read {}: {e}", path.display()),
+                    )
+                })?;
+        let r =
+            crate::files::trajectory_csv::read_trajectory(&text, &robot.coordinates, &robot.inputs)
+                .map_err(|m| invalid("--inputs/--track", format!("{}: {m}", path.display())))?;
         // Replayed or fed forward, the inputs are the file's: every one needs its column.
         if r.u.is_empty() && !robot.inputs.is_empty() {
             return Err(invalid(
@@ -254,7 +256,7 @@ pub fn prepare_simulation(
                 format!(
                     "{} has no column for every input (u_<name> for {})",
                     path.display(),
-                    crate::names::list_names(&robot.inputs, 12)
+                    crate::files::names::list_names(&robot.inputs, 12)
                 ),
             ));
         }
@@ -376,7 +378,7 @@ pub fn parse_gains(
             GainError::Value => invalid(format!("`{text}`: gains must be finite and ≥ 0")),
             GainError::UnknownInput => invalid(format!(
                 "`{name}` is not an input of the robot (inputs: {})",
-                crate::names::list_names(&robot.inputs, 24)
+                crate::files::names::list_names(&robot.inputs, 24)
             )),
             GainError::NoCoordinate(input) => invalid(format!(
                 "input `{input}` acts on no coordinate of that name"

@@ -711,8 +711,10 @@ impl Simulation {
     /// The Python object, with its `trajectory.csv` text in the base class.
     fn into_py(self, py: Python<'_>) -> PyResult<Py<Simulation>> {
         let units = report::column_units(&self.problem.robot, &self.problem.units);
-        let csv =
-            vito::trajectory_csv::write_trajectory(&self.columns.trajectory(&self.sim), &units);
+        let csv = vito::files::trajectory_csv::write_trajectory(
+            &self.columns.trajectory(&self.sim),
+            &units,
+        );
         Py::new(
             py,
             PyClassInitializer::from(Trajectory { csv }).add_subclass(self),
@@ -999,7 +1001,7 @@ fn _sweep(
 /// the package sets before it loads the library.
 #[pyfunction]
 fn pinned_coretype() -> Option<&'static str> {
-    vito::blas_kernels::coretype()
+    vito::ipopt::blas_kernels::coretype()
 }
 
 /// The native module `vito._vito`; the package `vito` re-exports it.

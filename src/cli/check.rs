@@ -103,8 +103,9 @@ pub(super) fn check_derivatives(
     let x = match at {
         None => nlp.initial_point().to_vec(),
         Some(path) => {
-            let text = vito::input::read_regular_text(path, vito::input::MAX_TEXT_BYTES)
-                .map_err(|e| CliError::Input(format!("{}: {e}", path.display())))?;
+            let text =
+                vito::files::input::read_regular_text(path, vito::files::input::MAX_TEXT_BYTES)
+                    .map_err(|e| CliError::Input(format!("{}: {e}", path.display())))?;
             pipeline::point_from_trajectory(&nlp, &p.robot, &contacts, &text)
                 .map_err(|e| CliError::Input(format!("{}: {e}", path.display())))?
         }

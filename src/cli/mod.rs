@@ -72,7 +72,7 @@ static OUTPUT_FAILED: AtomicBool = AtomicBool::new(false);
 /// Writes one line to stderr (see [`note!`]).
 pub(crate) fn write_stderr(line: &str) {
     let mut stderr = std::io::stderr().lock();
-    if writeln!(stderr, "{}", vito::names::escape_controls(line))
+    if writeln!(stderr, "{}", vito::files::names::escape_controls(line))
         .and_then(|()| stderr.flush())
         .is_err()
     {
@@ -83,8 +83,8 @@ pub(crate) fn write_stderr(line: &str) {
 /// Writes one line to stdout (see [`out!`]).
 fn write_stdout(line: &str) -> Result<(), CliError> {
     let mut stdout = std::io::stdout().lock();
-    let result =
-        writeln!(stdout, "{}", vito::names::escape_controls(line)).and_then(|()| stdout.flush());
+    let result = writeln!(stdout, "{}", vito::files::names::escape_controls(line))
+        .and_then(|()| stdout.flush());
     result.map_err(|e| {
         exit_quietly_on_broken_pipe(&e);
         OUTPUT_FAILED.store(true, Ordering::SeqCst);

@@ -43,13 +43,13 @@ pub(super) fn bench(files: &[PathBuf], set: &[String], casadi: bool) -> Result<u
         (true, false) => {
             Err("left out: --set changes the NLP the CasADi script implements".to_owned())
         }
-        (true, true) => vito::independent::Independent::locate(),
+        (true, true) => vito::regress::independent::Independent::locate(),
     };
     let mut side_by_side = Vec::new();
     for p in &problems {
         let r = pipeline::bench(&p.spec).map_err(CliError::Transcription)?;
         if let Ok(ind) = &independent
-            && vito::independent::PROBLEMS.contains(&p.spec.name.as_str())
+            && vito::regress::independent::PROBLEMS.contains(&p.spec.name.as_str())
         {
             side_by_side.push((r.clone(), ind.bench(&p.spec.name)));
         }
@@ -84,7 +84,7 @@ pub(super) fn bench(files: &[PathBuf], set: &[String], casadi: bool) -> Result<u
 fn print_side_by_side(
     rows: &[(
         vito::transcription::BenchRow,
-        Result<vito::independent::IndependentRow, String>,
+        Result<vito::regress::independent::IndependentRow, String>,
     )],
 ) -> Result<(), CliError> {
     out!(

@@ -17,11 +17,11 @@ pub(super) fn init(urdf: &Path, base: BaseType, out: Option<&Path>) -> Result<u8
     let model = vito::model::Model::from_urdf_file(urdf, base)
         .map_err(|e| CliError::Input(vito::model::describe(urdf, &e)))?;
     let urdf_text = match out {
-        Some(_) => vito::paths::reference_from(urdf, out),
+        Some(_) => vito::files::paths::reference_from(urdf, out),
         // Printed: relative to the file stdout goes to, when it is one; else absolute, so
         // that the text names the URDF wherever it is saved.
         None => match stdout_file() {
-            Some(file) => vito::paths::reference_from(urdf, Some(&file)),
+            Some(file) => vito::files::paths::reference_from(urdf, Some(&file)),
             None => std::path::absolute(urdf)
                 .unwrap_or_else(|_| urdf.to_owned())
                 .display()
@@ -34,7 +34,7 @@ pub(super) fn init(urdf: &Path, base: BaseType, out: Option<&Path>) -> Result<u8
         None => {
             let mut stdout = std::io::stdout().lock();
             let written = stdout
-                .write_all(vito::names::escape_controls(&text).as_bytes())
+                .write_all(vito::files::names::escape_controls(&text).as_bytes())
                 .and_then(|()| stdout.flush());
             if let Err(e) = written {
                 exit_quietly_on_broken_pipe(&e);

@@ -21,7 +21,7 @@ pub(super) fn sweep(args: SweepRunArgs) -> Result<u8, CliError> {
         .unwrap_or(Shard::ALL);
     let time_limit = args
         .time_limit
-        .map(|t| vito::input::checked_span("--time-limit", t))
+        .map(|t| vito::files::input::checked_span("--time-limit", t))
         .transpose()
         .map_err(CliError::Input)?
         .map(std::time::Duration::from_secs_f64);
@@ -166,7 +166,7 @@ impl SweepDisplay {
     }
 
     fn line(&self, text: &str) {
-        let text = vito::names::escape_controls(text);
+        let text = vito::files::names::escape_controls(text);
         match &self.bar {
             Some(bar) => bar.println(text),
             None => eprintln!("{text}"),

@@ -18,7 +18,7 @@
 //! after + impulses*, so that contact impulses enter as `+ J(q_{k+1})ᵀ λ_k` and loop-closure
 //! impulses as `+ G(q_{k+1})ᵀ ν_k`, with G = ∂ loop_residual / ∂q.
 //!
-//! Every function of configurations is generic over [`crate::scalar::Scalar`]; the structs
+//! Every function of configurations is generic over [`crate::autodiff::Scalar`]; the structs
 //! ([`MidpointSegment`], [`DiscreteForce`], [`InitialMomentum`], [`EulerKnotResidual`],
 //! [`LoopClosure`], [`MidpointKnotResidual`]) wrap them as [`crate::autodiff`] functions of one
 //! flat input vector, whose layout each documents.

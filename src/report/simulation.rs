@@ -5,9 +5,9 @@
 use serde_json::{Value, json};
 
 use crate::discrete::Integrator;
+use crate::files::trajectory_csv::Trajectory;
 use crate::problem::LoadedProblem;
 use crate::sim::Simulation;
-use crate::trajectory_csv::Trajectory;
 
 /// The owned columns of a simulation's trajectory file.
 #[derive(Debug, Clone)]

@@ -15,9 +15,9 @@ use std::path::{Path, PathBuf};
 
 use super::{Method, StudyError, StudyTable, table_order};
 use crate::discrete::Mechanics;
+use crate::files::trajectory_csv::RecordedTrajectory;
 use crate::problem::{InitialGuess, Override, TimeSteps, WarmStart, load};
 use crate::sim::{InputSource, Simulation, SimulationOptions, StepOptions, simulate};
-use crate::trajectory_csv::RecordedTrajectory;
 use crate::transcription::{SolveOptions, SolveVerdict};
 
 /// The header of `tracking_plans.csv`.

@@ -17,6 +17,7 @@ pub(crate) use loops::{
 
 use std::sync::Arc;
 
+use crate::autodiff::Scalar;
 use crate::autodiff::{ScalarFunction, SymmetricGroups, VectorFunction};
 use crate::contact::{self, ContactModel};
 use crate::discrete::{
@@ -24,7 +25,6 @@ use crate::discrete::{
 };
 use crate::problem::costs::{CostSizes, cost_value};
 use crate::problem::{Constraint, CostTerm, Integrator, ProblemSpec};
-use crate::scalar::Scalar;
 
 /// Problem constants the block functions need besides the mechanics.
 #[derive(Debug, Clone)]

@@ -2,9 +2,11 @@
 //! Ipopt solve per process, DESIGN.md), compare the objectives with the record, and rewrite
 //! the record atomically when blessing.
 
+pub mod independent;
+
 use std::path::{Path, PathBuf};
 
-use crate::paths::relative_path;
+use crate::files::paths::relative_path;
 use crate::report::{
     DEFAULT_TOLERANCE, GoldenEntry, GoldenError, GoldenRecord, objective_matches, slack_matches,
 };
