@@ -95,7 +95,7 @@ fn contact_derivative_times_and_agreement() {
 /// read the "LinearSystemFactorization" line against the factorisation count. Run:
 /// `cargo bench --bench contact_derivatives`.
 fn ipopt_timing_statistics() {
-    use vito::problem::OptionValue;
+    use vito::ipopt::OptionValue;
     use vito::transcription::{SolveOptions, solve};
     for spec in [hopper_2d(), brick_3d()] {
         let options = SolveOptions {

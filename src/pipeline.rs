@@ -71,7 +71,6 @@ pub fn bench(spec: &ProblemSpec) -> Result<BenchRow, TranscriptionError> {
 /// typo in `[solver.ipopt]` is an input error naming its line, before any solve.
 pub fn check_solver_options(problem: &LoadedProblem) -> Result<(), ProblemError> {
     for (name, value) in &problem.spec.solver_options {
-        let value = ipopt::OptionValue::from(value);
         ipopt::Solver::new()
             .set_option(name, value)
             .map_err(|e| problem.field_error(&format!("solver.ipopt.{name}"), e.to_string()))?;

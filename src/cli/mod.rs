@@ -12,11 +12,10 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use clap::{Parser, Subcommand, ValueEnum};
 
+use vito::ipopt::OptionValue;
 use vito::model::BaseType;
 use vito::pipeline;
-use vito::problem::{
-    LoadedProblem, OptionValue, Override, ProblemError, RobotInfo, TimeSteps, load,
-};
+use vito::problem::{LoadedProblem, Override, ProblemError, RobotInfo, TimeSteps, load};
 use vito::report::{self, status_name};
 use vito::transcription::Solution;
 

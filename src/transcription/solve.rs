@@ -12,8 +12,8 @@ use super::{
     Transcription, TranscriptionError,
 };
 use crate::autodiff::VectorFunction;
-use crate::ipopt::{self, Multipliers, Solver};
-use crate::problem::{HessianMode, OptionValue, ProblemSpec, SlackRestart};
+use crate::ipopt::{self, Multipliers, OptionValue, Solver};
+use crate::problem::{HessianMode, ProblemSpec, SlackRestart};
 
 /// How to run a solve besides the problem itself.
 #[derive(Default)]

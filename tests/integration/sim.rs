@@ -202,7 +202,7 @@ fn contact_free_midpoint_is_the_discrete_step_and_conserves_energy() {
 /// over the first knots.
 #[test]
 fn replayed_hopper_plan_reproduces_its_states() {
-    use vito::problem::OptionValue;
+    use vito::ipopt::OptionValue;
     use vito::transcription::SolveOptions;
     let spec = reference::hopper_2d();
     let options = SolveOptions {

@@ -2,8 +2,9 @@
 
 use super::context::Context;
 use crate::ipopt;
+use crate::ipopt::OptionValue;
 use crate::problem::schema::ProblemFile;
-use crate::problem::{HessianMode, Integrator, OptionValue, ProblemError};
+use crate::problem::{HessianMode, Integrator, ProblemError};
 
 /// The checked `[solver]` section.
 pub(super) struct CheckedSolver {
@@ -46,9 +47,7 @@ pub(super) fn check_solver(
                 ));
             }
         };
-        let as_ipopt = ipopt::OptionValue::from(&v);
-        ipopt::check_problem_option(key, &as_ipopt)
-            .map_err(|e| ctx.invalid(&field, e.to_string()))?;
+        ipopt::check_problem_option(key, &v).map_err(|e| ctx.invalid(&field, e.to_string()))?;
         solver_options.push((key.clone(), v));
     }
     Ok(CheckedSolver {
