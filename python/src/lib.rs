@@ -876,13 +876,10 @@ fn simulate(
     };
     let integrator = match integrator.as_deref() {
         None => None,
-        Some("midpoint") => Some(vito::discrete::Integrator::Midpoint),
-        Some("euler") => Some(vito::discrete::Integrator::Euler),
-        Some(other) => {
-            return Err(VitoError::new_err(format!(
-                "integrator={other:?}: give \"midpoint\" or \"euler\""
-            )));
-        }
+        Some(name) => Some(
+            name.parse::<vito::discrete::Integrator>()
+                .map_err(|e| VitoError::new_err(format!("integrator={name:?}: {e}")))?,
+        ),
     };
     let request = pipeline::SimulateRequest {
         inputs: trajectory_path(inputs, &mut scratch, "inputs")?,

@@ -12,6 +12,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use clap::{Parser, Subcommand, ValueEnum};
 
+use vito::discrete::Integrator;
 use vito::ipopt::OptionValue;
 use vito::model::BaseType;
 use vito::pipeline;
@@ -169,20 +170,12 @@ impl BaseArg {
     }
 }
 
-/// Integrator choice on the command line.
-#[derive(Debug, Clone, Copy, ValueEnum)]
-pub enum IntegratorArg {
-    Midpoint,
-    Euler,
-}
-
-impl From<IntegratorArg> for vito::discrete::Integrator {
-    fn from(i: IntegratorArg) -> Self {
-        match i {
-            IntegratorArg::Midpoint => vito::discrete::Integrator::Midpoint,
-            IntegratorArg::Euler => vito::discrete::Integrator::Euler,
-        }
-    }
+/// `--integrator`: the names of [`Integrator::name`], listed in the help, parsed by
+/// Integrator's own `FromStr`.
+fn integrator_parser() -> impl clap::builder::TypedValueParser<Value = Integrator> {
+    use clap::builder::TypedValueParser;
+    clap::builder::PossibleValuesParser::new(Integrator::ALL.map(Integrator::name))
+        .try_map(|name| name.parse::<Integrator>())
 }
 
 /// PD feedback choice on the command line.
@@ -264,8 +257,8 @@ pub enum Command {
         #[arg(long)]
         rate: Option<f64>,
         /// Integrator (default: the problem's).
-        #[arg(long, value_enum)]
-        integrator: Option<IntegratorArg>,
+        #[arg(long, value_parser = integrator_parser())]
+        integrator: Option<Integrator>,
         /// Output directory (default: `out/<problem name>-simulate`).
         #[arg(long)]
         out: Option<PathBuf>,
@@ -682,7 +675,7 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
                 feedback: feedback.map(Into::into),
                 duration,
                 rate,
-                integrator: integrator.map(Into::into),
+                integrator,
             };
             simulate(&file, &set, &request, out.as_deref(), quiet)
         }

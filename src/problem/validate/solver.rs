@@ -18,12 +18,11 @@ pub(super) fn check_solver(
     raw: &ProblemFile,
 ) -> Result<CheckedSolver, ProblemError> {
     let integrator = match raw.solver.integrator.as_deref() {
-        None | Some("midpoint") => Integrator::Midpoint,
-        Some("euler") => Integrator::Euler,
-        Some(other) => {
-            let valid = ["midpoint", "euler"].map(String::from);
-            return Err(ctx.unknown_name("solver.integrator", "integrator", other, &valid));
-        }
+        None => Integrator::default(),
+        Some(name) => name.parse().map_err(|_| {
+            let valid = Integrator::ALL.map(|i| i.name().to_owned());
+            ctx.unknown_name("solver.integrator", "integrator", name, &valid)
+        })?,
     };
     let hessian = match raw.solver.hessian.as_deref() {
         None | Some("exact") => HessianMode::Exact,
