@@ -51,14 +51,6 @@ pub fn resolve_initial_guess<'a>(
     Ok(Cow::Owned(resolved))
 }
 
-/// The reference problems of SPEC.md, as `vito bench` runs them by default.
-pub const REFERENCE_PROBLEMS: [&str; 4] = [
-    "problems/hopper_2d.toml",
-    "problems/brick_3d.toml",
-    "problems/spring_flamingo_walk.toml",
-    "problems/littledog_step.toml",
-];
-
 /// Benchmarks `spec` (sizes, one derivative evaluation, a full solve) with the robot from its
 /// URDF.
 pub fn bench(spec: &ProblemSpec) -> Result<BenchRow, TranscriptionError> {

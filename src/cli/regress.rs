@@ -1,6 +1,7 @@
 //! `vito bench` and `vito regress`: timings and the regression record.
 
 use super::*;
+use vito::regress::reference;
 
 /// Prints one `transcription::bench` row per problem (sizes, solve and derivative times),
 /// then, where `casadi` asks for it and can, the same problems solved by the independent
@@ -9,10 +10,7 @@ use super::*;
 pub(super) fn bench(files: &[PathBuf], set: &[String], casadi: bool) -> Result<u8, CliError> {
     let overrides = parse_overrides(set)?;
     let files: Vec<PathBuf> = if files.is_empty() {
-        pipeline::REFERENCE_PROBLEMS
-            .iter()
-            .map(PathBuf::from)
-            .collect()
+        reference::NAMES.map(reference::file).to_vec()
     } else {
         files.to_vec()
     };
@@ -49,7 +47,7 @@ pub(super) fn bench(files: &[PathBuf], set: &[String], casadi: bool) -> Result<u
     for p in &problems {
         let r = pipeline::bench(&p.spec).map_err(CliError::Transcription)?;
         if let Ok(ind) = &independent
-            && vito::regress::independent::PROBLEMS.contains(&p.spec.name.as_str())
+            && reference::is_reference(&p.spec.name)
         {
             side_by_side.push((r.clone(), ind.bench(&p.spec.name)));
         }

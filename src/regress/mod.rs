@@ -3,6 +3,7 @@
 //! the record atomically when blessing.
 
 pub mod independent;
+pub mod reference;
 
 use std::path::{Path, PathBuf};
 
