@@ -1,6 +1,12 @@
 //! `vito sweep` and its `report` and `collect`.
 
-use super::*;
+use std::path::{Path, PathBuf};
+
+use vito::problem::load;
+
+use super::args::{SweepRunArgs, WarmStartArg, parse_overrides};
+use super::error::CliError;
+use super::interrupt::on_stop_request;
 
 pub(super) fn sweep(args: SweepRunArgs) -> Result<u8, CliError> {
     use vito::sweep::{Axis, Event, Grid, Shard, SweepOptions, WarmStart};

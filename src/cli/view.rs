@@ -1,6 +1,13 @@
 //! `vito view`: the animation page (and a strip as SVG) of existing result directories.
 
-use super::*;
+use std::path::{Path, PathBuf};
+
+use vito::problem::{LoadedProblem, load};
+use vito::report;
+
+use super::args::parse_overrides;
+use super::error::CliError;
+use super::output::print_model_warnings;
 
 /// A result directory read back: its summary and trajectory file.
 struct Result_ {

@@ -1,6 +1,14 @@
-//! `vito init` and `vito inspect`: a starter problem and a robot's summary from a URDF.
+//! `vito init`: a starter problem from a URDF.
 
-use super::*;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use vito::model::BaseType;
+use vito::problem::RobotInfo;
+use vito::report;
+
+use super::error::CliError;
+use super::output::exit_quietly_on_broken_pipe;
 
 /// The regular file standard output is redirected to, if it is one (Linux's /proc).
 pub(super) fn stdout_file() -> Option<PathBuf> {
@@ -61,20 +69,6 @@ pub(super) fn init(urdf: &Path, base: BaseType, out: Option<&Path>) -> Result<u8
             }
             note!("wrote {}", path.display());
         }
-    }
-    Ok(0)
-}
-
-pub(super) fn inspect(urdf: &Path, base: BaseType, json: bool) -> Result<u8, CliError> {
-    let model = vito::model::Model::from_urdf_file(urdf, base)
-        .map_err(|e| CliError::Input(vito::model::describe(urdf, &e)))?;
-    let inspection = vito::model::inspect(&model);
-    if json {
-        let text = serde_json::to_string_pretty(&inspection)
-            .map_err(|e| CliError::Internal(e.to_string()))?;
-        out!("{text}");
-    } else {
-        out!("{inspection}");
     }
     Ok(0)
 }
