@@ -95,8 +95,8 @@ fn contact_derivative_times_and_agreement() {
 /// read the "LinearSystemFactorization" line against the factorisation count. Run:
 /// `cargo bench --bench contact_derivatives`.
 fn ipopt_timing_statistics() {
+    use vito::ipopt::OptionValue;
     use vito::pipeline::solve;
-    use vito::problem::OptionValue;
     use vito::transcription::SolveOptions;
     for spec in [hopper_2d(), brick_3d()] {
         let options = SolveOptions {

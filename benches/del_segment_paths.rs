@@ -16,6 +16,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use num_dual::{Dual, Dual64, DualSVec, DualSVec64};
+use vito::autodiff::Scalar;
 use vito::autodiff::{
     ThirdOrder, gradient_hessian, gradient_hessian_third, jacobian, weighted_hessian,
 };
@@ -24,8 +25,7 @@ use vito::discrete::{
     midpoint_ld_gradient, midpoint_third_order_into,
 };
 use vito::model::{BaseType, Model, sample};
-use vito::scalar::Scalar;
-use vito::testing::SeededRng;
+use vito::random::SeededRng;
 
 fn robot(rel: &str, base: BaseType) -> Model {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))

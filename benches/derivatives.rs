@@ -8,7 +8,7 @@
 //!
 //! and, for scale, one plain `f64` evaluation of Ld.
 //!
-//! Inputs come from `vito::testing::SeededRng`, so runs are comparable.
+//! Inputs come from `vito::random::SeededRng`, so runs are comparable.
 //!
 //! Measured 2026-11-22 on the 2-core shared development VM (other sessions running, so ±50 %),
 //! `VITO_BENCH_MS=700`, µs per call (hess+third / hess / grad; plain f64 Ld):
@@ -32,7 +32,7 @@ use vito::autodiff::{
 };
 use vito::discrete::MidpointSegment;
 use vito::model::{BaseType, Model, sample};
-use vito::testing::SeededRng;
+use vito::random::SeededRng;
 
 /// Mean time per call of `f`, in µs, over at least 3 calls and about `budget`.
 fn time_us(budget: Duration, mut f: impl FnMut()) -> f64 {

@@ -11,10 +11,12 @@
 use std::path::Path;
 use std::time::Instant;
 
-use vito::pipeline::{PreparedSimulation, SimulateRequest, prepare_simulation, run_simulation};
+use vito::files::trajectory_csv::RecordedTrajectory;
+use vito::pipeline::simulation::{
+    PreparedSimulation, SimulateRequest, prepare_simulation, run_simulation,
+};
 use vito::problem::load;
 use vito::sim::InputSource;
-use vito::trajectory_csv::RecordedTrajectory;
 use vito::transcription::SolveOptions;
 
 /// Nanoseconds this thread has spent on a CPU (Linux), if readable.
@@ -68,7 +70,7 @@ fn main() {
         ..SimulateRequest::default()
     };
     let mut prepared = prepare_simulation(&problem, &request).unwrap_or_else(|e| panic!("{e}"));
-    let gains = vito::pipeline::parse_gains(&[], &["all=2,0.02".into()], &problem.robot)
+    let gains = vito::pipeline::gains::parse_gains(&[], &["all=2,0.02".into()], &problem.robot)
         .unwrap_or_else(|e| panic!("{e}"));
     let pose = problem.spec.q_initial.clone();
     prepared.source = InputSource::Track {

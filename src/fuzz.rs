@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use crate::model::{BaseType, Model};
-use crate::testing::SeededRng;
+use crate::random::SeededRng;
 
 /// A valid input to mutate: a problem file with its robot's URDF, or a URDF alone.
 #[derive(Debug, Clone)]

@@ -7,6 +7,6 @@ use clap::Parser;
 mod cli;
 
 fn main() -> ExitCode {
-    vito::blas_kernels::pin();
+    vito::ipopt::blas_kernels::pin();
     cli::run(cli::Args::parse())
 }

@@ -352,7 +352,7 @@ impl Problem {
                 Ok::<_, vito::transcription::TranscriptionError>((
                     nlp.size(),
                     nlp.layout().nd,
-                    pipeline::feasibility(s, &nlp),
+                    pipeline::feasibility::feasibility(s, &nlp),
                 ))
             })
             .map_err(|e| vito_error(&e))?;
@@ -430,7 +430,7 @@ impl Problem {
         };
         let target = match &out {
             Some(dir) => Some(
-                pipeline::checked_output_dir(&problem, Some(dir))
+                pipeline::output::checked_output_dir(&problem, Some(dir))
                     .map_err(|e| vito_error(&report::ReportError::from(e)))?,
             ),
             None => None,
@@ -679,7 +679,7 @@ impl Solution {
     /// atomically; only vito's own results or an empty directory are replaced. Returns the
     /// directory.
     fn write(&self, py: Python<'_>, dir: PathBuf) -> PyResult<PathBuf> {
-        let target = pipeline::checked_output_dir(&self.problem, Some(&dir))
+        let target = pipeline::output::checked_output_dir(&self.problem, Some(&dir))
             .map_err(|e| vito_error(&report::ReportError::from(e)))?;
         py.detach(|| self.write_to(target))
     }
@@ -711,8 +711,10 @@ impl Simulation {
     /// The Python object, with its `trajectory.csv` text in the base class.
     fn into_py(self, py: Python<'_>) -> PyResult<Py<Simulation>> {
         let units = report::column_units(&self.problem.robot, &self.problem.units);
-        let csv =
-            vito::trajectory_csv::write_trajectory(&self.columns.trajectory(&self.sim), &units);
+        let csv = vito::files::trajectory_csv::write_trajectory(
+            &self.columns.trajectory(&self.sim),
+            &units,
+        );
         Py::new(
             py,
             PyClassInitializer::from(Trajectory { csv }).add_subclass(self),
@@ -874,15 +876,12 @@ fn simulate(
     };
     let integrator = match integrator.as_deref() {
         None => None,
-        Some("midpoint") => Some(vito::discrete::Integrator::Midpoint),
-        Some("euler") => Some(vito::discrete::Integrator::Euler),
-        Some(other) => {
-            return Err(VitoError::new_err(format!(
-                "integrator={other:?}: give \"midpoint\" or \"euler\""
-            )));
-        }
+        Some(name) => Some(
+            name.parse::<vito::discrete::Integrator>()
+                .map_err(|e| VitoError::new_err(format!("integrator={name:?}: {e}")))?,
+        ),
     };
-    let request = pipeline::SimulateRequest {
+    let request = pipeline::simulation::SimulateRequest {
         inputs: trajectory_path(inputs, &mut scratch, "inputs")?,
         track: trajectory_path(track, &mut scratch, "track")?,
         gains,
@@ -892,7 +891,8 @@ fn simulate(
         integrator,
     };
     let loaded = problem.loaded.clone();
-    let prepared = pipeline::prepare_simulation(&loaded, &request).map_err(|e| vito_error(&e))?;
+    let prepared =
+        pipeline::simulation::prepare_simulation(&loaded, &request).map_err(|e| vito_error(&e))?;
     let target = match &out {
         Some(dir) => Some(output_target(dir, &prepared.inputs)?),
         None => None,
@@ -900,12 +900,18 @@ fn simulate(
     let (sim, wall) = py
         .detach(|| {
             let start = std::time::Instant::now();
-            let sim = pipeline::run_simulation(&prepared, |_| {})?;
+            let sim = pipeline::simulation::run_simulation(&prepared, |_| {})?;
             Ok::<_, vito::sim::SimulationError>((sim, start.elapsed().as_secs_f64()))
         })
         .map_err(|e| vito_error(&e))?;
-    let energies = pipeline::conservative_energies(&prepared, &sim);
-    let summary = pipeline::simulation_summary(&loaded, &prepared, &sim, energies.as_deref(), wall);
+    let energies = pipeline::simulation::conservative_energies(&prepared, &sim);
+    let summary = pipeline::simulation::simulation_summary(
+        &loaded,
+        &prepared,
+        &sim,
+        energies.as_deref(),
+        wall,
+    );
     let columns = report::SimulationColumns::new(&loaded, &sim, prepared.contact.nd());
     // The temporary CSVs are gone once this returns; the output rules need only the
     // problem's own files then.
@@ -999,7 +1005,7 @@ fn _sweep(
 /// the package sets before it loads the library.
 #[pyfunction]
 fn pinned_coretype() -> Option<&'static str> {
-    vito::blas_kernels::coretype()
+    vito::ipopt::blas_kernels::coretype()
 }
 
 /// The native module `vito._vito`; the package `vito` re-exports it.

@@ -235,8 +235,8 @@ pub fn grouped_hessian<F: ScalarFunction>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::autodiff::Scalar;
     use crate::autodiff::gradient_hessian;
-    use crate::scalar::Scalar;
 
     /// An arrow-and-band function like a state-tracking cost: Σ_i h (a_i + b_i)² sin(a_i b_i)
     /// over z = [a; b; h] (a pair per i, all coupled with h) plus a dense 3-input corner.

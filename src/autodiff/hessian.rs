@@ -165,9 +165,9 @@ pub fn weighted_hessian_into<const T: usize, F: VectorFunction>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::autodiff::Scalar;
     use crate::autodiff::gradient;
     use crate::autodiff::test_functions::{Coupled, CoupledVector, dims, fd_gradient, point};
-    use crate::scalar::Scalar;
 
     /// Closed form: f = z_0² z_1 + sin z_1 has H = [[2 z_1, 2 z_0], [2 z_0, −sin z_1]].
     #[test]

@@ -118,7 +118,7 @@ mod tests {
             fn dim(&self) -> usize {
                 2
             }
-            fn eval<D: crate::scalar::Scalar>(&self, z: &[D]) -> D {
+            fn eval<D: crate::autodiff::Scalar>(&self, z: &[D]) -> D {
                 z[0] * z[0] * z[1] + z[1].sin()
             }
         }
@@ -192,7 +192,7 @@ mod tests {
             fn dim_out(&self) -> usize {
                 2
             }
-            fn eval<D: crate::scalar::Scalar>(&self, z: &[D], out: &mut [D]) {
+            fn eval<D: crate::autodiff::Scalar>(&self, z: &[D], out: &mut [D]) {
                 out[0] = D::zero();
                 out[1] = D::zero();
                 for (i, &zi) in z.iter().enumerate() {

@@ -18,10 +18,12 @@
 //! the inputs of its chunks.
 
 mod coloring;
+pub mod dependency;
 mod directional;
 mod hessian;
 mod jacobian;
 mod restrict;
+mod scalar;
 mod third;
 
 pub use coloring::{SymmetricGroups, grouped_hessian};
@@ -29,9 +31,8 @@ pub use directional::*;
 pub use hessian::*;
 pub use jacobian::*;
 pub use restrict::Restricted;
+pub use scalar::Scalar;
 pub use third::*;
-
-use crate::scalar::Scalar;
 
 /// Tile size (inputs per forward pass) of the public drivers.
 ///
@@ -73,7 +74,7 @@ fn tile_range(c: usize, tile: usize, n: usize) -> std::ops::Range<usize> {
 pub(crate) mod test_functions {
     //! Closed-form test functions shared by the unit tests of this module.
     use super::{ScalarFunction, VectorFunction};
-    use crate::scalar::Scalar;
+    use crate::autodiff::Scalar;
 
     /// f(z) = Σ_i c_i z_i³ + (Σ_i z_i)·sin(Σ_i i·z_i) + exp(z_0 z_{n−1}): every pair of inputs
     /// couples and every third derivative is nonzero.
@@ -136,7 +137,7 @@ pub(crate) mod test_functions {
 
     /// Deterministic pseudo-random point in (−0.5, 0.5)^n.
     pub fn point(n: usize, seed: u64) -> Vec<f64> {
-        let mut rng = crate::testing::SeededRng::new(seed);
+        let mut rng = crate::random::SeededRng::new(seed);
         rng.next_u64(); // mixes the seed, as the points the tests were written against did
         (0..n).map(|_| rng.unit() - 0.5).collect()
     }

@@ -2,7 +2,7 @@
 //! derivatives are the corresponding sub-blocks of the full function's, for fewer passes.
 
 use super::{ScalarFunction, VectorFunction};
-use crate::scalar::Scalar;
+use crate::autodiff::Scalar;
 
 /// `f` as a function of the inputs `free` only; every other input stays at its value in `at`.
 pub struct Restricted<'a, F> {

@@ -130,9 +130,9 @@ pub fn gradient_hessian_third_into<const T: usize, F: ScalarFunction>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::autodiff::Scalar;
     use crate::autodiff::gradient_hessian;
     use crate::autodiff::test_functions::{Coupled, dims, point};
-    use crate::scalar::Scalar;
 
     /// Closed form: f = z_0² z_1 + sin z_1. ∂³f: f_001 = 2, f_111 = −cos z_1, others 0, so
     /// W = [[2 d_1, 2 d_0], [2 d_0, −cos(z_1) d_1]].

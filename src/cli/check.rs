@@ -1,6 +1,13 @@
 //! `vito check`: the problem as the solver will build it, and the derivative check.
 
-use super::*;
+use std::path::Path;
+
+use vito::pipeline;
+use vito::problem::{TimeSteps, load};
+
+use super::args::parse_overrides;
+use super::error::CliError;
+use super::output::print_model_warnings;
 
 pub(super) fn check(file: &Path, set: &[String]) -> Result<u8, CliError> {
     let overrides = parse_overrides(set)?;
@@ -71,7 +78,7 @@ pub(super) fn check(file: &Path, set: &[String]) -> Result<u8, CliError> {
         nlp.layout().nd,
         nlp.layout().nl
     );
-    let feasibility = pipeline::feasibility(s, &nlp);
+    let feasibility = pipeline::feasibility::feasibility(s, &nlp);
     if !feasibility.clearances.is_empty() {
         out!(
             "  distance to the terrain [{}], first / last knot of the initial guess:",
@@ -103,9 +110,10 @@ pub(super) fn check_derivatives(
     let x = match at {
         None => nlp.initial_point().to_vec(),
         Some(path) => {
-            let text = vito::input::read_regular_text(path, vito::input::MAX_TEXT_BYTES)
-                .map_err(|e| CliError::Input(format!("{}: {e}", path.display())))?;
-            pipeline::point_from_trajectory(&nlp, &p.robot, &contacts, &text)
+            let text =
+                vito::files::input::read_regular_text(path, vito::files::input::MAX_TEXT_BYTES)
+                    .map_err(|e| CliError::Input(format!("{}: {e}", path.display())))?;
+            pipeline::trajectory_point::point_from_trajectory(&nlp, &p.robot, &contacts, &text)
                 .map_err(|e| CliError::Input(format!("{}: {e}", path.display())))?
         }
     };

@@ -1,17 +1,24 @@
 //! `vito simulate`: a forward simulation of a problem file.
 
-use super::*;
+use std::path::{Path, PathBuf};
+
+use vito::pipeline;
+use vito::problem::load;
+use vito::report;
+
+use super::args::parse_overrides;
+use super::error::CliError;
 
 pub(super) fn simulate(
     file: &Path,
     set: &[String],
-    request: &pipeline::SimulateRequest,
+    request: &pipeline::simulation::SimulateRequest,
     out: Option<&Path>,
     quiet: bool,
 ) -> Result<u8, CliError> {
     let overrides = parse_overrides(set)?;
     let problem = load(file, &overrides)?;
-    let prepared = pipeline::prepare_simulation(&problem, request)?;
+    let prepared = pipeline::simulation::prepare_simulation(&problem, request)?;
     let target = out.map_or_else(
         || PathBuf::from("out").join(format!("{}-simulate", problem.spec.name)),
         Path::to_owned,
@@ -31,13 +38,18 @@ pub(super) fn simulate(
         bar.set_style(style);
     }
     let start = std::time::Instant::now();
-    let sim = pipeline::run_simulation(&prepared, |_| bar.inc(1));
+    let sim = pipeline::simulation::run_simulation(&prepared, |_| bar.inc(1));
     bar.finish_and_clear();
     let sim = sim?;
     let wall = start.elapsed().as_secs_f64();
-    let energies = pipeline::conservative_energies(&prepared, &sim);
-    let summary =
-        pipeline::simulation_summary(&problem, &prepared, &sim, energies.as_deref(), wall);
+    let energies = pipeline::simulation::conservative_energies(&prepared, &sim);
+    let summary = pipeline::simulation::simulation_summary(
+        &problem,
+        &prepared,
+        &sim,
+        energies.as_deref(),
+        wall,
+    );
     let columns = report::SimulationColumns::new(&problem, &sim, prepared.contact.nd());
     let staged = target.stage().map_err(report::ReportError::from)?;
     let written =

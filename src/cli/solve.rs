@@ -1,6 +1,19 @@
 //! `vito solve`: progress, the solve, its summary.
 
-use super::*;
+use std::path::Path;
+use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
+
+use vito::ipopt::OptionValue;
+use vito::pipeline;
+use vito::problem::{LoadedProblem, load};
+use vito::report::{self, status_name};
+use vito::transcription::Solution;
+
+use super::args::parse_overrides;
+use super::error::CliError;
+use super::interrupt::on_stop_request;
+use super::output::print_model_warnings;
 
 /// Progress line printed on stderr at each Ipopt iteration.
 pub(super) fn progress_line(
@@ -35,7 +48,8 @@ pub(super) fn solve(
     let problem = load(file, &overrides)?;
     print_model_warnings(&problem.robot);
     pipeline::check_solver_options(&problem)?;
-    let target = pipeline::checked_output_dir(&problem, out).map_err(report::ReportError::from)?;
+    let target =
+        pipeline::output::checked_output_dir(&problem, out).map_err(report::ReportError::from)?;
     // With --ipopt-log, staged before solving so that Ipopt's log goes straight into the
     // directory that replaces the target atomically; otherwise staged once there is
     // something to write, so a run killed while solving leaves nothing behind.

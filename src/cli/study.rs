@@ -1,6 +1,12 @@
 //! `vito study`: the accuracy studies (paper figures 5 and 6).
 
-use super::*;
+use std::path::{Path, PathBuf};
+
+use vito::problem::load;
+use vito::report;
+
+use super::args::parse_overrides;
+use super::error::CliError;
 
 /// A progress bar counting runs (hidden when `quiet`).
 pub(super) fn study_bar(quiet: bool, what: &str) -> indicatif::ProgressBar {

@@ -1,6 +1,12 @@
 //! `vito sweep` and its `report` and `collect`.
 
-use super::*;
+use std::path::{Path, PathBuf};
+
+use vito::problem::load;
+
+use super::args::{SweepRunArgs, WarmStartArg, parse_overrides};
+use super::error::CliError;
+use super::interrupt::on_stop_request;
 
 pub(super) fn sweep(args: SweepRunArgs) -> Result<u8, CliError> {
     use vito::sweep::{Axis, Event, Grid, Shard, SweepOptions, WarmStart};
@@ -21,7 +27,7 @@ pub(super) fn sweep(args: SweepRunArgs) -> Result<u8, CliError> {
         .unwrap_or(Shard::ALL);
     let time_limit = args
         .time_limit
-        .map(|t| vito::input::checked_span("--time-limit", t))
+        .map(|t| vito::files::input::checked_span("--time-limit", t))
         .transpose()
         .map_err(CliError::Input)?
         .map(std::time::Duration::from_secs_f64);
@@ -166,7 +172,7 @@ impl SweepDisplay {
     }
 
     fn line(&self, text: &str) {
-        let text = vito::names::escape_controls(text);
+        let text = vito::files::names::escape_controls(text);
         match &self.bar {
             Some(bar) => bar.println(text),
             None => eprintln!("{text}"),

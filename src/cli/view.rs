@@ -1,6 +1,13 @@
 //! `vito view`: the animation page (and a strip as SVG) of existing result directories.
 
-use super::*;
+use std::path::{Path, PathBuf};
+
+use vito::problem::{LoadedProblem, load};
+use vito::report;
+
+use super::args::parse_overrides;
+use super::error::CliError;
+use super::output::print_model_warnings;
 
 /// A result directory read back: its summary and trajectory file.
 struct Result_ {
@@ -76,9 +83,9 @@ fn motion_of(result: &Result_, problem: &LoadedProblem) -> Result<vito::view::Mo
         ))
     };
     let recorded =
-        vito::trajectory_csv::read_trajectory(&result.csv, &problem.robot.coordinates, &[])
+        vito::files::trajectory_csv::read_trajectory(&result.csv, &problem.robot.coordinates, &[])
             .map_err(bad)?;
-    let table = vito::trajectory_csv::read_csv(&result.csv).map_err(bad)?;
+    let table = vito::files::trajectory_csv::read_csv(&result.csv).map_err(bad)?;
     let intervals = recorded.times.len() - 1;
     let column = |name: &str| table.column(name).map(|c| c[..intervals].to_vec());
     let contacts: Vec<&str> = problem
@@ -93,7 +100,7 @@ fn motion_of(result: &Result_, problem: &LoadedProblem) -> Result<vito::view::Mo
         let n = column(&format!("{c}_normal")).unwrap_or_else(|| vec![0.0; intervals]);
         let directions = [4, 2]
             .into_iter()
-            .map(vito::trajectory_csv::friction_direction_names)
+            .map(vito::files::trajectory_csv::friction_direction_names)
             .find(|names| {
                 table
                     .column(&format!("{c}_friction_{}", names[0]))
@@ -171,7 +178,10 @@ pub(super) fn view(
     let start = std::time::Instant::now();
     let drawing = vito::view::drawing(&scene, &motions);
     for w in &drawing.body.warnings {
-        eprintln!("{}", vito::names::escape_controls(&format!("warning: {w}")));
+        eprintln!(
+            "{}",
+            vito::files::names::escape_controls(&format!("warning: {w}"))
+        );
     }
     let write_err = |e: vito::view::ViewError| CliError::Report(report::ReportError::View(e));
     if let (Some(n), Some(svg)) = (strip, svg) {

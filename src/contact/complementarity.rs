@@ -4,7 +4,7 @@
 use nalgebra::DMatrix;
 
 use super::ContactModel;
-use crate::scalar::Scalar;
+use crate::autodiff::Scalar;
 
 /// μ_i c − eᵀβ; z = [c; β (nd)].
 pub fn friction_cone<D: Scalar>(model: &ContactModel, contact: usize, z: &[D]) -> D {

@@ -1,7 +1,7 @@
 //! Signed distance of a point to the terrain.
 
 use super::Terrain;
-use crate::scalar::Scalar;
+use crate::autodiff::Scalar;
 
 /// Signed distance φ = p_z − H(p_x) of a world point `p` (length units) to the terrain:
 /// positive above, zero on, negative below the surface.

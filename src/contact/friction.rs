@@ -1,6 +1,6 @@
 //! Friction directions: which world tangential coordinates the friction impulses act along.
 
-use crate::scalar::Scalar;
+use crate::autodiff::Scalar;
 
 /// The polyhedral friction cone's directions, fixed in the world.
 ///

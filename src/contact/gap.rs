@@ -4,8 +4,8 @@
 use nalgebra::{DMatrix, DVector};
 
 use super::{ContactGeometry, ContactModel, signed_distance};
+use crate::autodiff::Scalar;
 use crate::discrete::{Mechanics, MechanicsDerivatives};
-use crate::scalar::Scalar;
 
 /// φ_i(q); z = [q].
 pub fn distance<D: Scalar, M: Mechanics>(

@@ -7,12 +7,12 @@ use nalgebra::{DMatrix, Matrix3, Vector3};
 
 use super::ContactModel;
 use super::{signed_distance, tangential_coordinates};
+use crate::autodiff::Scalar;
 use crate::autodiff::{
     ScalarFunction, ThirdOrder, gradient_hessian_into, gradient_hessian_third_into,
 };
 use crate::discrete::MechanicsDerivatives;
 use crate::model::PointJet;
-use crate::scalar::Scalar;
 
 /// κ_k(p): the k-th terrain coordinate (0: signed distance, 1 + d: tangential d) of a point.
 struct TerrainCoordinate<'a> {

@@ -5,7 +5,7 @@
 //! A contact is a point fixed on a link; the mechanics give its world position p(q) and this
 //! module turns p into the signed distance φ (positive above the terrain) and the tangential
 //! coordinates whose gradients are the friction directions D. The value functions are generic
-//! over [`crate::scalar::Scalar`]; their derivatives are composed by the chain rule from the
+//! over [`crate::autodiff::Scalar`]; their derivatives are composed by the chain rule from the
 //! point's jet and forward AD of φ and t over p alone ([`ContactGeometry`]).
 //!
 //! Where things are: `terrain` (the height map and its features), `distance` (φ of a point),

@@ -6,9 +6,9 @@ use nalgebra::DMatrix;
 use num_dual::Dual;
 
 use super::{ContactGeometry, ContactModel, tangential_coordinates};
+use crate::autodiff::Scalar;
 use crate::autodiff::{VectorFunction, jacobian, weighted_hessian};
 use crate::discrete::{Mechanics, MechanicsDerivatives, difference_velocity};
-use crate::scalar::Scalar;
 
 /// Tangential velocity D_i(q)·q̇ of contact `i` at q moving with q̇ into `out` (length
 /// tangents): the friction directions D_i are defined here, for the NLP and the simulator.

@@ -4,8 +4,8 @@
 use nalgebra::DMatrix;
 
 use super::{ContactGeometry, ContactModel, signed_distance, tangential_coordinates};
+use crate::autodiff::Scalar;
 use crate::discrete::{Mechanics, MechanicsDerivatives};
-use crate::scalar::Scalar;
 
 /// c_i φ_i(q) + Σ_t (β⁺_it − β⁻_it) t_i(q) of one contact; z = [q; c_i; β_i (nd)].
 /// Its gradient in q is contact i's share of J(q)ᵀλ = Nᵀc + Pᵀβ, P = [D; −D]; for a rolling

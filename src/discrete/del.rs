@@ -13,8 +13,8 @@
 use nalgebra::DMatrix;
 
 use super::{KnotWindow, Mechanics, MechanicsDerivatives, difference_velocity};
+use crate::autodiff::Scalar;
 use crate::autodiff::{VectorFunction, jacobian};
-use crate::scalar::Scalar;
 
 /// ½Fd(qa, qb, u, h) into `out` (length n); z = [qa; qb; u; h].
 pub fn half_force<D: Scalar, M: Mechanics>(mech: &M, z: &[D], out: &mut [D]) {

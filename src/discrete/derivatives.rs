@@ -7,12 +7,12 @@
 use nalgebra::DMatrix;
 
 use super::Mechanics;
+use crate::autodiff::Scalar;
 use crate::autodiff::{
     ScalarFunction, SymmetricGroups, ThirdOrder, VectorFunction, gradient, gradient_hessian,
     gradient_hessian_third, jacobian, weighted_hessian,
 };
 use crate::model::{LoopJet, PointJet};
-use crate::scalar::Scalar;
 
 /// Derivatives of [`Mechanics`]: every method has a forward-AD default; an implementation
 /// overrides the ones it has a faster path for (same numbers up to rounding).

@@ -3,9 +3,9 @@
 //! − diag(d)v_{k+1}) + J(q_{k+1})ᵀλ_k, with q_{k+1} = q_k + h_k v_{k+1}.
 
 use super::difference_velocity;
+use crate::autodiff::Scalar;
 use crate::autodiff::VectorFunction;
 use crate::model::{self, Model};
-use crate::scalar::Scalar;
 
 /// Euler residual at knot k (length `nq`, impulse units, same sign convention as the midpoint
 /// DEL: momentum before − momentum after + impulses):

@@ -1,9 +1,9 @@
 //! Loop closures in the discrete equations: the residual is imposed at the new knot q_{k+1},
 //! and its impulses Gᵀ(q_{k+1})ν_k (G = ∂ loop_residual / ∂q) join the momentum balance.
 
+use crate::autodiff::Scalar;
 use crate::autodiff::VectorFunction;
 use crate::model::{self, Model};
-use crate::scalar::Scalar;
 
 /// Loop-closure residual as a [`VectorFunction`] of q (dim n) → R^{n_loop}
 /// (`model.num_loop_constraints()` rows, model length units).

@@ -10,7 +10,7 @@
 use num_dual::Dual;
 
 use super::difference_velocity;
-use crate::scalar::Scalar;
+use crate::autodiff::Scalar;
 
 /// Discrete mechanics and contact kinematics of one robot, in its coordinate order.
 pub trait Mechanics: Sync {

@@ -3,9 +3,9 @@
 //! (benchmarks/SPEC.md, with joint damping from its addition 2).
 
 use super::{LdBuffers, midpoint_ld_gradient};
+use crate::autodiff::Scalar;
 use crate::autodiff::{ScalarFunction, VectorFunction};
 use crate::model::{self, Model};
-use crate::scalar::Scalar;
 
 /// The midpoint rule's state on an interval: configuration (qa+qb)/2 and velocity (qb−qa)/h
 /// (`qa`, `qb` length n, `h` in s). Every midpoint formula (Ld, Fd, their adjoint, the costs)

@@ -10,10 +10,10 @@ use nalgebra::DMatrix;
 use num_dual::{Dual, Dual64};
 
 use super::midpoint::midpoint_state_into;
+use crate::autodiff::Scalar;
 use crate::autodiff::{SymmetricGroups, ThirdOrder, VectorFunction};
 use crate::model::kinematics::check_len;
 use crate::model::{Model, SweepBuffers, lagrangian_gradient, mass_matrix_entries};
-use crate::scalar::Scalar;
 
 /// The midpoint state and the energy sweep's storage of [`midpoint_ld_gradient`], kept
 /// by a caller that evaluates many passes (one per column of a segment's derivatives) so that

@@ -18,7 +18,7 @@
 //! after + impulses*, so that contact impulses enter as `+ J(q_{k+1})ᵀ λ_k` and loop-closure
 //! impulses as `+ G(q_{k+1})ᵀ ν_k`, with G = ∂ loop_residual / ∂q.
 //!
-//! Every function of configurations is generic over [`crate::scalar::Scalar`]; the structs
+//! Every function of configurations is generic over [`crate::autodiff::Scalar`]; the structs
 //! ([`MidpointSegment`], [`DiscreteForce`], [`InitialMomentum`], [`EulerKnotResidual`],
 //! [`LoopClosure`], [`MidpointKnotResidual`]) wrap them as [`crate::autodiff`] functions of one
 //! flat input vector, whose layout each documents.
@@ -51,4 +51,52 @@ pub enum Integrator {
     Midpoint,
     /// First-order semi-implicit Euler time stepping (Posa et al. 2014, eq. 1 of the paper).
     Euler,
+}
+
+impl Integrator {
+    /// Every integrator, in the order messages list them.
+    pub const ALL: [Integrator; 2] = [Integrator::Midpoint, Integrator::Euler];
+
+    /// The integrator's name, as a problem file (`[solver] integrator`), the command line
+    /// (`--integrator`), the Python package and `summary.json` spell it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Integrator::Midpoint => "midpoint",
+            Integrator::Euler => "euler",
+        }
+    }
+}
+
+impl std::str::FromStr for Integrator {
+    type Err = String;
+
+    /// The integrator named `name` ([`Integrator::name`]); the error lists the names.
+    fn from_str(name: &str) -> Result<Self, String> {
+        Integrator::ALL
+            .into_iter()
+            .find(|i| i.name() == name)
+            .ok_or_else(|| {
+                let names: Vec<String> = Integrator::ALL.map(|i| format!("{:?}", i.name())).into();
+                format!("`{name}` is not an integrator: give {}", names.join(" or "))
+            })
+    }
+}
+
+#[cfg(test)]
+mod integrator_tests {
+    use super::Integrator;
+
+    /// Every integrator parses back from its name; another name is an error listing them.
+    #[test]
+    fn names_parse_back_and_unknown_names_list_them() {
+        for i in Integrator::ALL {
+            assert_eq!(i.name().parse::<Integrator>(), Ok(i));
+        }
+        assert_eq!(Integrator::ALL.map(Integrator::name), ["midpoint", "euler"]);
+        let e = "rk4".parse::<Integrator>().unwrap_err();
+        assert_eq!(
+            e,
+            "`rk4` is not an integrator: give \"midpoint\" or \"euler\""
+        );
+    }
 }

@@ -9,12 +9,12 @@ use super::{
     midpoint_gradient_hessian_grouped, midpoint_ld_gradient, midpoint_third_order_columns,
     midpoint_third_order_grouped,
 };
+use crate::autodiff::Scalar;
 use crate::autodiff::{SymmetricGroups, ThirdOrder};
 use crate::model::{
     LinkId, LoopJet, Model, PointJet, generalized_momentum, link_angular_jacobian,
     loop_closure_jets, loop_residual, point_jet, point_position,
 };
-use crate::scalar::Scalar;
 
 /// A contact resolved to its link: a sphere (radius 0: a point) fixed on the link.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -30,6 +30,7 @@
 //! # Ok(()) }
 //! ```
 
+pub mod blas_kernels;
 mod callbacks;
 mod compat;
 mod error;

@@ -11,7 +11,8 @@ pub const DEFAULTS_FILE: &str = include_str!("../../vendor-config/ipopt-defaults
 /// `option_file_name` disables the options file), and print no banner (`sb`).
 pub(super) const FORCED: [(&str, &str); 2] = [("option_file_name", ""), ("sb", "yes")];
 
-/// A value for one Ipopt option: Ipopt's three option types.
+/// A value for one Ipopt option: Ipopt's three option types, as a problem file's
+/// `[solver.ipopt]` gives them (`ProblemSpec::solver_options`) and as vito sets its own.
 ///
 /// An integer given for a number option (or an integral number for an integer option) is
 /// converted when Ipopt accepts the other type, so `max_cpu_time = 600` works.
@@ -32,6 +33,13 @@ impl std::fmt::Display for OptionValue {
             OptionValue::Num(x) => write!(f, "{x:e}"),
             OptionValue::Int(i) => write!(f, "{i}"),
         }
+    }
+}
+
+/// A borrowed value (a problem's `[solver.ipopt]` entry), for `Solver::set_option`.
+impl From<&OptionValue> for OptionValue {
+    fn from(value: &OptionValue) -> Self {
+        value.clone()
     }
 }
 

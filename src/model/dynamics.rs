@@ -5,7 +5,7 @@ use super::kinematics::{Pose, Twist, check_len, child_pose, child_twist, frame_p
 use super::spatial::{Vec3, add, cross, mat_vec_const, scale, sub};
 use super::tree::Motion;
 use super::{LinkId, Model};
-use crate::scalar::Scalar;
+use crate::autodiff::Scalar;
 
 /// B(q)·u: input i adds `u[i]` to coordinate `model.input_coordinates()[i]` (length `nq`;
 /// B is a constant selection matrix, `q` is accepted for the general signature).

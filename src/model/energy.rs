@@ -8,7 +8,7 @@ use super::spatial::{
     Vec3, add, const_mat_vec, cross, dot, mat_t_vec, mat_vec, mat_vec_const, scale, sub,
 };
 use super::tree::{Frame, Motion};
-use crate::scalar::Scalar;
+use crate::autodiff::Scalar;
 
 /// World position of a frame's centre of mass.
 pub(crate) fn com_position<D: Scalar>(frame: &Frame, pose: &Pose<D>) -> Vec3<D> {

@@ -14,7 +14,7 @@ use super::spatial::{
     scale, sub,
 };
 use super::tree::{Frame, Motion};
-use crate::scalar::Scalar;
+use crate::autodiff::Scalar;
 
 const IDENTITY: [[f64; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
 

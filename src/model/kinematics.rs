@@ -6,7 +6,7 @@ use super::spatial::{
 };
 use super::tree::{Frame, Motion};
 use super::{LinkId, Model};
-use crate::scalar::Scalar;
+use crate::autodiff::Scalar;
 
 /// World pose of one frame: `rotation` maps frame axes to world axes, `origin` is the frame
 /// origin in the world; `axis` is the joint axis in world axes (zero for fixed joints).

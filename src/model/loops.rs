@@ -4,7 +4,7 @@ use super::Model;
 use super::kinematics::{check_len, frame_pose};
 use super::point_jet::{PointJet, point_jet, vector_jet};
 use super::spatial::{add, mat_mul, mat_mul_const, mat_t_vec, mat_vec_const, sub};
-use crate::scalar::Scalar;
+use crate::autodiff::Scalar;
 
 /// Loop-closure residual, length `model.num_loop_constraints()`: for each loop (document
 /// order) the two components of R_Bᵀ(p1 − p2) perpendicular to the pin axis (see

@@ -4,7 +4,7 @@
 //! parent · Trans(xyz) · R(rpy) · Rot(axis, q) with R(rpy) = Rz(y)·Ry(p)·Rx(r) (URDF).
 //! The configuration is q = [base coordinates; non-fixed joints in `<joint>` document order].
 //! The [`Model`] is immutable and all `f64`; the algorithms are free functions generic over
-//! [`crate::scalar::Scalar`], so plain floats and (nested) dual numbers flow through the same formulas.
+//! [`crate::autodiff::Scalar`], so plain floats and (nested) dual numbers flow through the same formulas.
 
 mod actuation;
 pub(crate) mod dynamics;

@@ -1,7 +1,7 @@
 //! Small 3-D rotations and vectors over any [`Scalar`], as plain arrays (nested duals are not
 //! nalgebra `RealField`).
 
-use crate::scalar::Scalar;
+use crate::autodiff::Scalar;
 
 /// A 3-vector.
 pub(crate) type Vec3<D> = [D; 3];

@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use super::{BaseType, CoordinateKind, ModelError};
-use crate::scalar::Scalar;
+use crate::autodiff::Scalar;
 
 /// Index of a URDF link in [`Model::link_names`].
 #[repr(transparent)]
@@ -276,12 +276,11 @@ impl Model {
     /// Repairs that are unambiguous (a `<limit>` without `velocity` or `effort`, which then
     /// mean "no limit") are made and listed in [`Model::warnings`].
     pub fn from_urdf_file(path: &Path, base: BaseType) -> Result<Model, ModelError> {
-        let xml = crate::input::read_regular_text(path, crate::input::MAX_URDF_BYTES).map_err(
-            |source| ModelError::Io {
+        let xml = crate::files::input::read_regular_text(path, crate::files::input::MAX_URDF_BYTES)
+            .map_err(|source| ModelError::Io {
                 path: path.to_path_buf(),
                 source,
-            },
-        )?;
+            })?;
         super::urdf::load(&xml, &path.display().to_string(), base)
     }
 

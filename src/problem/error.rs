@@ -5,7 +5,7 @@
 use std::fmt;
 use std::path::PathBuf;
 
-pub use crate::names::list_names;
+pub use crate::files::names::list_names;
 
 /// Where in a problem file something is: file, 1-based line (when known) and TOML path.
 #[derive(Debug, Clone, PartialEq)]

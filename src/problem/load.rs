@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use sha2::{Digest, Sha256};
 
-use crate::input::{MAX_TEXT_BYTES, read_regular_file, read_regular_text};
+use crate::files::input::{MAX_TEXT_BYTES, read_regular_file, read_regular_text};
 use crate::problem::family;
 
 use crate::problem::schema::ProblemFile;
@@ -58,7 +58,7 @@ impl LoadedProblem {
     }
 }
 
-/// Reads, overrides and checks a problem file (a regular file; see [`crate::input`]).
+/// Reads, overrides and checks a problem file (a regular file; see [`crate::files::input`]).
 pub fn load(path: &Path, overrides: &[Override]) -> Result<LoadedProblem, ProblemError> {
     let bytes = read_regular_file(path, MAX_TEXT_BYTES).map_err(|source| ProblemError::Io {
         path: path.to_owned(),

@@ -13,6 +13,7 @@ use super::costs::CostTerm;
 use crate::contact::{ContactModel, Terrain};
 pub use crate::discrete::Integrator;
 use crate::discrete::Mechanics;
+use crate::ipopt::OptionValue;
 use crate::model::{Actuation, BaseType};
 
 /// How the Lagrangian Hessian is obtained.
@@ -247,24 +248,6 @@ pub enum SlackRestart {
     PrimalDual,
     /// The problem's initial guess, as the first solve.
     InitialGuess,
-}
-
-/// An Ipopt option value as written in a problem file.
-#[derive(Debug, Clone, PartialEq)]
-pub enum OptionValue {
-    Str(String),
-    Num(f64),
-    Int(i64),
-}
-
-impl From<&OptionValue> for crate::ipopt::OptionValue {
-    fn from(value: &OptionValue) -> Self {
-        match value {
-            OptionValue::Str(s) => crate::ipopt::OptionValue::Str(s.clone()),
-            OptionValue::Num(x) => crate::ipopt::OptionValue::Num(*x),
-            OptionValue::Int(i) => crate::ipopt::OptionValue::Int(*i),
-        }
-    }
 }
 
 /// A complete, checked trajectory-optimisation problem.

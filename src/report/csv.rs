@@ -1,8 +1,8 @@
-//! A solution as a trajectory CSV (the format is [`crate::trajectory_csv`]'s).
+//! A solution as a trajectory CSV (the format is [`crate::files::trajectory_csv`]'s).
 
-pub use crate::trajectory_csv::Trajectory;
-use crate::trajectory_csv::write_trajectory;
-pub use crate::trajectory_csv::{
+pub use crate::files::trajectory_csv::Trajectory;
+use crate::files::trajectory_csv::write_trajectory;
+pub use crate::files::trajectory_csv::{
     ColumnUnits, CsvTable, friction_direction_names, input_column_name, read_csv,
 };
 use crate::transcription::Solution;

@@ -73,7 +73,7 @@ pub enum GoldenError {
 impl GoldenRecord {
     /// Reads a record; a missing file is an empty record.
     pub fn read(path: &Path) -> Result<GoldenRecord, GoldenError> {
-        match crate::input::read_regular_text(path, crate::input::MAX_TEXT_BYTES) {
+        match crate::files::input::read_regular_text(path, crate::files::input::MAX_TEXT_BYTES) {
             Ok(text) => {
                 let record: GoldenRecord =
                     toml::from_str(&text).map_err(|e| GoldenError::Parse {

@@ -108,7 +108,7 @@ pub fn write_trajectory_outputs(
     let csv_path = dir.join("trajectory.csv");
     std::fs::write(
         &csv_path,
-        crate::trajectory_csv::write_trajectory(trajectory, &units),
+        crate::files::trajectory_csv::write_trajectory(trajectory, &units),
     )
     .map_err(io(&csv_path))?;
     let json_path = dir.join("summary.json");

@@ -7,7 +7,7 @@
 //!   (Coulomb friction at its limit is what sliding needs; stick rarely saturates it);
 //! - stick: in contact and not sliding.
 
-use crate::trajectory_csv::Trajectory;
+use crate::files::trajectory_csv::Trajectory;
 
 /// Flight when c ≤ this fraction of the trajectory's largest normal impulse.
 pub const FLIGHT_RELATIVE: f64 = 1e-3;

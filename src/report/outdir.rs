@@ -315,8 +315,11 @@ fn is_marked(dir: &Path) -> bool {
 
 /// The entries [`MARKER`] lists as vito's (`None`: a marker without a list).
 fn read_manifest(dir: &Path) -> Option<Vec<String>> {
-    let text =
-        crate::input::read_regular_text(&dir.join(MARKER), crate::input::MAX_TEXT_BYTES).ok()?;
+    let text = crate::files::input::read_regular_text(
+        &dir.join(MARKER),
+        crate::files::input::MAX_TEXT_BYTES,
+    )
+    .ok()?;
     let names: Vec<String> = text
         .lines()
         .filter_map(|l| l.strip_prefix(MANIFEST_PREFIX))

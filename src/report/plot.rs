@@ -4,8 +4,8 @@ use std::path::Path;
 
 use plotters::prelude::*;
 
+use crate::files::trajectory_csv::Trajectory;
 use crate::report::modes::ContactMode;
-use crate::trajectory_csv::Trajectory;
 
 /// A plotting failure (plotters' error, as text).
 pub type PlotError = String;

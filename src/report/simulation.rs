@@ -5,9 +5,9 @@
 use serde_json::{Value, json};
 
 use crate::discrete::Integrator;
+use crate::files::trajectory_csv::Trajectory;
 use crate::problem::LoadedProblem;
 use crate::sim::Simulation;
-use crate::trajectory_csv::Trajectory;
 
 /// The owned columns of a simulation's trajectory file.
 #[derive(Debug, Clone)]
@@ -84,10 +84,7 @@ pub fn simulation_summary_json(
         "problem": problem.spec.name,
         "problem_file": problem.file.display().to_string(),
         "problem_sha256": problem.sha256,
-        "integrator": match integrator {
-            Integrator::Midpoint => "midpoint",
-            Integrator::Euler => "euler",
-        },
+        "integrator": integrator.name(),
         "steps": steps,
         "time_step": sim.times.get(1).copied().unwrap_or(0.0),
         "duration": sim.times.last().copied().unwrap_or(0.0),

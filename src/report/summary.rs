@@ -117,7 +117,7 @@ pub fn summary_json(problem: &LoadedProblem, solution: &Solution) -> Value {
         "parameters": parameters,
         "vito_version": env!("CARGO_PKG_VERSION"),
         "ipopt_version": crate::ipopt::VERSION,
-        // The BLAS kernels (the `vito` binary pins them; see its `blas_kernels`).
+        // The BLAS kernels (the `vito` binary pins them; see `ipopt::blas_kernels`).
         "openblas_coretype": std::env::var("OPENBLAS_CORETYPE").ok(),
         "threads": threads_json(),
         "units": {

@@ -3,7 +3,7 @@
 //! (with the recording's inputs as feedforward when it has them).
 
 use super::step::{EndStateGain, StepInput};
-use crate::trajectory_csv::RecordedTrajectory;
+use crate::files::trajectory_csv::RecordedTrajectory;
 
 pub use crate::problem::TrackingFeedback as Feedback;
 pub use crate::problem::TrackingGain as Gain;

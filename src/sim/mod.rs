@@ -8,6 +8,7 @@
 //! strategy, with Lemke's pivoting method), `run` (a horizon: warm starts, the per-step
 //! record, knot energies), `inputs` (zero, replayed or PD-tracking inputs).
 
+pub mod guess;
 mod inputs;
 mod ncp;
 mod run;

@@ -220,7 +220,8 @@ pub fn simulate<M: MechanicsDerivatives, U: Into<StepInput>>(
                 bound,
             });
         }
-        sim.times.push(crate::trajectory_csv::knot_time(k + 1, h));
+        sim.times
+            .push(crate::files::trajectory_csv::knot_time(k + 1, h));
         sim.q.push(outcome.q_next);
         sim.v.push(v_next);
         sim.u.push(outcome.input.clone());

@@ -8,8 +8,8 @@ use super::{Method, StudyError, StudyRow, StudyTable};
 use crate::contact::ContactModel;
 use crate::discrete::{Mechanics, ModelMechanics};
 use crate::problem::ProblemSpec;
+use crate::random::SeededRng;
 use crate::sim::{Simulation, SimulationOptions, StepOptions, simulate};
-use crate::testing::SeededRng;
 
 /// The study's settings.
 #[derive(Debug, Clone, PartialEq)]

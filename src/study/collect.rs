@@ -208,7 +208,7 @@ fn gait_name(dir: &Path) -> String {
 }
 
 fn read(path: &Path) -> Result<String, StudyError> {
-    crate::input::read_regular_text(path, MAX_STUDY_FILE).map_err(|e| StudyError::Invalid {
+    crate::files::input::read_regular_text(path, MAX_STUDY_FILE).map_err(|e| StudyError::Invalid {
         field: path.display().to_string(),
         message: format!("{e}: give the output directory of a `vito study tracking` run"),
     })

@@ -15,9 +15,9 @@ use std::path::{Path, PathBuf};
 
 use super::{Method, StudyError, StudyTable, table_order};
 use crate::discrete::Mechanics;
+use crate::files::trajectory_csv::RecordedTrajectory;
 use crate::problem::{InitialGuess, Override, TimeSteps, WarmStart, load};
 use crate::sim::{InputSource, Simulation, SimulationOptions, StepOptions, simulate};
-use crate::trajectory_csv::RecordedTrajectory;
 use crate::transcription::{SolveOptions, SolveVerdict};
 
 /// The header of `tracking_plans.csv`.
@@ -206,9 +206,9 @@ impl Tracking {
             TimeSteps::FreeEqual { .. } => None,
         };
         let mut gains =
-            crate::pipeline::parse_gains(&base.tracking_gains, &self.gains, &base.robot)?;
+            crate::pipeline::gains::parse_gains(&base.tracking_gains, &self.gains, &base.robot)?;
         if gains.is_empty() {
-            gains = crate::pipeline::parse_gains(&[], &["all=100,10".into()], &base.robot)?;
+            gains = crate::pipeline::gains::parse_gains(&[], &["all=100,10".into()], &base.robot)?;
         }
         let mut table = StudyTable::default();
         let mut configuration = StudyTable::default();

@@ -141,7 +141,9 @@ fn last_part(key: &str) -> &str {
 /// "; did you mean …" for a swept key: the file's full key paths that end in it, and the
 /// names of its `[parameters]`.
 fn key_hint(file: &std::path::Path, key: &str) -> String {
-    let Ok(text) = crate::input::read_regular_text(file, crate::input::MAX_TEXT_BYTES) else {
+    let Ok(text) =
+        crate::files::input::read_regular_text(file, crate::files::input::MAX_TEXT_BYTES)
+    else {
         return String::new();
     };
     let Ok(table) = toml::from_str::<toml::Table>(&text) else {

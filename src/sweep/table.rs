@@ -340,18 +340,18 @@ impl Table {
     /// Reads `dir/sweep.json`.
     pub fn read(dir: &Path) -> Result<Table, SweepError> {
         let path = dir.join(TABLE_JSON);
-        let text = crate::input::read_regular_text(&path, crate::input::MAX_TEXT_BYTES).map_err(
-            |source| match source.kind() {
-                std::io::ErrorKind::NotFound => SweepError::NoTable {
-                    path: path.clone(),
-                    dir: dir.to_owned(),
-                },
-                _ => SweepError::Io {
-                    path: path.clone(),
-                    source,
-                },
-            },
-        )?;
+        let text =
+            crate::files::input::read_regular_text(&path, crate::files::input::MAX_TEXT_BYTES)
+                .map_err(|source| match source.kind() {
+                    std::io::ErrorKind::NotFound => SweepError::NoTable {
+                        path: path.clone(),
+                        dir: dir.to_owned(),
+                    },
+                    _ => SweepError::Io {
+                        path: path.clone(),
+                        source,
+                    },
+                })?;
         serde_json::from_str(&text).map_err(|e| SweepError::Table {
             path,
             message: e.to_string(),
@@ -402,7 +402,7 @@ pub fn collect(dirs: &[PathBuf], out: &Path) -> Result<Table, SweepError> {
             };
             if better {
                 let mut r = r.clone();
-                r.dir = crate::paths::relative_path(&d.join(&r.dir), out);
+                r.dir = crate::files::paths::relative_path(&d.join(&r.dir), out);
                 *slot = Some(r);
             }
         }

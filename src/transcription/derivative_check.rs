@@ -21,7 +21,7 @@ use std::collections::HashMap;
 use super::Transcription;
 use super::layout::EntryNames;
 use crate::discrete::MechanicsDerivatives;
-use crate::testing::SeededRng;
+use crate::random::SeededRng;
 
 /// Which derivative an entry belongs to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

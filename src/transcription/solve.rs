@@ -10,8 +10,8 @@ use super::nlp::{ProgressFn, TranscriptionNlp};
 use super::{
     MechanicsDerivatives, NlpSize, Solution, SolveVerdict, Transcription, TranscriptionError,
 };
-use crate::ipopt::{self, Multipliers, Solver};
-use crate::problem::{HessianMode, OptionValue, ProblemSpec, SlackRestart};
+use crate::ipopt::{self, Multipliers, OptionValue, Solver};
+use crate::problem::{HessianMode, ProblemSpec, SlackRestart};
 
 /// How to run a solve besides the problem itself.
 #[derive(Default)]
@@ -216,7 +216,7 @@ fn perturbed<M: MechanicsDerivatives>(t: &Transcription<M>, guess: &[f64], seed:
         }
     }
     let floor = 0.01 * scale.iter().fold(0.0_f64, |a, &b| a.max(b));
-    let mut rng = crate::testing::SeededRng::new(seed);
+    let mut rng = crate::random::SeededRng::new(seed);
     let mut x = guess.to_vec();
     for k in 0..l.knots {
         let range = l.q(k);
@@ -413,7 +413,7 @@ fn fill_solution<M: MechanicsDerivatives>(
     let times: Vec<f64> = match time_steps.first() {
         // Equal steps (fixed, or free steps that ended equal): t_k = k·h, in decimal.
         Some(&h) if time_steps.iter().all(|&s| s == h) => (0..l.knots)
-            .map(|k| crate::trajectory_csv::knot_time(k, h))
+            .map(|k| crate::files::trajectory_csv::knot_time(k, h))
             .collect(),
         _ => {
             let mut times = vec![0.0];

@@ -23,8 +23,8 @@ use super::Transcription;
 use super::blocks::Block;
 use super::evaluate::gather;
 use super::pattern::PatternBuilder;
+use crate::autodiff::dependency::{DependencyScalar, Trace};
 use crate::autodiff::{ScalarFunction, SymmetricGroups, VectorFunction};
-use crate::dependency::{DependencyScalar, Trace};
 use crate::discrete::{MechanicsDerivatives, midpoint_segment_groups};
 
 /// Slot marker of a local entry that is structurally zero (not in the pattern).

@@ -458,7 +458,7 @@ pub fn scene(problem: &crate::problem::LoadedProblem) -> Result<Scene, ViewError
 
 /// A motion from a trajectory file's view of a solution or simulation.
 pub fn motion(
-    trajectory: &crate::trajectory_csv::Trajectory<'_>,
+    trajectory: &crate::files::trajectory_csv::Trajectory<'_>,
     name: &str,
     detail: &str,
     simulation: bool,
@@ -495,7 +495,7 @@ pub fn detail_of(summary: &Value) -> (String, bool) {
 pub fn write_animation(
     dir: &Path,
     problem: &crate::problem::LoadedProblem,
-    trajectory: &crate::trajectory_csv::Trajectory<'_>,
+    trajectory: &crate::files::trajectory_csv::Trajectory<'_>,
     summary: &Value,
 ) -> Result<Vec<String>, ViewError> {
     let scene = scene(problem)?;

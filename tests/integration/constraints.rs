@@ -116,7 +116,7 @@ fn bad_constraint_entries_name_the_field() {
 fn periodic_momentum_rows_are_the_end_momentum_minus_the_start_momentum() {
     use num_dual::Dual64;
     use vito::discrete::Mechanics;
-    use vito::testing::SeededRng;
+    use vito::random::SeededRng;
     let spec = hopper_with("\n[[constraint]]\ntype = \"periodic_momentum\"\n")
         .unwrap()
         .spec;

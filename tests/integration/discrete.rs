@@ -10,7 +10,7 @@ use vito::discrete::{
     knot_residual, knot_residual_jacobian_next, ld, step,
 };
 use vito::model::{self, BaseType, Model, sample};
-use vito::testing::SeededRng;
+use vito::random::SeededRng;
 
 fn double_pendulum() -> Model {
     Model::from_urdf_str(&sample::double_pendulum(), BaseType::Fixed).expect("sample loads")

@@ -227,8 +227,8 @@ fn simulated_guess_is_the_last_period_on_the_knots() {
         panic!()
     };
     let mech = vito::pipeline::mechanics(&p.spec).unwrap_or_else(|e| panic!("{e}"));
-    let start = vito::simulated_guess::simulate_guess(&mech, &p.spec, guess)
-        .unwrap_or_else(|e| panic!("{e}"));
+    let start =
+        vito::sim::guess::simulate_guess(&mech, &p.spec, guess).unwrap_or_else(|e| panic!("{e}"));
     let w = &start.warm_start;
     assert_eq!((w.q.len(), w.u.len()), (11, 10));
     assert!((w.times[10] - 10.0).abs() < 1e-9, "{:?}", w.times);

@@ -18,7 +18,7 @@ use vito::model::{
     BaseType, Model, SweepBuffers, kinetic_energy, kinetic_energy_gradient, lagrangian_gradient,
     potential_energy, potential_energy_gradient, sample,
 };
-use vito::testing::SeededRng;
+use vito::random::SeededRng;
 
 fn robot(rel: &str, base: BaseType) -> Model {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -511,8 +511,8 @@ fn third_order_over_some_columns() {
 /// (LittleDog 19 instead of 37, HAMR 21 instead of 77), also with some columns left out.
 #[test]
 fn grouped_segment_derivatives_match_one_column_per_pass() {
+    use vito::autodiff::dependency::{DependencyScalar, Trace};
     use vito::autodiff::{SymmetricGroups, VectorFunction};
-    use vito::dependency::{DependencyScalar, Trace};
     use vito::discrete::{
         midpoint_gradient_hessian_grouped, midpoint_third_order_columns,
         midpoint_third_order_grouped,
@@ -630,7 +630,7 @@ impl ScalarFunction for KineticOf<'_> {
     fn dim(&self) -> usize {
         2 * self.model.nq()
     }
-    fn eval<D: vito::scalar::Scalar>(&self, x: &[D]) -> D {
+    fn eval<D: vito::autodiff::Scalar>(&self, x: &[D]) -> D {
         let n = self.model.nq();
         kinetic_energy(self.model, &x[..n], &x[n..])
     }
@@ -647,8 +647,8 @@ impl ScalarFunction for KineticOf<'_> {
 /// the Hessian agrees with central differences of the adjoint gradient.
 #[test]
 fn segment_groups_with_the_midpoint_identity_match_every_column() {
+    use vito::autodiff::dependency::{DependencyScalar, Trace};
     use vito::autodiff::{SymmetricGroups, VectorFunction};
-    use vito::dependency::{DependencyScalar, Trace};
     use vito::discrete::{
         midpoint_gradient_hessian_grouped, midpoint_segment_groups, midpoint_third_order_grouped,
     };

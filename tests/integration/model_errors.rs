@@ -2,7 +2,7 @@
 //! only what is unambiguous, reports what it ignores, and never panics on input.
 
 use vito::model::{BaseType, Model, ModelError, sample};
-use vito::testing::SeededRng;
+use vito::random::SeededRng;
 
 /// A link with a valid inertial.
 fn link(name: &str) -> String {

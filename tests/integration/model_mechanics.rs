@@ -11,7 +11,7 @@ use vito::model::{
     generalized_point_force, inverse_dynamics, kinetic_energy, loop_residual, mass_matrix,
     point_position, potential_energy, sample,
 };
-use vito::testing::SeededRng;
+use vito::random::SeededRng;
 
 fn from_str(xml: &str, base: BaseType) -> Model {
     Model::from_urdf_str(xml, base).unwrap_or_else(|e| panic!("{e}"))

@@ -7,7 +7,7 @@ use vito::model::{
     BaseType, Model, SpringKind, inspect, kinetic_energy, loop_residual, point_position,
     potential_energy,
 };
-use vito::testing::SeededRng;
+use vito::random::SeededRng;
 
 fn robot(rel: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))

@@ -202,7 +202,7 @@ fn contact_free_midpoint_is_the_discrete_step_and_conserves_energy() {
 /// over the first knots.
 #[test]
 fn replayed_hopper_plan_reproduces_its_states() {
-    use vito::problem::OptionValue;
+    use vito::ipopt::OptionValue;
     use vito::transcription::SolveOptions;
     let spec = reference::hopper_2d();
     let options = SolveOptions {
@@ -350,7 +350,7 @@ fn littledog_collapsing_without_inputs_solves_every_step() {
 /// rod, I = 1/3 kg·m² about its hinge; no contact) for `steps` steps of `h`, with the
 /// feedback read at the step's start (explicit) or end (implicit).
 fn track_pendulum(
-    reference: vito::trajectory_csv::RecordedTrajectory,
+    reference: vito::files::trajectory_csv::RecordedTrajectory,
     gains: (f64, f64),
     feedback: vito::sim::Feedback,
     integrator: Integrator,
@@ -397,8 +397,8 @@ fn track_pendulum(
 }
 
 /// A reference holding the pendulum at 0.5 rad (no feedforward) for `duration` s.
-fn held_pose(duration: f64) -> vito::trajectory_csv::RecordedTrajectory {
-    vito::trajectory_csv::RecordedTrajectory {
+fn held_pose(duration: f64) -> vito::files::trajectory_csv::RecordedTrajectory {
+    vito::files::trajectory_csv::RecordedTrajectory {
         times: vec![0.0, duration],
         q: vec![vec![0.5], vec![0.5]],
         u: Vec::new(),
@@ -480,7 +480,7 @@ fn implicit_pd_is_stable_with(integrator: Integrator) {
 #[test]
 fn implicit_pd_agrees_with_explicit_pd_to_first_order_at_soft_gains() {
     use vito::sim::Feedback;
-    let reference = vito::trajectory_csv::RecordedTrajectory {
+    let reference = vito::files::trajectory_csv::RecordedTrajectory {
         times: vec![0.0, 1.0, 2.0],
         q: vec![vec![0.5], vec![1.5], vec![1.5]],
         u: vec![vec![3.0], vec![4.0]],

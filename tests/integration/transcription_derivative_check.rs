@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use vito::discrete::Mechanics;
 use vito::pipeline::build_nlp;
 use vito::problem::{LoadedProblem, Override, load};
-use vito::testing::SeededRng;
+use vito::random::SeededRng;
 use vito::transcription::{
     DerivativeCheck, DerivativeKind, EntryNames, ModelMechanics, Transcription,
 };

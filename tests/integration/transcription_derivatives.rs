@@ -15,6 +15,7 @@ use crate::common;
 
 use common::analytic::{Brick, Hopper};
 use common::reference::{brick_3d, hopper_2d, littledog_step, spring_flamingo_walk};
+use vito::autodiff::Scalar;
 use vito::contact::Step;
 use vito::discrete::{Mechanics, MechanicsDerivatives, ModelMechanics};
 use vito::problem::constraints::{Periodic, PeriodicMomentum};
@@ -25,8 +26,7 @@ use vito::problem::costs::{
 use vito::problem::{
     Constraint, CostTerm, Integrator, Interval, ProblemSpec, SlackMode, TimeSteps,
 };
-use vito::scalar::Scalar;
-use vito::testing::SeededRng;
+use vito::random::SeededRng;
 use vito::transcription::Transcription;
 
 /// Any mechanics plus one made-up smooth loop closure, so loop blocks are exercised.

@@ -13,9 +13,10 @@ use std::f64::consts::FRAC_PI_2;
 use common::analytic::{Brick, Hopper};
 use common::reference::{brick_3d, hopper_2d};
 use vito::discrete::MechanicsDerivatives;
+use vito::ipopt::OptionValue;
 use vito::ipopt::Status;
 use vito::pipeline::{solve, solve_with};
-use vito::problem::{HessianMode, Integrator, OptionValue, ProblemSpec, SlackMode};
+use vito::problem::{HessianMode, Integrator, ProblemSpec, SlackMode};
 use vito::transcription::{Solution, SolveOptions};
 
 fn quiet() -> SolveOptions {

@@ -8,7 +8,7 @@ use common::analytic::{Brick, Hopper};
 use common::reference::{brick_3d, hopper_2d, littledog_step, spring_flamingo_walk};
 use vito::discrete::{MechanicsDerivatives, ModelMechanics};
 use vito::problem::{Integrator, ProblemSpec};
-use vito::testing::SeededRng;
+use vito::random::SeededRng;
 use vito::transcription::{InitialGuessReport, Transcription};
 
 fn report(spec: &ProblemSpec) -> (Transcription<ModelMechanics>, InitialGuessReport) {

@@ -152,7 +152,8 @@ fn check(browser: &Path, dir: &str, knots: [usize; 2], keep: Option<&Path>) {
     let model = scene.mechanics.model();
     let csv = std::fs::read_to_string(root.join(dir).join("trajectory.csv")).unwrap();
     let recorded =
-        vito::trajectory_csv::read_trajectory(&csv, &problem.robot.coordinates, &[]).unwrap();
+        vito::files::trajectory_csv::read_trajectory(&csv, &problem.robot.coordinates, &[])
+            .unwrap();
     let links = |k: usize| -> Vec<[f64; 3]> {
         model
             .link_names()

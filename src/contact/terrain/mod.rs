@@ -7,7 +7,7 @@ mod step;
 
 pub use step::Step;
 
-use crate::scalar::Scalar;
+use crate::autodiff::Scalar;
 
 /// One kind of terrain feature: its height over the ground and the checks of its numbers.
 /// The type's serde fields are its problem-file entry (`[[terrain.<NAME>]]`).

@@ -3,7 +3,7 @@
 use serde::Deserialize;
 
 use super::{Requirement, TerrainFeature};
-use crate::scalar::Scalar;
+use crate::autodiff::Scalar;
 
 /// A smoothed step in the ground: the height rises by `rise` across x = `edge_x`,
 /// H(x) = rise · ½ (1 + tanh((x − edge_x)/width)). C∞, so Newton steps can cross it.

@@ -4,27 +4,25 @@
 
 use std::collections::{HashMap, HashSet};
 
-use super::extensions::{Extensions, bad};
-use super::inertia::{MassPiece, check_body, link_inertia, lump};
-use crate::model::actuation::{Actuator, AppliedActuation};
-use crate::model::spatial::{mat_mul, normalized, perpendicular_pair, rpy_to_matrix, transpose};
-use crate::model::tree::{Frame, LinkPlacement, Mimic, Motion};
-use crate::model::{
-    BaseType, ContactPoint, IgnoredCollision, LinkId, LoopClosure, Model, ModelError, Spring,
-    SpringKind,
-};
+use super::bodies::{Findings, bodies, contact_points};
+use super::extensions::Extensions;
+use super::joint_elements::{JointCoordinates, actuators, loop_closures, springs};
+use crate::model::actuation::AppliedActuation;
+use crate::model::spatial::rpy_to_matrix;
+use crate::model::tree::{Mimic, Motion};
+use crate::model::{BaseType, Model, ModelError};
 
-fn rpy(v: &[f64; 3]) -> [[f64; 3]; 3] {
+pub(super) fn rpy(v: &[f64; 3]) -> [[f64; 3]; 3] {
     rpy_to_matrix(v[0], v[1], v[2])
 }
 
-const IDENTITY: [[f64; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+pub(super) const IDENTITY: [[f64; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
 
 /// One virtual base frame: its motion, axis and coordinate index (into
 /// [`BaseType::coordinate_names`]).
-type BaseFrame = (Motion, [f64; 3], usize);
+pub(super) type BaseFrame = (Motion, [f64; 3], usize);
 
-fn base_chain(base: BaseType) -> Vec<BaseFrame> {
+pub(super) fn base_chain(base: BaseType) -> Vec<BaseFrame> {
     const X: [f64; 3] = [1.0, 0.0, 0.0];
     const Y: [f64; 3] = [0.0, 1.0, 0.0];
     const Z: [f64; 3] = [0.0, 0.0, 1.0];
@@ -125,7 +123,7 @@ pub(super) fn build(
 }
 
 /// Index of a link or joint by name.
-type NameIndex<'a> = HashMap<&'a str, usize>;
+pub(super) type NameIndex<'a> = HashMap<&'a str, usize>;
 
 /// Link and joint indices by name; a name used twice is an error.
 fn index_names(robot: &urdf_rs::Robot) -> Result<(NameIndex<'_>, NameIndex<'_>), ModelError> {
@@ -151,12 +149,12 @@ fn index_names(robot: &urdf_rs::Robot) -> Result<(NameIndex<'_>, NameIndex<'_>),
 }
 
 /// The tree's shape: each link's parent joint, and the links parents first.
-struct Tree {
-    parent_joint: Vec<Option<usize>>,
+pub(super) struct Tree {
+    pub(super) parent_joint: Vec<Option<usize>>,
     /// Links without children, in document order.
-    leaves: Vec<usize>,
+    pub(super) leaves: Vec<usize>,
     /// Depth-first from the root.
-    order: Vec<usize>,
+    pub(super) order: Vec<usize>,
 }
 
 /// Checks that the joints form one tree of supported joints and orders its links.
@@ -240,14 +238,14 @@ fn tree_order(robot: &urdf_rs::Robot, link_of: &NameIndex) -> Result<Tree, Model
 
 /// The coordinates: base, then non-fixed joints in document order (except `<mimic>`
 /// joints, which follow their leader and have no coordinate of their own).
-struct Coordinates {
-    names: Vec<String>,
-    limits: Vec<(f64, f64)>,
-    damping: Vec<f64>,
+pub(super) struct Coordinates {
+    pub(super) names: Vec<String>,
+    pub(super) limits: Vec<(f64, f64)>,
+    pub(super) damping: Vec<f64>,
     /// Per joint, its coordinate (`None` for fixed and mimic joints).
-    joint_coordinate: Vec<Option<usize>>,
+    pub(super) joint_coordinate: Vec<Option<usize>>,
     /// Per mimic joint, its leader's coordinate and the map from it.
-    mimic: Vec<Option<(usize, Mimic)>>,
+    pub(super) mimic: Vec<Option<(usize, Mimic)>>,
 }
 
 fn coordinates(
@@ -448,442 +446,4 @@ fn follow_mimics(
         "mimic joints follow each other in a circle; one of them must have its own coordinate"
             .into(),
     )
-}
-
-/// What loading found so far: problems (reported together, as one error) and warnings.
-struct Findings {
-    problems: Vec<String>,
-    warnings: Vec<String>,
-}
-
-/// The rigid bodies: tree frames with their lumped masses, and where each link sits.
-struct Bodies {
-    frames: Vec<Frame>,
-    /// Per link, in topological order.
-    link_frame: Vec<LinkPlacement>,
-    /// Link names in topological order (the link ids).
-    link_names: Vec<String>,
-    total_mass: f64,
-}
-
-/// Frames: the virtual base chain, then one per moving joint (links behind fixed joints
-/// share their parent's frame), masses lumped per frame.
-fn bodies(
-    robot: &urdf_rs::Robot,
-    ext: &Extensions,
-    base: BaseType,
-    link_of: &NameIndex,
-    tree: &Tree,
-    coordinates: &Coordinates,
-    findings: &mut Findings,
-) -> Result<Bodies, ModelError> {
-    let Findings { problems, warnings } = findings;
-    let base_frames = base_chain(base);
-    let mut frames: Vec<Frame> = Vec::with_capacity(base_frames.len() + robot.links.len());
-    for (k, &(motion, axis, coordinate)) in base_frames.iter().enumerate() {
-        frames.push(Frame::massless(
-            k.checked_sub(1),
-            IDENTITY,
-            [0.0; 3],
-            axis,
-            motion,
-            coordinate,
-        ));
-    }
-    // Each link's placement; a link behind a fixed joint shares its parent's frame.
-    let mut placement_of: Vec<Option<LinkPlacement>> = vec![None; robot.links.len()];
-    // Mass pieces per frame: (mass, com in frame, inertia about com in frame axes).
-    let mut pieces: Vec<Vec<MassPiece>> = vec![Vec::new(); frames.len()];
-    // Per frame, its links with mass ("line N: ", name), for messages about the lumped body.
-    let mut body_links: Vec<Vec<(String, String)>> = vec![Vec::new(); frames.len()];
-    let mut total_mass = 0.0;
-    for &l in &tree.order {
-        let link = &robot.links[l];
-        let placement = match tree.parent_joint[l] {
-            None => {
-                frames.push(Frame::massless(
-                    frames.len().checked_sub(1),
-                    IDENTITY,
-                    [0.0; 3],
-                    [1.0, 0.0, 0.0],
-                    Motion::Fixed,
-                    0,
-                ));
-                pieces.push(Vec::new());
-                body_links.push(Vec::new());
-                LinkPlacement {
-                    frame: frames.len() - 1,
-                    rotation: IDENTITY,
-                    translation: [0.0; 3],
-                }
-            }
-            Some(j) => {
-                let joint = &robot.joints[j];
-                let parent = placement_of[link_of[joint.parent.link.as_str()]]
-                    .clone()
-                    .ok_or_else(|| ModelError::Cycle {
-                        link: link.name.clone(),
-                    })?;
-                // Joint frame in the parent's tree frame: parent placement ∘ Trans(xyz)·R(rpy).
-                let rotation = mat_mul(&parent.rotation, &rpy(&joint.origin.rpy));
-                let translation = parent.point_in_frame(&joint.origin.xyz);
-                let motion = match joint.joint_type {
-                    urdf_rs::JointType::Prismatic => Motion::Prismatic,
-                    urdf_rs::JointType::Revolute | urdf_rs::JointType::Continuous => {
-                        Motion::Revolute
-                    }
-                    _ => Motion::Fixed,
-                };
-                if motion == Motion::Fixed {
-                    LinkPlacement {
-                        frame: parent.frame,
-                        rotation,
-                        translation,
-                    }
-                } else {
-                    let axis = normalized(*joint.axis.xyz).ok_or(ModelError::BadAxis {
-                        joint: joint.name.clone(),
-                        axis: *joint.axis.xyz,
-                    })?;
-                    let (coordinate, mimic) = match coordinates.mimic[j] {
-                        Some((leader, map)) => (leader, Some(map)),
-                        None => (coordinates.joint_coordinate[j].unwrap_or(0), None),
-                    };
-                    let mut frame = Frame::massless(
-                        Some(parent.frame),
-                        rotation,
-                        translation,
-                        axis,
-                        motion,
-                        coordinate,
-                    );
-                    frame.mimic = mimic;
-                    frames.push(frame);
-                    pieces.push(Vec::new());
-                    body_links.push(Vec::new());
-                    LinkPlacement {
-                        frame: frames.len() - 1,
-                        rotation: IDENTITY,
-                        translation: [0.0; 3],
-                    }
-                }
-            }
-        };
-        let at = ext.at("link", &link.name);
-        if ext.has_inertial.contains(&link.name)
-            && let Some((mass, com, inertia)) = link_inertia(link, &at, problems, warnings)
-        {
-            total_mass += mass;
-            body_links[placement.frame].push((at, link.name.clone()));
-            let r = &placement.rotation;
-            pieces[placement.frame].push((
-                mass,
-                placement.point_in_frame(&com),
-                mat_mul(&mat_mul(r, &inertia), &transpose(r)),
-            ));
-        }
-        placement_of[l] = Some(placement);
-    }
-    // A body welded to the world never moves, so its inertia plays no part.
-    let mut moves: Vec<bool> = Vec::with_capacity(frames.len());
-    for (i, (frame, parts)) in frames.iter_mut().zip(&pieces).enumerate() {
-        (frame.mass, frame.com, frame.inertia) = lump(parts);
-        let moving = frame.motion != Motion::Fixed || frame.parent.is_some_and(|p| moves[p]);
-        if moving {
-            check_body(
-                &(frame.mass, frame.com, frame.inertia),
-                &body_links[i],
-                problems,
-            );
-        }
-        moves.push(moving);
-    }
-    // Link ids follow the topological order.
-    let link_names: Vec<String> = tree
-        .order
-        .iter()
-        .map(|&l| robot.links[l].name.clone())
-        .collect();
-    let link_frame: Vec<LinkPlacement> = tree
-        .order
-        .iter()
-        .map(|&l| {
-            placement_of[l].clone().ok_or(ModelError::Cycle {
-                link: robot.links[l].name.clone(),
-            })
-        })
-        .collect::<Result<_, _>>()?;
-    Ok(Bodies {
-        frames,
-        link_frame,
-        link_names,
-        total_mass,
-    })
-}
-
-/// Contacts: collision spheres of any radius (0: a point), links in document order. Other
-/// collision shapes are returned and listed, by link, in one warning.
-fn contact_points(
-    robot: &urdf_rs::Robot,
-    ext: &Extensions,
-    warnings: &mut Vec<String>,
-) -> (Vec<ContactPoint>, Vec<IgnoredCollision>) {
-    let mut contact_points = Vec::new();
-    let mut ignored = Vec::new();
-    let mut ignored_collisions = Vec::new();
-    for link in &robot.links {
-        let sphere = |c: &urdf_rs::Collision| match c.geometry {
-            urdf_rs::Geometry::Sphere { radius } => Some(radius),
-            _ => None,
-        };
-        let n_points = link
-            .collision
-            .iter()
-            .filter(|c| sphere(c).is_some())
-            .count();
-        for (k, collision) in link.collision.iter().enumerate() {
-            let Some(radius) = sphere(collision) else {
-                let shape = match collision.geometry {
-                    urdf_rs::Geometry::Box { .. } => "box",
-                    urdf_rs::Geometry::Cylinder { .. } => "cylinder",
-                    urdf_rs::Geometry::Capsule { .. } => "capsule",
-                    _ => "mesh",
-                };
-                ignored.push(format!(
-                    "{}'{}' ({shape})",
-                    ext.at("link", &link.name),
-                    link.name
-                ));
-                ignored_collisions.push(IgnoredCollision {
-                    link: link.name.clone(),
-                    shape: shape.into(),
-                });
-                continue;
-            };
-            // Unnamed: the link's name when it is the link's only point.
-            let fallback = if n_points == 1 {
-                link.name.clone()
-            } else {
-                format!("{}_contact{k}", link.name)
-            };
-            contact_points.push(ContactPoint {
-                name: collision.name.clone().unwrap_or(fallback),
-                link: link.name.clone(),
-                point: *collision.origin.xyz,
-                radius,
-            });
-        }
-    }
-    if !ignored.is_empty() {
-        warnings.push(format!(
-            "collision shapes other than spheres are ignored (no contact from them): {}; \
-             add a <sphere> collision or a [[contacts.point]] with a radius for each foot",
-            ignored.join(", ")
-        ));
-    }
-    (contact_points, ignored_collisions)
-}
-
-/// Which coordinate a joint named by an extension moves.
-struct JointCoordinates<'a> {
-    robot: &'a urdf_rs::Robot,
-    joint_of: &'a NameIndex<'a>,
-    joint_coordinate: &'a [Option<usize>],
-}
-
-impl JointCoordinates<'_> {
-    /// The coordinate of `joint`, named by `element` `owner`; an undefined or fixed joint is
-    /// an error naming both.
-    fn of(&self, element: &'static str, owner: &str, joint: &str) -> Result<usize, ModelError> {
-        let j = self.joint_of.get(joint).copied().ok_or_else(|| {
-            bad(
-                element,
-                owner,
-                format!("refers to joint '{joint}', which is not defined"),
-            )
-        })?;
-        self.joint_coordinate[j].ok_or_else(|| {
-            let why = match &self.robot.joints[j].mimic {
-                Some(m) if self.robot.joints[j].joint_type != urdf_rs::JointType::Fixed => {
-                    format!(
-                        "mimics joint '{}' and has no coordinate of its own",
-                        m.joint
-                    )
-                }
-                _ => "is fixed and has no coordinate".to_string(),
-            };
-            bad(
-                element,
-                owner,
-                format!("acts on joint '{joint}', which {why}"),
-            )
-        })
-    }
-}
-
-fn springs(
-    robot: &urdf_rs::Robot,
-    ext: &Extensions,
-    joints: &JointCoordinates,
-) -> Result<Vec<Spring>, ModelError> {
-    let mut springs = Vec::with_capacity(ext.springs.len());
-    for raw in &ext.springs {
-        let coordinate = joints.of("force_element", &raw.name, &raw.joint)?;
-        let prismatic = robot.joints[joints.joint_of[raw.joint.as_str()]].joint_type
-            == urdf_rs::JointType::Prismatic;
-        if prismatic != (raw.kind == SpringKind::Prismatic) {
-            let (spring, joint) = if prismatic {
-                ("torsional", "prismatic")
-            } else {
-                ("prismatic", "revolute")
-            };
-            return Err(bad(
-                "force_element",
-                &raw.name,
-                format!(
-                    "a {spring} spring on the {joint} joint '{}'; use <{}_spring> there",
-                    raw.joint,
-                    if prismatic { "prismatic" } else { "torsional" }
-                ),
-            ));
-        }
-        if !raw.rest.is_finite() {
-            return Err(bad(
-                "force_element",
-                &raw.name,
-                format!("rest value {} must be a finite number", raw.rest),
-            ));
-        }
-        if !(raw.stiffness.is_finite() && raw.stiffness >= 0.0) {
-            return Err(bad(
-                "force_element",
-                &raw.name,
-                format!("stiffness {} must be finite and ≥ 0", raw.stiffness),
-            ));
-        }
-        springs.push(Spring {
-            name: raw.name.clone(),
-            kind: raw.kind,
-            coordinate,
-            stiffness: raw.stiffness,
-            rest: raw.rest,
-        });
-    }
-    Ok(springs)
-}
-
-fn loop_closures(ext: &Extensions, link_names: &[String]) -> Result<Vec<LoopClosure>, ModelError> {
-    let link_id = |name: &str| link_names.iter().position(|n| n == name).map(LinkId);
-    let mut loop_closures = Vec::with_capacity(ext.loops.len());
-    for raw in &ext.loops {
-        let find = |name: &str| {
-            link_id(name).ok_or_else(|| {
-                bad(
-                    "loop_joint",
-                    &raw.name,
-                    format!("refers to link '{name}', which is not defined"),
-                )
-            })
-        };
-        if raw.link1 == raw.link2 {
-            return Err(bad(
-                "loop_joint",
-                &raw.name,
-                format!(
-                    "joins link '{}' to itself, which closes no loop; name two links",
-                    raw.link1
-                ),
-            ));
-        }
-        if !(raw.xyz1.iter().chain(&raw.xyz2).chain(&raw.rpy2)).all(|v| v.is_finite()) {
-            return Err(bad(
-                "loop_joint",
-                &raw.name,
-                "its link frames' xyz and rpy must hold finite numbers".to_string(),
-            ));
-        }
-        let axis = normalized(raw.axis).ok_or(ModelError::BadAxis {
-            joint: raw.name.clone(),
-            axis: raw.axis,
-        })?;
-        loop_closures.push(LoopClosure {
-            name: raw.name.clone(),
-            link1: find(&raw.link1)?,
-            point1: raw.xyz1,
-            link2: find(&raw.link2)?,
-            point2: raw.xyz2,
-            rotation2: rpy(&raw.rpy2),
-            axis,
-            directions: perpendicular_pair(axis),
-        });
-    }
-    Ok(loop_closures)
-}
-
-/// The joints that can take an input: every movable joint in coordinate order, with its
-/// effort limit (∞ without `<limit>`) and its `<transmission>`, if one drives it.
-fn actuators(
-    robot: &urdf_rs::Robot,
-    ext: &Extensions,
-    joints: &JointCoordinates,
-    warnings: &mut Vec<String>,
-) -> Result<Vec<Actuator>, ModelError> {
-    let mut transmission_of: HashMap<usize, usize> = HashMap::new();
-    for (t, (name, joint, reduction)) in ext.transmissions.iter().enumerate() {
-        let coordinate = joints.of("transmission", name, joint)?;
-        if *reduction != 1.0 {
-            warnings.push(format!(
-                "transmission '{name}': mechanicalReduction {reduction} ignored (vito uses 1)"
-            ));
-        }
-        let j = joints.joint_of[joint.as_str()];
-        let has_limit = ext.limit_presence.get(joint).is_some_and(|p| p.0);
-        let effort = if has_limit {
-            robot.joints[j].limit.effort
-        } else {
-            f64::INFINITY
-        };
-        if effort.is_nan() || effort < 0.0 {
-            return Err(bad(
-                "joint",
-                joint,
-                format!(
-                    "<limit effort=\"{effort}\"> on an actuated joint must be ≥ 0 (leave it \
-                     out, or write inf, for no limit)"
-                ),
-            ));
-        }
-        transmission_of.entry(coordinate).or_insert(t);
-    }
-    let mut actuators: Vec<Actuator> = robot
-        .joints
-        .iter()
-        .enumerate()
-        .filter_map(|(j, joint)| {
-            let coordinate = joints.joint_coordinate[j]?;
-            let has_limit = ext.limit_presence.get(&joint.name).is_some_and(|p| p.0);
-            let effort = if has_limit {
-                joint.limit.effort
-            } else {
-                f64::INFINITY
-            };
-            // Transmission joints were checked above; any other joint with a meaningless
-            // effort limit is left out of the joints an `actuated` rule may pick.
-            if effort.is_nan() || effort < 0.0 {
-                warnings.push(format!(
-                    "joint '{}': <limit effort=\"{effort}\"> is not ≥ 0, so it cannot be actuated",
-                    joint.name
-                ));
-                return None;
-            }
-            Some(Actuator {
-                joint: joint.name.clone(),
-                coordinate,
-                effort,
-                transmission: transmission_of.get(&coordinate).copied(),
-            })
-        })
-        .collect();
-    actuators.sort_by_key(|a| a.coordinate);
-    Ok(actuators)
 }

@@ -24,10 +24,12 @@
 //! `<safety_controller>`, `mechanicalReduction` (must be 1), `<gazebo>`, Drake `<frame>`
 //! (reported as a warning), collision groups.
 
+mod bodies;
 mod build;
 mod extensions;
 mod geometry;
 mod inertia;
+mod joint_elements;
 mod limits;
 mod repair;
 mod values;

@@ -24,8 +24,8 @@ use serde::Deserialize;
 use super::schema::ProblemFile;
 use super::validate::Context;
 use super::{ProblemError, RobotInfo};
+use crate::autodiff::Scalar;
 use crate::discrete::{Integrator, Mechanics};
-use crate::scalar::Scalar;
 
 /// The list of constraint kinds: `Variant in module`. The variant's `snake_case` name is the
 /// `type` of its `[[constraint]]` entry; `module::Entry` is that entry.

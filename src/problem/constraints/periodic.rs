@@ -6,9 +6,9 @@ use serde::Deserialize;
 use super::{
     CheckConstraint, ConstraintCheck, ConstraintFunction, ConstraintInput, ConstraintRow, KnotRef,
 };
+use crate::autodiff::Scalar;
 use crate::discrete::Mechanics;
 use crate::problem::ProblemError;
-use crate::scalar::Scalar;
 
 /// `[[periodic]]`, or `[[constraint]] type = "periodic"`: q_N[c] − q_1[c] = offset and/or
 /// equal first and last finite-difference velocities.

@@ -6,9 +6,9 @@ use serde::Deserialize;
 use super::{
     CheckConstraint, ConstraintCheck, ConstraintFunction, ConstraintInput, ConstraintRow, KnotRef,
 };
+use crate::autodiff::Scalar;
 use crate::discrete::Mechanics;
 use crate::problem::ProblemError;
-use crate::scalar::Scalar;
 
 /// `[[constraint]] type = "periodic_momentum"`: p_N⁻ = M(q_1)v_0 on every coordinate.
 #[derive(Debug, Clone, Deserialize)]

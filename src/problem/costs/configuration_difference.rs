@@ -6,9 +6,9 @@ use super::{
     CheckCost, CostCheck, CostFunction, CostInputs, CostSizes, LengthMismatch,
     half_weighted_change, mismatch,
 };
+use crate::autodiff::Scalar;
 use crate::problem::ProblemError;
 use crate::problem::schema::NamedVector;
-use crate::scalar::Scalar;
 
 /// `type = "configuration_difference"`: Σ_k ½ (q_{k+1} − q_k)ᵀ diag(w) (q_{k+1} − q_k).
 #[derive(Debug, Clone, Deserialize)]

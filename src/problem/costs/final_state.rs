@@ -6,9 +6,9 @@ use super::{
     CheckCost, CostCheck, CostFunction, CostInputs, CostSizes, LengthMismatch,
     half_weighted_square, mismatch,
 };
+use crate::autodiff::Scalar;
 use crate::problem::ProblemError;
 use crate::problem::schema::NamedVector;
-use crate::scalar::Scalar;
 
 /// `type = "final_state"`: ½ (q_N − q_target)ᵀ diag(w) (q_N − q_target).
 #[derive(Debug, Clone, Deserialize)]

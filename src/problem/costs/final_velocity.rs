@@ -7,10 +7,10 @@ use super::{
     CheckCost, CostCheck, CostFunction, CostInputs, CostSizes, LengthMismatch,
     half_weighted_square, mismatch,
 };
+use crate::autodiff::Scalar;
 use crate::discrete::difference_velocity;
 use crate::problem::ProblemError;
 use crate::problem::schema::NamedVector;
-use crate::scalar::Scalar;
 
 /// `type = "final_velocity"`: ½ (v_N − v_target)ᵀ diag(w) (v_N − v_target) with the last
 /// interval's velocity v_N = (q_N − q_{N−1}) / h_{N−1}, in coordinate units per time unit.

@@ -6,9 +6,9 @@ use super::{
     CheckCost, CostCheck, CostFunction, CostInputs, CostSizes, LengthMismatch,
     half_weighted_square, mismatch,
 };
+use crate::autodiff::Scalar;
 use crate::problem::ProblemError;
 use crate::problem::schema::NamedVector;
-use crate::scalar::Scalar;
 
 /// `type = "input"`: Σ_k [h_k] ½ u_kᵀ diag(w) u_k.
 #[derive(Debug, Clone, Deserialize)]

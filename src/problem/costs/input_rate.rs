@@ -6,9 +6,9 @@ use super::{
     CheckCost, CostCheck, CostFunction, CostInputs, CostSizes, LengthMismatch,
     half_weighted_change, mismatch,
 };
+use crate::autodiff::Scalar;
 use crate::problem::ProblemError;
 use crate::problem::schema::NamedVector;
-use crate::scalar::Scalar;
 
 /// `type = "input_rate"`: Σ_k ½ (u_k − u_{k−1})ᵀ diag(w) (u_k − u_{k−1}).
 #[derive(Debug, Clone, Deserialize)]

@@ -33,7 +33,7 @@ use serde::Deserialize;
 use super::schema::{NamedVector, ProblemFile};
 use super::validate::{Context, nonnegative, resolve};
 use super::{ProblemError, RobotInfo};
-use crate::scalar::Scalar;
+use crate::autodiff::Scalar;
 
 /// The list of cost terms: `Variant in module`. The variant's `snake_case` name is the
 /// `type` of its `[[cost]]` entry; `module::Entry` is that entry.

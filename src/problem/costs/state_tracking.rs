@@ -6,10 +6,10 @@ use super::{
     CheckCost, CostCheck, CostFunction, CostInputs, CostSizes, LengthMismatch,
     half_weighted_square, mismatch,
 };
+use crate::autodiff::Scalar;
 use crate::discrete::midpoint_state;
 use crate::problem::ProblemError;
 use crate::problem::schema::NamedVector;
-use crate::scalar::Scalar;
 
 /// `type = "state_tracking"`: Σ_k [h_k] ½ (x̄_k − x_g)ᵀ diag(w_q, w_v) (x̄_k − x_g), midpoint
 /// state x̄_k.

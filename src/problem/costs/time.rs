@@ -3,8 +3,8 @@
 use serde::Deserialize;
 
 use super::{CheckCost, CostCheck, CostFunction, CostInputs, CostSizes, LengthMismatch};
+use crate::autodiff::Scalar;
 use crate::problem::ProblemError;
-use crate::scalar::Scalar;
 
 /// `type = "time"`: w · total time.
 #[derive(Debug, Clone, Deserialize)]

@@ -4,9 +4,9 @@
 use serde::Deserialize;
 
 use super::{CheckCost, CostCheck, CostFunction, CostInputs, CostSizes, LengthMismatch, mismatch};
+use crate::autodiff::Scalar;
 use crate::problem::ProblemError;
 use crate::problem::schema::NamedVector;
-use crate::scalar::Scalar;
 
 /// `type = "velocity_difference"`: Σ_k ½ (v_k − v_{k−1})ᵀ diag(w) (v_k − v_{k−1}) with the
 /// interval velocities v_k = (q_{k+1} − q_k) / h_k.

@@ -115,10 +115,11 @@ fn read_warm_start(
         path: path.to_owned(),
         message,
     };
-    let text = crate::input::read_regular_text(path, crate::input::MAX_TEXT_BYTES)
+    let text = crate::files::input::read_regular_text(path, crate::files::input::MAX_TEXT_BYTES)
         .map_err(|e| err(format!("cannot read it: {e}")))?;
-    let recorded = crate::trajectory_csv::read_trajectory(&text, &robot.coordinates, &robot.inputs)
-        .map_err(err)?;
+    let recorded =
+        crate::files::trajectory_csv::read_trajectory(&text, &robot.coordinates, &robot.inputs)
+            .map_err(err)?;
     fn named<'a>(names: &'a [String], values: &'a [f64]) -> impl Iterator<Item = (&'a str, f64)> {
         names.iter().map(String::as_str).zip(values.iter().copied())
     }

@@ -2,8 +2,9 @@
 
 use super::context::Context;
 use crate::ipopt;
+use crate::ipopt::OptionValue;
 use crate::problem::schema::ProblemFile;
-use crate::problem::{HessianMode, Integrator, OptionValue, ProblemError};
+use crate::problem::{HessianMode, Integrator, ProblemError};
 
 /// The checked `[solver]` section.
 pub(super) struct CheckedSolver {
@@ -17,12 +18,11 @@ pub(super) fn check_solver(
     raw: &ProblemFile,
 ) -> Result<CheckedSolver, ProblemError> {
     let integrator = match raw.solver.integrator.as_deref() {
-        None | Some("midpoint") => Integrator::Midpoint,
-        Some("euler") => Integrator::Euler,
-        Some(other) => {
-            let valid = ["midpoint", "euler"].map(String::from);
-            return Err(ctx.unknown_name("solver.integrator", "integrator", other, &valid));
-        }
+        None => Integrator::default(),
+        Some(name) => name.parse().map_err(|_| {
+            let valid = Integrator::ALL.map(|i| i.name().to_owned());
+            ctx.unknown_name("solver.integrator", "integrator", name, &valid)
+        })?,
     };
     let hessian = match raw.solver.hessian.as_deref() {
         None | Some("exact") => HessianMode::Exact,
@@ -46,9 +46,7 @@ pub(super) fn check_solver(
                 ));
             }
         };
-        let as_ipopt = ipopt::OptionValue::from(&v);
-        ipopt::check_problem_option(key, &as_ipopt)
-            .map_err(|e| ctx.invalid(&field, e.to_string()))?;
+        ipopt::check_problem_option(key, &v).map_err(|e| ctx.invalid(&field, e.to_string()))?;
         solver_options.push((key.clone(), v));
     }
     Ok(CheckedSolver {

@@ -92,14 +92,14 @@ pub(super) fn plain_name<'a>(
     field: &str,
     name: &'a str,
 ) -> Result<&'a str, ProblemError> {
-    let shown = crate::names::escape_controls(name);
+    let shown = crate::files::names::escape_controls(name);
     if name.is_empty() || name.len() > 200 {
         return Err(ctx.invalid(
             field,
             format!("must be 1 to 200 bytes long, got {} bytes", name.len()),
         ));
     }
-    if name.chars().any(crate::names::is_hidden_char) {
+    if name.chars().any(crate::files::names::is_hidden_char) {
         return Err(ctx.invalid(
             field,
             format!(

@@ -6,6 +6,7 @@
 use nalgebra::{DMatrix, DVector};
 
 use super::{Before, ContactStep};
+use crate::autodiff::Scalar;
 use crate::autodiff::{VectorFunction, jacobian, weighted_hessian};
 use crate::contact::{
     contact_work_gradient, contact_work_hessian, distance_with_gradient, spin_friction_jacobian,
@@ -15,7 +16,6 @@ use crate::discrete::{
     EulerKnotInNext, Integrator, MechanicsDerivatives, outgoing_momentum,
     outgoing_momentum_input_jacobian, outgoing_momentum_jacobian,
 };
-use crate::scalar::Scalar;
 use crate::sim::ncp::{Evaluation, LinearisedComplementarity, SmoothedSystem, fischer_burmeister};
 
 /// Loop closures a(q) of any mechanics as an AD function of q.

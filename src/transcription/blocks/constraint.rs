@@ -3,7 +3,7 @@
 
 use super::{Context, RowBlock};
 use crate::discrete::Mechanics;
-use crate::scalar::Scalar;
+use crate::autodiff::Scalar;
 
 /// The problem file's constraint `index`.
 #[derive(Debug, Clone, PartialEq)]

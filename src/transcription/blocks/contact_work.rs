@@ -11,7 +11,7 @@ use crate::contact::{
     contact_work_third, contact_work_third_in,
 };
 use crate::discrete::{Mechanics, MechanicsDerivatives};
-use crate::scalar::Scalar;
+use crate::autodiff::Scalar;
 
 /// Contact `contact`'s work.
 #[derive(Debug, Clone, PartialEq)]

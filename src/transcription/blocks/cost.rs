@@ -5,7 +5,7 @@
 use super::{Context, GradientBlock};
 use crate::discrete::Mechanics;
 use crate::problem::costs::{CostSizes, cost_value};
-use crate::scalar::Scalar;
+use crate::autodiff::Scalar;
 
 /// The problem's cost term `term`.
 #[derive(Debug, Clone, PartialEq)]

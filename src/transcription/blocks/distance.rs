@@ -10,7 +10,7 @@ use crate::contact::{
     distance_jacobian_in,
 };
 use crate::discrete::{Mechanics, MechanicsDerivatives};
-use crate::scalar::Scalar;
+use crate::autodiff::Scalar;
 
 /// Contact `contact`'s signed distance φ, or −cφ when `gap`.
 #[derive(Debug, Clone, PartialEq)]

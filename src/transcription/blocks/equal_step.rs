@@ -2,7 +2,7 @@
 
 use super::{Context, RowBlock};
 use crate::discrete::Mechanics;
-use crate::scalar::Scalar;
+use crate::autodiff::Scalar;
 
 /// h_a − h_b.
 #[derive(Debug, Clone, PartialEq)]

@@ -4,7 +4,7 @@
 
 use super::{Context, RowBlock};
 use crate::discrete::{Mechanics, euler_knot};
-use crate::scalar::Scalar;
+use crate::autodiff::Scalar;
 
 /// The Euler residual at a knot.
 #[derive(Debug, Clone, PartialEq)]

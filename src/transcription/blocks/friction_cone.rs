@@ -3,7 +3,7 @@
 use super::{Context, RowBlock};
 use crate::contact;
 use crate::discrete::Mechanics;
-use crate::scalar::Scalar;
+use crate::autodiff::Scalar;
 
 /// Contact `contact`'s friction cone.
 #[derive(Debug, Clone, PartialEq)]

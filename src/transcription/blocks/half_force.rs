@@ -3,7 +3,7 @@
 
 use super::{Context, RowBlock};
 use crate::discrete::{Mechanics, half_force};
-use crate::scalar::Scalar;
+use crate::autodiff::Scalar;
 
 /// ½Fd(qa, qb, u, h).
 #[derive(Debug, Clone, PartialEq)]

@@ -3,7 +3,7 @@
 
 use super::{Context, RowBlock};
 use crate::discrete::{Mechanics, initial_momentum};
-use crate::scalar::Scalar;
+use crate::autodiff::Scalar;
 
 /// M(q_0)v_0.
 #[derive(Debug, Clone, PartialEq)]

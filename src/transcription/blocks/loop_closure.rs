@@ -5,7 +5,7 @@ use nalgebra::DMatrix;
 
 use super::{Context, RowBlock, loop_closure_hessian, loop_closure_jacobian};
 use crate::discrete::{Mechanics, MechanicsDerivatives};
-use crate::scalar::Scalar;
+use crate::autodiff::Scalar;
 
 /// a(q).
 #[derive(Debug, Clone, PartialEq)]

@@ -61,11 +61,11 @@ use std::sync::Arc;
 
 use nalgebra::DMatrix;
 
+use crate::autodiff::Scalar;
 use crate::autodiff::{ScalarFunction, SymmetricGroups, ThirdOrder, VectorFunction};
 use crate::contact::{ContactGeometry, ContactModel};
 use crate::discrete::{Mechanics, MechanicsDerivatives};
 use crate::problem::{Constraint as ProblemConstraint, CostTerm, Integrator, ProblemSpec};
-use crate::scalar::Scalar;
 
 /// Problem constants the block functions need besides the mechanics.
 #[derive(Debug, Clone)]

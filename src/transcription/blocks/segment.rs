@@ -8,7 +8,7 @@ use nalgebra::DMatrix;
 use super::{Context, Eval, GradientBlock};
 use crate::autodiff::ThirdOrder;
 use crate::discrete::{Mechanics, MechanicsDerivatives, SegmentLagrangian};
-use crate::scalar::Scalar;
+use crate::autodiff::Scalar;
 
 /// Ld(qa, qb, h).
 #[derive(Debug, Clone, PartialEq)]

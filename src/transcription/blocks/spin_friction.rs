@@ -5,7 +5,7 @@
 use super::{Context, RowBlock};
 use crate::contact;
 use crate::discrete::Mechanics;
-use crate::scalar::Scalar;
+use crate::autodiff::Scalar;
 
 /// Contact `contact`'s spin friction.
 #[derive(Debug, Clone, PartialEq)]

@@ -10,7 +10,7 @@ use crate::contact::{
     tangential_rate_jacobian, tangential_rate_jacobian_in,
 };
 use crate::discrete::{Mechanics, MechanicsDerivatives};
-use crate::scalar::Scalar;
+use crate::autodiff::Scalar;
 
 /// Contact `contact`'s tangential rate.
 #[derive(Debug, Clone, PartialEq)]

@@ -4,7 +4,7 @@
 use super::{Context, RowBlock};
 use crate::contact;
 use crate::discrete::Mechanics;
-use crate::scalar::Scalar;
+use crate::autodiff::Scalar;
 
 /// ψ e − η.
 #[derive(Debug, Clone, PartialEq)]

@@ -117,7 +117,8 @@ fn casadi_port_matches_spec_initial_values() {
     if !casadi_importable() {
         return;
     }
-    let script = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(vito::independent::SCRIPT);
+    let script =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(vito::regress::independent::SCRIPT);
     let out = Command::new("python3")
         .arg(&script)
         .args([

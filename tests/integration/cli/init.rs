@@ -322,7 +322,7 @@ fn init_and_stand(t: &TestDir, name: &str, urdf: &str, feet: usize) -> (f64, f64
     let loaded = vito::problem::load(&problem, &[]).unwrap();
     let mech = vito::pipeline::mechanics(&loaded.spec).unwrap();
     let csv = std::fs::read_to_string(out.join("trajectory.csv")).unwrap();
-    let q = vito::trajectory_csv::read_trajectory(&csv, &loaded.robot.coordinates, &[])
+    let q = vito::files::trajectory_csv::read_trajectory(&csv, &loaded.robot.coordinates, &[])
         .unwrap()
         .q;
     use vito::discrete::Mechanics;

@@ -137,7 +137,7 @@ fn brick_3d_solves() {
     solve_and_check("brick_3d_solves", "brick_3d.toml", 1e-4, "golden.toml");
 }
 
-/// `vito` pins OpenBLAS's kernels for itself (`blas_kernels`): the hopper and the brick give
+/// `vito` pins OpenBLAS's kernels for itself (`ipopt::blas_kernels`): the hopper and the brick give
 /// bit-identical objectives and iteration counts whatever `OPENBLAS_CORETYPE` the caller set,
 /// or none (unpinned, the brick took 268, 201, 193 and 275 iterations under these four).
 #[test]

@@ -4,7 +4,7 @@
 //! material point, so a sliding ball ends rolling.
 
 use crate::cli::util::{TestDir, says, summary};
-use vito::trajectory_csv::read_csv;
+use vito::files::trajectory_csv::read_csv;
 
 const MASS: f64 = 2.0;
 const RADIUS: f64 = 0.1;

@@ -2,8 +2,8 @@
 //! (not through the URDF model), so the transcription is tested on its own.
 
 use num_dual::Dual;
+use vito::autodiff::Scalar;
 use vito::discrete::{Mechanics, MechanicsDerivatives};
-use vito::scalar::Scalar;
 
 const G: f64 = 9.81;
 

@@ -3,11 +3,12 @@
 use std::path::PathBuf;
 
 use vito::contact::Terrain;
+use vito::ipopt::OptionValue;
 use vito::model::BaseType;
 use vito::problem::costs::{Input, StateTracking};
 use vito::problem::{
     ContactSpec, CoordinateBound, CostTerm, HessianMode, InitialGuess, Integrator, Interval,
-    KnotSet, OptionValue, ProblemSpec, RobotSpec, SlackMode, TimeSteps,
+    KnotSet, ProblemSpec, RobotSpec, SlackMode, TimeSteps,
 };
 
 fn robot(file: &str, base: BaseType) -> RobotSpec {

@@ -13,14 +13,6 @@ use serde::Deserialize;
 /// The script, relative to the repository root.
 pub const SCRIPT: &str = "tools/independent/spec_casadi.py";
 
-/// The problems the script implements, by their SPEC.md (and problem file) name.
-pub const PROBLEMS: [&str; 4] = [
-    "hopper-2d",
-    "brick-3d",
-    "spring-flamingo-walk",
-    "littledog-step",
-];
-
 /// One timed CasADi solve: the solver call only (building the expressions is not counted,
 /// as vito's wall time does not count transcription), split into CasADi's function
 /// evaluations and the rest (Ipopt).
@@ -86,7 +78,7 @@ impl Independent {
         command
     }
 
-    /// Solves `problem` (one of [`PROBLEMS`]) once with the CasADi implementation.
+    /// Solves `problem` (one of [`super::reference::NAMES`], which the script implements) once with the CasADi implementation.
     pub fn bench(&self, problem: &str) -> Result<IndependentRow, String> {
         let out = Self::isolated(&self.python)
             .arg(&self.script)

@@ -14,7 +14,7 @@
 //! This module knows the format only (column names, units, number text, parsing), not where
 //! the numbers come from, so that both `report` (above it) and `problem` can use it.
 
-use crate::names::list_names;
+use crate::files::names::list_names;
 
 /// What one CSV holds, by knot (k = 0..N−1) and interval (k = 0..N−2).
 #[derive(Debug, Clone, Copy)]
@@ -252,7 +252,7 @@ pub fn read_csv(text: &str) -> Result<CsvTable, String> {
             && n.len() <= MAX_COLUMN_NAME
             && !n
                 .chars()
-                .any(|c| crate::names::is_hidden_char(c) || c == '"')
+                .any(|c| crate::files::names::is_hidden_char(c) || c == '"')
     };
     if names.first().map(String::as_str) != Some("time") || !names.iter().all(plain) {
         return Err(format!(

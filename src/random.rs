@@ -1,5 +1,6 @@
-//! Deterministic inputs for tests and benchmarks: one seeded generator, so that every test,
-//! benchmark and machine draws the same numbers from the same seed (no `rand` dependency,
+//! Deterministic numbers: one seeded generator for production (multi-start points,
+//! derivative-check samples, the brick study, fuzzing) and for tests and benchmarks, so that
+//! every run and machine draws the same numbers from the same seed (no `rand` dependency,
 //! no state shared between tests).
 
 /// A 64-bit linear congruential generator (Knuth's MMIX constants). Not for statistics:

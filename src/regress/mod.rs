@@ -2,9 +2,12 @@
 //! Ipopt solve per process, DESIGN.md), compare the objectives with the record, and rewrite
 //! the record atomically when blessing.
 
+pub mod independent;
+pub mod reference;
+
 use std::path::{Path, PathBuf};
 
-use crate::paths::relative_path;
+use crate::files::paths::relative_path;
 use crate::report::{
     DEFAULT_TOLERANCE, GoldenEntry, GoldenError, GoldenRecord, objective_matches, slack_matches,
 };

@@ -1,6 +1,14 @@
-//! `vito init` and `vito inspect`: a starter problem and a robot's summary from a URDF.
+//! `vito init`: a starter problem from a URDF.
 
-use super::*;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use vito::model::BaseType;
+use vito::problem::RobotInfo;
+use vito::report;
+
+use super::error::CliError;
+use super::output::exit_quietly_on_broken_pipe;
 
 /// The regular file standard output is redirected to, if it is one (Linux's /proc).
 pub(super) fn stdout_file() -> Option<PathBuf> {
@@ -17,11 +25,11 @@ pub(super) fn init(urdf: &Path, base: BaseType, out: Option<&Path>) -> Result<u8
     let model = vito::model::Model::from_urdf_file(urdf, base)
         .map_err(|e| CliError::Input(vito::model::describe(urdf, &e)))?;
     let urdf_text = match out {
-        Some(_) => vito::paths::reference_from(urdf, out),
+        Some(_) => vito::files::paths::reference_from(urdf, out),
         // Printed: relative to the file stdout goes to, when it is one; else absolute, so
         // that the text names the URDF wherever it is saved.
         None => match stdout_file() {
-            Some(file) => vito::paths::reference_from(urdf, Some(&file)),
+            Some(file) => vito::files::paths::reference_from(urdf, Some(&file)),
             None => std::path::absolute(urdf)
                 .unwrap_or_else(|_| urdf.to_owned())
                 .display()
@@ -34,7 +42,7 @@ pub(super) fn init(urdf: &Path, base: BaseType, out: Option<&Path>) -> Result<u8
         None => {
             let mut stdout = std::io::stdout().lock();
             let written = stdout
-                .write_all(vito::names::escape_controls(&text).as_bytes())
+                .write_all(vito::files::names::escape_controls(&text).as_bytes())
                 .and_then(|()| stdout.flush());
             if let Err(e) = written {
                 exit_quietly_on_broken_pipe(&e);
@@ -61,20 +69,6 @@ pub(super) fn init(urdf: &Path, base: BaseType, out: Option<&Path>) -> Result<u8
             }
             note!("wrote {}", path.display());
         }
-    }
-    Ok(0)
-}
-
-pub(super) fn inspect(urdf: &Path, base: BaseType, json: bool) -> Result<u8, CliError> {
-    let model = vito::model::Model::from_urdf_file(urdf, base)
-        .map_err(|e| CliError::Input(vito::model::describe(urdf, &e)))?;
-    let inspection = vito::model::inspect(&model);
-    if json {
-        let text = serde_json::to_string_pretty(&inspection)
-            .map_err(|e| CliError::Internal(e.to_string()))?;
-        out!("{text}");
-    } else {
-        out!("{inspection}");
     }
     Ok(0)
 }

@@ -1,0 +1,429 @@
+//! The command line: arguments (clap derive) and their parsing.
+
+use std::path::{Path, PathBuf};
+
+use clap::{Parser, Subcommand, ValueEnum};
+use vito::discrete::Integrator;
+use vito::model::BaseType;
+use vito::problem::Override;
+
+use super::error::{CliError, EXIT_CODE_TABLE};
+
+/// [`EXIT_CODE_TABLE`] as `--help` prints it.
+pub(super) fn exit_codes_help() -> String {
+    let mut text = "Exit codes:".to_owned();
+    for (code, meaning) in EXIT_CODE_TABLE {
+        text.push_str(&format!("\n  {code}  {meaning}"));
+    }
+    text
+}
+
+/// vito: variational contact-implicit trajectory optimisation for legged robots.
+#[derive(Debug, Parser)]
+#[command(name = "vito", version = vito::ipopt::LONG_VERSION, about, after_help = exit_codes_help())]
+pub struct Args {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// Base joint choice on the command line (`init` and `inspect` alike).
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum BaseArg {
+    /// `fixed` when the URDF already moves its root itself (prismatic joints from its root
+    /// link, as a planar hopper's x and z), else `floating`.
+    Auto,
+    Fixed,
+    Planar,
+    Floating,
+}
+
+impl BaseArg {
+    /// The base for `urdf`: as asked, or for `auto` by [`vito::model::Model::slides_its_root`].
+    pub(super) fn resolve(self, urdf: &Path) -> Result<BaseType, CliError> {
+        Ok(match self {
+            BaseArg::Auto => {
+                let fixed = vito::model::Model::from_urdf_file(urdf, BaseType::Fixed)
+                    .map_err(|e| CliError::Input(vito::model::describe(urdf, &e)))?;
+                if fixed.slides_its_root() {
+                    BaseType::Fixed
+                } else {
+                    BaseType::Floating
+                }
+            }
+            BaseArg::Fixed => BaseType::Fixed,
+            BaseArg::Planar => BaseType::Planar,
+            BaseArg::Floating => BaseType::Floating,
+        })
+    }
+}
+
+/// `--integrator`: the names of [`Integrator::name`], listed in the help, parsed by
+/// Integrator's own `FromStr`.
+fn integrator_parser() -> impl clap::builder::TypedValueParser<Value = Integrator> {
+    use clap::builder::TypedValueParser;
+    clap::builder::PossibleValuesParser::new(Integrator::ALL.map(Integrator::name))
+        .try_map(|name| name.parse::<Integrator>())
+}
+
+/// PD feedback choice on the command line.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum FeedbackArg {
+    Explicit,
+    Implicit,
+}
+
+impl From<FeedbackArg> for vito::sim::Feedback {
+    fn from(f: FeedbackArg) -> Self {
+        match f {
+            FeedbackArg::Explicit => vito::sim::Feedback::Explicit,
+            FeedbackArg::Implicit => vito::sim::Feedback::Implicit,
+        }
+    }
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Solve a problem file and write trajectory.csv, summary.json and plots.
+    #[command(after_help = exit_codes_help())]
+    Solve {
+        /// Problem file (TOML).
+        file: PathBuf,
+        /// Override a value of the file before checking it, e.g. `--set slack.weight=1e3`
+        /// or `--set contacts.friction=0.5` (repeatable; value parsed as TOML).
+        #[arg(long = "set", value_name = "KEY.PATH=VALUE")]
+        set: Vec<String>,
+        /// Output directory (default: `output.dir` of the file, else `out/<problem name>`).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// No live progress lines.
+        #[arg(long, short)]
+        quiet: bool,
+        /// Also write Ipopt's own log (`file_print_level 5`) as `ipopt.log` in the output
+        /// directory (with a slack continuation, the last solve's).
+        #[arg(long)]
+        ipopt_log: bool,
+        /// Solve from K starts (the file's guess, then K−1 seeded perturbations of it) and
+        /// keep the best feasible; summary.json lists all under `starts`.
+        #[arg(long, value_name = "K", default_value_t = 1)]
+        starts: usize,
+        /// Seed of the multi-start perturbations.
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
+        /// Internal: the process id of the sweep that started this run (the run dies with it).
+        #[arg(long, hide = true, value_name = "PID")]
+        sweep_parent: Option<u32>,
+    },
+    /// Simulate a problem file's robot forward with the planner's mechanics and contact model.
+    #[command(after_help = exit_codes_help())]
+    Simulate {
+        /// Problem file (TOML): robot, terrain, contacts, initial state.
+        file: PathBuf,
+        /// Overrides as for `solve`.
+        #[arg(long = "set", value_name = "KEY.PATH=VALUE")]
+        set: Vec<String>,
+        /// Replay the inputs of a trajectory CSV (zero-order hold); default: zero inputs.
+        #[arg(long, conflicts_with = "track")]
+        inputs: Option<PathBuf>,
+        /// Track a trajectory CSV with PD feedback (its inputs as feedforward).
+        #[arg(long)]
+        track: Option<PathBuf>,
+        /// PD gains by input name, `NAME=KP,KD` or `all=KP,KD` (repeatable; kp in input units
+        /// per coordinate unit, kd per coordinate rate), on top of the file's `[tracking] gains`.
+        #[arg(long, value_name = "NAME=KP,KD", requires = "track")]
+        gains: Vec<String>,
+        /// Where the PD reads the state: the step's start (explicit) or end (implicit,
+        /// solved with the step; stable at stiff gains) [default: the file's
+        /// `[tracking] feedback`, else explicit].
+        #[arg(long, value_enum, requires = "track")]
+        feedback: Option<FeedbackArg>,
+        /// Simulated time (default: the CSV's last time, else the problem's horizon).
+        #[arg(long)]
+        duration: Option<f64>,
+        /// Steps per time unit (default: 1/h of the problem).
+        #[arg(long)]
+        rate: Option<f64>,
+        /// Integrator (default: the problem's).
+        #[arg(long, value_parser = integrator_parser())]
+        integrator: Option<Integrator>,
+        /// Output directory (default: `out/<problem name>-simulate`).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// No progress bar.
+        #[arg(long, short)]
+        quiet: bool,
+    },
+    /// Write the animation page of result directories (one, or several overlaid), or a strip
+    /// of poses as SVG.
+    #[command(after_help = exit_codes_help())]
+    View {
+        /// Result directories (each with trajectory.csv and summary.json).
+        #[arg(required = true)]
+        dirs: Vec<PathBuf>,
+        /// The problem file (default: each summary's `problem_file`, with its parameters).
+        #[arg(long)]
+        problem: Option<PathBuf>,
+        /// The page to write (default: animation.html in the one directory given).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Poses in the strip (with --svg).
+        #[arg(long, requires = "svg")]
+        strip: Option<usize>,
+        /// Write the strip as SVG (an orthographic side view) to this file.
+        #[arg(long, requires = "strip")]
+        svg: Option<PathBuf>,
+    },
+    /// The paper's accuracy studies: first-order against variational time stepping.
+    #[command(after_help = exit_codes_help())]
+    Study {
+        #[command(subcommand)]
+        study: StudyKind,
+    },
+    /// Check a problem file without solving and print its size.
+    #[command(after_help = exit_codes_help())]
+    Check {
+        /// Problem file (TOML).
+        file: PathBuf,
+        /// Overrides as for `solve`.
+        #[arg(long = "set", value_name = "KEY.PATH=VALUE")]
+        set: Vec<String>,
+        /// Compare the gradient, Jacobian and Lagrangian Hessian with central finite
+        /// differences (exit 1 when an entry exceeds its tolerance).
+        #[arg(long)]
+        derivatives: bool,
+        /// With `--derivatives`: check at this trajectory CSV (one row per knot) instead of
+        /// the initial guess.
+        #[arg(long, value_name = "TRAJECTORY_CSV", requires = "derivatives")]
+        at: Option<PathBuf>,
+        /// With `--derivatives`: seed of the random multipliers of the Hessian check.
+        #[arg(long, default_value_t = 1, requires = "derivatives")]
+        seed: u64,
+    },
+    /// Write a commented starter problem for a URDF (to stdout, or to `--out`).
+    Init {
+        /// Robot model (URDF).
+        urdf: PathBuf,
+        /// Base joint [default: auto: fixed when the URDF already moves its root itself
+        /// (prismatic joints from its root link, like the planar hopper's x and z: a free base
+        /// would add coordinates it already has), else floating (a legged robot's torso)].
+        #[arg(long, value_enum, default_value = "auto", hide_default_value = true)]
+        base: BaseArg,
+        /// File to write (refuses to overwrite an existing one).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Print what vito reads from a URDF: coordinates, inputs, limits, springs, contacts.
+    Inspect {
+        /// Robot model (URDF).
+        urdf: PathBuf,
+        /// Base joint [default: auto: fixed when the URDF already moves its root itself
+        /// (prismatic joints from its root link, like the planar hopper's x and z: a free base
+        /// would add coordinates it already has), else floating (a legged robot's torso)].
+        #[arg(long, value_enum, default_value = "auto", hide_default_value = true)]
+        base: BaseArg,
+        /// Print JSON instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Time the NLP callbacks of problems and print a table (default: the reference problems).
+    Bench {
+        /// Problem files (default: problems/{hopper_2d,brick_3d,spring_flamingo_walk,littledog_step}.toml).
+        files: Vec<PathBuf>,
+        /// Override a value of every file, e.g. `--set horizon.knots=40` (repeatable).
+        #[arg(long = "set", value_name = "KEY.PATH=VALUE")]
+        set: Vec<String>,
+        /// Leave out the side-by-side CasADi solves (tools/independent/spec_casadi.py), which
+        /// otherwise run for the reference problems when Python imports casadi.
+        #[arg(long)]
+        no_casadi: bool,
+    },
+    /// Solve a problem over a grid of values, each run in its own process; resumable.
+    #[command(
+        after_help = "Examples:\n  vito sweep problems/hopper_2d.toml --grid contacts.friction=0.3,0.8 --grid slack.weight=10,100 --out out/sweep\n  vito sweep report out/sweep --metric objective\n  vito sweep collect out/shard-0 out/shard-1 --out out/all\n\nExit codes: 0 every run finished and solved, 1 some run failed, timed out, did not solve or was stopped by a signal (collect: points missing, without --partial), 2 input or usage error, 3 internal error",
+        args_conflicts_with_subcommands = true,
+        subcommand_negates_reqs = true
+    )]
+    Sweep {
+        #[command(subcommand)]
+        action: Option<SweepAction>,
+        #[command(flatten)]
+        run: SweepRunArgs,
+    },
+    /// Solve every problem of a regression record and compare status, objective and max
+    /// slack; `--bless` rewrites it.
+    #[command(after_help = exit_codes_help())]
+    Regress {
+        /// Rewrite the record with the new results (atomically).
+        #[arg(long)]
+        bless: bool,
+        /// The regression record [default: `golden.toml` beside the first FILE, else
+        /// problems/golden.toml].
+        #[arg(long)]
+        record: Option<PathBuf>,
+        /// Problems to check or add (relative to the working directory); default: the record's.
+        files: Vec<PathBuf>,
+    },
+}
+
+/// `vito study ...`.
+#[derive(Debug, Subcommand)]
+pub enum StudyKind {
+    /// Figure 5: a tumbling brick from seeded random states, each method at K knots over the
+    /// horizon (h = T/(K − 1)) against a first-order reference at 2 kHz; RMS configuration
+    /// error per K and method (brick_accuracy.csv, brick_accuracy_runs.csv, brick_accuracy.svg).
+    BrickAccuracy {
+        /// The brick's problem file (robot, contacts, terrain, gravity; its initial state is
+        /// replaced by the seeded ones).
+        #[arg(long, default_value = "problems/brick_3d.toml")]
+        problem: PathBuf,
+        /// Random initial states (seeds 0..N).
+        #[arg(long, default_value_t = 20)]
+        seeds: usize,
+        /// Knot counts (comma-separated).
+        #[arg(
+            long,
+            value_delimiter = ',',
+            default_value = "3,4,5,6,7,8,9,10,11,12,13,14,15,16"
+        )]
+        knots: Vec<usize>,
+        /// Horizon T (s).
+        #[arg(long, default_value_t = 0.5)]
+        horizon: f64,
+        /// Largest initial rate of each roll–pitch–yaw angle (rad/s).
+        #[arg(long, default_value_t = 0.5)]
+        spin: f64,
+        /// Largest initial roll and pitch (rad).
+        #[arg(long, default_value_t = 0.2)]
+        tilt: f64,
+        /// Output directory.
+        #[arg(long, default_value = "out/brick_accuracy")]
+        out: PathBuf,
+        /// No progress bar.
+        #[arg(long, short)]
+        quiet: bool,
+    },
+    /// Figure 6: plans of a problem solved at K knots by each method, each tracked by PD
+    /// feedback (the plan's inputs as feedforward) in a first-order simulation at 2 kHz; RMS
+    /// state error per K and method (tracking.csv, tracking_runs.csv, tracking.svg, the
+    /// plans' records in tracking_plans.csv and trajectories in plans/). One gait: the
+    /// smallest K's variational plan starts from the file's guess, each next K's from the
+    /// previous one, the first-order plan at each K from the variational plan at that K.
+    Tracking {
+        /// The problem file planned (its horizon kept: a fixed step becomes T/(K − 1)).
+        #[arg(long, default_value = "problems/hopper_2d.toml")]
+        problem: PathBuf,
+        /// Overrides of the problem, as for `solve` (repeatable).
+        #[arg(long = "set", value_name = "KEY.PATH=VALUE")]
+        set: Vec<String>,
+        /// Knot counts (comma-separated).
+        #[arg(long, value_delimiter = ',', default_value = "10,15,20,25,30,35,40")]
+        knots: Vec<usize>,
+        /// PD gains by input name, `NAME=KP,KD` or `all=KP,KD` (repeatable), on top of the
+        /// file's `[tracking] gains` [default without either: all=100,10].
+        #[arg(long, value_name = "NAME=KP,KD")]
+        gains: Vec<String>,
+        /// Where the PD reads the state [default: the file's `[tracking] feedback`, else
+        /// explicit]; see `vito simulate --feedback`.
+        #[arg(long, value_enum)]
+        feedback: Option<FeedbackArg>,
+        /// Output directory.
+        #[arg(long, default_value = "out/tracking")]
+        out: PathBuf,
+        /// No progress bar.
+        #[arg(long, short)]
+        quiet: bool,
+    },
+    /// Figure 6 over a set of gaits ("a set of walking trajectories"): reads the output
+    /// directories of several `vito study tracking` runs (one gait each, run in parallel or
+    /// as array tasks) into one table per measure, mean ± std over the gaits at each K and
+    /// method (tracking.csv, tracking_configuration.csv, tracking_joints.csv, their runs and
+    /// SVGs), every plan in tracking_plans.csv with its gait, and the falls: plans whose
+    /// simulated robot left its plan by more than --max-deviation (tracking_falls.csv), and
+    /// the state error over the others (tracking_upright.csv and .svg).
+    #[command(
+        after_help = "Example:\n  vito study tracking --problem problems/littledog_walk.toml --set final.q.base_x=0.15 --out out/walk/x0.15 &\n  vito study tracking --problem problems/littledog_walk.toml --set final.q.base_x=0.25 --out out/walk/x0.25 &\n  wait; vito study tracking-collect out/walk/x0.15 out/walk/x0.25 --out out/walk/all"
+    )]
+    TrackingCollect {
+        /// The gaits' study directories (each written by `vito study tracking`; its name is
+        /// the gait's).
+        #[arg(required = true)]
+        dirs: Vec<PathBuf>,
+        /// A plan whose simulation leaves it by more than this in any coordinate (problem
+        /// units: m, rad) counts as fallen.
+        #[arg(long, default_value_t = 0.5)]
+        max_deviation: f64,
+        /// Output directory.
+        #[arg(long, default_value = "out/tracking_set")]
+        out: PathBuf,
+    },
+}
+
+/// `vito sweep FILE --grid ...`.
+#[derive(Debug, clap::Args)]
+pub struct SweepRunArgs {
+    /// Problem file (TOML).
+    #[arg(required = true)]
+    pub(super) file: Option<PathBuf>,
+    /// A swept key and its values: any `--set` key or family parameter (repeatable; the
+    /// grid is the product, the last --grid varying fastest).
+    #[arg(long, value_name = "KEY=V1,V2,...", required = true)]
+    pub(super) grid: Vec<String>,
+    /// Overrides for every run, as for `solve` (repeatable).
+    #[arg(long = "set", value_name = "KEY.PATH=VALUE")]
+    pub(super) set: Vec<String>,
+    /// Runs at a time (default: the number of cores).
+    #[arg(long)]
+    pub(super) jobs: Option<usize>,
+    /// Sweep directory: the table and each run's own directory (default: out/sweep-<file stem>).
+    #[arg(long)]
+    pub(super) out: Option<PathBuf>,
+    /// Per-run wall-time limit in seconds; a run still going then is killed (status timeout).
+    #[arg(long, value_name = "S")]
+    pub(super) time_limit: Option<f64>,
+    /// Run a deterministic part of the grid: the points whose index is I mod N
+    /// (Slurm: --shard $SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT).
+    #[arg(long, value_name = "I/N")]
+    pub(super) shard: Option<String>,
+    /// `neighbour`: start each run from the trajectory of its nearest finished grid point.
+    #[arg(long, value_enum, default_value = "none")]
+    pub(super) warm_start: WarmStartArg,
+}
+
+/// `--warm-start` of a sweep.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum WarmStartArg {
+    None,
+    Neighbour,
+}
+
+/// `vito sweep report` and `vito sweep collect`.
+#[derive(Debug, Subcommand)]
+pub enum SweepAction {
+    /// Print a sweep's table and write an SVG of one metric over the grid.
+    Report {
+        /// The sweep directory (holding sweep.json).
+        dir: PathBuf,
+        /// The column to plot: objective, iterations, wall_time_s, max_slack or a metric.
+        #[arg(long, default_value = "objective")]
+        metric: String,
+    },
+    /// Merge the tables of sweep shards into one table (sweep.json, sweep.csv) in --out.
+    Collect {
+        /// The shards' sweep directories.
+        #[arg(required = true)]
+        dirs: Vec<PathBuf>,
+        /// Directory for the merged table.
+        #[arg(long)]
+        out: PathBuf,
+        /// Exit 0 even when points have no result (without it: exit 1 naming them).
+        #[arg(long)]
+        partial: bool,
+    },
+}
+
+pub(super) fn parse_overrides(set: &[String]) -> Result<Vec<Override>, CliError> {
+    Ok(set
+        .iter()
+        .map(|s| Override::parse(s))
+        .collect::<Result<_, _>>()?)
+}

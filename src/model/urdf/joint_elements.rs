@@ -1,0 +1,217 @@
+//! What acts on the joint coordinates, from the Drake extensions and `<transmission>`s:
+//! springs, loop closures and actuators.
+
+use std::collections::HashMap;
+
+use super::build::{NameIndex, rpy};
+use super::extensions::{Extensions, bad};
+use crate::model::actuation::Actuator;
+use crate::model::spatial::{normalized, perpendicular_pair};
+use crate::model::{LinkId, LoopClosure, ModelError, Spring, SpringKind};
+
+/// Which coordinate a joint named by an extension moves.
+pub(super) struct JointCoordinates<'a> {
+    pub(super) robot: &'a urdf_rs::Robot,
+    pub(super) joint_of: &'a NameIndex<'a>,
+    pub(super) joint_coordinate: &'a [Option<usize>],
+}
+
+impl JointCoordinates<'_> {
+    /// The coordinate of `joint`, named by `element` `owner`; an undefined or fixed joint is
+    /// an error naming both.
+    fn of(&self, element: &'static str, owner: &str, joint: &str) -> Result<usize, ModelError> {
+        let j = self.joint_of.get(joint).copied().ok_or_else(|| {
+            bad(
+                element,
+                owner,
+                format!("refers to joint '{joint}', which is not defined"),
+            )
+        })?;
+        self.joint_coordinate[j].ok_or_else(|| {
+            let why = match &self.robot.joints[j].mimic {
+                Some(m) if self.robot.joints[j].joint_type != urdf_rs::JointType::Fixed => {
+                    format!(
+                        "mimics joint '{}' and has no coordinate of its own",
+                        m.joint
+                    )
+                }
+                _ => "is fixed and has no coordinate".to_string(),
+            };
+            bad(
+                element,
+                owner,
+                format!("acts on joint '{joint}', which {why}"),
+            )
+        })
+    }
+}
+
+pub(super) fn springs(
+    robot: &urdf_rs::Robot,
+    ext: &Extensions,
+    joints: &JointCoordinates,
+) -> Result<Vec<Spring>, ModelError> {
+    let mut springs = Vec::with_capacity(ext.springs.len());
+    for raw in &ext.springs {
+        let coordinate = joints.of("force_element", &raw.name, &raw.joint)?;
+        let prismatic = robot.joints[joints.joint_of[raw.joint.as_str()]].joint_type
+            == urdf_rs::JointType::Prismatic;
+        if prismatic != (raw.kind == SpringKind::Prismatic) {
+            let (spring, joint) = if prismatic {
+                ("torsional", "prismatic")
+            } else {
+                ("prismatic", "revolute")
+            };
+            return Err(bad(
+                "force_element",
+                &raw.name,
+                format!(
+                    "a {spring} spring on the {joint} joint '{}'; use <{}_spring> there",
+                    raw.joint,
+                    if prismatic { "prismatic" } else { "torsional" }
+                ),
+            ));
+        }
+        if !raw.rest.is_finite() {
+            return Err(bad(
+                "force_element",
+                &raw.name,
+                format!("rest value {} must be a finite number", raw.rest),
+            ));
+        }
+        if !(raw.stiffness.is_finite() && raw.stiffness >= 0.0) {
+            return Err(bad(
+                "force_element",
+                &raw.name,
+                format!("stiffness {} must be finite and ≥ 0", raw.stiffness),
+            ));
+        }
+        springs.push(Spring {
+            name: raw.name.clone(),
+            kind: raw.kind,
+            coordinate,
+            stiffness: raw.stiffness,
+            rest: raw.rest,
+        });
+    }
+    Ok(springs)
+}
+
+pub(super) fn loop_closures(
+    ext: &Extensions,
+    link_names: &[String],
+) -> Result<Vec<LoopClosure>, ModelError> {
+    let link_id = |name: &str| link_names.iter().position(|n| n == name).map(LinkId);
+    let mut loop_closures = Vec::with_capacity(ext.loops.len());
+    for raw in &ext.loops {
+        let find = |name: &str| {
+            link_id(name).ok_or_else(|| {
+                bad(
+                    "loop_joint",
+                    &raw.name,
+                    format!("refers to link '{name}', which is not defined"),
+                )
+            })
+        };
+        if raw.link1 == raw.link2 {
+            return Err(bad(
+                "loop_joint",
+                &raw.name,
+                format!(
+                    "joins link '{}' to itself, which closes no loop; name two links",
+                    raw.link1
+                ),
+            ));
+        }
+        if !(raw.xyz1.iter().chain(&raw.xyz2).chain(&raw.rpy2)).all(|v| v.is_finite()) {
+            return Err(bad(
+                "loop_joint",
+                &raw.name,
+                "its link frames' xyz and rpy must hold finite numbers".to_string(),
+            ));
+        }
+        let axis = normalized(raw.axis).ok_or(ModelError::BadAxis {
+            joint: raw.name.clone(),
+            axis: raw.axis,
+        })?;
+        loop_closures.push(LoopClosure {
+            name: raw.name.clone(),
+            link1: find(&raw.link1)?,
+            point1: raw.xyz1,
+            link2: find(&raw.link2)?,
+            point2: raw.xyz2,
+            rotation2: rpy(&raw.rpy2),
+            axis,
+            directions: perpendicular_pair(axis),
+        });
+    }
+    Ok(loop_closures)
+}
+
+/// The joints that can take an input: every movable joint in coordinate order, with its
+/// effort limit (∞ without `<limit>`) and its `<transmission>`, if one drives it.
+pub(super) fn actuators(
+    robot: &urdf_rs::Robot,
+    ext: &Extensions,
+    joints: &JointCoordinates,
+    warnings: &mut Vec<String>,
+) -> Result<Vec<Actuator>, ModelError> {
+    let mut transmission_of: HashMap<usize, usize> = HashMap::new();
+    for (t, (name, joint, reduction)) in ext.transmissions.iter().enumerate() {
+        let coordinate = joints.of("transmission", name, joint)?;
+        if *reduction != 1.0 {
+            warnings.push(format!(
+                "transmission '{name}': mechanicalReduction {reduction} ignored (vito uses 1)"
+            ));
+        }
+        let j = joints.joint_of[joint.as_str()];
+        let has_limit = ext.limit_presence.get(joint).is_some_and(|p| p.0);
+        let effort = if has_limit {
+            robot.joints[j].limit.effort
+        } else {
+            f64::INFINITY
+        };
+        if effort.is_nan() || effort < 0.0 {
+            return Err(bad(
+                "joint",
+                joint,
+                format!(
+                    "<limit effort=\"{effort}\"> on an actuated joint must be ≥ 0 (leave it \
+                     out, or write inf, for no limit)"
+                ),
+            ));
+        }
+        transmission_of.entry(coordinate).or_insert(t);
+    }
+    let mut actuators: Vec<Actuator> = robot
+        .joints
+        .iter()
+        .enumerate()
+        .filter_map(|(j, joint)| {
+            let coordinate = joints.joint_coordinate[j]?;
+            let has_limit = ext.limit_presence.get(&joint.name).is_some_and(|p| p.0);
+            let effort = if has_limit {
+                joint.limit.effort
+            } else {
+                f64::INFINITY
+            };
+            // Transmission joints were checked above; any other joint with a meaningless
+            // effort limit is left out of the joints an `actuated` rule may pick.
+            if effort.is_nan() || effort < 0.0 {
+                warnings.push(format!(
+                    "joint '{}': <limit effort=\"{effort}\"> is not ≥ 0, so it cannot be actuated",
+                    joint.name
+                ));
+                return None;
+            }
+            Some(Actuator {
+                joint: joint.name.clone(),
+                coordinate,
+                effort,
+                transmission: transmission_of.get(&coordinate).copied(),
+            })
+        })
+        .collect();
+    actuators.sort_by_key(|a| a.coordinate);
+    Ok(actuators)
+}
