@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use crate::discrete::Mechanics;
 use crate::ipopt;
-use crate::problem::{InitialGuess, LoadedProblem, ProblemError, ProblemSpec, TimeSteps};
+use crate::problem::{InitialGuess, LoadedProblem, ProblemError, ProblemSpec};
 use crate::transcription::{
     self, BenchRow, MechanicsDerivatives, ModelMechanics, Solution, SolveOptions, Transcription,
     TranscriptionError,
@@ -231,10 +231,7 @@ pub fn prepare_simulation(
     };
     let duration = positive("--duration", request.duration)?;
     let rate = positive("--rate", request.rate)?;
-    let problem_h = match spec.time_steps {
-        TimeSteps::Fixed(h) => h,
-        TimeSteps::FreeEqual { t_max, .. } => t_max / (spec.knots - 1) as f64,
-    };
+    let problem_h = spec.time_steps.guess_step(spec.knots);
     let h = rate.map_or(problem_h, |r| 1.0 / r);
     let robot = &problem.robot;
     let read = |path: &Path| -> Result<_, TranscriptionError> {
@@ -245,20 +242,8 @@ pub fn prepare_simulation(
                     format!("cannot read {}: {e}", path.display()),
                 )
             })?;
-        let r = crate::trajectory_csv::read_trajectory(&text, &robot.coordinates, &robot.inputs)
-            .map_err(|m| invalid("--inputs/--track", format!("{}: {m}", path.display())))?;
-        // Replayed or fed forward, the inputs are the file's: every one needs its column.
-        if r.u.is_empty() && !robot.inputs.is_empty() {
-            return Err(invalid(
-                "--inputs/--track",
-                format!(
-                    "{} has no column for every input (u_<name> for {})",
-                    path.display(),
-                    crate::names::list_names(&robot.inputs, 12)
-                ),
-            ));
-        }
-        Ok(r)
+        recorded_inputs(&text, robot)
+            .map_err(|m| invalid("--inputs/--track", format!("{}: {m}", path.display())))
     };
     let mut inputs: Vec<PathBuf> = vec![problem.file.clone(), spec.robot.urdf.clone()];
     let (source, recorded_end) = match (&request.inputs, &request.track) {
@@ -343,6 +328,24 @@ pub fn prepare_simulation(
         mech,
         contact,
     })
+}
+
+/// The recording a trajectory CSV's text holds for `vito simulate --inputs`/`--track`: as
+/// [`crate::trajectory_csv::read_trajectory`] reads it, with a column for every input
+/// (replayed or fed forward, the inputs are the file's); the message says what is wrong (the
+/// caller names the file).
+pub fn recorded_inputs(
+    text: &str,
+    robot: &crate::problem::RobotInfo,
+) -> Result<crate::trajectory_csv::RecordedTrajectory, String> {
+    let r = crate::trajectory_csv::read_trajectory(text, &robot.coordinates, &robot.inputs)?;
+    if r.u.is_empty() && !robot.inputs.is_empty() {
+        return Err(format!(
+            "it has no column for every input (u_<name> for {})",
+            crate::names::list_names(&robot.inputs, 12)
+        ));
+    }
+    Ok(r)
 }
 
 /// The gains `base` (the problem file's `[tracking] gains`) with `NAME=KP,KD` per input
