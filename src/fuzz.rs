@@ -992,6 +992,21 @@ fn generate(
 
 /// Runs one input through its library calls; `true` when every call accepted it.
 fn load_once(input: &Input, targets: &[CsvTarget]) -> bool {
+    use crate::input::{MAX_TEXT_BYTES, MAX_URDF_BYTES};
+    // The commands refuse a file over these sizes before reading it.
+    let over = |text: &str, max: u64| text.len() as u64 > max;
+    if input
+        .problem
+        .as_deref()
+        .is_some_and(|p| over(p, MAX_TEXT_BYTES))
+        || over(&input.urdf, MAX_URDF_BYTES)
+        || input
+            .csv
+            .as_ref()
+            .is_some_and(|(_, _, t)| over(t, MAX_TEXT_BYTES))
+    {
+        return false;
+    }
     match (input.kind, &input.problem, &input.csv) {
         (_, _, Some((reader, t, text))) => read_csv_once(*reader, &targets[*t], text),
         (_, Some(problem), _) => {
