@@ -1,9 +1,13 @@
-//! Fuzzes problem loading and URDF loading with the project's own files, mutated
-//! (`vito::fuzz`). Usage: `cargo run --release --example fuzz -- [COUNT] [SEED]
-//! [FIRST]` (default 1,000,000 inputs, seed 1, from input 0; FIRST repeats the end of a run),
-//! or `make fuzz`. Prints the figures; exits 1 if any input panicked, printing where and
-//! writing the first few inputs to `fuzz-panics/`.
+//! Fuzzes what vito reads with generated and mutated inputs (`vito::fuzz`): problem files,
+//! URDFs, deep expressions, long chains, many attributes, trajectory CSVs. Usage:
+//! `cargo run --release --example fuzz -- [COUNT] [SEED] [FIRST]` (default 1,000,000
+//! inputs, seed 1, from input 0; FIRST repeats inputs FIRST..COUNT of the run), or
+//! `make fuzz`. Prints `next input N` every 1,000 inputs (after an abort, the last one is the
+//! FIRST to repeat from), the figures every 10,000 and at the end, per kind with its slowest
+//! input; exits 1 if any input panicked or took more than 10 s, writing the first few to
+//! `fuzz-panics/`.
 
+use std::io::Write;
 use std::path::Path;
 
 fn main() -> std::process::ExitCode {
@@ -31,32 +35,57 @@ fn main() -> std::process::ExitCode {
     }));
     let print = |r: &vito::fuzz::FuzzReport| {
         println!(
-            "inputs {} accepted {} panics {} wall {:.1} s slowest {:.3} ms ({})",
+            "inputs {} accepted {} panics {} hangs>{}s {} wall {:.1} s slowest {:.3} ms ({})",
             r.inputs,
             r.accepted,
             r.panics,
+            vito::fuzz::HANG.as_secs(),
+            r.hangs,
             r.wall.as_secs_f64(),
             r.slowest.0.as_secs_f64() * 1e3,
             r.slowest.1
         );
+        for k in &r.kinds {
+            println!(
+                "  {:<10} inputs {:>8} accepted {:>8} panics {} hangs {} mean {:>7.3} ms slowest {:>9.3} ms (input {}, {})",
+                k.kind.name(),
+                k.inputs,
+                k.accepted,
+                k.panics,
+                k.hangs,
+                k.total.as_secs_f64() * 1e3 / k.inputs.max(1) as f64,
+                k.slowest.0.as_secs_f64() * 1e3,
+                k.slowest.1,
+                k.slowest.2
+            );
+        }
     };
-    println!("{} seeds, {count} inputs, seed {seed}", seeds.len());
-    let report = vito::fuzz::run(&seeds, first..count, seed, |r| {
-        if r.inputs % 100_000 == 0 {
+    println!(
+        "{} seeds, inputs {first}..{count}, seed {seed}",
+        seeds.len()
+    );
+    let report = vito::fuzz::run(&seeds, first..count, seed, vito::fuzz::Sizes::Full, |r| {
+        println!("next input {}", r.next);
+        if r.inputs.is_multiple_of(10_000) {
             print(r);
         }
+        let _ = std::io::stdout().flush();
     });
     print(&report);
-    if report.panics == 0 {
+    if report.panics == 0 && report.hangs == 0 {
         return std::process::ExitCode::SUCCESS;
     }
     let _ = std::fs::create_dir_all("fuzz-panics");
-    for (i, (name, problem, urdf)) in report.panic_inputs.iter().enumerate() {
-        eprintln!("panic {i}: from {name}");
-        if let Some(p) = problem {
-            let _ = std::fs::write(format!("fuzz-panics/{i}.toml"), p);
+    for (what, input) in &report.saved {
+        eprintln!(
+            "{what}: input {} ({}, from {})",
+            input.index,
+            input.kind.name(),
+            input.seed
+        );
+        for (name, text) in input.files() {
+            let _ = std::fs::write(format!("fuzz-panics/{}-{what}-{name}", input.index), text);
         }
-        let _ = std::fs::write(format!("fuzz-panics/{i}.urdf"), urdf);
     }
     std::process::ExitCode::FAILURE
 }

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use super::gains::parse_gains;
 use super::mechanics;
 use crate::discrete::Mechanics;
-use crate::problem::{LoadedProblem, TimeSteps};
+use crate::problem::LoadedProblem;
 use crate::transcription::{ModelMechanics, TranscriptionError};
 
 /// What `vito simulate` was asked for, before checking.
@@ -65,10 +65,7 @@ pub fn prepare_simulation(
     };
     let duration = positive("--duration", request.duration)?;
     let rate = positive("--rate", request.rate)?;
-    let problem_h = match spec.time_steps {
-        TimeSteps::Fixed(h) => h,
-        TimeSteps::FreeEqual { t_max, .. } => t_max / (spec.knots - 1) as f64,
-    };
+    let problem_h = spec.time_steps.guess_step(spec.knots);
     let h = rate.map_or(problem_h, |r| 1.0 / r);
     let robot = &problem.robot;
     let read = |path: &Path| -> Result<_, TranscriptionError> {
@@ -80,21 +77,8 @@ pub fn prepare_simulation(
                         format!("cannot read {}: {e}", path.display()),
                     )
                 })?;
-        let r =
-            crate::files::trajectory_csv::read_trajectory(&text, &robot.coordinates, &robot.inputs)
-                .map_err(|m| invalid("--inputs/--track", format!("{}: {m}", path.display())))?;
-        // Replayed or fed forward, the inputs are the file's: every one needs its column.
-        if r.u.is_empty() && !robot.inputs.is_empty() {
-            return Err(invalid(
-                "--inputs/--track",
-                format!(
-                    "{} has no column for every input (u_<name> for {})",
-                    path.display(),
-                    crate::files::names::list_names(&robot.inputs, 12)
-                ),
-            ));
-        }
-        Ok(r)
+        recorded_inputs(&text, robot)
+            .map_err(|m| invalid("--inputs/--track", format!("{}: {m}", path.display())))
     };
     let mut inputs: Vec<PathBuf> = vec![problem.file.clone(), spec.robot.urdf.clone()];
     let (source, recorded_end) = match (&request.inputs, &request.track) {
@@ -241,4 +225,22 @@ pub fn simulation_summary(
         summary["feedback"] = serde_json::Value::from(feedback.name());
     }
     summary
+}
+
+/// The recording a trajectory CSV's text holds for `vito simulate --inputs`/`--track`: as
+/// [`crate::files::trajectory_csv::read_trajectory`] reads it, with a column for every input
+/// (replayed or fed forward, the inputs are the file's); the message says what is wrong (the
+/// caller names the file).
+pub fn recorded_inputs(
+    text: &str,
+    robot: &crate::problem::RobotInfo,
+) -> Result<crate::files::trajectory_csv::RecordedTrajectory, String> {
+    let r = crate::files::trajectory_csv::read_trajectory(text, &robot.coordinates, &robot.inputs)?;
+    if r.u.is_empty() && !robot.inputs.is_empty() {
+        return Err(format!(
+            "it has no column for every input (u_<name> for {})",
+            crate::files::names::list_names(&robot.inputs, 12)
+        ));
+    }
+    Ok(r)
 }

@@ -30,3 +30,4 @@ pub use spec::*;
 pub use starter::{StarterError, starter_problem};
 pub use tracking::{TrackingFeedback, TrackingGain};
 pub use units::Units;
+pub(crate) use validate::warm_start_from_text;

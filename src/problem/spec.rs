@@ -75,6 +75,16 @@ pub enum TimeSteps {
     FreeEqual { t_min: f64, t_max: f64 },
 }
 
+impl TimeSteps {
+    /// The step of `knots` knots at the guess: h fixed, else t_max/(N−1).
+    pub fn guess_step(&self, knots: usize) -> f64 {
+        match *self {
+            TimeSteps::Fixed(h) => h,
+            TimeSteps::FreeEqual { t_max, .. } => t_max / (knots - 1) as f64,
+        }
+    }
+}
+
 /// Lower and upper bound (±∞ for none).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Interval {

@@ -125,10 +125,11 @@ pub(super) fn read_extensions(
 ) -> Result<Extensions, ModelError> {
     let mut ext = Extensions::default();
     let root = doc.root_element();
+    let lines = super::Lines::new(doc.input_text());
     for node in root.children().filter(Node::is_element) {
         let tag = node.tag_name().name();
         let name = node.attribute("name").unwrap_or("").to_string();
-        let line = |n: Node| doc.text_pos_at(n.range().start).row;
+        let line = |n: Node| lines.row(n.range().start);
         match tag {
             "link" => {
                 let inertial = node.children().find(|c| c.has_tag_name("inertial"));
@@ -179,7 +180,7 @@ pub(super) fn read_extensions(
             _ if KNOWN_TOP_LEVEL.contains(&tag) => {}
             _ => warnings.push(format!(
                 "line {}: element <{tag}{}> is not used by vito",
-                doc.text_pos_at(node.range().start).row,
+                lines.row(node.range().start),
                 if name.is_empty() {
                     String::new()
                 } else {

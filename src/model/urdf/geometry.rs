@@ -89,11 +89,14 @@ fn shape(
 
 /// Every link's geometry, in the URDF's link order.
 pub(super) fn read(robot: &urdf_rs::Robot) -> Result<Vec<(String, LinkGeometry)>, ModelError> {
+    // The first material of each name, looked up by name (linear in visuals and materials).
+    let mut materials = std::collections::HashMap::with_capacity(robot.materials.len());
+    for m in &robot.materials {
+        materials.entry(m.name.as_str()).or_insert(m);
+    }
     let named_colour = |name: &str| {
-        robot
-            .materials
-            .iter()
-            .find(|m| m.name == name)
+        materials
+            .get(name)
             .and_then(|m| m.color.as_ref())
             .map(|c| *c.rgba)
     };

@@ -101,7 +101,12 @@ pub(super) fn loop_closures(
     ext: &Extensions,
     link_names: &[String],
 ) -> Result<Vec<LoopClosure>, ModelError> {
-    let link_id = |name: &str| link_names.iter().position(|n| n == name).map(LinkId);
+    // Links by name, looked up once per loop joint (linear in loops and links).
+    let mut ids: HashMap<&str, usize> = HashMap::with_capacity(link_names.len());
+    for (i, n) in link_names.iter().enumerate() {
+        ids.entry(n.as_str()).or_insert(i);
+    }
+    let link_id = |name: &str| ids.get(name).copied().map(LinkId);
     let mut loop_closures = Vec::with_capacity(ext.loops.len());
     for raw in &ext.loops {
         let find = |name: &str| {

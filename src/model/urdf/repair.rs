@@ -20,7 +20,8 @@ pub(super) fn repair(
 ) -> Result<String, ModelError> {
     let doc = Document::parse(xml).map_err(|e| xml_error(origin, e))?;
     let mut edits: Vec<Edit> = Vec::new();
-    let line = |pos: usize| doc.text_pos_at(pos).row;
+    let lines = super::Lines::new(xml);
+    let line = |pos: usize| lines.row(pos);
     for node in doc.descendants() {
         if node.is_text() {
             let text = node.text().unwrap_or("");

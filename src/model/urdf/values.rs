@@ -82,8 +82,11 @@ pub(super) fn check_values(robot: &urdf_rs::Robot, ext: &Extensions) -> Result<(
             ));
         }
     }
-    for (i, (name, joint, _)) in ext.transmissions.iter().enumerate() {
-        if let Some((first, _, _)) = ext.transmissions[..i].iter().find(|t| &t.1 == joint) {
+    // The first transmission on each joint, by joint name (a scan of the earlier ones per
+    // transmission was quadratic in them).
+    let mut first_on: std::collections::HashMap<&str, &str> = std::collections::HashMap::new();
+    for (name, joint, _) in &ext.transmissions {
+        if let Some(first) = first_on.insert(joint.as_str(), name.as_str()) {
             return Err(bad(
                 "transmission",
                 name,

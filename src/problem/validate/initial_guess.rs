@@ -109,17 +109,30 @@ fn read_warm_start(
     path: &Path,
     robot: &RobotInfo,
 ) -> Result<WarmStart, ProblemError> {
-    let field = "initial_guess.warm_start";
     let err = |message: String| ProblemError::WarmStart {
-        at: ctx.at(field),
+        at: ctx.at("initial_guess.warm_start"),
         path: path.to_owned(),
         message,
     };
     let text = crate::files::input::read_regular_text(path, crate::files::input::MAX_TEXT_BYTES)
         .map_err(|e| err(format!("cannot read it: {e}")))?;
-    let recorded =
-        crate::files::trajectory_csv::read_trajectory(&text, &robot.coordinates, &robot.inputs)
-            .map_err(err)?;
+    let recorded = warm_start_from_text(&text, robot).map_err(err)?;
+    Ok(WarmStart {
+        source: path.to_owned(),
+        times: recorded.times,
+        q: recorded.q,
+        u: recorded.u,
+    })
+}
+
+/// The warm start a trajectory CSV's text holds for `robot`: its times, configurations and
+/// inputs, every cell a finite number of magnitude at most [`MAX_MAGNITUDE`]; the message
+/// says what is wrong (the caller names the file).
+pub(crate) fn warm_start_from_text(
+    text: &str,
+    robot: &RobotInfo,
+) -> Result<crate::files::trajectory_csv::RecordedTrajectory, String> {
+    let recorded = crate::files::trajectory_csv::read_trajectory(text, &robot.coordinates, &robot.inputs)?;
     fn named<'a>(names: &'a [String], values: &'a [f64]) -> impl Iterator<Item = (&'a str, f64)> {
         names.iter().map(String::as_str).zip(values.iter().copied())
     }
@@ -131,17 +144,12 @@ fn read_warm_start(
             .chain(named(&robot.inputs, u))
             .find(|(_, v)| !(v.is_finite() && v.abs() <= MAX_MAGNITUDE));
         if let Some((column, v)) = bad {
-            return Err(err(format!(
+            return Err(format!(
                 "data row {} has {column} = {v}; every cell must be a finite number of \
                  magnitude at most {MAX_MAGNITUDE:e}",
                 k + 1
-            )));
+            ));
         }
     }
-    Ok(WarmStart {
-        source: path.to_owned(),
-        times: recorded.times,
-        q: recorded.q,
-        u: recorded.u,
-    })
+    Ok(recorded)
 }

@@ -23,6 +23,7 @@ mod values;
 use std::path::Path;
 
 pub(crate) use context::Context;
+pub(crate) use initial_guess::warm_start_from_text;
 pub(crate) use values::{finite, nonnegative, resolve};
 
 use crate::problem::schema::ProblemFile;
