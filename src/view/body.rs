@@ -435,7 +435,7 @@ fn link_parts(
         let rotation = rpy_matrix(&child.rpy);
         let a = [0, 1, 2].map(|i| (0..3).map(|j| rotation[i][j] * axis[j]).sum::<f64>());
         let norm = a.iter().map(|v| v * v).sum::<f64>().sqrt();
-        if !(norm > 0.0) || skeleton.frames_only[c] {
+        if norm.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) || skeleton.frames_only[c] {
             continue;
         }
         let (slide, first) =
