@@ -69,7 +69,7 @@ pub fn line_plot(
 }
 
 /// Draws the series' legend in the upper right corner and writes the SVG: the last step of
-/// every line chart vito draws (here and in the studies).
+/// the studies' line charts (the plots here put their legends beside the plot instead).
 pub(crate) fn legend_and_present<'a, CT: plotters::coord::CoordTranslate>(
     chart: &mut ChartContext<'a, SVGBackend<'a>, CT>,
     root: &DrawingArea<SVGBackend<'a>, plotters::coord::Shift>,
