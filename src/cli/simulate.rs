@@ -87,5 +87,10 @@ pub(super) fn simulate(
         summary["newton_iterations"]["mean"]
     );
     out!("written to     {}", written.display());
+    if let Some(line) =
+        report::plots_not_written(problem.robot.inputs.len(), problem.spec.contacts.len())
+    {
+        out!("plots          {line}");
+    }
     Ok(0)
 }

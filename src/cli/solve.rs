@@ -186,6 +186,9 @@ pub(super) fn print_summary(
         out!("horizon      T = {t:.6} {}", problem.units.time);
     }
     out!("written to   {}", dir.display());
+    if let Some(line) = report::plots_not_written(s.input_names.len(), s.contact_names.len()) {
+        out!("plots        {line}");
+    }
     for line in verdict_explanation(s, &problem.units.time) {
         out!("{line}");
     }

@@ -37,7 +37,9 @@ pub use inspect::{ContactInfo, CoordinateInfo, Inspection, LoopInfo, SpringInfo,
 pub use kinematics::{link_angular_jacobian, link_pose, point_position};
 pub use loops::{LoopJet, loop_closure_jets, loop_residual};
 pub use point_jet::{PointJet, point_jet, vector_jet};
-pub use shape::{LinkGeometry, Shape, ShapeKind};
+pub use shape::{
+    ChildJoint, LinkGeometry, Shape, ShapeKind, base_link, coordinate_limbs, frames_only,
+};
 
 pub use tree::{ContactPoint, IgnoredCollision, LinkId, LoopClosure, Model, Spring, SpringKind};
 

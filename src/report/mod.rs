@@ -17,7 +17,7 @@ pub use golden::*;
 pub use metrics::{MetricInputs, metric_unit, metric_value, metrics_json};
 pub use modes::*;
 pub use outdir::*;
-pub use plot::{contact_modes_svg, coordinates_svg, inputs_svg, line_plot};
+pub use plot::{Panel, contact_modes_svg, coordinates_svg, inputs_svg, line_plot, panel_plot};
 pub use simulation::{SimulationColumns, simulation_summary_json};
 pub use summary::*;
 
@@ -77,6 +77,47 @@ pub fn column_units(robot: &RobotInfo, units: &Units) -> ColumnUnits {
     }
 }
 
+/// Per coordinate, the title of its panel in `coordinates.svg`: `base position [m]` and
+/// `base orientation [rad]` for the base's coordinates, else its limb (the base's child link
+/// it moves) and unit, from the problem's robot (by coordinate name alone when the robot
+/// cannot be loaded).
+pub fn coordinate_panels(problem: &LoadedProblem, units: &[String]) -> Vec<String> {
+    let limbs = crate::transcription::ModelMechanics::load(&problem.spec)
+        .ok()
+        .map(|m| crate::model::coordinate_limbs(m.model()));
+    problem
+        .robot
+        .coordinates
+        .iter()
+        .enumerate()
+        .map(|(j, name)| {
+            let unit = units.get(j).map_or("", String::as_str);
+            match limbs.as_ref().map(|l| l.get(j).cloned().flatten()) {
+                Some(None) => match problem.robot.coordinate_kinds.get(j) {
+                    Some(CoordinateKind::Angular) => format!("base orientation [{unit}]"),
+                    _ => format!("base position [{unit}]"),
+                },
+                Some(Some(limb)) => format!("{limb} [{unit}]"),
+                None => format!("{name} [{unit}]"),
+            }
+        })
+        .collect()
+}
+
+/// The line telling which plots were not written because they would be empty (a robot
+/// without inputs gets no `inputs.svg`, a problem without contacts no `contact_modes.svg`);
+/// none when every plot was written.
+pub fn plots_not_written(inputs: usize, contacts: usize) -> Option<String> {
+    let mut missing = Vec::new();
+    if inputs == 0 {
+        missing.push("no inputs.svg (the robot has no inputs)");
+    }
+    if contacts == 0 {
+        missing.push("no contact_modes.svg (the problem has no contacts)");
+    }
+    (!missing.is_empty()).then(|| missing.join("; "))
+}
+
 /// Writes `trajectory.csv`, `summary.json` and the three plots into `staged` (which may
 /// already hold Ipopt's log), then commits it: an existing target is replaced only once
 /// everything is written.
@@ -118,13 +159,24 @@ pub fn write_trajectory_outputs(
         let path = target.join(name);
         move |message| ReportError::Plot { path, message }
     };
-    coordinates_svg(&dir.join("coordinates.svg"), trajectory, &units.time)
-        .map_err(plot_err("coordinates.svg"))?;
+    coordinates_svg(
+        &dir.join("coordinates.svg"),
+        trajectory,
+        &units.time,
+        &coordinate_panels(problem, &units.coordinates),
+        &units.coordinates,
+    )
+    .map_err(plot_err("coordinates.svg"))?;
     // No empty plots: a robot without inputs has no inputs.svg, one without contacts no
     // contact_modes.svg.
     if !trajectory.input_names.is_empty() {
-        inputs_svg(&dir.join("inputs.svg"), trajectory, &units.time)
-            .map_err(plot_err("inputs.svg"))?;
+        inputs_svg(
+            &dir.join("inputs.svg"),
+            trajectory,
+            &units.time,
+            &units.inputs,
+        )
+        .map_err(plot_err("inputs.svg"))?;
     }
     if !trajectory.contact_names.is_empty() {
         let friction: Vec<f64> = problem.spec.contacts.iter().map(|c| c.friction).collect();
@@ -300,8 +352,8 @@ mod output_tests {
         let t = solution_trajectory(&s);
         let modes = contact_modes(&t, &[0.8]);
         let dir = tempfile::tempdir().unwrap();
-        coordinates_svg(&dir.path().join("q.svg"), &t, "s").unwrap();
-        inputs_svg(&dir.path().join("u.svg"), &t, "s").unwrap();
+        coordinates_svg(&dir.path().join("q.svg"), &t, "s", &[], &[]).unwrap();
+        inputs_svg(&dir.path().join("u.svg"), &t, "s", &[]).unwrap();
         contact_modes_svg(&dir.path().join("m.svg"), &t, &modes, "s").unwrap();
         let text = std::fs::read_to_string(dir.path().join("q.svg")).unwrap();
         assert!(text.contains("<svg") && !text.contains("NaN"), "{text}");

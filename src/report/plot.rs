@@ -48,7 +48,8 @@ fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     (lo - pad, hi + pad)
 }
 
-/// Draws named series `(label, points)` as lines into an SVG file.
+/// Draws named series `(label, points)` as lines into an SVG file (one panel, its legend
+/// beside it).
 pub fn line_plot(
     path: &Path,
     title: &str,
@@ -56,45 +57,19 @@ pub fn line_plot(
     y_label: &str,
     series: &[(String, Vec<(f64, f64)>)],
 ) -> Result<(), PlotError> {
-    let e = |e: &dyn std::fmt::Display| e.to_string();
-    let height = 420 + 18 * series.len() as u32;
-    let root = SVGBackend::new(path, (900, height)).into_drawing_area();
-    root.fill(&WHITE).map_err(|x| e(&x))?;
-    let (x0, x1) = range(series.iter().flat_map(|s| s.1.iter().map(|p| p.0)));
-    let (y0, y1) = range(series.iter().flat_map(|s| s.1.iter().map(|p| p.1)));
-    let mut chart = ChartBuilder::on(&root)
-        .caption(title, ("sans-serif", 20))
-        .margin(12)
-        .x_label_area_size(40)
-        .y_label_area_size(60)
-        .build_cartesian_2d(x0..x1, y0..y1)
-        .map_err(|x| e(&x))?;
-    chart
-        .configure_mesh()
-        .x_desc(x_label)
-        .y_desc(y_label)
-        .draw()
-        .map_err(|x| e(&x))?;
-    for (i, (label, points)) in series.iter().enumerate() {
-        let color = PALETTE[i % PALETTE.len()];
-        chart
-            .draw_series(LineSeries::new(
-                points
-                    .iter()
-                    .filter_map(|&(x, y)| Some((plottable(x)?, plottable(y)?))),
-                color.stroke_width(2),
-            ))
-            .map_err(|x| e(&x))?
-            .label(label.as_str())
-            .legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2))
-            });
-    }
-    legend_and_present(&mut chart, &root)
+    panel_plot(
+        path,
+        x_label,
+        &[Panel {
+            title: title.to_owned(),
+            y_label: y_label.to_owned(),
+            series: series.to_vec(),
+        }],
+    )
 }
 
 /// Draws the series' legend in the upper right corner and writes the SVG: the last step of
-/// every line chart vito draws (here and in the studies).
+/// the studies' line charts (the plots here put their legends beside the plot instead).
 pub(crate) fn legend_and_present<'a, CT: plotters::coord::CoordTranslate>(
     chart: &mut ChartContext<'a, SVGBackend<'a>, CT>,
     root: &DrawingArea<SVGBackend<'a>, plotters::coord::Shift>,
@@ -110,52 +85,145 @@ pub(crate) fn legend_and_present<'a, CT: plotters::coord::CoordTranslate>(
     root.present().map_err(|x| e(&x))
 }
 
-/// Coordinates q_k over time, one line per coordinate.
-pub fn coordinates_svg(path: &Path, s: &Trajectory<'_>, time_unit: &str) -> Result<(), PlotError> {
-    let series: Vec<(String, Vec<(f64, f64)>)> = s
-        .coordinate_names
-        .iter()
-        .enumerate()
-        .map(|(j, name)| {
-            (
-                name.clone(),
-                s.times.iter().zip(s.q).map(|(&t, q)| (t, q[j])).collect(),
-            )
-        })
-        .collect();
-    line_plot(
-        path,
-        "coordinates",
-        &format!("time [{time_unit}]"),
-        "q [m or rad]",
-        &series,
-    )
+/// One panel of a small-multiples figure: its title, its y-axis label and its series.
+pub struct Panel {
+    /// Title, e.g. `base position [m]`.
+    pub title: String,
+    /// Y-axis label (the unit).
+    pub y_label: String,
+    /// Named series `(label, points)`.
+    pub series: Vec<(String, Vec<(f64, f64)>)>,
 }
 
-/// Inputs u_k over time, held constant over each interval (a staircase).
-pub fn inputs_svg(path: &Path, s: &Trajectory<'_>, time_unit: &str) -> Result<(), PlotError> {
-    let series: Vec<(String, Vec<(f64, f64)>)> = s
-        .input_names
+/// Figure width, and where each panel's legend column starts: the legend sits beside the
+/// plotting area, never on it.
+const FIGURE_WIDTH: u32 = 900;
+/// X at which the legend column starts.
+pub const LEGEND_X: u32 = 700;
+const LEGEND_ROW: u32 = 18;
+
+/// Draws `panels` stacked, one chart each, sharing the time axis label, into an SVG file;
+/// each panel's legend is drawn in a column to the right of its plotting area.
+pub fn panel_plot(path: &Path, x_label: &str, panels: &[Panel]) -> Result<(), PlotError> {
+    let e = |e: &dyn std::fmt::Display| e.to_string();
+    let heights: Vec<u32> = panels
         .iter()
-        .enumerate()
-        .map(|(j, name)| {
-            let mut points = Vec::new();
-            for (k, u) in s.u.iter().enumerate() {
-                if let (Some(&t0), Some(&t1)) = (s.times.get(k), s.times.get(k + 1)) {
-                    points.push((t0, u[j]));
-                    points.push((t1, u[j]));
-                }
-            }
-            (name.clone(), points)
-        })
+        .map(|p| (70 + LEGEND_ROW * p.series.len() as u32).max(230))
         .collect();
-    line_plot(
-        path,
-        "inputs",
-        &format!("time [{time_unit}]"),
-        "u [N or N·m]",
-        &series,
-    )
+    let height = heights.iter().sum::<u32>().max(1);
+    let root = SVGBackend::new(path, (FIGURE_WIDTH, height)).into_drawing_area();
+    root.fill(&WHITE).map_err(|x| e(&x))?;
+    let (x0, x1) = range(
+        panels
+            .iter()
+            .flat_map(|p| p.series.iter().flat_map(|s| s.1.iter().map(|p| p.0))),
+    );
+    let mut rest = root.clone();
+    for (panel, &h) in panels.iter().zip(&heights) {
+        let (area, below) = rest.split_vertically(h);
+        rest = below;
+        let (plot_area, legend_area) = area.split_horizontally(LEGEND_X);
+        let (y0, y1) = range(panel.series.iter().flat_map(|s| s.1.iter().map(|p| p.1)));
+        let mut chart = ChartBuilder::on(&plot_area)
+            .caption(&panel.title, ("sans-serif", 17))
+            .margin(10)
+            .x_label_area_size(36)
+            .y_label_area_size(64)
+            .build_cartesian_2d(x0..x1, y0..y1)
+            .map_err(|x| e(&x))?;
+        chart
+            .configure_mesh()
+            .x_desc(x_label)
+            .y_desc(panel.y_label.as_str())
+            .draw()
+            .map_err(|x| e(&x))?;
+        for (i, (label, points)) in panel.series.iter().enumerate() {
+            let color = PALETTE[i % PALETTE.len()];
+            chart
+                .draw_series(LineSeries::new(
+                    points
+                        .iter()
+                        .filter_map(|&(x, y)| Some((plottable(x)?, plottable(y)?))),
+                    color.stroke_width(2),
+                ))
+                .map_err(|x| e(&x))?;
+            let y = 40 + LEGEND_ROW as i32 * i as i32;
+            legend_area
+                .draw(&PathElement::new(
+                    vec![(8, y), (28, y)],
+                    color.stroke_width(2),
+                ))
+                .map_err(|x| e(&x))?;
+            legend_area
+                .draw(&Text::new(
+                    label.clone(),
+                    (34, y - 7),
+                    ("sans-serif", 13).into_font(),
+                ))
+                .map_err(|x| e(&x))?;
+        }
+    }
+    root.present().map_err(|x| e(&x))
+}
+
+/// Coordinates q_k over time as small multiples: `panels[j]` names the panel of coordinate
+/// j (its group and unit, e.g. `base position [m]`, `front_left_hip [rad]`), panels in the
+/// order they first appear, `units[j]` its unit.
+pub fn coordinates_svg(
+    path: &Path,
+    s: &Trajectory<'_>,
+    time_unit: &str,
+    panels: &[String],
+    units: &[String],
+) -> Result<(), PlotError> {
+    let mut out: Vec<Panel> = Vec::new();
+    for (j, name) in s.coordinate_names.iter().enumerate() {
+        let title = panels.get(j).cloned().unwrap_or_else(|| name.clone());
+        let series = (
+            name.clone(),
+            s.times.iter().zip(s.q).map(|(&t, q)| (t, q[j])).collect(),
+        );
+        match out.iter_mut().find(|p| p.title == title) {
+            Some(panel) => panel.series.push(series),
+            None => out.push(Panel {
+                title,
+                y_label: format!("q [{}]", units.get(j).map_or("", String::as_str)),
+                series: vec![series],
+            }),
+        }
+    }
+    panel_plot(path, &format!("time [{time_unit}]"), &out)
+}
+
+/// Inputs u_k over time, held constant over each interval (a staircase), one panel per
+/// unit (`units[j]` is input j's).
+pub fn inputs_svg(
+    path: &Path,
+    s: &Trajectory<'_>,
+    time_unit: &str,
+    units: &[String],
+) -> Result<(), PlotError> {
+    let mut out: Vec<Panel> = Vec::new();
+    for (j, name) in s.input_names.iter().enumerate() {
+        let mut points = Vec::new();
+        for (k, u) in s.u.iter().enumerate() {
+            if let (Some(&t0), Some(&t1)) = (s.times.get(k), s.times.get(k + 1)) {
+                points.push((t0, u[j]));
+                points.push((t1, u[j]));
+            }
+        }
+        let unit = units.get(j).map_or("", String::as_str);
+        let title = format!("inputs [{unit}]");
+        match out.iter_mut().find(|p| p.title == title) {
+            Some(panel) => panel.series.push((name.clone(), points)),
+            None => out.push(Panel {
+                title,
+                y_label: format!("u [{unit}]"),
+                series: vec![(name.clone(), points)],
+            }),
+        }
+    }
+    panel_plot(path, &format!("time [{time_unit}]"), &out)
 }
 
 /// Colour of a mode bar.
@@ -231,4 +299,105 @@ pub fn contact_modes_svg(
     }
     root.present().map_err(|x| e(&x))?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Numbers of attribute `name` in an SVG element's text (`x="12"` → 12).
+    fn attribute(element: &str, name: &str) -> Option<f64> {
+        let start = element.find(&format!(" {name}=\""))? + name.len() + 3;
+        element[start..].split('"').next()?.parse().ok()
+    }
+
+    /// LittleDog's 18 coordinates: base position, base orientation, then one panel per leg,
+    /// each titled from the model; every legend entry lies right of every plotted point.
+    #[test]
+    fn littledog_coordinates_are_small_multiples_with_legends_beside_the_plots() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+        let problem =
+            crate::problem::load(&root.join("problems/littledog_step.toml"), &[]).unwrap();
+        let csv =
+            std::fs::read_to_string(root.join("results/motion/littledog_step/trajectory.csv"))
+                .unwrap();
+        let recorded =
+            crate::trajectory_csv::read_trajectory(&csv, &problem.robot.coordinates, &[]).unwrap();
+        let v = vec![vec![0.0; problem.robot.coordinates.len()]; recorded.times.len()];
+        let t = Trajectory {
+            times: &recorded.times,
+            coordinate_names: &problem.robot.coordinates,
+            q: &recorded.q,
+            v: &v,
+            input_names: &[],
+            u: &[],
+            contact_names: &[],
+            friction_directions: 0,
+            normal_impulse: &[],
+            friction_impulse: &[],
+            signed_distance: &[],
+            slack: &[],
+        };
+        let units = crate::report::column_units(&problem.robot, &problem.units);
+        let panels = crate::report::coordinate_panels(&problem, &units.coordinates);
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("coordinates.svg");
+        coordinates_svg(&path, &t, "s", &panels, &units.coordinates).unwrap();
+        let svg = std::fs::read_to_string(&path).unwrap();
+
+        let texts: Vec<(f64, String)> = svg
+            .split("<text")
+            .skip(1)
+            .map(|e| {
+                let x = attribute(e, "x").unwrap_or(f64::NAN);
+                let body = e[e.find('>').unwrap() + 1..e.find("</text>").unwrap()]
+                    .trim()
+                    .to_owned();
+                (x, body)
+            })
+            .collect();
+        let titles: Vec<&str> = texts
+            .iter()
+            .map(|(_, s)| s.as_str())
+            .filter(|s| s.starts_with("base ") || s.ends_with("_hip [rad]"))
+            .collect();
+        assert_eq!(
+            titles,
+            [
+                "base position [m]",
+                "base orientation [rad]",
+                "front_left_hip [rad]",
+                "front_right_hip [rad]",
+                "back_left_hip [rad]",
+                "back_right_hip [rad]",
+            ]
+        );
+        // Legend entries (the coordinate names) beside the plots, every plotted point left.
+        let legend_x: Vec<f64> = texts
+            .iter()
+            .filter(|(_, s)| problem.robot.coordinates.contains(s))
+            .map(|(x, _)| *x)
+            .collect();
+        assert_eq!(legend_x.len(), 18);
+        let legend_left = legend_x.iter().copied().fold(f64::MAX, f64::min);
+        let plotted_right = svg
+            .split("<polyline")
+            .skip(1)
+            .flat_map(|e| {
+                let start = e.find("points=\"").unwrap() + 8;
+                let points = e[start..].split('"').next().unwrap().to_owned();
+                let xs: Vec<f64> = points
+                    .split_whitespace()
+                    .filter_map(|p| p.split(',').next()?.parse::<f64>().ok())
+                    .collect();
+                // Curves only: a legend's sample line has two points.
+                if xs.len() > 2 { xs } else { Vec::new() }
+            })
+            .fold(f64::MIN, f64::max);
+        assert!(plotted_right > 500.0, "{plotted_right}");
+        assert!(
+            legend_left > plotted_right + 20.0,
+            "legend at x {legend_left}, curves reach x {plotted_right}"
+        );
+    }
 }

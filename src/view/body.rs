@@ -5,6 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use crate::model::{LinkGeometry, Model, Shape, ShapeKind};
+pub use crate::model::{base_link, frames_only};
 
 use super::stl;
 
@@ -19,6 +20,10 @@ pub struct Part {
     pub vertices: Vec<[f64; 3]>,
     /// Triangles as vertex indices.
     pub triangles: Vec<[u32; 3]>,
+    /// For the capsule along a prismatic joint: (child link, first vertex): the vertices
+    /// from `first` on are in the child's frame and move with it, so the capsule stretches
+    /// from the joint's origin to wherever the joint has slid the child.
+    pub slide: Option<(usize, u32)>,
 }
 
 /// The drawn robot and what could not be drawn as the URDF asks.
@@ -301,14 +306,72 @@ fn has_volume(shape: &Shape) -> bool {
     !matches!(shape.kind, ShapeKind::Sphere { radius } if radius <= 0.0)
 }
 
-/// The parts of one link; `Err` lists the meshes that failed (the link then falls back).
+/// A capsule of radius `radius` along a prismatic joint at `xyz` (axis `axis`, unit, in the
+/// parent's frame; child axes R = `rotation` in the parent's): its near end fixed in the
+/// parent at `xyz`, its far end in the child's frame at the child's origin; returns the mesh
+/// (near vertices first) and the index of the first far vertex.
+fn sliding_capsule(
+    xyz: [f64; 3],
+    axis: [f64; 3],
+    rotation: &[[f64; 3]; 3],
+    radius: f64,
+) -> (Mesh, u32) {
+    let end = [xyz[0] + axis[0], xyz[1] + axis[1], xyz[2] + axis[2]];
+    let mesh = capsule_between(xyz, end, radius);
+    let along = |v: &[f64; 3]| {
+        (v[0] - xyz[0]) * axis[0] + (v[1] - xyz[1]) * axis[1] + (v[2] - xyz[2]) * axis[2]
+    };
+    let (near, far): (Vec<usize>, Vec<usize>) =
+        (0..mesh.vertices.len()).partition(|&i| along(&mesh.vertices[i]) <= 0.5);
+    let mut index = vec![0u32; mesh.vertices.len()];
+    let mut out = Mesh::default();
+    for &i in &near {
+        index[i] = out.vertex(mesh.vertices[i]);
+    }
+    let r = rotation;
+    for &i in &far {
+        // Rᵀ (v − end): the vertex relative to the child's origin, in the child's axes.
+        let v = mesh.vertices[i];
+        let d = [v[0] - end[0], v[1] - end[1], v[2] - end[2]];
+        index[i] = out.vertex([
+            r[0][0] * d[0] + r[1][0] * d[1] + r[2][0] * d[2],
+            r[0][1] * d[0] + r[1][1] * d[1] + r[2][1] * d[2],
+            r[0][2] * d[0] + r[1][2] * d[1] + r[2][2] * d[2],
+        ]);
+    }
+    out.triangles = mesh
+        .triangles
+        .iter()
+        .map(|t| t.map(|i| index[i as usize]))
+        .collect();
+    (out, near.len() as u32)
+}
+
+/// What a skeleton is drawn from: the link's place among the others.
+struct Skeleton<'a> {
+    names: &'a [String],
+    /// Whether the link is a coordinate frame (not drawn).
+    frames_only: &'a [bool],
+    /// The robot's mass (balls are sized by each link's share of it).
+    total_mass: f64,
+    /// The robot's extent.
+    size: f64,
+}
+
+/// The parts of one link: its visual shapes, else its collision shapes, else a skeleton:
+/// a capsule to each child joint and collision point, one stretching along each prismatic
+/// joint to the child's origin, and, where no capsule leaves the link, a ball whose volume
+/// follows its share of the robot's mass. Meshes that failed go to `failures`.
 fn link_parts(
     link: usize,
     geometry: &LinkGeometry,
-    size: f64,
+    skeleton: &Skeleton,
     files: &mut MeshFiles,
     failures: &mut Vec<String>,
 ) -> Vec<Part> {
+    if skeleton.frames_only[link] {
+        return Vec::new();
+    }
     let mut draw = |shapes: &[Shape], failures: &mut Vec<String>| -> Vec<Part> {
         let mut parts = Vec::new();
         for shape in shapes.iter().filter(|s| has_volume(s)) {
@@ -320,6 +383,7 @@ fn link_parts(
                         .map_or(LINK_COLOR, |c| [c[0] as f32, c[1] as f32, c[2] as f32]),
                     vertices: mesh.vertices,
                     triangles: mesh.triangles,
+                    slide: None,
                 }),
                 Err(why) => {
                     if let ShapeKind::Mesh { filename, .. } = &shape.kind {
@@ -338,8 +402,8 @@ fn link_parts(
     if !collision.is_empty() {
         return collision;
     }
-    // A skeleton: a capsule to each child joint and collision point.
-    let targets = geometry.child_joints.iter().copied().chain(
+    let size = skeleton.size;
+    let targets = geometry.children.iter().map(|c| c.xyz).chain(
         geometry
             .collision
             .iter()
@@ -360,15 +424,50 @@ fn link_parts(
             add(&mut mesh, capsule_between([0.0; 3], target, radius));
         }
     }
-    if mesh.vertices.is_empty() {
-        add(&mut mesh, capsule(0.02 * size, 0.0));
+    let mut parts = Vec::new();
+    for child in &geometry.children {
+        let (Some(axis), Some(c)) = (
+            child.slide,
+            skeleton.names.iter().position(|n| *n == child.link),
+        ) else {
+            continue;
+        };
+        let rotation = rpy_matrix(&child.rpy);
+        let a = [0, 1, 2].map(|i| (0..3).map(|j| rotation[i][j] * axis[j]).sum::<f64>());
+        let norm = a.iter().map(|v| v * v).sum::<f64>().sqrt();
+        if norm.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) || skeleton.frames_only[c] {
+            continue;
+        }
+        let (slide, first) =
+            sliding_capsule(child.xyz, a.map(|v| v / norm), &rotation, 0.025 * size);
+        parts.push(Part {
+            link,
+            color: SKELETON_COLOR,
+            vertices: slide.vertices,
+            triangles: slide.triangles,
+            slide: Some((c, first)),
+        });
     }
-    vec![Part {
-        link,
-        color: SKELETON_COLOR,
-        vertices: mesh.vertices,
-        triangles: mesh.triangles,
-    }]
+    if mesh.vertices.is_empty() {
+        let share = if skeleton.total_mass > 0.0 {
+            geometry.mass / skeleton.total_mass
+        } else {
+            0.0
+        };
+        let radius = (0.08 * share.cbrt() * size).clamp(0.02 * size, 0.08 * size);
+        add(&mut mesh, capsule(radius, 0.0));
+    }
+    parts.insert(
+        0,
+        Part {
+            link,
+            color: SKELETON_COLOR,
+            vertices: mesh.vertices,
+            triangles: mesh.triangles,
+            slide: None,
+        },
+    );
+    parts
 }
 
 /// The robot of `model` as drawn; `urdf` locates mesh files, `size` (the robot's extent)
@@ -385,9 +484,21 @@ pub fn body(model: &Model, urdf: &Path, size: f64) -> Body {
     };
     let mut body = Body::default();
     let mut failures = Vec::new();
+    let frames_only = frames_only(model);
+    let skeleton = Skeleton {
+        names: model.link_names(),
+        frames_only: &frames_only,
+        total_mass: model.total_mass(),
+        size,
+    };
     for (link, geometry) in model.link_geometry().iter().enumerate() {
-        body.parts
-            .extend(link_parts(link, geometry, size, &mut files, &mut failures));
+        body.parts.extend(link_parts(
+            link,
+            geometry,
+            &skeleton,
+            &mut files,
+            &mut failures,
+        ));
     }
     failures.sort();
     failures.dedup();

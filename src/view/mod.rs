@@ -14,7 +14,7 @@ mod body;
 mod stl;
 mod svg;
 
-pub use body::{Body, Part, body, package_root, resolve_mesh};
+pub use body::{Body, Part, base_link, body, frames_only, package_root, resolve_mesh};
 pub use svg::strip_svg;
 
 use std::path::{Path, PathBuf};
@@ -339,6 +339,7 @@ pub fn page_data(scene: &Scene, motions: &[Motion], drawing: &Drawing) -> Value 
                 "color": p.color.map(|c| round(f64::from(c), 3)),
                 "v": p.vertices.iter().flat_map(|v| v.map(|x| round(x, d))).collect::<Vec<_>>(),
                 "f": p.triangles.iter().flatten().collect::<Vec<_>>(),
+                "slide": p.slide.map(|(link, first)| json!([link, first])),
             })
         })
         .collect();
@@ -395,6 +396,7 @@ pub fn page_data(scene: &Scene, motions: &[Motion], drawing: &Drawing) -> Value 
         "seconds_per_unit": seconds_per(&scene.time_unit),
         "size": drawing.size,
         "links": scene.mechanics.model().link_names(),
+        "base": base_link(scene.mechanics.model()),
         "contacts": scene.contacts,
         "parts": parts,
         "terrain": {

@@ -59,16 +59,27 @@ fn hull(mut points: Vec<[f64; 2]>) -> Vec<[f64; 2]> {
 fn silhouettes(drawing: &Drawing, frame: &Frame) -> Vec<(f64, [f32; 3], Vec<[f64; 2]>)> {
     let mut out = Vec::new();
     for part in &drawing.body.parts {
-        let (p, q) = &frame.links[part.link];
-        let r = rotation_of(q);
-        let world = |v: &[f64; 3]| {
+        let place = |link: usize| {
+            let (p, q) = &frame.links[link];
+            (*p, rotation_of(q))
+        };
+        let (near, far) = (
+            place(part.link),
+            part.slide
+                .map(|(link, first)| (place(link), first as usize)),
+        );
+        let world = |(i, v): (usize, &[f64; 3])| {
+            let (p, r) = match far {
+                Some((far, first)) if i >= first => far,
+                _ => near,
+            };
             [
                 p[0] + r[0][0] * v[0] + r[0][1] * v[1] + r[0][2] * v[2],
                 p[1] + r[1][0] * v[0] + r[1][1] * v[1] + r[1][2] * v[2],
                 p[2] + r[2][0] * v[0] + r[2][1] * v[1] + r[2][2] * v[2],
             ]
         };
-        let points: Vec<[f64; 3]> = part.vertices.iter().map(world).collect();
+        let points: Vec<[f64; 3]> = part.vertices.iter().enumerate().map(world).collect();
         let depth = points.iter().map(|v| v[1]).sum::<f64>() / points.len().max(1) as f64;
         let outline = hull(points.iter().map(|v| [v[0], v[2]]).collect());
         if outline.iter().flatten().all(|v| v.is_finite()) {

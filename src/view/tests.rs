@@ -146,3 +146,77 @@ fn the_page_is_self_contained_and_its_strip_draws_n_poses() {
     assert_eq!(svg.matches("<g class=\"pose\"").count(), 5);
     assert!(!svg.contains("NaN"));
 }
+
+/// The hopper's sliders and world link are coordinate frames, not drawn; its base is the
+/// body; its leg is one capsule from the body to wherever the prismatic joint r put the foot.
+#[test]
+fn the_hopper_is_drawn_as_a_body_and_a_leg_reaching_its_foot() {
+    let (problem, scene) = hopper_scene();
+    let model = scene.mechanics.model();
+    let names = model.link_names();
+    let link = |name: &str| names.iter().position(|n| n == name).unwrap();
+    assert_eq!(
+        frames_only(model),
+        names
+            .iter()
+            .map(|n| ["world", "slider_x", "slider_z"].contains(&n.as_str()))
+            .collect::<Vec<_>>()
+    );
+    assert_eq!(base_link(model), link("body"));
+    for r in [0.3, 0.5, 0.7] {
+        let mut motion = motion_of(&problem, 2, 0.05, false);
+        for q in &mut motion.q {
+            q.copy_from_slice(&[0.2, 0.6, 0.4, r]);
+        }
+        let drawing = drawing(&scene, std::slice::from_ref(&motion));
+        assert!(
+            drawing
+                .body
+                .parts
+                .iter()
+                .all(|p| p.link == link("body") || p.link == link("foot")),
+            "only bodies are drawn"
+        );
+        let leg: Vec<&Part> = drawing
+            .body
+            .parts
+            .iter()
+            .filter(|p| p.slide.is_some())
+            .collect();
+        assert_eq!(leg.len(), 1);
+        let (foot, first) = leg[0].slide.unwrap();
+        assert_eq!((leg[0].link, foot), (link("body"), link("foot")));
+        // The leg's far end, placed with the foot's pose, is around the foot; its near end
+        // around the body: its extent along the leg is r plus a radius at each end.
+        let frame = &drawing.frames[0][0];
+        let place = |l: usize, v: &[f64; 3]| {
+            let (p, q) = frame.links[l];
+            let m = rotation_of(&q);
+            [0, 1, 2].map(|i| p[i] + (0..3).map(|j| m[i][j] * v[j]).sum::<f64>())
+        };
+        let (body, foot_at) = (frame.links[link("body")].0, frame.links[link("foot")].0);
+        let axis = [0, 1, 2].map(|i| (foot_at[i] - body[i]) / r);
+        let along: Vec<f64> = leg[0]
+            .vertices
+            .iter()
+            .enumerate()
+            .map(|(i, v)| {
+                let w = place(
+                    if i as u32 >= first {
+                        foot
+                    } else {
+                        link("body")
+                    },
+                    v,
+                );
+                (0..3).map(|j| (w[j] - body[j]) * axis[j]).sum::<f64>()
+            })
+            .collect();
+        let radius = 0.025 * drawing.size;
+        let (lo, hi) = along
+            .iter()
+            .fold((f64::MAX, f64::MIN), |(a, b), &x| (a.min(x), b.max(x)));
+        assert!((lo + radius).abs() < 1e-9, "r = {r}: near end at {lo}");
+        assert!((hi - r - radius).abs() < 1e-9, "r = {r}: far end at {hi}");
+    }
+}

@@ -5,7 +5,7 @@
 
 use super::extensions::bad;
 use crate::model::ModelError;
-use crate::model::{LinkGeometry, Shape, ShapeKind};
+use crate::model::{ChildJoint, LinkGeometry, Shape, ShapeKind};
 
 /// Largest magnitude of a size, a radius or a mesh scale factor: far beyond any robot in
 /// any unit, small enough that products of a few of them stay finite.
@@ -128,13 +128,25 @@ pub(super) fn read(robot: &urdf_rs::Robot) -> Result<Vec<(String, LinkGeometry)>
                 None,
             )?);
         }
-        geometry.child_joints = robot
+        let finite = |v: &[f64; 3]| v.iter().all(|x| x.is_finite());
+        geometry.children = robot
             .joints
             .iter()
             .filter(|j| j.parent.link == link.name)
-            .map(|j| *j.origin.xyz)
-            .filter(|p| p.iter().all(|v| v.is_finite()))
+            .filter(|j| finite(&j.origin.xyz) && finite(&j.origin.rpy))
+            .map(|j| ChildJoint {
+                joint: j.name.clone(),
+                link: j.child.link.clone(),
+                xyz: *j.origin.xyz,
+                rpy: *j.origin.rpy,
+                slide: (j.joint_type == urdf_rs::JointType::Prismatic)
+                    .then_some(*j.axis.xyz)
+                    .filter(finite),
+            })
             .collect();
+        geometry.mass = Some(link.inertial.mass.value)
+            .filter(|m| m.is_finite() && *m > 0.0)
+            .unwrap_or(0.0);
         out.push((link.name.clone(), geometry));
     }
     Ok(out)

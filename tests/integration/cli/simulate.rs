@@ -51,8 +51,19 @@ fn simulate_writes_trajectory_summary_and_plots() {
         "rest height {}",
         last[3]
     );
-    // The brick has no inputs: no (empty) inputs.svg.
+    // The brick has no inputs: no (empty) inputs.svg, and the summary says so in one line.
     assert!(!out.join("inputs.svg").exists());
+    let said: Vec<&str> = run
+        .stdout
+        .lines()
+        .filter(|l| l.contains("inputs.svg"))
+        .collect();
+    assert_eq!(
+        said,
+        ["plots          no inputs.svg (the robot has no inputs)"],
+        "{}",
+        run.stdout
+    );
     for svg in ["coordinates.svg", "contact_modes.svg"] {
         assert!(out.join(svg).is_file(), "{svg}");
     }
