@@ -1070,8 +1070,10 @@ fn read_csv_once(reader: CsvReader, target: &CsvTarget, text: &str) -> bool {
             Some(nlp) => {
                 let contacts: Vec<String> =
                     p.spec.contacts.iter().map(|c| c.name.clone()).collect();
-                crate::pipeline::trajectory_point::point_from_trajectory(nlp, robot, &contacts, text)
-                    .is_ok_and(|x| x.iter().all(|v| v.is_finite()))
+                crate::pipeline::trajectory_point::point_from_trajectory(
+                    nlp, robot, &contacts, text,
+                )
+                .is_ok_and(|x| x.iter().all(|v| v.is_finite()))
             }
             None => crate::problem::warm_start_from_text(text, robot).is_ok(),
         },

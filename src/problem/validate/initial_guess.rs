@@ -132,7 +132,8 @@ pub(crate) fn warm_start_from_text(
     text: &str,
     robot: &RobotInfo,
 ) -> Result<crate::files::trajectory_csv::RecordedTrajectory, String> {
-    let recorded = crate::files::trajectory_csv::read_trajectory(text, &robot.coordinates, &robot.inputs)?;
+    let recorded =
+        crate::files::trajectory_csv::read_trajectory(text, &robot.coordinates, &robot.inputs)?;
     fn named<'a>(names: &'a [String], values: &'a [f64]) -> impl Iterator<Item = (&'a str, f64)> {
         names.iter().map(String::as_str).zip(values.iter().copied())
     }

@@ -5,9 +5,9 @@
 use nalgebra::DMatrix;
 
 use super::{Context, RowBlock};
+use crate::autodiff::Scalar;
 use crate::contact::{self, complementarity_hessian, complementarity_jacobian};
 use crate::discrete::{Mechanics, MechanicsDerivatives};
-use crate::autodiff::Scalar;
 
 /// The complementarity products of `contacts` with `slacks` slacks.
 #[derive(Debug, Clone, PartialEq)]

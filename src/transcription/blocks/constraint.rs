@@ -2,8 +2,8 @@
 //! declares. Generic AD.
 
 use super::{Context, RowBlock};
-use crate::discrete::Mechanics;
 use crate::autodiff::Scalar;
+use crate::discrete::Mechanics;
 
 /// The problem file's constraint `index`.
 #[derive(Debug, Clone, PartialEq)]

@@ -5,13 +5,13 @@
 use nalgebra::DMatrix;
 
 use super::{Context, Eval, GeometryUse, GradientBlock};
+use crate::autodiff::Scalar;
 use crate::autodiff::ThirdOrder;
 use crate::contact::{
     self, ContactGeometry, contact_work_gradient, contact_work_hessian, contact_work_hessian_in,
     contact_work_third, contact_work_third_in,
 };
 use crate::discrete::{Mechanics, MechanicsDerivatives};
-use crate::autodiff::Scalar;
 
 /// Contact `contact`'s work.
 #[derive(Debug, Clone, PartialEq)]

@@ -3,9 +3,9 @@
 //! own file under `crate::problem::costs`; derivatives by generic AD.
 
 use super::{Context, GradientBlock};
+use crate::autodiff::Scalar;
 use crate::discrete::Mechanics;
 use crate::problem::costs::{CostSizes, cost_value};
-use crate::autodiff::Scalar;
 
 /// The problem's cost term `term`.
 #[derive(Debug, Clone, PartialEq)]

@@ -5,12 +5,12 @@
 use nalgebra::DMatrix;
 
 use super::{Context, GeometryUse, RowBlock};
+use crate::autodiff::Scalar;
 use crate::contact::{
     self, ContactGeometry, distance_hessian, distance_hessian_in, distance_jacobian,
     distance_jacobian_in,
 };
 use crate::discrete::{Mechanics, MechanicsDerivatives};
-use crate::autodiff::Scalar;
 
 /// Contact `contact`'s signed distance φ, or −cφ when `gap`.
 #[derive(Debug, Clone, PartialEq)]

@@ -1,8 +1,8 @@
 //! h_a − h_b, an equal-step row (free equal steps); z = [h_a; h_b]. Linear: generic AD.
 
 use super::{Context, RowBlock};
-use crate::discrete::Mechanics;
 use crate::autodiff::Scalar;
+use crate::discrete::Mechanics;
 
 /// h_a − h_b.
 #[derive(Debug, Clone, PartialEq)]

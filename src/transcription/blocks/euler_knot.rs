@@ -3,8 +3,8 @@
 //! Generic AD.
 
 use super::{Context, RowBlock};
-use crate::discrete::{Mechanics, euler_knot};
 use crate::autodiff::Scalar;
+use crate::discrete::{Mechanics, euler_knot};
 
 /// The Euler residual at a knot.
 #[derive(Debug, Clone, PartialEq)]

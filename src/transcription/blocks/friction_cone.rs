@@ -1,9 +1,9 @@
 //! μ c − eᵀβ, the friction-cone row; z = [c; β]. Linear: generic AD.
 
 use super::{Context, RowBlock};
+use crate::autodiff::Scalar;
 use crate::contact;
 use crate::discrete::Mechanics;
-use crate::autodiff::Scalar;
 
 /// Contact `contact`'s friction cone.
 #[derive(Debug, Clone, PartialEq)]

@@ -2,8 +2,8 @@
 //! (midpoint); z = [qa; qb; u; h]. Generic AD.
 
 use super::{Context, RowBlock};
-use crate::discrete::{Mechanics, half_force};
 use crate::autodiff::Scalar;
+use crate::discrete::{Mechanics, half_force};
 
 /// ½Fd(qa, qb, u, h).
 #[derive(Debug, Clone, PartialEq)]

@@ -2,8 +2,8 @@
 //! Generic AD.
 
 use super::{Context, RowBlock};
-use crate::discrete::{Mechanics, initial_momentum};
 use crate::autodiff::Scalar;
+use crate::discrete::{Mechanics, initial_momentum};
 
 /// M(q_0)v_0.
 #[derive(Debug, Clone, PartialEq)]

@@ -4,8 +4,8 @@
 use nalgebra::DMatrix;
 
 use super::{Context, RowBlock, loop_closure_hessian, loop_closure_jacobian};
-use crate::discrete::{Mechanics, MechanicsDerivatives};
 use crate::autodiff::Scalar;
+use crate::discrete::{Mechanics, MechanicsDerivatives};
 
 /// a(q).
 #[derive(Debug, Clone, PartialEq)]

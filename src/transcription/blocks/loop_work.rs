@@ -4,9 +4,9 @@
 use nalgebra::DMatrix;
 
 use super::{Context, Eval, GradientBlock, loop_work_gradient, loop_work_hessian, loop_work_third};
+use crate::autodiff::Scalar;
 use crate::autodiff::ThirdOrder;
 use crate::discrete::{Mechanics, MechanicsDerivatives, loop_work};
-use crate::autodiff::Scalar;
 
 /// γᵀa(q).
 #[derive(Debug, Clone, PartialEq)]

@@ -6,9 +6,9 @@
 use nalgebra::DMatrix;
 
 use super::{Context, Eval, GradientBlock};
+use crate::autodiff::Scalar;
 use crate::autodiff::ThirdOrder;
 use crate::discrete::{Mechanics, MechanicsDerivatives, SegmentLagrangian};
-use crate::autodiff::Scalar;
 
 /// Ld(qa, qb, h).
 #[derive(Debug, Clone, PartialEq)]

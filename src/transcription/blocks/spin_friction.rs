@@ -3,9 +3,9 @@
 //! out length n. Generic AD.
 
 use super::{Context, RowBlock};
+use crate::autodiff::Scalar;
 use crate::contact;
 use crate::discrete::Mechanics;
-use crate::autodiff::Scalar;
 
 /// Contact `contact`'s spin friction.
 #[derive(Debug, Clone, PartialEq)]

@@ -5,12 +5,12 @@
 use nalgebra::DMatrix;
 
 use super::{Context, GeometryUse, RowBlock};
+use crate::autodiff::Scalar;
 use crate::contact::{
     self, ContactGeometry, tangential_rate_hessian, tangential_rate_hessian_in,
     tangential_rate_jacobian, tangential_rate_jacobian_in,
 };
 use crate::discrete::{Mechanics, MechanicsDerivatives};
-use crate::autodiff::Scalar;
 
 /// Contact `contact`'s tangential rate.
 #[derive(Debug, Clone, PartialEq)]

@@ -2,9 +2,9 @@
 //! Jacobian is constant).
 
 use super::{Context, RowBlock};
+use crate::autodiff::Scalar;
 use crate::contact;
 use crate::discrete::Mechanics;
-use crate::autodiff::Scalar;
 
 /// ψ e − η.
 #[derive(Debug, Clone, PartialEq)]
