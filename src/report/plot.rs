@@ -322,7 +322,8 @@ mod tests {
             std::fs::read_to_string(root.join("results/motion/littledog_step/trajectory.csv"))
                 .unwrap();
         let recorded =
-            crate::trajectory_csv::read_trajectory(&csv, &problem.robot.coordinates, &[]).unwrap();
+            crate::files::trajectory_csv::read_trajectory(&csv, &problem.robot.coordinates, &[])
+                .unwrap();
         let v = vec![vec![0.0; problem.robot.coordinates.len()]; recorded.times.len()];
         let t = Trajectory {
             times: &recorded.times,
