@@ -34,9 +34,9 @@ pub(super) fn check(file: &Path, set: &[String]) -> Result<u8, CliError> {
         out!("  {}", d.trim());
     }
     out!(
-        "  robot:       {} ({:?} base)",
+        "  robot:       {} ({} base)",
         s.robot.urdf.display(),
-        s.robot.base
+        s.robot.base.name()
     );
     out!(
         "  coordinates: {} ({})",

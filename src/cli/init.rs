@@ -58,7 +58,19 @@ pub(super) fn init(urdf: &Path, base: BaseType, out: Option<&Path>) -> Result<u8
                         path.display()
                     )
                 } else {
-                    format!("cannot write {}: {e}", path.display())
+                    match path
+                        .parent()
+                        .filter(|d| !d.as_os_str().is_empty() && !d.exists())
+                    {
+                        Some(dir) => format!(
+                            "cannot write {}: the directory {} does not exist (create it first: \
+                             mkdir -p {})",
+                            path.display(),
+                            dir.display(),
+                            dir.display()
+                        ),
+                        None => format!("cannot write {}: {e}", path.display()),
+                    }
                 })
             };
             let mut file = report::create_new_file(path).map_err(cannot)?;

@@ -4,7 +4,7 @@ use std::fmt;
 
 use serde::Serialize;
 
-use super::{BaseType, Model, loop_residual};
+use super::{Model, loop_residual};
 
 /// One coordinate with its limits and damping (`None` = unbounded).
 #[derive(Debug, Clone, Serialize)]
@@ -139,11 +139,7 @@ pub fn inspect(model: &Model) -> Inspection {
             residual_at_zero: rows.iter().fold(0.0, |m: f64, r: &f64| m.max(r.abs())),
         })
         .collect();
-    let base = match model.base() {
-        BaseType::Fixed => "fixed",
-        BaseType::Planar => "planar",
-        BaseType::Floating => "floating",
-    };
+    let base = model.base().name();
     Inspection {
         robot: model.name().to_string(),
         base: base.to_string(),
@@ -184,6 +180,13 @@ pub fn inspect(model: &Model) -> Inspection {
     }
 }
 
+/// A mass in kg to 1e-9 kg, without the sum's round-off digits (2.7464, not
+/// 2.7464000000000004); `--json` keeps the exact sum.
+fn mass_to_nanograms(kg: f64) -> String {
+    let text = format!("{kg:.9}");
+    text.trim_end_matches('0').trim_end_matches('.').to_string()
+}
+
 fn bound(x: Option<f64>, unbounded: &str) -> String {
     x.map_or_else(|| unbounded.to_string(), |v| format!("{v}"))
 }
@@ -191,7 +194,7 @@ fn bound(x: Option<f64>, unbounded: &str) -> String {
 impl fmt::Display for Inspection {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         writeln!(f, "robot {} ({} base)", self.robot, self.base)?;
-        writeln!(f, "total mass: {}", self.total_mass)?;
+        writeln!(f, "total mass: {} kg", mass_to_nanograms(self.total_mass))?;
         writeln!(f, "coordinates ({}):", self.coordinates.len())?;
         for (i, c) in self.coordinate_details.iter().enumerate() {
             write!(

@@ -69,6 +69,15 @@ pub const FLOATING_BASE_COORDINATES: [&str; 6] = [
 ];
 
 impl BaseType {
+    /// The base's name as problem files, `vito init --base` and messages write it.
+    pub fn name(self) -> &'static str {
+        match self {
+            BaseType::Fixed => "fixed",
+            BaseType::Planar => "planar",
+            BaseType::Floating => "floating",
+        }
+    }
+
     /// Names of the base coordinates, which lead q (none for a fixed base).
     pub fn coordinate_names(self) -> &'static [&'static str] {
         match self {

@@ -272,11 +272,7 @@ const SOLVER: &str = "[solver]\nintegrator = \"midpoint\"   # midpoint | euler\n
 
 /// The header and `[robot]` section of every starter.
 fn robot_section(base: BaseType, urdf: &str) -> String {
-    let base_name = match base {
-        BaseType::Fixed => "fixed",
-        BaseType::Planar => "planar",
-        BaseType::Floating => "floating",
-    };
+    let base_name = base.name();
     let mut t = String::new();
     t.push_str(
         "# vito problem file (starter written by `vito init`; edit, then `vito check` it).\n",

@@ -44,10 +44,11 @@ pub struct GoldenRecord {
 /// Default relative tolerance of a blessed entry (SPEC.md compares objectives to 1e-6).
 pub const DEFAULT_TOLERANCE: f64 = 1e-6;
 
-const HEADER: &str = "# Regression record of solved costs, checked by `vito regress` and `cargo test --release`.\n\
+const HEADER: &str = "# Regression record of solved costs, checked by `vito regress`.\n\
 # Rewritten by `vito regress --bless` (do not edit by hand unless you mean it).\n\
-# A check passes when |objective - recorded| <= tolerance * max(1, |recorded|) and the status\n\
-# is a success; iterations are for information only.\n\n";
+# A check passes when the solve is solved (an Ipopt optimum with every slack within the\n\
+# problem's [slack] tolerance) and |objective - recorded| <= tolerance * max(1, |recorded|);\n\
+# iterations are for information only.\n\n";
 
 /// Why the record could not be read or written.
 #[derive(Debug, thiserror::Error)]

@@ -35,6 +35,12 @@ fn starter_problem_checks() {
             .args([std::ffi::OsStr::new("check"), out.as_os_str()])
             .assert_exit(0);
         assert!(run.stdout.contains(": ok ("), "{}", run.stdout);
+        // The base as the file writes it, not the enum's debug name.
+        assert!(
+            run.stdout.contains(&format!("({base} base)")),
+            "{}",
+            run.stdout
+        );
         // Never overwrites.
         t.vito()
             .args([
@@ -394,6 +400,45 @@ fn a_printed_starter_names_the_urdf_from_where_it_is_saved() {
     assert!(
         run.stdout
             .contains(&format!("urdf = {:?}", absolute.display().to_string())),
+        "{}",
+        run.stdout
+    );
+}
+
+/// `--out` into a directory that does not exist names the directory and how to make it.
+#[test]
+fn init_into_a_missing_directory_names_it() {
+    let t = TestDir::new("init_missing_directory");
+    let urdf = problems_dir().join("robots/hopper_2d.urdf");
+    let out = t.path().join("my_robot").join("problem.toml");
+    let run = init(&t, &urdf, "fixed", &out).assert_exit(2);
+    let dir = t.path().join("my_robot");
+    assert!(
+        run.stderr
+            .contains(&format!("the directory {} does not exist", dir.display())),
+        "{}",
+        run.stderr
+    );
+    assert!(!dir.exists());
+}
+
+/// `inspect` prints the total mass in kg without the sum's round-off digits (LittleDog's
+/// links sum to 2.7464000000000004 in floating point).
+#[test]
+fn inspect_prints_the_total_mass_in_kg() {
+    let t = TestDir::new("inspect_total_mass");
+    let urdf = problems_dir().join("robots/littledog/LittleDog.normalized.urdf");
+    let run = t
+        .vito()
+        .args([
+            std::ffi::OsStr::new("inspect"),
+            urdf.as_os_str(),
+            "--base".as_ref(),
+            "floating".as_ref(),
+        ])
+        .assert_exit(0);
+    assert!(
+        run.stdout.contains("total mass: 2.7464 kg\n"),
         "{}",
         run.stdout
     );
