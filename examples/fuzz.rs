@@ -4,7 +4,7 @@
 //! inputs, seed 1, from input 0; FIRST repeats inputs FIRST..COUNT of the run), or
 //! `make fuzz`. Prints `next input N` every 1,000 inputs (after an abort, the last one is the
 //! FIRST to repeat from), the figures every 10,000 and at the end, per kind with its slowest
-//! input; exits 1 if any input panicked or took more than 10 s, writing the first few to
+//! input; exits 1 if any input panicked or took more than 10 s of CPU time, writing the first few to
 //! `fuzz-panics/`.
 
 use std::io::Write;
@@ -35,7 +35,7 @@ fn main() -> std::process::ExitCode {
     }));
     let print = |r: &vito::fuzz::FuzzReport| {
         println!(
-            "inputs {} accepted {} panics {} hangs>{}s {} wall {:.1} s slowest {:.3} ms ({})",
+            "inputs {} accepted {} panics {} hangs>{}s {} wall {:.1} s slowest {:.3} ms CPU ({})",
             r.inputs,
             r.accepted,
             r.panics,
@@ -47,7 +47,7 @@ fn main() -> std::process::ExitCode {
         );
         for k in &r.kinds {
             println!(
-                "  {:<10} inputs {:>8} accepted {:>8} panics {} hangs {} mean {:>7.3} ms slowest {:>9.3} ms (input {}, {})",
+                "  {:<10} inputs {:>8} accepted {:>8} panics {} hangs {} mean {:>7.3} ms slowest {:>9.3} ms CPU (input {}, {})",
                 k.kind.name(),
                 k.inputs,
                 k.accepted,

@@ -24,8 +24,9 @@
 //!   `vito check --at`.
 //!
 //! An input must end in `Ok` or an error: a panic is caught and counted, an input taking
-//! more than [`HANG`] is counted as a hang (a watchdog names an input still running after
-//! [`HANG`]), and an abort or stack overflow ends the run, whose last progress line names
+//! more than [`HANG`] of the process's CPU time is counted as a hang (CPU time, so that a
+//! busy machine does not make a cheap input look like one; a watchdog names an input still
+//! running after [`HANG`] of wall time), and an abort or stack overflow ends the run, whose last progress line names
 //! the input to repeat from. `examples/fuzz.rs` runs it (`make fuzz`); a short run is in the
 //! test suite.
 
@@ -310,7 +311,16 @@ pub fn mutate(text: &str, rng: &mut SeededRng) -> String {
     out
 }
 
-/// An input taking longer than this is a hang.
+/// The CPU time this process has used (all its threads).
+fn process_cpu_time() -> Duration {
+    let t = rustix::time::clock_gettime(rustix::time::ClockId::ProcessCPUTime);
+    Duration::new(
+        u64::try_from(t.tv_sec).unwrap_or(0),
+        u32::try_from(t.tv_nsec).unwrap_or(0),
+    )
+}
+
+/// An input taking more CPU time than this is a hang.
 pub const HANG: Duration = Duration::from_secs(10);
 
 /// What an input is made of and which library calls it goes through.
@@ -1147,9 +1157,9 @@ pub fn run(
             }
             since.store(start.elapsed().as_millis() as u64, Ordering::Relaxed);
             running.store(index, Ordering::Relaxed);
-            let t0 = Instant::now();
+            let t0 = process_cpu_time();
             let outcome = catch_unwind(AssertUnwindSafe(|| load_once(&input, &targets)));
-            let elapsed = t0.elapsed();
+            let elapsed = process_cpu_time().saturating_sub(t0);
             running.store(u64::MAX, Ordering::Relaxed);
             report.inputs += 1;
             report.next = index + 1;

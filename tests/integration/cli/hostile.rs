@@ -1168,7 +1168,7 @@ fn a_ten_thousand_link_star_is_read_with_its_lines() {
         ));
     }
     // Line 2 + 2 × 9,999 + 1 = 20,001.
-    xml.push_str("<gazebo/>\n</robot>\n");
+    xml.push_str("<sensor_rig/>\n</robot>\n");
     t.write("star.urdf", &xml);
     let run = t
         .vito()
@@ -1176,7 +1176,7 @@ fn a_ten_thousand_link_star_is_read_with_its_lines() {
         .assert_exit(0);
     assert!(
         run.stderr
-            .contains("line 20001: element <gazebo> is not used by vito"),
+            .contains("line 20001: element <sensor_rig> is not used by vito"),
         "{}",
         run.stderr
     );
