@@ -49,8 +49,9 @@
 //! - `view/`: the animation page and SVG strips of a trajectory.
 //! - `random.rs`: the one seeded generator (multi-start points, derivative-check samples, the
 //!   brick study's perturbations, fuzzing, test inputs).
-//! - `fuzz.rs`: the fuzz harness: the project's own files, mutated, through problem and URDF
-//!   loading (`make fuzz`).
+//! - `fuzz/`: the fuzz harness (`make fuzz`): the project's own files mutated (`mutate.rs`)
+//!   and generated inputs (`generate.rs`: deep expressions, long chains, many attributes,
+//!   trajectory CSVs) through the library calls the commands make.
 #![deny(unsafe_code)]
 
 pub mod autodiff;
