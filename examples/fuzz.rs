@@ -1,7 +1,7 @@
 //! Fuzzes what vito reads with generated and mutated inputs (`vito::fuzz`): problem files,
 //! URDFs, deep expressions, long chains, many attributes, trajectory CSVs. Usage:
 //! `cargo run --release --example fuzz -- [COUNT] [SEED] [FIRST]` (default 1,000,000
-//! inputs, seed 1, from input 0; FIRST repeats inputs FIRST..COUNT of the run), or
+//! inputs, seed 1, from input 0; FIRST runs inputs FIRST..COUNT of the run alone: each input has its own generator), or
 //! `make fuzz`. Prints `next input N` every 1,000 inputs (after an abort, the last one is the
 //! FIRST to repeat from), the figures every 10,000 and at the end, per kind with its slowest
 //! input; exits 1 if any input panicked or took more than 10 s of CPU time, writing the first few to

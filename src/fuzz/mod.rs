@@ -439,9 +439,10 @@ fn read_csv_once(reader: CsvReader, target: &CsvTarget, text: &str) -> bool {
     }
 }
 
-/// Generates (up to `sizes`) and runs the inputs numbered `inputs` (0-based; earlier ones are
-/// generated but not run, to repeat part of a run) from `seeds` with generator seed `seed`; `progress` is
-/// called every 1,000 inputs. A watchdog thread prints (on standard error) any input still
+/// Generates (up to `sizes`) and runs the inputs numbered `inputs` (0-based) from `seeds`:
+/// input i is drawn from its own generator ([`SeededRng::for_item`] of `seed` and i), so any
+/// range repeats exactly the inputs a longer run gave it, and runs of disjoint ranges add up
+/// to one run. `progress` is called every 1,000 inputs. A watchdog thread prints (on standard error) any input still
 /// running after [`HANG`].
 pub fn run(
     seeds: &[Seed],
@@ -451,7 +452,6 @@ pub fn run(
     mut progress: impl FnMut(&FuzzReport),
 ) -> FuzzReport {
     use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-    let mut rng = SeededRng::new(seed);
     let mut report = FuzzReport {
         kinds: Kind::ALL
             .iter()
@@ -493,11 +493,9 @@ pub fn run(
                 }
             }
         });
-        for index in 0..inputs.end {
+        for index in inputs.clone() {
+            let mut rng = SeededRng::for_item(seed, index);
             let input = generate(seeds, &targets, sizes, index, &mut rng);
-            if index < inputs.start {
-                continue;
-            }
             if input.kind == Kind::Csv
                 && let Some((CsvReader::At, t, _)) = &input.csv
             {
