@@ -195,7 +195,9 @@ def interrupt_during_solve(problem, interrupt):
 
 
 @pytest.mark.parametrize("how", ["pthread_kill", "interrupt_main"])
-def test_ctrl_c_from_another_thread_stops_the_solve_and_keeps_the_iterate(hopper, how, python_ctrl_c):
+def test_ctrl_c_from_another_thread_stops_the_solve_and_keeps_the_iterate(
+    hopper, hopper_solution, how, python_ctrl_c
+):
     assert threading.current_thread() is threading.main_thread()
     main = threading.main_thread().ident
     interrupt = {
@@ -207,12 +209,15 @@ def test_ctrl_c_from_another_thread_stops_the_solve_and_keeps_the_iterate(hopper
     assert isinstance(solution, vito.Solution)
     assert solution.status == "user_requested_stop"
     assert not solution.solved
-    # Stopped after the iteration it was in, not at the end (the full solve takes 102).
+    # Stopped after the iteration it was in, not at the end (the full solve takes 102 on
+    # Debian 12's Ipopt 3.11, 91 on Debian 13's 3.14).
     assert solution.iterations <= 5
     assert max(seen) <= 5
     assert solution.q.shape == (21, 4) and np.isfinite(solution.q).all()
-    # The interpreter is usable and the next solve is whole.
-    assert hopper.solve().iterations == 102
+    # The interpreter is usable and the next solve is the whole, uninterrupted one, to the bit.
+    again = hopper.solve()
+    assert again.iterations == hopper_solution.iterations
+    assert again.objective == hopper_solution.objective
 
 
 def test_ctrl_c_stops_a_solve_without_a_progress_callable(hopper, python_ctrl_c):
