@@ -26,6 +26,8 @@
 mod del;
 mod derivatives;
 mod euler;
+mod galerkin;
+mod galerkin_interval;
 mod loops;
 mod mechanics;
 mod midpoint;
@@ -36,6 +38,8 @@ mod step;
 pub use del::*;
 pub use derivatives::*;
 pub use euler::*;
+pub use galerkin::*;
+pub use galerkin_interval::*;
 pub use loops::*;
 pub use mechanics::Mechanics;
 pub use midpoint::*;
@@ -51,11 +55,22 @@ pub enum Integrator {
     Midpoint,
     /// First-order semi-implicit Euler time stepping (Posa et al. 2014, eq. 1 of the paper).
     Euler,
+    /// Galerkin variational integrator of degree 2 (one interior point per interval, two
+    /// Gauss points): fourth order ([`GalerkinRule`]).
+    Galerkin4,
+    /// Galerkin variational integrator of degree 3 (two interior points per interval, three
+    /// Gauss points): sixth order.
+    Galerkin6,
 }
 
 impl Integrator {
     /// Every integrator, in the order messages list them.
-    pub const ALL: [Integrator; 2] = [Integrator::Midpoint, Integrator::Euler];
+    pub const ALL: [Integrator; 4] = [
+        Integrator::Midpoint,
+        Integrator::Euler,
+        Integrator::Galerkin4,
+        Integrator::Galerkin6,
+    ];
 
     /// The integrator's name, as a problem file (`[solver] integrator`), the command line
     /// (`--integrator`), the Python package and `summary.json` spell it.
@@ -63,7 +78,48 @@ impl Integrator {
         match self {
             Integrator::Midpoint => "midpoint",
             Integrator::Euler => "euler",
+            Integrator::Galerkin4 => "galerkin4",
+            Integrator::Galerkin6 => "galerkin6",
         }
+    }
+
+    /// The order of accuracy on smooth motion: 1 (Euler), 2 (midpoint), 4 or 6 (Galerkin).
+    pub fn order(self) -> usize {
+        match self {
+            Integrator::Euler => 1,
+            Integrator::Midpoint => 2,
+            Integrator::Galerkin4 => 4,
+            Integrator::Galerkin6 => 6,
+        }
+    }
+
+    /// The degree s of the Galerkin member with interior points (2 or 3), or `None` for the
+    /// midpoint rule (the s = 1 member, which has none and its own faster derivatives) and
+    /// Euler.
+    pub fn galerkin_degree(self) -> Option<usize> {
+        match self {
+            Integrator::Midpoint | Integrator::Euler => None,
+            Integrator::Galerkin4 => Some(2),
+            Integrator::Galerkin6 => Some(3),
+        }
+    }
+
+    /// Why the planner (the NLP transcription) cannot use this integrator, or `None`: the
+    /// Galerkin members' interior points are not NLP variables yet, and the planner never
+    /// solves a problem with another rule than the one it names.
+    pub fn planner_problem(self) -> Option<String> {
+        self.galerkin_degree().map(|_| {
+            format!(
+                "`{0}` steps `vito simulate --integrator {0}` but is not available in the \
+                 planner yet; set `integrator = \"midpoint\"` (or \"euler\")",
+                self.name()
+            )
+        })
+    }
+
+    /// The Galerkin member with interior points ([`Integrator::galerkin_degree`]).
+    pub fn galerkin_rule(self) -> Option<GalerkinRule> {
+        self.galerkin_degree().and_then(GalerkinRule::of_degree)
     }
 }
 
@@ -77,7 +133,10 @@ impl std::str::FromStr for Integrator {
             .find(|i| i.name() == name)
             .ok_or_else(|| {
                 let names: Vec<String> = Integrator::ALL.map(|i| format!("{:?}", i.name())).into();
-                format!("`{name}` is not an integrator: give {}", names.join(" or "))
+                format!(
+                    "`{name}` is not an integrator: give one of {}",
+                    names.join(", ")
+                )
             })
     }
 }
@@ -92,11 +151,22 @@ mod integrator_tests {
         for i in Integrator::ALL {
             assert_eq!(i.name().parse::<Integrator>(), Ok(i));
         }
-        assert_eq!(Integrator::ALL.map(Integrator::name), ["midpoint", "euler"]);
+        assert_eq!(
+            Integrator::ALL.map(Integrator::name),
+            ["midpoint", "euler", "galerkin4", "galerkin6"]
+        );
+        assert_eq!(Integrator::ALL.map(Integrator::order), [2, 1, 4, 6]);
+        for i in Integrator::ALL {
+            let rule = i.galerkin_rule();
+            assert_eq!(
+                rule.map(|r| 2 * r.degree()),
+                i.galerkin_degree().map(|_| i.order())
+            );
+        }
         let e = "rk4".parse::<Integrator>().unwrap_err();
         assert_eq!(
             e,
-            "`rk4` is not an integrator: give \"midpoint\" or \"euler\""
+            "`rk4` is not an integrator: give one of \"midpoint\", \"euler\", \"galerkin4\", \"galerkin6\""
         );
     }
 }

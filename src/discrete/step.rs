@@ -2,7 +2,8 @@
 //! closures imposed at the new knot) for q_{k+1} by Newton's method with the exact Jacobian.
 
 use super::{
-    DiscreteForce, EulerKnotResidual, Integrator, LoopClosure, MidpointSegment, momentum_after,
+    DiscreteForce, EulerKnotResidual, GalerkinRule, Integrator, LoopClosure, MidpointSegment,
+    ModelMechanics, arriving_momentum, galerkin_interval, momentum_after,
 };
 use crate::autodiff::{gradient_hessian, jacobian, weighted_hessian};
 use crate::model::Model;
@@ -102,6 +103,11 @@ pub fn step(
     let before = match integrator {
         // The knot's incoming momentum D2Ld(q_{k−1}, q_k) + ½Fd_{k−1} does not change.
         Integrator::Midpoint => Before::Momentum(momentum_after(model, q_prev, q_curr, u, h)),
+        Integrator::Galerkin4 | Integrator::Galerkin6 => {
+            Before::galerkin(model, integrator, |mech, rule| {
+                arriving_momentum(mech, Some(rule), q_prev, q_curr, u, h)
+            })?
+        }
         Integrator::Euler => Before::PreviousConfiguration(q_prev.to_vec()),
     };
     let guess = q_curr
@@ -131,6 +137,11 @@ pub fn first_step(
         Integrator::Midpoint => {
             Before::Momentum(crate::model::generalized_momentum(model, q_first, v_first))
         }
+        Integrator::Galerkin4 | Integrator::Galerkin6 => {
+            Before::galerkin(model, integrator, |_, _| {
+                Ok(crate::model::generalized_momentum(model, q_first, v_first))
+            })?
+        }
         Integrator::Euler => Before::Velocity(v_first.to_vec()),
     };
     let guess = q_first
@@ -154,10 +165,37 @@ fn check_inputs(model: &Model, q_curr: &[f64], u: &[f64], h: f64) -> Result<(), 
 enum Before {
     /// Midpoint: the incoming momentum p_k⁻ (or M(q_1)v_0 at the first step).
     Momentum(Vec<f64>),
+    /// Galerkin: the incoming momentum p_k⁻ (or M(q_1)v_0), with the model as [`Mechanics`]
+    /// and the member, for the interval after the knot.
+    Galerkin {
+        p_minus: Vec<f64>,
+        mech: Box<ModelMechanics>,
+        rule: GalerkinRule,
+    },
     /// Euler: q_{k−1}, so that v_k = (q_k − q_{k−1})/h.
     PreviousConfiguration(Vec<f64>),
     /// Euler first step: v_k = v_0.
     Velocity(Vec<f64>),
+}
+
+impl Before {
+    /// The Galerkin member `integrator` of `model` (a copy, without contacts) with the
+    /// incoming momentum `p_minus` computes from it.
+    fn galerkin(
+        model: &Model,
+        integrator: Integrator,
+        p_minus: impl FnOnce(&ModelMechanics, &GalerkinRule) -> Result<Vec<f64>, StepError>,
+    ) -> Result<Before, StepError> {
+        let mech = Box::new(ModelMechanics::with_contacts(model.clone(), Vec::new()));
+        let Some(rule) = integrator.galerkin_rule() else {
+            unreachable!("`Before::galerkin` is called for the Galerkin members only")
+        };
+        Ok(Before::Galerkin {
+            p_minus: p_minus(&mech, &rule)?,
+            mech,
+            rule,
+        })
+    }
 }
 
 /// Newton on [q_{k+1}; ν] for the knot equation plus loop closures.
@@ -173,7 +211,9 @@ fn solve_knot(
     let n_loop = model.num_loop_constraints();
     let mut nu = vec![0.0; n_loop];
     let before_scale = match before {
-        Before::Momentum(p) => p.iter().fold(0.0f64, |a, &b| a.max(b.abs())),
+        Before::Momentum(p) | Before::Galerkin { p_minus: p, .. } => {
+            p.iter().fold(0.0f64, |a, &b| a.max(b.abs()))
+        }
         Before::PreviousConfiguration(q) => q
             .iter()
             .zip(q_curr)
@@ -188,7 +228,7 @@ fn solve_knot(
     let mut last_norm = f64::INFINITY;
     for iteration in 0..=MAX_NEWTON_ITERATIONS {
         newton.fill(0.0);
-        let (del, del_partial_q_next) = knot_residual(model, before, q_curr, &q_next, u, h);
+        let (del, del_partial_q_next) = knot_residual(model, before, q_curr, &q_next, u, h)?;
         for i in 0..n {
             residual[i] = del[i];
             for j in 0..n {
@@ -256,7 +296,7 @@ fn knot_residual(
     q_next: &[f64],
     u: &[f64],
     h: f64,
-) -> (Vec<f64>, DMatrix<f64>) {
+) -> Result<(Vec<f64>, DMatrix<f64>), StepError> {
     let n = model.nq();
     let euler = |x: &[f64], first_step: bool| {
         let z: Vec<f64> = x
@@ -270,7 +310,17 @@ fn knot_residual(
         let (residual, jac) = jacobian(&EulerKnotResidual { model, first_step }, &z);
         (residual, jac.columns(2 * n, n).into_owned())
     };
-    match before {
+    Ok(match before {
+        Before::Galerkin {
+            p_minus,
+            mech,
+            rule,
+        } => {
+            // −p_k⁺ and its q_{k+1} derivative along the interval's stationary interior.
+            let interval = galerkin_interval(mech.as_ref(), rule, q_curr, q_next, u, h, None)?;
+            let residual = p_minus.iter().zip(&interval.start).map(|(p, s)| p + s);
+            (residual.collect(), interval.start_by_end)
+        }
         Before::Momentum(p_minus) => {
             // D1Ld(q_k, q_{k+1}) and its q_{k+1} block from the Hessian of the segment.
             let z: Vec<f64> = q_curr.iter().chain(q_next).copied().chain([h]).collect();
@@ -298,7 +348,7 @@ fn knot_residual(
         }
         Before::PreviousConfiguration(q_prev) => euler(q_prev, false),
         Before::Velocity(v_first) => euler(v_first, true),
-    }
+    })
 }
 
 #[cfg(test)]

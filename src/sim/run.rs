@@ -6,7 +6,7 @@ use nalgebra::{DMatrix, DVector};
 
 use super::step::{Before, ContactStep, Impulses, StepFailure, StepInput, StepOptions};
 use crate::contact::ContactModel;
-use crate::discrete::{Integrator, MechanicsDerivatives, incoming_momentum, initial_momentum};
+use crate::discrete::{Integrator, MechanicsDerivatives, arriving_momentum, initial_momentum};
 
 /// Settings of a simulation.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -151,18 +151,28 @@ pub fn simulate<M: MechanicsDerivatives, U: Into<StepInput>>(
             return Err(SimulationError::FeedbackIndex { step: k });
         }
         let before = match (options.integrator, k) {
-            (Integrator::Midpoint, 0) => {
+            (Integrator::Midpoint | Integrator::Galerkin4 | Integrator::Galerkin6, 0) => {
                 let mut p = vec![0.0; n];
                 initial_momentum(mech, &[q0, v0].concat(), &mut p);
                 Before::Momentum(p)
             }
-            (Integrator::Midpoint, _) => Before::Momentum(incoming_momentum(
-                mech,
-                &sim.q[k - 1],
-                &sim.q[k],
-                &sim.u[k - 1],
-                h,
-            )),
+            (Integrator::Midpoint | Integrator::Galerkin4 | Integrator::Galerkin6, _) => {
+                let rule = options.integrator.galerkin_rule();
+                let p = arriving_momentum(
+                    mech,
+                    rule.as_ref(),
+                    &sim.q[k - 1],
+                    &sim.q[k],
+                    &sim.u[k - 1],
+                    h,
+                )
+                .map_err(|e| SimulationError::Step {
+                    step: k,
+                    time: t,
+                    source: StepFailure::Interval(e),
+                })?;
+                Before::Momentum(p)
+            }
             (Integrator::Euler, 0) => Before::Euler {
                 before: v0,
                 first_step: true,
@@ -242,8 +252,8 @@ pub fn simulate<M: MechanicsDerivatives, U: Into<StepInput>>(
 
 /// Total energy T + V at each knot of a run without inputs, for mechanics whose Lagrangian
 /// is T − V with T quadratic in v: E = vᵀ(M v) − L(q, v), L(q, v) = Ld(q − hv/2, q + hv/2, h)/h.
-/// The knot velocity is the integrator's own: midpoint, v_k = M(q_k)⁻¹ p_k⁻ from the discrete
-/// Legendre transform (v_0 at the first knot); Euler, (q_k − q_{k−1})/h.
+/// The knot velocity is the integrator's own: midpoint and Galerkin, v_k = M(q_k)⁻¹ p_k⁻ from
+/// the discrete Legendre transform (v_0 at the first knot); Euler, (q_k − q_{k−1})/h.
 pub fn knot_energies<M: MechanicsDerivatives>(
     mech: &M,
     sim: &Simulation,
@@ -256,12 +266,13 @@ pub fn knot_energies<M: MechanicsDerivatives>(
             let q = &sim.q[k];
             let v = match (integrator, k) {
                 (_, 0) | (Integrator::Euler, _) => sim.v[k].clone(),
-                (Integrator::Midpoint, _) => {
+                (Integrator::Midpoint | Integrator::Galerkin4 | Integrator::Galerkin6, _) => {
                     let u = &sim.u[k - 1];
-                    let p = incoming_momentum(mech, &sim.q[k - 1], q, u, h);
+                    let rule = integrator.galerkin_rule();
+                    let p = arriving_momentum(mech, rule.as_ref(), &sim.q[k - 1], q, u, h);
                     let mass = mass_matrix(mech, q);
-                    mass.lu()
-                        .solve(&DVector::from_vec(p))
+                    p.ok()
+                        .and_then(|p| mass.lu().solve(&DVector::from_vec(p)))
                         .map_or_else(|| vec![f64::NAN; n], |v| v.as_slice().to_vec())
                 }
             };

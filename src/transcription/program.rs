@@ -85,6 +85,13 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                 message: format!("{} knots; a trajectory needs at least 2", spec.knots),
             });
         }
+        // Validation checks this for problem files; a spec built in code is checked here.
+        if let Some(message) = spec.integrator.planner_problem() {
+            return Err(TranscriptionError::Invalid {
+                field: "solver.integrator".into(),
+                message,
+            });
+        }
         let ctx = Context::new(&mech, spec);
         let nd = ctx.nd();
         for (t, term) in spec.costs.iter().enumerate() {

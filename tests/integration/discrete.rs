@@ -76,6 +76,9 @@ fn energies(model: &Model, method: Integrator, qs: &[Vec<f64>], h: f64) -> Vec<f
                     .zip(&qs[k - 1])
                     .map(|(a, b)| (a - b) / h)
                     .collect(),
+                Integrator::Galerkin4 | Integrator::Galerkin6 => {
+                    panic!("the Galerkin members' energies are `vito::sim::knot_energies`")
+                }
             };
             energy(model, &qs[k], &v)
         })
@@ -405,5 +408,58 @@ fn damping_dissipates_energy() {
             e_end < e_start - 1e-2,
             "{method:?}: energy {e_start} J → {e_end} J"
         );
+    }
+}
+
+/// The s = 1 Galerkin member (one Gauss point) is the midpoint rule: on the hopper, its
+/// ∂A/∂q^0, ∂A/∂q^1, ∂A/∂h equal the midpoint segment gradient (D1Ld, D2Ld, ∂Ld/∂h) and its
+/// forces f^0, f^1 equal ½Fd each, to round-off.
+#[test]
+fn galerkin_degree_one_is_the_midpoint_rule_on_the_hopper() {
+    use vito::autodiff::VectorFunction;
+    use vito::discrete::{
+        GalerkinAction, GalerkinRule, HalfForce, Mechanics, MechanicsDerivatives,
+    };
+    let spec = crate::common::reference::hopper_2d();
+    let mech = vito::pipeline::mechanics(&spec).expect("hopper loads");
+    let (n, m) = (mech.nq(), mech.nu());
+    let rule = GalerkinRule::of_degree(1).expect("tabulated");
+    let mut rng = SeededRng::new(30);
+    for _ in 0..5 {
+        let qa: Vec<f64> = (0..n).map(|_| rng.range(-0.5, 0.5)).collect();
+        let qb: Vec<f64> = qa.iter().map(|q| q + rng.range(-0.05, 0.05)).collect();
+        let u: Vec<f64> = (0..m).map(|_| rng.range(-20.0, 20.0)).collect();
+        let h = rng.range(0.01, 0.1);
+        let z: Vec<f64> = qa.iter().chain(&qb).copied().chain([h]).collect();
+        let midpoint = mech.segment_gradient(&z);
+        let (value, galerkin) = gradient(
+            &GalerkinAction {
+                mech: &mech,
+                rule: &rule,
+            },
+            &z,
+        );
+        assert!(
+            (value - mech.discrete_lagrangian(&qa, &qb, h)).abs() < 1e-13 * (1.0 + value.abs())
+        );
+        let scale = 1.0 + midpoint.iter().fold(0.0_f64, |a, g| a.max(g.abs()));
+        for (a, b) in midpoint.iter().zip(&galerkin) {
+            assert!((a - b).abs() < 1e-13 * scale, "{a} vs {b}");
+        }
+        let zf: Vec<f64> = qa.iter().chain(&qb).chain(&u).copied().chain([h]).collect();
+        let mut half = vec![0.0; n];
+        HalfForce { mech: &mech }.eval(&zf, &mut half);
+        let mut forces = vec![0.0; 2 * n];
+        rule.forces(
+            &mech,
+            &[qa.clone(), qb.clone()].concat(),
+            &u,
+            h,
+            &mut forces,
+        );
+        for i in 0..n {
+            assert!((forces[i] - half[i]).abs() < 1e-13 * (1.0 + half[i].abs()));
+            assert!((forces[n + i] - half[i]).abs() < 1e-13 * (1.0 + half[i].abs()));
+        }
     }
 }

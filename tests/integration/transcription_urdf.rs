@@ -129,3 +129,21 @@ fn urdf_and_closed_form_mechanics_agree() {
         assert!(worst < 1e-10);
     }
 }
+
+/// A spec built in code that names a Galerkin member is refused by the transcription (the
+/// interior points are not NLP variables), never transcribed with the midpoint rule.
+#[test]
+fn transcription_refuses_a_galerkin_integrator() {
+    for integrator in [Integrator::Galerkin4, Integrator::Galerkin6] {
+        let mut spec = hopper_2d();
+        spec.integrator = integrator;
+        let Err(e) = Transcription::new(ModelMechanics::load(&spec).unwrap(), &spec) else {
+            panic!("{integrator:?} transcribed");
+        };
+        let message = e.to_string();
+        assert!(
+            message.starts_with("problem field `solver.integrator`: `galerkin"),
+            "{message}"
+        );
+    }
+}

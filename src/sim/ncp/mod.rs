@@ -54,6 +54,9 @@ pub enum StepFailure {
         /// The tolerance.
         tolerance: f64,
     },
+    /// The interior points of the Galerkin interval before the knot were not solved.
+    #[error("the interior points of the interval before the step: {0}")]
+    Interval(crate::discrete::StepError),
 }
 
 /// The smoothed system's residual Φ_ε(x), its Jacobian, and its unsmoothed size at a point.

@@ -13,8 +13,8 @@ use crate::contact::{
     tangential_rate, tangential_rate_jacobian,
 };
 use crate::discrete::{
-    EulerKnotInNext, Integrator, MechanicsDerivatives, outgoing_momentum,
-    outgoing_momentum_input_jacobian, outgoing_momentum_jacobian,
+    EulerKnotInNext, GalerkinInterval, Integrator, MechanicsDerivatives, galerkin_interval,
+    outgoing_momentum, outgoing_momentum_input_jacobian, outgoing_momentum_jacobian,
 };
 use crate::sim::ncp::{Evaluation, LinearisedComplementarity, SmoothedSystem, fischer_burmeister};
 
@@ -89,8 +89,19 @@ impl<M: MechanicsDerivatives> ContactStep<'_, M> {
     fn knot_input_jacobian(&self, q_next: &[f64], u: &[f64]) -> DMatrix<f64> {
         match (&self.before, self.integrator) {
             (Before::Euler { .. }, Integrator::Euler) => self.euler_knot(u).input_jacobian(q_next),
+            (_, Integrator::Galerkin4 | Integrator::Galerkin6) => match self.interval(q_next, u) {
+                Some(interval) => interval.start_by_input,
+                None => DMatrix::from_element(self.n(), u.len(), f64::NAN),
+            },
             _ => outgoing_momentum_input_jacobian(self.mech, self.q_curr, q_next, u, self.h),
         }
+    }
+
+    /// The Galerkin interval (q_k, q_{k+1}) at its stationary interior points, or `None`
+    /// where they are not found (the caller's residual is then NaN, a failed step).
+    fn interval(&self, q_next: &[f64], u: &[f64]) -> Option<GalerkinInterval> {
+        let rule = self.integrator.galerkin_rule()?;
+        galerkin_interval(self.mech, &rule, self.q_curr, q_next, u, self.h, None).ok()
     }
 
     /// The Euler knot equation as a function of q_{k+1} at input u_k = `u`.
@@ -135,6 +146,15 @@ impl<M: MechanicsDerivatives> ContactStep<'_, M> {
                 };
                 value.iter_mut().zip(p).for_each(|(v, p)| *v += p);
                 (value, jac)
+            }
+            (Before::Momentum(p), Integrator::Galerkin4 | Integrator::Galerkin6) => {
+                let n = self.n();
+                let (mut value, jac) = match self.interval(q_next, u) {
+                    Some(interval) => (interval.start, interval.start_by_end),
+                    None => (vec![f64::NAN; n], DMatrix::from_element(n, n, f64::NAN)),
+                };
+                value.iter_mut().zip(p).for_each(|(v, p)| *v += p);
+                (value, with_jacobian.then_some(jac))
             }
             (Before::Euler { .. }, Integrator::Euler) => {
                 let f = self.euler_knot(u);

@@ -1,0 +1,281 @@
+//! One Galerkin interval with its ends fixed: the interior control points solved from their
+//! stationarity ∂A/∂q^ν + f^ν = 0 (ν = 1 … s − 1) by Newton's method, and the end momenta the
+//! DEL rows take from it, with their derivatives in q_{k+1} and u_k through the implicit
+//! function theorem. This is the discrete Lagrangian of the interval, A at the stationary
+//! interior, that a forward step or a simulation uses; the NLP keeps the interior points as
+//! variables instead.
+
+use nalgebra::DMatrix;
+
+use super::{
+    GalerkinAction, GalerkinForce, GalerkinRule, Mechanics, MechanicsDerivatives, StepError,
+    incoming_momentum,
+};
+use crate::autodiff::{gradient_hessian, jacobian};
+
+/// Newton iterations before the interior solve gives up.
+const MAX_ITERATIONS: usize = 30;
+
+/// A Newton update this small relative to |q| is at the round-off floor.
+const ROUND_OFF_STEP: f64 = 1e-15;
+
+/// Relative stationarity residual accepted (of the end momenta's scale).
+const TOLERANCE: f64 = 1e-11;
+
+/// An interval at its stationary interior points.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GalerkinInterval {
+    /// The interior control points q^1 … q^{s−1} (length (s − 1)·n).
+    pub interior: Vec<f64>,
+    /// ∂A/∂q^0 + f^0 = −p_k⁺ (length n): the interval's share of knot k's DEL row.
+    pub start: Vec<f64>,
+    /// ∂A/∂q^s + f^s = p_{k+1}⁻ (length n): the interval's share of knot k + 1's DEL row.
+    pub end: Vec<f64>,
+    /// ∂start/∂q_{k+1} (n × n) along the stationary interior.
+    pub start_by_end: DMatrix<f64>,
+    /// ∂start/∂u_k (n × m) along the stationary interior.
+    pub start_by_input: DMatrix<f64>,
+}
+
+/// The control points [qa; interior; qb] of an interval.
+fn control(qa: &[f64], interior: &[f64], qb: &[f64]) -> Vec<f64> {
+    [qa, interior, qb].concat()
+}
+
+/// Gradient of A plus the forces (length (s + 1)·n) and its Jacobian in the control points and
+/// the input ((s + 1)·n × ((s + 1)·n + m)), at `points` with input `u` and step `h`.
+fn stationarity<M: Mechanics>(
+    mech: &M,
+    rule: &GalerkinRule,
+    points: &[f64],
+    u: &[f64],
+    h: f64,
+) -> (Vec<f64>, DMatrix<f64>) {
+    let (size, m) = (points.len(), mech.nu());
+    let z: Vec<f64> = points.iter().copied().chain([h]).collect();
+    let (_, mut value, hessian) = gradient_hessian(&GalerkinAction { mech, rule }, &z);
+    value.truncate(size);
+    let mut jac = DMatrix::zeros(size, size + m);
+    jac.view_mut((0, 0), (size, size))
+        .copy_from(&hessian.view((0, 0), (size, size)));
+    if mech.has_discrete_force() {
+        let zf: Vec<f64> = points.iter().chain(u).copied().chain([h]).collect();
+        let (force, force_jac) = jacobian(&GalerkinForce { mech, rule }, &zf);
+        value.iter_mut().zip(&force).for_each(|(v, f)| *v += f);
+        jac += force_jac.columns(0, size + m);
+    }
+    (value, jac)
+}
+
+/// Solves the interior points of the interval from `qa` to `qb` (length n each) with input `u`
+/// held and step `h`, starting from `guess` (length (s − 1)·n; the chord
+/// [`GalerkinRule::chord_interior`] when `None`), and returns the interval there.
+pub fn galerkin_interval<M: Mechanics>(
+    mech: &M,
+    rule: &GalerkinRule,
+    qa: &[f64],
+    qb: &[f64],
+    u: &[f64],
+    h: f64,
+    guess: Option<&[f64]>,
+) -> Result<GalerkinInterval, StepError> {
+    let n = mech.nq();
+    let s = rule.degree();
+    let inner = (s - 1) * n;
+    let mut interior = guess.map_or_else(|| rule.chord_interior(qa, qb), <[f64]>::to_vec);
+    let mut last = f64::INFINITY;
+    for iteration in 0..=MAX_ITERATIONS {
+        let points = control(qa, &interior, qb);
+        let (value, jac) = stationarity(mech, rule, &points, u, h);
+        if !value.iter().chain(jac.iter()).all(|x| x.is_finite()) {
+            return Err(StepError::NonFinite { iteration });
+        }
+        let scale = 1.0 + value.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+        let residual = nalgebra::DVector::from_column_slice(&value[n..n + inner]);
+        last = residual.amax();
+        let interior_jac = jac.view((n, n), (inner, inner)).into_owned();
+        let lu = interior_jac.lu();
+        let converged = last <= 1e-15 * scale;
+        let delta = if inner == 0 || converged {
+            None
+        } else {
+            Some(
+                lu.solve(&residual)
+                    .ok_or(StepError::SingularJacobian { iteration })?,
+            )
+        };
+        let q_scale = 1.0 + points.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+        let small = delta
+            .as_ref()
+            .is_none_or(|d| d.amax() <= ROUND_OFF_STEP * q_scale);
+        if inner == 0 || converged || (small && last <= TOLERANCE * scale) {
+            return finish(rule, n, interior, &value, &jac, &lu, iteration);
+        }
+        if iteration == MAX_ITERATIONS {
+            break;
+        }
+        if let Some(delta) = delta {
+            interior.iter_mut().zip(&delta).for_each(|(x, d)| *x -= d);
+        }
+    }
+    Err(StepError::NotConverged {
+        iterations: MAX_ITERATIONS,
+        residual: last,
+    })
+}
+
+/// The interval at stationary `interior`: the end momenta from the stationarity `value` and
+/// the start's derivatives by the implicit function theorem from its Jacobian `jac` (`lu` the
+/// factorised interior block): d start/dy = ∂start/∂y − ∂start/∂x (∂r/∂x)⁻¹ ∂r/∂y for
+/// y = q_{k+1} or u_k, x the interior points and r their stationarity.
+fn finish(
+    rule: &GalerkinRule,
+    n: usize,
+    interior: Vec<f64>,
+    value: &[f64],
+    jac: &DMatrix<f64>,
+    lu: &nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>,
+    iteration: usize,
+) -> Result<GalerkinInterval, StepError> {
+    let s = rule.degree();
+    let inner = (s - 1) * n;
+    let m = jac.ncols() - (s + 1) * n;
+    let end_col = s * n;
+    let mut by_end = jac.view((0, end_col), (n, n)).into_owned();
+    let mut by_input = jac.view((0, end_col + n), (n, m)).into_owned();
+    if inner > 0 {
+        let start_by_interior = jac.view((0, n), (n, inner));
+        let rhs_end = jac.view((n, end_col), (inner, n)).into_owned();
+        let rhs_input = jac.view((n, end_col + n), (inner, m)).into_owned();
+        let singular = StepError::SingularJacobian { iteration };
+        by_end -= start_by_interior * lu.solve(&rhs_end).ok_or(singular.clone())?;
+        by_input -= start_by_interior * lu.solve(&rhs_input).ok_or(singular)?;
+    }
+    Ok(GalerkinInterval {
+        interior,
+        start: value[..n].to_vec(),
+        end: value[end_col..end_col + n].to_vec(),
+        start_by_end: by_end,
+        start_by_input: by_input,
+    })
+}
+
+/// The momentum p_k⁻ arriving at knot k from the interval (q_{k−1}, q_k) with input u_{k−1}
+/// and step h: for the midpoint rule (`rule` `None`) D2Ld + ½Fd ([`incoming_momentum`]), for
+/// a Galerkin member ∂A/∂q^s + f^s at the stationary interior points.
+pub fn arriving_momentum<M: MechanicsDerivatives>(
+    mech: &M,
+    rule: Option<&GalerkinRule>,
+    q_prev: &[f64],
+    q_curr: &[f64],
+    u_prev: &[f64],
+    h: f64,
+) -> Result<Vec<f64>, StepError> {
+    match rule {
+        None => Ok(incoming_momentum(mech, q_prev, q_curr, u_prev, h)),
+        Some(rule) => Ok(galerkin_interval(mech, rule, q_prev, q_curr, u_prev, h, None)?.end),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::autodiff::{ScalarFunction, gradient};
+    use crate::discrete::ModelMechanics;
+    use crate::model::{BaseType, Model, sample};
+
+    /// A 3-link chain on a planar base (n = 6, 3 inputs) with damping 0.3 on every hinge.
+    fn damped_chain() -> ModelMechanics {
+        let xml = sample::planar_chain(3).replace(
+            "<axis xyz=\"0 1 0\"/>",
+            "<axis xyz=\"0 1 0\"/>\n    <dynamics damping=\"0.3\"/>",
+        );
+        let model = Model::from_urdf_str(&xml, BaseType::Planar).expect("chain loads");
+        ModelMechanics::with_contacts(model, Vec::new())
+    }
+
+    const QA: [f64; 6] = [0.1, 0.2, -0.1, 0.4, -0.3, 0.2];
+    const QB: [f64; 6] = [0.12, 0.17, -0.08, 0.45, -0.36, 0.26];
+    const U: [f64; 3] = [0.7, -0.4, 1.1];
+    const H: f64 = 0.03;
+
+    /// The interior points are stationary (∂A/∂q^ν + f^ν = 0 by central differences of A),
+    /// and the end momenta are the end gradients plus forces.
+    #[test]
+    fn interior_points_are_stationary_and_ends_are_gradients() {
+        let mech = damped_chain();
+        for s in [2, 3] {
+            let rule = GalerkinRule::of_degree(s).expect("tabulated");
+            let interval = galerkin_interval(&mech, &rule, &QA, &QB, &U, H, None).expect("solves");
+            let points = control(&QA, &interval.interior, &QB);
+            let z: Vec<f64> = points.iter().copied().chain([H]).collect();
+            let action = GalerkinAction {
+                mech: &mech,
+                rule: &rule,
+            };
+            let (_, grad) = gradient(&action, &z);
+            let mut force = vec![0.0; points.len()];
+            rule.forces(&mech, &points, &U, H, &mut force);
+            let n = 6;
+            let e = 1e-6;
+            for j in 0..points.len() {
+                let (mut zp, mut zm) = (z.clone(), z.clone());
+                zp[j] += e;
+                zm[j] -= e;
+                let fd = (action.eval(&zp) - action.eval(&zm)) / (2.0 * e);
+                assert!(
+                    (fd - grad[j]).abs() < 1e-7,
+                    "s {s}, ∂A/∂z{j}: {fd} vs {}",
+                    grad[j]
+                );
+                let total = grad[j] + force[j];
+                if (n..s * n).contains(&j) {
+                    assert!(total.abs() < 1e-12, "s {s}: interior residual {total:e}");
+                } else if j < n {
+                    assert!((total - interval.start[j]).abs() < 1e-14);
+                } else {
+                    assert!((total - interval.end[j - s * n]).abs() < 1e-14);
+                }
+            }
+        }
+    }
+
+    /// ∂start/∂q_{k+1} and ∂start/∂u_k by the implicit function theorem equal central
+    /// differences of the re-solved interval.
+    #[test]
+    fn start_derivatives_match_finite_differences() {
+        let mech = damped_chain();
+        for s in [2, 3] {
+            let rule = GalerkinRule::of_degree(s).expect("tabulated");
+            let at = |qb: &[f64], u: &[f64]| {
+                galerkin_interval(&mech, &rule, &QA, qb, u, H, None).expect("solves")
+            };
+            let base = at(&QB, &U);
+            let e = 1e-6;
+            let mut worst = 0.0_f64;
+            for j in 0..QB.len() + U.len() {
+                let shifted = |sign: f64| {
+                    let (mut qb, mut u) = (QB.to_vec(), U.to_vec());
+                    if j < QB.len() {
+                        qb[j] += sign * e;
+                    } else {
+                        u[j - QB.len()] += sign * e;
+                    }
+                    at(&qb, &u).start
+                };
+                let (plus, minus) = (shifted(1.0), shifted(-1.0));
+                for r in 0..QB.len() {
+                    let fd = (plus[r] - minus[r]) / (2.0 * e);
+                    let exact = if j < QB.len() {
+                        base.start_by_end[(r, j)]
+                    } else {
+                        base.start_by_input[(r, j - QB.len())]
+                    };
+                    let error = (fd - exact).abs() / (1.0 + exact.abs());
+                    worst = worst.max(error);
+                }
+            }
+            assert!(worst < 1e-6, "s {s}: worst relative error {worst:e}");
+        }
+    }
+}
