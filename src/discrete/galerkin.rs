@@ -171,6 +171,18 @@ impl GalerkinRule {
         }
     }
 
+    /// The weights of control point ν in the ends of quadrature point i's midpoint segment
+    /// (see [`GalerkinRule::action`]): qa_i = Σ_ν wa_ν q^ν, qb_i = Σ_ν wb_ν q^ν with
+    /// wa_ν = ℓ_ν(c_i) − ℓ̇_ν(c_i)/2 and wb_ν = ℓ_ν(c_i) + ℓ̇_ν(c_i)/2: linear in the control
+    /// points and free of h, so derivatives of A and f^ν chain from the segment's.
+    pub fn segment_weights(&self, i: usize) -> Vec<(f64, f64)> {
+        self.basis[i]
+            .iter()
+            .zip(&self.basis_rate[i])
+            .map(|(&l, &dl)| (l - 0.5 * dl, l + 0.5 * dl))
+            .collect()
+    }
+
     /// The midpoint segment (q − hv/2, q + hv/2) whose Ld and Fd are h·L and h·f at the path's
     /// state (q, v) at quadrature point i.
     fn midpoint_ends<D: Scalar>(&self, control: &[D], h: D, i: usize) -> (Vec<D>, Vec<D>) {

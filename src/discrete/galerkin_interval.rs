@@ -7,11 +7,8 @@
 
 use nalgebra::DMatrix;
 
-use super::{
-    GalerkinAction, GalerkinForce, GalerkinRule, Mechanics, MechanicsDerivatives, StepError,
-    incoming_momentum,
-};
-use crate::autodiff::{gradient_hessian, jacobian};
+use super::{GalerkinRule, HalfForce, MechanicsDerivatives, StepError, incoming_momentum};
+use crate::autodiff::jacobian;
 
 /// Newton iterations before the interior solve gives up.
 const MAX_ITERATIONS: usize = 30;
@@ -44,25 +41,72 @@ fn control(qa: &[f64], interior: &[f64], qb: &[f64]) -> Vec<f64> {
 
 /// Gradient of A plus the forces (length (s + 1)·n) and its Jacobian in the control points and
 /// the input ((s + 1)·n × ((s + 1)·n + m)), at `points` with input `u` and step `h`.
-fn stationarity<M: Mechanics>(
+///
+/// Chained from the midpoint segments of the quadrature points, whose ends are linear in the
+/// control points ([`GalerkinRule::segment_weights`]): ∇A = Σ_i b_i P_iᵀ∇Ld_i,
+/// ∇²A = Σ_i b_i P_iᵀ∇²Ld_i P_i, f^ν = Σ_i 2 b_i ℓ_ν(c_i)·½Fd_i, so the mechanics' own segment
+/// derivatives (the URDF model's adjoint) do the work.
+pub fn galerkin_stationarity<M: MechanicsDerivatives>(
     mech: &M,
     rule: &GalerkinRule,
     points: &[f64],
     u: &[f64],
     h: f64,
 ) -> (Vec<f64>, DMatrix<f64>) {
-    let (size, m) = (points.len(), mech.nu());
-    let z: Vec<f64> = points.iter().copied().chain([h]).collect();
-    let (_, mut value, hessian) = gradient_hessian(&GalerkinAction { mech, rule }, &z);
-    value.truncate(size);
+    let (n, m) = (mech.nq(), mech.nu());
+    let size = points.len();
+    let mut value = vec![0.0; size];
     let mut jac = DMatrix::zeros(size, size + m);
-    jac.view_mut((0, 0), (size, size))
-        .copy_from(&hessian.view((0, 0), (size, size)));
-    if mech.has_discrete_force() {
-        let zf: Vec<f64> = points.iter().chain(u).copied().chain([h]).collect();
-        let (force, force_jac) = jacobian(&GalerkinForce { mech, rule }, &zf);
-        value.iter_mut().zip(&force).for_each(|(v, f)| *v += f);
-        jac += force_jac.columns(0, size + m);
+    let forced = mech.has_discrete_force();
+    for (i, &b) in rule.quadrature_weights().iter().enumerate() {
+        let weights = rule.segment_weights(i);
+        let ends = |pick: fn(&(f64, f64)) -> f64| -> Vec<f64> {
+            let mut q = vec![0.0; n];
+            for (point, w) in points.chunks_exact(n).zip(&weights) {
+                q.iter_mut().zip(point).for_each(|(a, p)| *a += pick(w) * p);
+            }
+            q
+        };
+        let (qa, qb) = (ends(|w| w.0), ends(|w| w.1));
+        let z: Vec<f64> = qa.iter().chain(&qb).copied().chain([h]).collect();
+        let (grad, hess) = mech.segment_gradient_hessian(&z);
+        // Row/column ν·n + j of A picks wa_ν of slot j and wb_ν of slot n + j.
+        for (nu, &(wa, wb)) in weights.iter().enumerate() {
+            for j in 0..n {
+                value[nu * n + j] += b * (wa * grad[j] + wb * grad[n + j]);
+            }
+            for (mu, &(va, vb)) in weights.iter().enumerate() {
+                for r in 0..n {
+                    for c in 0..n {
+                        let second = wa * va * hess[(r, c)]
+                            + wa * vb * hess[(r, n + c)]
+                            + wb * va * hess[(n + r, c)]
+                            + wb * vb * hess[(n + r, n + c)];
+                        jac[(nu * n + r, mu * n + c)] += b * second;
+                    }
+                }
+            }
+        }
+        if forced {
+            let zf: Vec<f64> = qa.iter().chain(&qb).chain(u).copied().chain([h]).collect();
+            let (half, half_jac) = jacobian(&HalfForce { mech }, &zf);
+            for (nu, &(wa, wb)) in weights.iter().enumerate() {
+                // h·b_i·ℓ_ν(c_i)·f = 2 b_i ℓ_ν(c_i)·½Fd_i, ℓ_ν = (wa_ν + wb_ν)/2.
+                let scale = b * (wa + wb);
+                for r in 0..n {
+                    value[nu * n + r] += scale * half[r];
+                    for (mu, &(va, vb)) in weights.iter().enumerate() {
+                        for c in 0..n {
+                            jac[(nu * n + r, mu * n + c)] +=
+                                scale * (va * half_jac[(r, c)] + vb * half_jac[(r, n + c)]);
+                        }
+                    }
+                    for c in 0..m {
+                        jac[(nu * n + r, size + c)] += scale * half_jac[(r, 2 * n + c)];
+                    }
+                }
+            }
+        }
     }
     (value, jac)
 }
@@ -70,7 +114,7 @@ fn stationarity<M: Mechanics>(
 /// Solves the interior points of the interval from `qa` to `qb` (length n each) with input `u`
 /// held and step `h`, starting from `guess` (length (s − 1)·n; the chord
 /// [`GalerkinRule::chord_interior`] when `None`), and returns the interval there.
-pub fn galerkin_interval<M: Mechanics>(
+pub fn galerkin_interval<M: MechanicsDerivatives>(
     mech: &M,
     rule: &GalerkinRule,
     qa: &[f64],
@@ -86,7 +130,7 @@ pub fn galerkin_interval<M: Mechanics>(
     let mut last = f64::INFINITY;
     for iteration in 0..=MAX_ITERATIONS {
         let points = control(qa, &interior, qb);
-        let (value, jac) = stationarity(mech, rule, &points, u, h);
+        let (value, jac) = galerkin_stationarity(mech, rule, &points, u, h);
         if !value.iter().chain(jac.iter()).all(|x| x.is_finite()) {
             return Err(StepError::NonFinite { iteration });
         }
@@ -181,7 +225,7 @@ pub fn arriving_momentum<M: MechanicsDerivatives>(
 mod tests {
     use super::*;
     use crate::autodiff::{ScalarFunction, gradient};
-    use crate::discrete::ModelMechanics;
+    use crate::discrete::{GalerkinAction, GalerkinForce, ModelMechanics};
     use crate::model::{BaseType, Model, sample};
 
     /// A 3-link chain on a planar base (n = 6, 3 inputs) with damping 0.3 on every hinge.
@@ -232,9 +276,58 @@ mod tests {
                 if (n..s * n).contains(&j) {
                     assert!(total.abs() < 1e-12, "s {s}: interior residual {total:e}");
                 } else if j < n {
-                    assert!((total - interval.start[j]).abs() < 1e-14);
+                    assert!((total - interval.start[j]).abs() < 1e-12);
                 } else {
-                    assert!((total - interval.end[j - s * n]).abs() < 1e-14);
+                    assert!((total - interval.end[j - s * n]).abs() < 1e-12);
+                }
+            }
+        }
+    }
+
+    /// The stationarity chained from the midpoint segments' adjoint derivatives equals forward
+    /// AD through [`GalerkinAction`] and [`GalerkinForce`] (value and Jacobian).
+    #[test]
+    fn chained_stationarity_equals_forward_ad() {
+        use crate::autodiff::gradient_hessian;
+
+        let mech = damped_chain();
+        for s in 1..=GalerkinRule::MAX_DEGREE {
+            let rule = GalerkinRule::of_degree(s).expect("tabulated");
+            let points = control(&QA, &rule.chord_interior(&QA, &QB), &QB);
+            let points: Vec<f64> = points
+                .iter()
+                .enumerate()
+                .map(|(i, p)| p + 0.01 * (i as f64).sin())
+                .collect();
+            let (value, jac) = galerkin_stationarity(&mech, &rule, &points, &U, H);
+            let z: Vec<f64> = points.iter().copied().chain([H]).collect();
+            let action = GalerkinAction {
+                mech: &mech,
+                rule: &rule,
+            };
+            let (_, grad, hess) = gradient_hessian(&action, &z);
+            let zf: Vec<f64> = points.iter().chain(&U).copied().chain([H]).collect();
+            let (force, force_jac) = jacobian(
+                &GalerkinForce {
+                    mech: &mech,
+                    rule: &rule,
+                },
+                &zf,
+            );
+            let size = points.len();
+            let scale = 1.0 + jac.amax();
+            for r in 0..size {
+                assert!(
+                    (value[r] - grad[r] - force[r]).abs() < 1e-12 * scale,
+                    "s {s} value {r}"
+                );
+                for c in 0..size + U.len() {
+                    let ad = if c < size { hess[(r, c)] } else { 0.0 } + force_jac[(r, c)];
+                    assert!(
+                        (jac[(r, c)] - ad).abs() < 1e-11 * scale,
+                        "s {s} ({r}, {c}): {} vs {ad}",
+                        jac[(r, c)]
+                    );
                 }
             }
         }

@@ -9,6 +9,7 @@ mod cli;
 mod constraints;
 mod discrete;
 mod fuzz;
+mod galerkin;
 mod hamr;
 mod ipopt;
 mod model_adjoint;

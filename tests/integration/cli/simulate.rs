@@ -271,3 +271,36 @@ fn simulate_stops_a_diverging_run() {
     run("implicit", "implicit", 0);
     assert!(t.path().join("implicit/trajectory.csv").exists());
 }
+
+/// `vito simulate --integrator galerkin4` on the brick problem (whose `[solver]` names the
+/// midpoint rule): the summary names galerkin4, and the brick dropped onto the ground comes to
+/// rest without penetrating it.
+#[test]
+fn simulate_steps_the_galerkin4_integrator() {
+    let t = TestDir::new("simulate-galerkin4");
+    let out = t.path().join("out");
+    let problem = problems_dir().join("brick_3d.toml");
+    let run = t
+        .vito()
+        .args([
+            "simulate".as_ref(),
+            problem.as_os_str(),
+            "--out".as_ref(),
+            out.as_os_str(),
+        ])
+        .args([
+            "--integrator",
+            "galerkin4",
+            "--rate",
+            "1000",
+            "--duration",
+            "0.5",
+        ])
+        .args(["--quiet"])
+        .assert_exit(0);
+    let s = summary(&out);
+    assert_eq!(s["integrator"], "galerkin4", "{}", run.stdout);
+    assert_eq!(s["steps"], 500);
+    assert!(s["max_penetration"].as_f64().unwrap() <= 1e-6);
+    assert!(s["max_dynamics_residual"].as_f64().unwrap() < 1e-9);
+}
