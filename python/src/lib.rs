@@ -834,8 +834,8 @@ fn trajectory_path(
 /// of `inputs` replayed, or `track` followed with PD feedback (`gains`: a dict
 /// `{input or "all": (kp, kd)}` on top of the file's `[tracking] gains`; `feedback`:
 /// "explicit" or "implicit"). `inputs` and `track` are a `Solution` or the path of a
-/// `trajectory.csv`. `duration`, `rate` (steps per time unit) and `integrator` ("midpoint"
-/// or "euler") as the command's options. With `out`, also writes what the command writes.
+/// `trajectory.csv`. `duration`, `rate` (steps per time unit) and `integrator` ("midpoint",
+/// "euler", "galerkin4" or "galerkin6") as the command's options. With `out`, also writes what the command writes.
 /// Releases the GIL while simulating.
 #[pyfunction]
 #[pyo3(signature = (problem, inputs = None, track = None, gains = None, feedback = None,

@@ -1,6 +1,6 @@
-//! Discrete mechanics: the midpoint discrete Lagrangian (second order, the paper's method) and
-//! the first-order semi-implicit Euler time stepping it is compared against, with the forward
-//! step (no contact) that exercises both.
+//! Discrete mechanics: the midpoint discrete Lagrangian (second order, the paper's method), its
+//! fourth- and sixth-order Galerkin relatives, and the first-order semi-implicit Euler time
+//! stepping it is compared against, with the forward step (no contact) that exercises them.
 //!
 //! Where things are:
 //! - `mechanics`: the [`Mechanics`] trait, the physics a robot offers (Ld, Fd, momentum,
@@ -11,6 +11,10 @@
 //!   model; `midpoint_derivatives`: its adjoint gradient, Hessian and third order of Ld.
 //! - `del`: the DEL equations of any mechanics: the pieces the NLP places on its rows, and the
 //!   knot residual and its Jacobian in q_{k+1} for a forward step.
+//! - `galerkin`: the Galerkin variational integrators of degree s (order 2s; s = 1 is the
+//!   midpoint rule): nodes, quadrature, the interval action and discrete forces;
+//!   `galerkin_interval`: an interval's interior points solved, its end momenta and their
+//!   derivatives, for forward steps.
 //! - `euler`: the semi-implicit Euler residual; `loops`: loop closures; `step`: forward steps.
 //!
 //! Sign convention shared by both integrators (so the NLP can swap them): every residual is a

@@ -2,7 +2,9 @@
 //! solved for (q_{k+1}, λ_k) given the past, by a smoothed Fischer–Burmeister Newton method.
 //!
 //! Unknowns x = [q_{k+1} (n); per contact (c, β (nd), ψ); loop impulses ν (nl)]. Equations:
-//! - the knot's discrete equations (midpoint DEL or Euler residual, `crate::discrete::del`)
+//! - the knot's discrete equations (midpoint DEL or Euler residual, `crate::discrete::del`;
+//!   a Galerkin member's DEL with the interval's interior points solved inside it,
+//!   `crate::discrete::galerkin_interval`)
 //!   plus the contact impulses J(q_{k+1})ᵀλ (the NLP's contact-work gradient, and its spin
 //!   friction for rolling spheres) and Gᵀν;
 //! - per contact, with η = P(q_{k+1})(q_{k+1} − q_k)/h + ψe (the NLP's tangential-velocity
@@ -64,8 +66,9 @@ impl Default for StepOptions {
 /// What the knot's equation takes from before the step.
 #[derive(Debug, Clone)]
 pub enum Before<'a> {
-    /// Midpoint: the momentum arriving at knot k, D2Ld(q_{k−1}, q_k) + ½Fd_{k−1}
-    /// ([`crate::discrete::incoming_momentum`]), or M(q_0)v_0 at the first step.
+    /// Midpoint and Galerkin: the momentum p_k⁻ arriving at knot k
+    /// ([`crate::discrete::arriving_momentum`]; D2Ld(q_{k−1}, q_k) + ½Fd_{k−1} for the
+    /// midpoint rule), or M(q_0)v_0 at the first step.
     Momentum(Vec<f64>),
     /// Euler: v_0 at the first step (`first_step`), else q_{k−1} with h_{k−1}.
     Euler {
