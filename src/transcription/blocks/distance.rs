@@ -4,7 +4,8 @@
 
 use nalgebra::DMatrix;
 
-use super::{Context, GeometryUse, RowBlock};
+use super::place::range_vec;
+use super::{Block, Context, GeometryUse, Placement, RowBlock, Stage, VectorKind};
 use crate::autodiff::Scalar;
 use crate::contact::{
     self, ContactGeometry, distance_hessian, distance_hessian_in, distance_jacobian,
@@ -23,6 +24,22 @@ pub struct Distance {
 
 impl RowBlock for Distance {
     const NAME: &'static str = "Distance";
+    fn place(p: &mut Placement<'_>, stage: Stage) {
+        // φ(q_{j+1}) on the distance row (the −cφ rows are placed by `Complementarity`).
+        let Stage::ContactRows { j, contact } = stage else {
+            return;
+        };
+        let l = p.layout;
+        p.vector.push(Block::new(
+            VectorKind::Distance(Distance {
+                contact,
+                gap: false,
+            }),
+            range_vec(l.q(j + 1)),
+            l.n,
+            vec![vec![l.distance_row(j, contact)]],
+        ));
+    }
     fn name(&self) -> &'static str {
         if self.gap { "ContactGap" } else { Self::NAME }
     }

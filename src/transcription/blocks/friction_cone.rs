@@ -1,6 +1,6 @@
 //! μ c − eᵀβ, the friction-cone row; z = [c; β]. Linear: generic AD.
 
-use super::{Context, RowBlock};
+use super::{Block, Context, Placement, RowBlock, Stage, VectorKind};
 use crate::autodiff::Scalar;
 use crate::contact;
 use crate::discrete::Mechanics;
@@ -14,6 +14,21 @@ pub struct FrictionCone {
 
 impl RowBlock for FrictionCone {
     const NAME: &'static str = "FrictionCone";
+    fn place(p: &mut Placement<'_>, stage: Stage) {
+        // μc − eᵀβ on the cone row (linear).
+        let Stage::ContactRows { j, contact } = stage else {
+            return;
+        };
+        let l = p.layout;
+        let mut vars = vec![l.c(j, contact)];
+        vars.extend(l.beta(j, contact));
+        p.vector.push(Block::new(
+            VectorKind::FrictionCone(FrictionCone { contact }),
+            vars,
+            0,
+            vec![vec![l.cone_row(j, contact)]],
+        ));
+    }
     fn value<D: Scalar, M: Mechanics>(&self, _: &M, ctx: &Context, z: &[D], out: &mut [D]) {
         out[0] = contact::friction_cone(&ctx.contact, self.contact, z)
     }

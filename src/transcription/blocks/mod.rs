@@ -12,9 +12,13 @@
 //! fall back to generic forward AD). The dynamics kinds evaluate the DEL pieces of
 //! `discrete::del`, the contact kinds the contact rows of `crate::contact`.
 //!
-//! To add a kind: a file here with its type implementing [`RowBlock`] or [`GradientBlock`],
-//! its line in the `vector_kinds!` or `gradient_kinds!` list below, and its placement (which
-//! variables it reads and which rows it adds into) in `placement`.
+//! A kind's file also places it: its `place` method pushes, at the [`Stage`]s of the NLP's
+//! skeleton where the kind has blocks, each block's variables and the rows it adds into.
+//!
+//! To add a kind: a file here with its type implementing [`RowBlock`] or [`GradientBlock`]
+//! (value, derivatives where closed forms pay, placement), and its line in the
+//! `vector_kinds!` or `gradient_kinds!` list below (the list's order is the order in which
+//! blocks placed at the same stage add into shared rows).
 
 mod complementarity;
 mod constraint;
@@ -29,6 +33,7 @@ mod initial_momentum;
 mod loop_closure;
 mod loop_work;
 mod loops;
+mod place;
 mod segment;
 mod spin_friction;
 mod tangential_rate;
@@ -46,6 +51,7 @@ pub(crate) use half_force::HalfForce;
 pub(crate) use initial_momentum::InitialMomentum;
 pub(crate) use loop_closure::LoopClosure;
 pub(crate) use loop_work::LoopWork;
+pub(crate) use place::{Placement, Stage};
 pub(crate) use segment::Segment;
 pub(crate) use spin_friction::SpinFriction;
 pub(crate) use tangential_rate::TangentialRate;
@@ -124,6 +130,8 @@ pub struct GeometryUse {
 pub trait RowBlock {
     /// Its name in `Transcription::derivative_time_by_kind`.
     const NAME: &'static str;
+    /// Pushes its blocks of `stage` onto `p` (nothing at the stages where it has none).
+    fn place(p: &mut Placement<'_>, stage: Stage);
     /// The name of this block (its kind's [`RowBlock::NAME`] unless the kind has variants).
     fn name(&self) -> &'static str {
         Self::NAME
@@ -187,6 +195,8 @@ pub struct Eval<'a, M> {
 pub trait GradientBlock {
     /// Its name in `Transcription::derivative_time_by_kind`.
     const NAME: &'static str;
+    /// Pushes its blocks of `stage` onto `p` (nothing at the stages where it has none).
+    fn place(p: &mut Placement<'_>, stage: Stage);
     /// Whether its closed forms are used also when `set_contact_chain_rule(false)` asks for
     /// generic AD (the mechanics' own derivatives, not a chain rule that switch compares).
     const ALWAYS_CLOSED_FORM: bool = false;
@@ -254,6 +264,10 @@ macro_rules! vector_kinds {
         })*
 
         impl VectorKind {
+            /// Every vector kind's blocks of `stage`, in the list's order.
+            pub fn place(p: &mut Placement<'_>, stage: Stage) {
+                $(<$variant as RowBlock>::place(p, stage);)*
+            }
             /// See [`RowBlock::name`].
             pub fn name(&self) -> &'static str {
                 match self {
@@ -342,6 +356,10 @@ macro_rules! gradient_kinds {
         })*
 
         impl ScalarKind {
+            /// Every gradient and cost kind's blocks of `stage`, in the list's order.
+            pub fn place(p: &mut Placement<'_>, stage: Stage) {
+                $(<$variant as GradientBlock>::place(p, stage);)*
+            }
             /// See [`GradientBlock::NAME`].
             pub fn name(&self) -> &'static str {
                 match self {
@@ -434,8 +452,8 @@ vector_kinds! {
     Distance in distance,
     FrictionCone in friction_cone,
     Complementarity in complementarity,
-    LoopClosure in loop_closure,
     EqualStep in equal_step,
+    LoopClosure in loop_closure,
     Constraint in constraint,
 }
 

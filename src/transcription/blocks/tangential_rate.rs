@@ -4,7 +4,8 @@
 
 use nalgebra::DMatrix;
 
-use super::{Context, GeometryUse, RowBlock};
+use super::place::{each, range_vec};
+use super::{Block, Context, GeometryUse, Placement, RowBlock, Stage, VectorKind};
 use crate::autodiff::Scalar;
 use crate::contact::{
     self, ContactGeometry, tangential_rate_hessian, tangential_rate_hessian_in,
@@ -21,6 +22,22 @@ pub struct TangentialRate {
 
 impl RowBlock for TangentialRate {
     const NAME: &'static str = "TangentialRate";
+    fn place(p: &mut Placement<'_>, stage: Stage) {
+        // The contact point's tangential velocity over interval j on its tangential rows.
+        let Stage::ContactRows { j, contact } = stage else {
+            return;
+        };
+        let l = p.layout;
+        let mut vars = range_vec(l.q(j));
+        vars.extend(l.q(j + 1));
+        vars.push(l.h(j));
+        p.vector.push(Block::new(
+            VectorKind::TangentialRate(TangentialRate { contact }),
+            vars,
+            2 * l.n + 1,
+            each(l.tangential_rows(j, contact)),
+        ));
+    }
     fn value<D: Scalar, M: Mechanics>(&self, mech: &M, ctx: &Context, z: &[D], out: &mut [D]) {
         contact::tangential_rate(mech, &ctx.contact, self.contact, z, out)
     }
