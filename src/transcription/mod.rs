@@ -34,7 +34,7 @@ pub use crate::discrete::{
 pub use blocks::Context;
 pub use derivative_check::{DerivativeCheck, DerivativeKind, EntryCheck};
 pub use error::TranscriptionError;
-pub use layout::{Dims, EntryNames, Layout};
+pub use layout::{Dims, EntryNames, IntervalRows, Layout};
 pub use nlp::{Progress, ProgressFn, TranscriptionNlp};
 pub use pattern::{Pattern, PatternBuilder};
 pub use program::{InitialGuessReport, Transcription};

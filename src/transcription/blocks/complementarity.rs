@@ -9,6 +9,8 @@ use super::{Block, Context, Distance, Placement, RowBlock, Stage, VectorKind};
 use crate::autodiff::Scalar;
 use crate::contact::{self, complementarity_hessian, complementarity_jacobian};
 use crate::discrete::{Mechanics, MechanicsDerivatives};
+use crate::problem::SlackMode;
+use crate::transcription::layout::{COMPLEMENTARITY_NAMES, Dims, EntryNames, IntervalRows, Layout};
 
 /// The complementarity products of `contacts` with `slacks` slacks.
 #[derive(Debug, Clone, PartialEq)]
@@ -21,6 +23,30 @@ pub struct Complementarity {
 
 impl RowBlock for Complementarity {
     const NAME: &'static str = "Complementarity";
+    fn interval_rows(dims: &Dims, slack_mode: SlackMode) -> Option<IntervalRows> {
+        let count = match slack_mode {
+            SlackMode::PerInterval => 3,
+            SlackMode::PerContact => 3 * dims.nc,
+        };
+        let name: fn(&Layout, usize, usize, EntryNames) -> String = match slack_mode {
+            SlackMode::PerInterval => |_, local, j, _| {
+                format!("s - sum {}, interval {j}", COMPLEMENTARITY_NAMES[local % 3])
+            },
+            SlackMode::PerContact => |_, local, j, names| {
+                let contact = names.contact(local / 3);
+                format!(
+                    "s - {} {contact}, interval {j}",
+                    COMPLEMENTARITY_NAMES[local % 3]
+                )
+            },
+        };
+        Some(IntervalRows {
+            kind: Self::NAME,
+            count,
+            equality: false,
+            name,
+        })
+    }
     fn place(p: &mut Placement<'_>, stage: Stage) {
         // Per contact, its −c·φ(q_{j+1}) gap row (a `Distance` with `gap`) and its products;
         // one block per contact keeps the Hessian sparse (products of different contacts
@@ -30,7 +56,7 @@ impl RowBlock for Complementarity {
             return;
         };
         let l = p.layout;
-        let rows = range_vec(l.complementarity_rows_of(j));
+        let rows = range_vec(l.rows_of(Self::NAME, j));
         let slacks = range_vec(l.slack(j));
         let shared = slacks.len() == 1;
         let groups: Vec<Vec<usize>> = if l.nc == 0 {

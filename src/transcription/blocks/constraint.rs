@@ -18,7 +18,7 @@ impl RowBlock for Constraint {
     const NAME: &'static str = "Constraint";
     fn place(p: &mut Placement<'_>, stage: Stage) {
         // After every interval, each constraint on its own rows, in the file's order.
-        if stage != Stage::End {
+        if stage != Stage::Constraints {
             return;
         }
         let l = p.layout;

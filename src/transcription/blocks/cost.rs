@@ -20,7 +20,7 @@ impl GradientBlock for Cost {
     const NAME: &'static str = "Cost";
     fn place(p: &mut Placement<'_>, stage: Stage) {
         // After every interval, each term on every placement its inputs declare.
-        if stage != Stage::End {
+        if stage != Stage::Costs {
             return;
         }
         for (term, cost) in p.ctx.costs.iter().enumerate() {

@@ -12,6 +12,8 @@ use crate::contact::{
     distance_jacobian_in,
 };
 use crate::discrete::{Mechanics, MechanicsDerivatives};
+use crate::problem::SlackMode;
+use crate::transcription::layout::{Dims, IntervalRows};
 
 /// Contact `contact`'s signed distance φ, or −cφ when `gap`.
 #[derive(Debug, Clone, PartialEq)]
@@ -24,6 +26,14 @@ pub struct Distance {
 
 impl RowBlock for Distance {
     const NAME: &'static str = "Distance";
+    fn interval_rows(dims: &Dims, _: SlackMode) -> Option<IntervalRows> {
+        Some(IntervalRows {
+            kind: Self::NAME,
+            count: dims.nc,
+            equality: false,
+            name: |_, local, j, names| format!("phi {}, knot {}", names.contact(local), j + 1),
+        })
+    }
     fn place(p: &mut Placement<'_>, stage: Stage) {
         // φ(q_{j+1}) on the distance row (the −cφ rows are placed by `Complementarity`).
         let Stage::ContactRows { j, contact } = stage else {
@@ -37,7 +47,7 @@ impl RowBlock for Distance {
             }),
             range_vec(l.q(j + 1)),
             l.n,
-            vec![vec![l.distance_row(j, contact)]],
+            vec![vec![l.rows_of(Self::NAME, j).start + contact]],
         ));
     }
     fn name(&self) -> &'static str {

@@ -13,7 +13,7 @@ impl RowBlock for EqualStep {
     fn place(p: &mut Placement<'_>, stage: Stage) {
         // h_j − h_{j+1} = 0 for free equal steps, after every interval.
         let l = p.layout;
-        if stage != Stage::End || !l.equal_steps {
+        if stage != Stage::EqualSteps || !l.equal_steps {
             return;
         }
         for j in 0..l.knots - 2 {

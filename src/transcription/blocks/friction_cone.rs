@@ -4,6 +4,8 @@ use super::{Block, Context, Placement, RowBlock, Stage, VectorKind};
 use crate::autodiff::Scalar;
 use crate::contact;
 use crate::discrete::Mechanics;
+use crate::problem::SlackMode;
+use crate::transcription::layout::{Dims, IntervalRows};
 
 /// Contact `contact`'s friction cone.
 #[derive(Debug, Clone, PartialEq)]
@@ -14,6 +16,16 @@ pub struct FrictionCone {
 
 impl RowBlock for FrictionCone {
     const NAME: &'static str = "FrictionCone";
+    fn interval_rows(dims: &Dims, _: SlackMode) -> Option<IntervalRows> {
+        Some(IntervalRows {
+            kind: Self::NAME,
+            count: dims.nc,
+            equality: false,
+            name: |_, local, j, names| {
+                format!("friction cone {}, interval {j}", names.contact(local))
+            },
+        })
+    }
     fn place(p: &mut Placement<'_>, stage: Stage) {
         // μc − eᵀβ on the cone row (linear).
         let Stage::ContactRows { j, contact } = stage else {
@@ -26,7 +38,7 @@ impl RowBlock for FrictionCone {
             VectorKind::FrictionCone(FrictionCone { contact }),
             vars,
             0,
-            vec![vec![l.cone_row(j, contact)]],
+            vec![vec![l.rows_of(Self::NAME, j).start + contact]],
         ));
     }
     fn value<D: Scalar, M: Mechanics>(&self, _: &M, ctx: &Context, z: &[D], out: &mut [D]) {

@@ -10,6 +10,8 @@ use super::{
 };
 use crate::autodiff::Scalar;
 use crate::discrete::{Mechanics, MechanicsDerivatives};
+use crate::problem::SlackMode;
+use crate::transcription::layout::{Dims, IntervalRows};
 
 /// a(q).
 #[derive(Debug, Clone, PartialEq)]
@@ -17,6 +19,14 @@ pub struct LoopClosure;
 
 impl RowBlock for LoopClosure {
     const NAME: &'static str = "LoopClosure";
+    fn interval_rows(dims: &Dims, _: SlackMode) -> Option<IntervalRows> {
+        Some(IntervalRows {
+            kind: Self::NAME,
+            count: dims.nl,
+            equality: true,
+            name: |_, local, j, _| format!("loop closure {local}, knot {}", j + 1),
+        })
+    }
     fn place(p: &mut Placement<'_>, stage: Stage) {
         // a(q_{j+1}) on interval j's loop rows; a(q_0) once, after every interval.
         let l = p.layout;
@@ -24,8 +34,8 @@ impl RowBlock for LoopClosure {
             return;
         }
         let (k, rows) = match stage {
-            Stage::Loops(j) => (j + 1, l.loop_rows(j)),
-            Stage::End => (0, l.first_loop_rows()),
+            Stage::Loops(j) => (j + 1, l.rows_of(Self::NAME, j)),
+            Stage::FirstLoops => (0, l.first_loop_rows()),
             _ => return,
         };
         p.vector.push(Block::new(

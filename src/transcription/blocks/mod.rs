@@ -15,10 +15,15 @@
 //! A kind's file also places it: its `place` method pushes, at the [`Stage`]s of the NLP's
 //! skeleton where the kind has blocks, each block's variables and the rows it adds into.
 //!
+//! A vector kind that owns rows in every interval declares them there too
+//! ([`RowBlock::interval_rows`]: how many, equality or inequality, their names), and finds
+//! them with `Layout::rows_of`.
+//!
 //! To add a kind: a file here with its type implementing [`RowBlock`] or [`GradientBlock`]
-//! (value, derivatives where closed forms pay, placement), and its line in the
-//! `vector_kinds!` or `gradient_kinds!` list below (the list's order is the order in which
-//! blocks placed at the same stage add into shared rows).
+//! (value, derivatives where closed forms pay, placement, rows), and its line in the
+//! `vector_kinds!` or `gradient_kinds!` list below. The list's order is the order in which
+//! blocks placed at the same stage add into shared rows, and the order of the kinds' rows
+//! in each interval.
 
 mod complementarity;
 mod constraint;
@@ -71,7 +76,10 @@ use crate::autodiff::Scalar;
 use crate::autodiff::{ScalarFunction, SymmetricGroups, ThirdOrder, VectorFunction};
 use crate::contact::{ContactGeometry, ContactModel};
 use crate::discrete::{Mechanics, MechanicsDerivatives};
-use crate::problem::{Constraint as ProblemConstraint, CostTerm, Integrator, ProblemSpec};
+use crate::problem::{
+    Constraint as ProblemConstraint, CostTerm, Integrator, ProblemSpec, SlackMode,
+};
+use crate::transcription::layout::{Dims, IntervalRows};
 
 /// Problem constants the block functions need besides the mechanics.
 #[derive(Debug, Clone)]
@@ -132,6 +140,11 @@ pub trait RowBlock {
     const NAME: &'static str;
     /// Pushes its blocks of `stage` onto `p` (nothing at the stages where it has none).
     fn place(p: &mut Placement<'_>, stage: Stage);
+    /// The rows it owns in every interval, after the dynamics rows (`None`: it adds into
+    /// rows other kinds own).
+    fn interval_rows(_dims: &Dims, _slack_mode: SlackMode) -> Option<IntervalRows> {
+        None
+    }
     /// The name of this block (its kind's [`RowBlock::NAME`] unless the kind has variants).
     fn name(&self) -> &'static str {
         Self::NAME
@@ -267,6 +280,13 @@ macro_rules! vector_kinds {
             /// Every vector kind's blocks of `stage`, in the list's order.
             pub fn place(p: &mut Placement<'_>, stage: Stage) {
                 $(<$variant as RowBlock>::place(p, stage);)*
+            }
+            /// The rows the kinds own in every interval, in the list's order (their row
+            /// order in the layout).
+            pub fn interval_rows(dims: &Dims, slack_mode: SlackMode) -> Vec<IntervalRows> {
+                let mut rows = Vec::new();
+                $(rows.extend(<$variant as RowBlock>::interval_rows(dims, slack_mode));)*
+                rows
             }
             /// See [`RowBlock::name`].
             pub fn name(&self) -> &'static str {
@@ -446,14 +466,14 @@ vector_kinds! {
     HalfForce in half_force,
     InitialMomentum in initial_momentum,
     EulerKnot in euler_knot,
+    SpinFriction in spin_friction,
+    LoopClosure in loop_closure,
     TangentialRate in tangential_rate,
     TangentialSlack in tangential_slack,
-    SpinFriction in spin_friction,
     Distance in distance,
     FrictionCone in friction_cone,
     Complementarity in complementarity,
     EqualStep in equal_step,
-    LoopClosure in loop_closure,
     Constraint in constraint,
 }
 

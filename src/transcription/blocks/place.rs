@@ -34,9 +34,14 @@ pub enum Stage {
     },
     /// Interval j's complementarity rows.
     Complementarity(usize),
-    /// After every interval: equal steps, the loop closure at q_0, the problem file's
-    /// constraints, the cost terms.
-    End,
+    /// After every interval: the equal-step rows.
+    EqualSteps,
+    /// Then the loop closure at q_0.
+    FirstLoops,
+    /// Then the problem file's constraints.
+    Constraints,
+    /// Then the cost terms.
+    Costs,
 }
 
 impl Stage {
@@ -50,7 +55,12 @@ impl Stage {
                     .chain((0..contacts).map(move |contact| Stage::ContactRows { j, contact }))
                     .chain(std::iter::once(Stage::Complementarity(j)))
             })
-            .chain(std::iter::once(Stage::End))
+            .chain([
+                Stage::EqualSteps,
+                Stage::FirstLoops,
+                Stage::Constraints,
+                Stage::Costs,
+            ])
     }
 }
 

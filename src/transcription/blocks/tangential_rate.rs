@@ -12,6 +12,9 @@ use crate::contact::{
     tangential_rate_jacobian, tangential_rate_jacobian_in,
 };
 use crate::discrete::{Mechanics, MechanicsDerivatives};
+use crate::problem::SlackMode;
+use crate::transcription::layout::{Dims, IntervalRows, Layout};
+use std::ops::Range;
 
 /// Contact `contact`'s tangential rate.
 #[derive(Debug, Clone, PartialEq)]
@@ -22,6 +25,18 @@ pub struct TangentialRate {
 
 impl RowBlock for TangentialRate {
     const NAME: &'static str = "TangentialRate";
+    fn interval_rows(dims: &Dims, _: SlackMode) -> Option<IntervalRows> {
+        Some(IntervalRows {
+            kind: Self::NAME,
+            count: dims.nc * dims.nd,
+            equality: true,
+            name: |l, local, j, names| {
+                let (contact, direction) = (local / l.nd, local % l.nd);
+                let contact = names.contact(contact);
+                format!("tangential velocity {contact} direction {direction}, interval {j}")
+            },
+        })
+    }
     fn place(p: &mut Placement<'_>, stage: Stage) {
         // The contact point's tangential velocity over interval j on its tangential rows.
         let Stage::ContactRows { j, contact } = stage else {
@@ -35,7 +50,7 @@ impl RowBlock for TangentialRate {
             VectorKind::TangentialRate(TangentialRate { contact }),
             vars,
             2 * l.n + 1,
-            each(l.tangential_rows(j, contact)),
+            each(rows(l, j, contact)),
         ));
     }
     fn value<D: Scalar, M: Mechanics>(&self, mech: &M, ctx: &Context, z: &[D], out: &mut [D]) {
@@ -80,4 +95,11 @@ impl RowBlock for TangentialRate {
         (!mech.contact_rolls(self.contact))
             .then(|| tangential_rate_hessian(mech, &ctx.contact, self.contact, z, w))
     }
+}
+
+/// The tangential-velocity rows of contact i in interval j (nd rows, zero by the rate and
+/// slack blocks together).
+pub(super) fn rows(l: &Layout, j: usize, i: usize) -> Range<usize> {
+    let a = l.rows_of(TangentialRate::NAME, j).start + i * l.nd;
+    a..a + l.nd
 }

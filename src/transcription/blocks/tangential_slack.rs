@@ -2,6 +2,7 @@
 //! Jacobian is constant).
 
 use super::place::each;
+use super::tangential_rate;
 use super::{Block, Context, Placement, RowBlock, Stage, VectorKind};
 use crate::autodiff::Scalar;
 use crate::contact;
@@ -25,7 +26,7 @@ impl RowBlock for TangentialSlack {
             VectorKind::TangentialSlack(TangentialSlack),
             vars,
             0,
-            each(l.tangential_rows(j, contact)),
+            each(tangential_rate::rows(l, j, contact)),
         ));
     }
     fn value<D: Scalar, M: Mechanics>(&self, _: &M, _: &Context, z: &[D], out: &mut [D]) {
