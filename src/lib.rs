@@ -24,8 +24,10 @@
 //!   basis and its one rule (`FrictionBasis::for_robot`, from `Model::moves_in_xz_plane`), the
 //!   contact model of a problem, and the contact rows (distance, impulses, tangential velocity,
 //!   friction cone, complementarity) with their closed-form derivatives, for the NLP and `sim`.
-//! - `transcription/`: variable layout, constraint blocks (`transcription/blocks/`, placing
-//!   `contact`'s rows), placement, sparsity, start, evaluation, the NLP adapter for Ipopt.
+//! - `transcription/`: variable layout, constraint blocks (`transcription/blocks/`, one file
+//!   per kind: its value, closed-form derivatives, placement and the rows it owns in each
+//!   interval; a new kind is one file plus its line in the kinds list there), sparsity,
+//!   start, evaluation, the NLP adapter for Ipopt.
 //! - `problem/`: TOML schema, validation into a checked `ProblemSpec`; cost terms, one file
 //!   each (`problem/costs/`), and constraints (`problem/constraints/`).
 //! - `files/`: the files a user names: reading them (regular files only, of bounded size), a

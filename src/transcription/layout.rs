@@ -6,13 +6,14 @@
 //! (nl each), then the slacks (1 per interval, or 3·nc per interval in per-contact mode,
 //! ordered contact-major as [ηᵀβ, c·φ, ψ·(μc − eᵀβ)]).
 //!
-//! Constraint rows: per interval j, in this order: dynamics (n rows: the first step for
-//! j = 0, the DEL equation at knot j after, or eq. (1) at knot j with `Integrator::Euler`;
-//! all holding J(q_{j+1})ᵀλ_j), loop closure a(q_{j+1}) (nl), tangential
-//! velocity (nc·nd), non-penetration φ(q_{j+1}) (nc), friction cone (nc), complementarity
-//! (3, or 3·nc per contact); then after all intervals: N−2 equal-step rows (free steps
-//! only), the loop closure at q_0 (nl), and the rows of the problem file's constraints
-//! (`problem::constraints`), in their order.
+//! Constraint rows: per interval j, the dynamics rows (n rows: the first step for j = 0, the
+//! DEL equation at knot j after, or eq. (1) at knot j with `Integrator::Euler`; all holding
+//! J(q_{j+1})ᵀλ_j), then the rows each block kind owns in every interval ([`IntervalRows`],
+//! declared in the kind's file, in the kinds' list order: loop closure a(q_{j+1}) (nl),
+//! tangential velocity (nc·nd), non-penetration φ(q_{j+1}) (nc), friction cone (nc),
+//! complementarity (3, or 3·nc per contact)); then after all intervals: N−2 equal-step rows
+//! (free steps only), the loop closure at q_0 (nl), and the rows of the problem file's
+//! constraints (`problem::constraints`), in their order.
 
 use std::ops::Range;
 
@@ -33,8 +34,21 @@ pub struct Dims {
     pub nl: usize,
 }
 
+/// The rows one block kind owns in every interval, after the dynamics rows.
+#[derive(Debug, Clone, Copy)]
+pub struct IntervalRows {
+    /// The owning kind's name (its `NAME`), by which its blocks find their rows.
+    pub kind: &'static str,
+    /// Rows per interval.
+    pub count: usize,
+    /// Whether they are equalities (g = 0) or inequalities (g ≥ 0).
+    pub equality: bool,
+    /// The name of its row `local` (0..count) of interval j, for messages.
+    pub name: fn(&Layout, usize, usize, EntryNames) -> String,
+}
+
 /// Sizes and offsets of the variable vector and the constraint rows.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct Layout {
     /// Coordinates n.
     pub n: usize,
@@ -54,17 +68,20 @@ pub struct Layout {
     pub equal_steps: bool,
     /// The label of each row of the problem file's constraints, in order.
     pub constraint_rows: Vec<String>,
+    /// The rows each kind owns per interval after the dynamics rows, in row order.
+    pub interval_rows: Vec<IntervalRows>,
 }
 
 impl Layout {
     /// A layout for these sizes; `constraint_rows` labels the rows of the problem file's
-    /// constraints.
+    /// constraints, `interval_rows` the rows the block kinds own in every interval.
     pub fn new(
         dims: Dims,
         knots: usize,
         slack_mode: SlackMode,
         equal_steps: bool,
         constraint_rows: Vec<String>,
+        interval_rows: Vec<IntervalRows>,
     ) -> Layout {
         let Dims { n, m, nc, nd, nl } = dims;
         Layout {
@@ -77,6 +94,7 @@ impl Layout {
             slack_mode,
             equal_steps,
             constraint_rows,
+            interval_rows,
         }
     }
 
@@ -180,16 +198,9 @@ impl Layout {
         self.slack_offset()..self.num_variables()
     }
 
-    /// Complementarity rows per interval.
-    fn complementarity_rows(&self) -> usize {
-        match self.slack_mode {
-            SlackMode::PerInterval => 3,
-            SlackMode::PerContact => 3 * self.nc,
-        }
-    }
     /// Rows per interval.
     pub fn rows_per_interval(&self) -> usize {
-        self.n + self.nl + self.nc * self.nd + 2 * self.nc + self.complementarity_rows()
+        self.n + self.interval_rows.iter().map(|r| r.count).sum::<usize>()
     }
     fn interval_row(&self, j: usize) -> usize {
         j * self.rows_per_interval()
@@ -199,28 +210,27 @@ impl Layout {
         let a = self.interval_row(j);
         a..a + self.n
     }
-    /// Loop-closure rows a(q_{j+1}) of interval j.
-    pub fn loop_rows(&self, j: usize) -> Range<usize> {
-        let a = self.interval_row(j) + self.n;
-        a..a + self.nl
+    /// The rows kind `kind` owns in interval j ([`IntervalRows`]; empty if it owns none).
+    pub fn rows_of(&self, kind: &str, j: usize) -> Range<usize> {
+        let mut a = self.interval_row(j) + self.n;
+        for rows in &self.interval_rows {
+            if rows.kind == kind {
+                return a..a + rows.count;
+            }
+            a += rows.count;
+        }
+        a..a
     }
-    /// Tangential-velocity rows of contact i in interval j (length nd).
-    pub fn tangential_rows(&self, j: usize, i: usize) -> Range<usize> {
-        let a = self.interval_row(j) + self.n + self.nl + i * self.nd;
-        a..a + self.nd
-    }
-    /// Non-penetration row φ_i(q_{j+1}) ≥ 0.
-    pub fn distance_row(&self, j: usize, i: usize) -> usize {
-        self.interval_row(j) + self.n + self.nl + self.nc * self.nd + i
-    }
-    /// Friction-cone row μc − eᵀβ ≥ 0.
-    pub fn cone_row(&self, j: usize, i: usize) -> usize {
-        self.distance_row(j, i) + self.nc
-    }
-    /// Complementarity rows of interval j (3, or 3·nc contact-major).
-    pub fn complementarity_rows_of(&self, j: usize) -> Range<usize> {
-        let a = self.interval_row(j) + self.n + self.nl + self.nc * self.nd + 2 * self.nc;
-        a..a + self.complementarity_rows()
+    /// The owner of local row `local` (≥ n) of an interval and the row's index within it.
+    fn interval_rows_at(&self, local: usize) -> Option<(&IntervalRows, usize)> {
+        let mut local = local.checked_sub(self.n)?;
+        for rows in &self.interval_rows {
+            if local < rows.count {
+                return Some((rows, local));
+            }
+            local -= rows.count;
+        }
+        None
     }
     /// Equal-step row h_j − h_{j+1} = 0, j = 0..N−3 (only when steps are free).
     pub fn equal_step_row(&self, j: usize) -> usize {
@@ -254,8 +264,8 @@ impl Layout {
         if r >= per {
             return true;
         }
-        let local = r % self.rows_per_interval();
-        local < self.n + self.nl + self.nc * self.nd
+        self.interval_rows_at(r % self.rows_per_interval())
+            .is_none_or(|(rows, _)| rows.equality)
     }
 }
 
@@ -272,19 +282,22 @@ pub struct EntryNames<'a> {
 }
 
 impl EntryNames<'_> {
-    fn coordinate(&self, i: usize) -> String {
+    /// The name of coordinate i.
+    pub fn coordinate(&self, i: usize) -> String {
         self.coordinates
             .get(i)
             .cloned()
             .unwrap_or_else(|| format!("q{i}"))
     }
-    fn input(&self, i: usize) -> String {
+    /// The name of input i.
+    pub fn input(&self, i: usize) -> String {
         self.inputs
             .get(i)
             .cloned()
             .unwrap_or_else(|| format!("u{i}"))
     }
-    fn contact(&self, i: usize) -> String {
+    /// The name of contact i.
+    pub fn contact(&self, i: usize) -> String {
         self.contacts
             .get(i)
             .cloned()
@@ -293,7 +306,7 @@ impl EntryNames<'_> {
 }
 
 /// Names of the per-contact slacks and complementarity rows, in their layout order.
-const COMPLEMENTARITY_NAMES: [&str; 3] = ["eta·beta", "c·phi", "psi·(mu c - e'beta)"];
+pub const COMPLEMENTARITY_NAMES: [&str; 3] = ["eta·beta", "c·phi", "psi·(mu c - e'beta)"];
 
 impl Layout {
     /// What variable `v` is, e.g. "q base_x, knot 19" or "c front_left_foot, interval 19"
@@ -359,8 +372,7 @@ impl Layout {
         let per = self.intervals() * self.rows_per_interval();
         if r < per {
             let (j, local) = (r / self.rows_per_interval(), r % self.rows_per_interval());
-            let (n, nl, nc, nd) = (self.n, self.nl, self.nc, self.nd);
-            if local < n {
+            if local < self.n {
                 let c = names.coordinate(local);
                 return if j == 0 {
                     format!("first step {c}")
@@ -368,36 +380,9 @@ impl Layout {
                     format!("DEL {c}, knot {j}")
                 };
             }
-            let local = local - n;
-            if local < nl {
-                return format!("loop closure {local}, knot {}", j + 1);
-            }
-            let local = local - nl;
-            if local < nc * nd {
-                return format!(
-                    "tangential velocity {} direction {}, interval {j}",
-                    names.contact(local / nd),
-                    local % nd
-                );
-            }
-            let local = local - nc * nd;
-            if local < nc {
-                return format!("phi {}, knot {}", names.contact(local), j + 1);
-            }
-            let local = local - nc;
-            if local < nc {
-                return format!("friction cone {}, interval {j}", names.contact(local));
-            }
-            let local = local - nc;
-            return match self.slack_mode {
-                SlackMode::PerInterval => {
-                    format!("s - sum {}, interval {j}", COMPLEMENTARITY_NAMES[local % 3])
-                }
-                SlackMode::PerContact => format!(
-                    "s - {} {}, interval {j}",
-                    COMPLEMENTARITY_NAMES[local % 3],
-                    names.contact(local / 3)
-                ),
+            return match self.interval_rows_at(local) {
+                Some((rows, local)) => (rows.name)(self, local, j, names),
+                None => format!("row {r}"),
             };
         }
         let local = r - per;
@@ -418,15 +403,28 @@ impl Layout {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::transcription::blocks::VectorKind;
 
     fn dims(n: usize, m: usize, nc: usize, nd: usize, nl: usize) -> Dims {
         Dims { n, m, nc, nd, nl }
     }
 
+    /// A layout with the rows the block kinds declare.
+    fn layout(
+        dims: Dims,
+        knots: usize,
+        slack_mode: SlackMode,
+        equal_steps: bool,
+        constraint_rows: Vec<String>,
+    ) -> Layout {
+        let rows = VectorKind::interval_rows(&dims, slack_mode);
+        Layout::new(dims, knots, slack_mode, equal_steps, constraint_rows, rows)
+    }
+
     /// SPEC.md's spring-flamingo-walk: 954 variables, 695 constraints (672 + 23).
     #[test]
     fn spring_flamingo_sizes_match_spec() {
-        let l = Layout::new(
+        let l = layout(
             dims(9, 4, 4, 2, 0),
             25,
             SlackMode::PerInterval,
@@ -441,7 +439,7 @@ mod tests {
     /// SPEC.md's littledog-step: 2124 variables, 1333 constraints (1305 + 28).
     #[test]
     fn littledog_sizes_match_spec() {
-        let l = Layout::new(
+        let l = layout(
             dims(18, 12, 4, 4, 0),
             30,
             SlackMode::PerInterval,
@@ -455,7 +453,7 @@ mod tests {
     #[test]
     fn every_variable_and_row_has_exactly_one_owner() {
         let constraint_rows = vec!["position".to_string(), "velocity".to_string()];
-        let l = Layout::new(
+        let l = layout(
             dims(3, 2, 2, 4, 1),
             5,
             SlackMode::PerContact,
@@ -486,13 +484,9 @@ mod tests {
         let mut mark = |r: Range<usize>| r.for_each(|i| rows[i] += 1);
         for j in 0..l.intervals() {
             mark(l.dynamics_rows(j));
-            mark(l.loop_rows(j));
-            for i in 0..l.nc {
-                mark(l.tangential_rows(j, i));
-                mark(l.distance_row(j, i)..l.distance_row(j, i) + 1);
-                mark(l.cone_row(j, i)..l.cone_row(j, i) + 1);
+            for owned in &l.interval_rows {
+                mark(l.rows_of(owned.kind, j));
             }
-            mark(l.complementarity_rows_of(j));
         }
         for j in 0..l.knots - 2 {
             mark(l.equal_step_row(j)..l.equal_step_row(j) + 1);
@@ -500,7 +494,39 @@ mod tests {
         mark(l.first_loop_rows());
         mark(l.constraint_row(0)..l.constraint_row(2));
         assert!(rows.iter().all(|&c| c == 1));
-        assert!(l.is_equality(l.tangential_rows(1, 1).start));
-        assert!(!l.is_equality(l.cone_row(1, 1)));
+        // Interval 1's rows in order: dynamics (3), loop closure (1), tangential (2·4),
+        // distance (2), cone (2), complementarity (3·2).
+        let kinds: Vec<(&str, usize)> = l.interval_rows.iter().map(|r| (r.kind, r.count)).collect();
+        assert_eq!(
+            kinds,
+            [
+                ("LoopClosure", 1),
+                ("TangentialRate", 8),
+                ("Distance", 2),
+                ("FrictionCone", 2),
+                ("Complementarity", 6)
+            ]
+        );
+        let start = l.rows_per_interval();
+        assert_eq!(l.rows_per_interval(), 22);
+        assert_eq!(l.rows_of("TangentialRate", 1), start + 4..start + 12);
+        assert!(l.is_equality(start + 4 + 4));
+        assert!(!l.is_equality(start + 14 + 1));
+        assert!(l.is_equality(l.first_loop_rows().start));
+        let names = EntryNames {
+            coordinates: &["x".into(), "z".into(), "theta".into()],
+            inputs: &[],
+            contacts: &["left".into(), "right".into()],
+        };
+        let name = |r| l.row_name(r, names);
+        assert_eq!(name(start + 1), "DEL z, knot 1");
+        assert_eq!(name(start + 3), "loop closure 0, knot 2");
+        assert_eq!(
+            name(start + 4 + 5),
+            "tangential velocity right direction 1, interval 1"
+        );
+        assert_eq!(name(start + 13), "phi right, knot 2");
+        assert_eq!(name(start + 14), "friction cone left, interval 1");
+        assert_eq!(name(start + 16 + 4), "s - c·phi right, interval 1");
     }
 }

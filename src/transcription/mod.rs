@@ -4,13 +4,15 @@
 //! given as [`Mechanics`] (with [`MechanicsDerivatives`]); its value methods assemble exact
 //! sparse derivatives from per-block derivatives.
 //!
-//! Where things are: `layout` (variable and row indices), `blocks` (each block kind in its own
-//! file: its value and closed-form derivatives; dynamics pieces from `discrete::del`, contact
-//! rows from `crate::contact`; cost terms, one file each, are
-//! `crate::problem::costs`), `placement` (which blocks exist and what they read and write), `structure` (sparsity patterns), `start`
-//! (bounds, initial guess, warm start), `evaluate` (values and derivatives), `program` (the
-//! [`Transcription`] itself), `nlp` (the Ipopt callbacks' adapter), `solve` (solving a problem
-//! file's NLP, slack continuation; the entry point is `crate::pipeline::solve`), `robot` (a problem's URDF mechanics).
+//! Where things are: `layout` (variable indices, the dynamics rows and the rows the kinds
+//! declare), `blocks` (each block kind in its own file: its value, closed-form derivatives,
+//! placement and the rows it owns; dynamics pieces from `discrete::del`, contact rows from
+//! `crate::contact`; cost terms, one file each, are `crate::problem::costs`), `placement`
+//! (the driver that has every kind place its blocks), `structure` (sparsity patterns),
+//! `start` (bounds, initial guess, warm start), `evaluate` (values and derivatives),
+//! `program` (the [`Transcription`] itself), `nlp` (the Ipopt callbacks' adapter), `solve`
+//! (solving a problem file's NLP, slack continuation; the entry point is
+//! `crate::pipeline::solve`), `robot` (a problem's URDF mechanics).
 
 mod blocks;
 mod derivative_check;
@@ -34,7 +36,7 @@ pub use crate::discrete::{
 pub use blocks::Context;
 pub use derivative_check::{DerivativeCheck, DerivativeKind, EntryCheck};
 pub use error::TranscriptionError;
-pub use layout::{Dims, EntryNames, Layout};
+pub use layout::{Dims, EntryNames, IntervalRows, Layout};
 pub use nlp::{Progress, ProgressFn, TranscriptionNlp};
 pub use pattern::{Pattern, PatternBuilder};
 pub use program::{InitialGuessReport, Transcription};

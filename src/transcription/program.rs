@@ -116,8 +116,9 @@ impl<M: MechanicsDerivatives> Transcription<M> {
             }
         }
         let equal_steps = matches!(spec.time_steps, TimeSteps::FreeEqual { .. });
+        let dims = Dims { n, m, nc, nd, nl };
         let layout = Layout::new(
-            Dims { n, m, nc, nd, nl },
+            dims,
             spec.knots,
             spec.slack_mode,
             equal_steps,
@@ -125,6 +126,7 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                 .iter()
                 .flat_map(|c| c.rows().into_iter().map(|row| row.label))
                 .collect(),
+            VectorKind::interval_rows(&dims, spec.slack_mode),
         );
         let mut t = Transcription {
             ctx,

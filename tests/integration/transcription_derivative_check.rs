@@ -89,7 +89,7 @@ fn littledog_passes_with_each_foot_on_the_step_edge() {
             .iter()
             .find(|e| {
                 e.kind == DerivativeKind::Jacobian
-                    && e.row == l.distance_row(k - 1, foot)
+                    && e.row == l.rows_of("Distance", k - 1).start + foot
                     && e.col == l.q(k).start
             })
             .unwrap();

@@ -59,21 +59,15 @@ pub(super) fn bodies(
         let link = &robot.links[l];
         let placement = match tree.parent_joint[l] {
             None => {
-                frames.push(Frame::massless(
+                let root = Frame::massless(
                     frames.len().checked_sub(1),
                     IDENTITY,
                     [0.0; 3],
                     [1.0, 0.0, 0.0],
                     Motion::Fixed,
                     0,
-                ));
-                pieces.push(Vec::new());
-                body_links.push(Vec::new());
-                LinkPlacement {
-                    frame: frames.len() - 1,
-                    rotation: IDENTITY,
-                    translation: [0.0; 3],
-                }
+                );
+                push_frame(&mut frames, &mut pieces, &mut body_links, root)
             }
             Some(j) => {
                 let joint = &robot.joints[j];
@@ -116,14 +110,7 @@ pub(super) fn bodies(
                         coordinate,
                     );
                     frame.mimic = mimic;
-                    frames.push(frame);
-                    pieces.push(Vec::new());
-                    body_links.push(Vec::new());
-                    LinkPlacement {
-                        frame: frames.len() - 1,
-                        rotation: IDENTITY,
-                        translation: [0.0; 3],
-                    }
+                    push_frame(&mut frames, &mut pieces, &mut body_links, frame)
                 }
             }
         };
@@ -240,4 +227,21 @@ pub(super) fn contact_points(
         ));
     }
     (contact_points, ignored_collisions)
+}
+
+/// Appends `frame` with no pieces and no links yet; the placement of a link at its origin.
+fn push_frame<P, L>(
+    frames: &mut Vec<Frame>,
+    pieces: &mut Vec<Vec<P>>,
+    body_links: &mut Vec<Vec<L>>,
+    frame: Frame,
+) -> LinkPlacement {
+    frames.push(frame);
+    pieces.push(Vec::new());
+    body_links.push(Vec::new());
+    LinkPlacement {
+        frame: frames.len() - 1,
+        rotation: IDENTITY,
+        translation: [0.0; 3],
+    }
 }

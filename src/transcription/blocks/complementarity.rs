@@ -4,10 +4,13 @@
 
 use nalgebra::DMatrix;
 
-use super::{Context, RowBlock};
+use super::place::range_vec;
+use super::{Block, Context, Distance, Placement, RowBlock, Stage, VectorKind};
 use crate::autodiff::Scalar;
 use crate::contact::{self, complementarity_hessian, complementarity_jacobian};
 use crate::discrete::{Mechanics, MechanicsDerivatives};
+use crate::problem::SlackMode;
+use crate::transcription::layout::{COMPLEMENTARITY_NAMES, Dims, EntryNames, IntervalRows, Layout};
 
 /// The complementarity products of `contacts` with `slacks` slacks.
 #[derive(Debug, Clone, PartialEq)]
@@ -20,6 +23,89 @@ pub struct Complementarity {
 
 impl RowBlock for Complementarity {
     const NAME: &'static str = "Complementarity";
+    fn interval_rows(dims: &Dims, slack_mode: SlackMode) -> Option<IntervalRows> {
+        let count = match slack_mode {
+            SlackMode::PerInterval => 3,
+            SlackMode::PerContact => 3 * dims.nc,
+        };
+        let name: fn(&Layout, usize, usize, EntryNames) -> String = match slack_mode {
+            SlackMode::PerInterval => |_, local, j, _| {
+                format!("s - sum {}, interval {j}", COMPLEMENTARITY_NAMES[local % 3])
+            },
+            SlackMode::PerContact => |_, local, j, names| {
+                let contact = names.contact(local / 3);
+                format!(
+                    "s - {} {contact}, interval {j}",
+                    COMPLEMENTARITY_NAMES[local % 3]
+                )
+            },
+        };
+        Some(IntervalRows {
+            kind: Self::NAME,
+            count,
+            equality: false,
+            name,
+        })
+    }
+    fn place(p: &mut Placement<'_>, stage: Stage) {
+        // Per contact, its −c·φ(q_{j+1}) gap row (a `Distance` with `gap`) and its products;
+        // one block per contact keeps the Hessian sparse (products of different contacts
+        // never meet). In per-interval mode the shared slack rides on the first block and
+        // every block adds into the same three rows.
+        let Stage::Complementarity(j) = stage else {
+            return;
+        };
+        let l = p.layout;
+        let rows = range_vec(l.rows_of(Self::NAME, j));
+        let slacks = range_vec(l.slack(j));
+        let shared = slacks.len() == 1;
+        let groups: Vec<Vec<usize>> = if l.nc == 0 {
+            vec![vec![]]
+        } else {
+            (0..l.nc).map(|i| vec![i]).collect()
+        };
+        for (g, contacts) in groups.into_iter().enumerate() {
+            let mut vars = Vec::new();
+            for &i in &contacts {
+                vars.push(l.c(j, i));
+                vars.extend(l.beta(j, i));
+                vars.push(l.psi(j, i));
+                vars.extend(l.eta(j, i));
+            }
+            let nonlinear = vars.len();
+            let (own, block_rows) = if shared {
+                let own = if g == 0 { vec![slacks[0]] } else { vec![] };
+                (own, &rows[..3])
+            } else {
+                (slacks[3 * g..3 * g + 3].to_vec(), &rows[3 * g..3 * g + 3])
+            };
+            for &i in &contacts {
+                let mut gap_vars = range_vec(l.q(j + 1));
+                gap_vars.push(l.c(j, i));
+                p.vector.push(Block::new(
+                    VectorKind::Distance(Distance {
+                        contact: i,
+                        gap: true,
+                    }),
+                    gap_vars,
+                    l.n + 1,
+                    vec![vec![block_rows[1]]],
+                ));
+            }
+            let num_slacks = own.len();
+            vars.extend(own);
+            let targets = block_rows.iter().map(|&r| vec![r]).collect();
+            p.vector.push(Block::new(
+                VectorKind::Complementarity(Complementarity {
+                    contacts,
+                    slacks: num_slacks,
+                }),
+                vars,
+                nonlinear,
+                targets,
+            ));
+        }
+    }
     fn value<D: Scalar, M: Mechanics>(&self, _: &M, ctx: &Context, z: &[D], out: &mut [D]) {
         contact::complementarity(&ctx.contact, &self.contacts, self.slacks, z, out)
     }

@@ -4,7 +4,7 @@
 
 use nalgebra::DMatrix;
 
-use super::{Context, Eval, GeometryUse, GradientBlock};
+use super::{Block, Context, Eval, GeometryUse, GradientBlock, Placement, ScalarKind, Stage};
 use crate::autodiff::Scalar;
 use crate::autodiff::ThirdOrder;
 use crate::contact::{
@@ -22,6 +22,24 @@ pub struct ContactWork {
 
 impl GradientBlock for ContactWork {
     const NAME: &'static str = "ContactWork";
+    fn place(p: &mut Placement<'_>, stage: Stage) {
+        // The impulse's work at q_{j+1}: its q-gradient into row j, linear in [c; β].
+        let Stage::ContactImpulse { j, contact } = stage else {
+            return;
+        };
+        let vars = p.impulse_vars(j, contact);
+        let len = vars.len();
+        let mut targets = p.dynamics_targets(j);
+        targets.extend((p.layout.n..len).map(|_| vec![]));
+        let mut block = Block::new(
+            ScalarKind::ContactWork(ContactWork { contact }),
+            vars,
+            len,
+            targets,
+        );
+        block.linear_from = p.layout.n;
+        p.gradient.push(block);
+    }
     fn value<D: Scalar, M: Mechanics>(&self, mech: &M, ctx: &Context, z: &[D]) -> D {
         contact::contact_work(mech, &ctx.contact, self.contact, z)
     }

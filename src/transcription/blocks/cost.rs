@@ -2,10 +2,12 @@
 //! the term declares ([`crate::problem::costs::CostInputs`]). Each term's value is in its
 //! own file under `crate::problem::costs`; derivatives by generic AD.
 
-use super::{Context, GradientBlock};
+use super::place::range_vec;
+use super::{Block, Context, GradientBlock, Placement, ScalarKind, Stage};
 use crate::autodiff::Scalar;
 use crate::discrete::Mechanics;
-use crate::problem::costs::{CostSizes, cost_value};
+use crate::problem::costs::{self, CostInputs, CostSizes, cost_value};
+use crate::transcription::layout::Layout;
 
 /// The problem's cost term `term`.
 #[derive(Debug, Clone, PartialEq)]
@@ -16,8 +18,66 @@ pub struct Cost {
 
 impl GradientBlock for Cost {
     const NAME: &'static str = "Cost";
+    fn place(p: &mut Placement<'_>, stage: Stage) {
+        // After every interval, each term on every placement its inputs declare.
+        if stage != Stage::Costs {
+            return;
+        }
+        for (term, cost) in p.ctx.costs.iter().enumerate() {
+            let declared = costs::declaration(cost);
+            for vars in cost_placements(p.layout, declared.inputs) {
+                let nonlinear = if declared.linear { 0 } else { vars.len() };
+                let kind = ScalarKind::Cost(Cost { term });
+                p.cost.push(Block::new(kind, vars, nonlinear, vec![]));
+            }
+        }
+    }
     fn value<D: Scalar, M: Mechanics>(&self, _: &M, ctx: &Context, z: &[D]) -> D {
         let sizes = CostSizes { n: ctx.n, m: ctx.m };
         cost_value(&ctx.costs[self.term], sizes, z)
+    }
+}
+
+/// The variables of every placement of a cost term that reads `inputs`, in placement order.
+fn cost_placements(l: &Layout, inputs: CostInputs) -> Vec<Vec<usize>> {
+    let interval = |j: usize, with_step: bool| {
+        let mut vars = range_vec(l.q(j));
+        vars.extend(l.q(j + 1));
+        if with_step {
+            vars.push(l.h(j));
+        }
+        vars
+    };
+    match inputs {
+        CostInputs::IntervalWithStep => (0..l.intervals()).map(|j| interval(j, true)).collect(),
+        CostInputs::IntervalConfigurations => {
+            (0..l.intervals()).map(|j| interval(j, false)).collect()
+        }
+        CostInputs::InputWithStep => (0..l.intervals())
+            .map(|j| {
+                let mut vars = range_vec(l.u(j));
+                vars.push(l.h(j));
+                vars
+            })
+            .collect(),
+        CostInputs::AdjacentInputs => (1..l.intervals())
+            .map(|j| {
+                let mut vars = range_vec(l.u(j - 1));
+                vars.extend(l.u(j));
+                vars
+            })
+            .collect(),
+        CostInputs::AdjacentIntervals => (1..l.intervals())
+            .map(|j| {
+                let mut vars = range_vec(l.q(j - 1));
+                vars.extend(l.q(j));
+                vars.extend(l.q(j + 1));
+                vars.extend([l.h(j - 1), l.h(j)]);
+                vars
+            })
+            .collect(),
+        CostInputs::LastConfiguration => vec![range_vec(l.q(l.knots - 1))],
+        CostInputs::LastIntervalWithStep => vec![interval(l.intervals() - 1, true)],
+        CostInputs::Step => (0..l.intervals()).map(|j| vec![l.h(j)]).collect(),
     }
 }

@@ -4,13 +4,16 @@
 
 use nalgebra::DMatrix;
 
-use super::{Context, GeometryUse, RowBlock};
+use super::place::range_vec;
+use super::{Block, Context, GeometryUse, Placement, RowBlock, Stage, VectorKind};
 use crate::autodiff::Scalar;
 use crate::contact::{
     self, ContactGeometry, distance_hessian, distance_hessian_in, distance_jacobian,
     distance_jacobian_in,
 };
 use crate::discrete::{Mechanics, MechanicsDerivatives};
+use crate::problem::SlackMode;
+use crate::transcription::layout::{Dims, IntervalRows};
 
 /// Contact `contact`'s signed distance φ, or −cφ when `gap`.
 #[derive(Debug, Clone, PartialEq)]
@@ -23,6 +26,30 @@ pub struct Distance {
 
 impl RowBlock for Distance {
     const NAME: &'static str = "Distance";
+    fn interval_rows(dims: &Dims, _: SlackMode) -> Option<IntervalRows> {
+        Some(IntervalRows {
+            kind: Self::NAME,
+            count: dims.nc,
+            equality: false,
+            name: |_, local, j, names| format!("phi {}, knot {}", names.contact(local), j + 1),
+        })
+    }
+    fn place(p: &mut Placement<'_>, stage: Stage) {
+        // φ(q_{j+1}) on the distance row (the −cφ rows are placed by `Complementarity`).
+        let Stage::ContactRows { j, contact } = stage else {
+            return;
+        };
+        let l = p.layout;
+        p.vector.push(Block::new(
+            VectorKind::Distance(Distance {
+                contact,
+                gap: false,
+            }),
+            range_vec(l.q(j + 1)),
+            l.n,
+            vec![vec![l.rows_of(Self::NAME, j).start + contact]],
+        ));
+    }
     fn name(&self) -> &'static str {
         if self.gap { "ContactGap" } else { Self::NAME }
     }

@@ -12,9 +12,18 @@
 //! fall back to generic forward AD). The dynamics kinds evaluate the DEL pieces of
 //! `discrete::del`, the contact kinds the contact rows of `crate::contact`.
 //!
-//! To add a kind: a file here with its type implementing [`RowBlock`] or [`GradientBlock`],
-//! its line in the `vector_kinds!` or `gradient_kinds!` list below, and its placement (which
-//! variables it reads and which rows it adds into) in `placement`.
+//! A kind's file also places it: its `place` method pushes, at the [`Stage`]s of the NLP's
+//! skeleton where the kind has blocks, each block's variables and the rows it adds into.
+//!
+//! A vector kind that owns rows in every interval declares them there too
+//! ([`RowBlock::interval_rows`]: how many, equality or inequality, their names), and finds
+//! them with `Layout::rows_of`.
+//!
+//! To add a kind: a file here with its type implementing [`RowBlock`] or [`GradientBlock`]
+//! (value, derivatives where closed forms pay, placement, rows), and its line in the
+//! `vector_kinds!` or `gradient_kinds!` list below. The list's order is the order in which
+//! blocks placed at the same stage add into shared rows, and the order of the kinds' rows
+//! in each interval.
 
 mod complementarity;
 mod constraint;
@@ -29,6 +38,7 @@ mod initial_momentum;
 mod loop_closure;
 mod loop_work;
 mod loops;
+mod place;
 mod segment;
 mod spin_friction;
 mod tangential_rate;
@@ -46,6 +56,7 @@ pub(crate) use half_force::HalfForce;
 pub(crate) use initial_momentum::InitialMomentum;
 pub(crate) use loop_closure::LoopClosure;
 pub(crate) use loop_work::LoopWork;
+pub(crate) use place::{Placement, Stage};
 pub(crate) use segment::Segment;
 pub(crate) use spin_friction::SpinFriction;
 pub(crate) use tangential_rate::TangentialRate;
@@ -65,7 +76,10 @@ use crate::autodiff::Scalar;
 use crate::autodiff::{ScalarFunction, SymmetricGroups, ThirdOrder, VectorFunction};
 use crate::contact::{ContactGeometry, ContactModel};
 use crate::discrete::{Mechanics, MechanicsDerivatives};
-use crate::problem::{Constraint as ProblemConstraint, CostTerm, Integrator, ProblemSpec};
+use crate::problem::{
+    Constraint as ProblemConstraint, CostTerm, Integrator, ProblemSpec, SlackMode,
+};
+use crate::transcription::layout::{Dims, IntervalRows};
 
 /// Problem constants the block functions need besides the mechanics.
 #[derive(Debug, Clone)]
@@ -124,6 +138,13 @@ pub struct GeometryUse {
 pub trait RowBlock {
     /// Its name in `Transcription::derivative_time_by_kind`.
     const NAME: &'static str;
+    /// Pushes its blocks of `stage` onto `p` (nothing at the stages where it has none).
+    fn place(p: &mut Placement<'_>, stage: Stage);
+    /// The rows it owns in every interval, after the dynamics rows (`None`: it adds into
+    /// rows other kinds own).
+    fn interval_rows(_dims: &Dims, _slack_mode: SlackMode) -> Option<IntervalRows> {
+        None
+    }
     /// The name of this block (its kind's [`RowBlock::NAME`] unless the kind has variants).
     fn name(&self) -> &'static str {
         Self::NAME
@@ -187,6 +208,8 @@ pub struct Eval<'a, M> {
 pub trait GradientBlock {
     /// Its name in `Transcription::derivative_time_by_kind`.
     const NAME: &'static str;
+    /// Pushes its blocks of `stage` onto `p` (nothing at the stages where it has none).
+    fn place(p: &mut Placement<'_>, stage: Stage);
     /// Whether its closed forms are used also when `set_contact_chain_rule(false)` asks for
     /// generic AD (the mechanics' own derivatives, not a chain rule that switch compares).
     const ALWAYS_CLOSED_FORM: bool = false;
@@ -254,6 +277,17 @@ macro_rules! vector_kinds {
         })*
 
         impl VectorKind {
+            /// Every vector kind's blocks of `stage`, in the list's order.
+            pub fn place(p: &mut Placement<'_>, stage: Stage) {
+                $(<$variant as RowBlock>::place(p, stage);)*
+            }
+            /// The rows the kinds own in every interval, in the list's order (their row
+            /// order in the layout).
+            pub fn interval_rows(dims: &Dims, slack_mode: SlackMode) -> Vec<IntervalRows> {
+                let mut rows = Vec::new();
+                $(rows.extend(<$variant as RowBlock>::interval_rows(dims, slack_mode));)*
+                rows
+            }
             /// See [`RowBlock::name`].
             pub fn name(&self) -> &'static str {
                 match self {
@@ -342,6 +376,10 @@ macro_rules! gradient_kinds {
         })*
 
         impl ScalarKind {
+            /// Every gradient and cost kind's blocks of `stage`, in the list's order.
+            pub fn place(p: &mut Placement<'_>, stage: Stage) {
+                $(<$variant as GradientBlock>::place(p, stage);)*
+            }
             /// See [`GradientBlock::NAME`].
             pub fn name(&self) -> &'static str {
                 match self {
@@ -428,13 +466,13 @@ vector_kinds! {
     HalfForce in half_force,
     InitialMomentum in initial_momentum,
     EulerKnot in euler_knot,
+    SpinFriction in spin_friction,
+    LoopClosure in loop_closure,
     TangentialRate in tangential_rate,
     TangentialSlack in tangential_slack,
-    SpinFriction in spin_friction,
     Distance in distance,
     FrictionCone in friction_cone,
     Complementarity in complementarity,
-    LoopClosure in loop_closure,
     EqualStep in equal_step,
     Constraint in constraint,
 }

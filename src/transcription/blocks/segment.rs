@@ -5,9 +5,11 @@
 
 use nalgebra::DMatrix;
 
-use super::{Context, Eval, GradientBlock};
+use super::place::range_vec;
+use super::{Block, Context, Eval, GradientBlock, Placement, ScalarKind, Stage};
 use crate::autodiff::Scalar;
 use crate::autodiff::ThirdOrder;
+use crate::discrete::Integrator;
 use crate::discrete::{Mechanics, MechanicsDerivatives, SegmentLagrangian};
 
 /// Ld(qa, qb, h).
@@ -16,6 +18,23 @@ pub struct Segment;
 
 impl GradientBlock for Segment {
     const NAME: &'static str = "Segment";
+    fn place(p: &mut Placement<'_>, stage: Stage) {
+        // Ld(q_j, q_{j+1}, h_j): D1Ld into row j, D2Ld into row j+1 (or the end rows).
+        let Stage::Dynamics(j) = stage else { return };
+        if p.ctx.integrator != Integrator::Midpoint {
+            return;
+        }
+        let l = p.layout;
+        let mut vars = range_vec(l.q(j));
+        vars.extend(l.q(j + 1));
+        vars.push(l.h(j));
+        let mut targets = p.dynamics_targets(j);
+        targets.extend((0..l.n).map(|c| p.after_rows(j, c)));
+        targets.push(vec![]);
+        let len = vars.len();
+        p.gradient
+            .push(Block::new(ScalarKind::Segment(Segment), vars, len, targets));
+    }
     const ALWAYS_CLOSED_FORM: bool = true;
     const SEGMENT_GROUPS: bool = true;
     fn value<D: Scalar, M: Mechanics>(&self, mech: &M, _: &Context, z: &[D]) -> D {

@@ -4,13 +4,17 @@
 
 use nalgebra::DMatrix;
 
-use super::{Context, GeometryUse, RowBlock};
+use super::place::{each, range_vec};
+use super::{Block, Context, GeometryUse, Placement, RowBlock, Stage, VectorKind};
 use crate::autodiff::Scalar;
 use crate::contact::{
     self, ContactGeometry, tangential_rate_hessian, tangential_rate_hessian_in,
     tangential_rate_jacobian, tangential_rate_jacobian_in,
 };
 use crate::discrete::{Mechanics, MechanicsDerivatives};
+use crate::problem::SlackMode;
+use crate::transcription::layout::{Dims, IntervalRows, Layout};
+use std::ops::Range;
 
 /// Contact `contact`'s tangential rate.
 #[derive(Debug, Clone, PartialEq)]
@@ -21,6 +25,34 @@ pub struct TangentialRate {
 
 impl RowBlock for TangentialRate {
     const NAME: &'static str = "TangentialRate";
+    fn interval_rows(dims: &Dims, _: SlackMode) -> Option<IntervalRows> {
+        Some(IntervalRows {
+            kind: Self::NAME,
+            count: dims.nc * dims.nd,
+            equality: true,
+            name: |l, local, j, names| {
+                let (contact, direction) = (local / l.nd, local % l.nd);
+                let contact = names.contact(contact);
+                format!("tangential velocity {contact} direction {direction}, interval {j}")
+            },
+        })
+    }
+    fn place(p: &mut Placement<'_>, stage: Stage) {
+        // The contact point's tangential velocity over interval j on its tangential rows.
+        let Stage::ContactRows { j, contact } = stage else {
+            return;
+        };
+        let l = p.layout;
+        let mut vars = range_vec(l.q(j));
+        vars.extend(l.q(j + 1));
+        vars.push(l.h(j));
+        p.vector.push(Block::new(
+            VectorKind::TangentialRate(TangentialRate { contact }),
+            vars,
+            2 * l.n + 1,
+            each(rows(l, j, contact)),
+        ));
+    }
     fn value<D: Scalar, M: Mechanics>(&self, mech: &M, ctx: &Context, z: &[D], out: &mut [D]) {
         contact::tangential_rate(mech, &ctx.contact, self.contact, z, out)
     }
@@ -63,4 +95,11 @@ impl RowBlock for TangentialRate {
         (!mech.contact_rolls(self.contact))
             .then(|| tangential_rate_hessian(mech, &ctx.contact, self.contact, z, w))
     }
+}
+
+/// The tangential-velocity rows of contact i in interval j (nd rows, zero by the rate and
+/// slack blocks together).
+pub(super) fn rows(l: &Layout, j: usize, i: usize) -> Range<usize> {
+    let a = l.rows_of(TangentialRate::NAME, j).start + i * l.nd;
+    a..a + l.nd
 }

@@ -1,5 +1,6 @@
-//! Shared fixtures of the transcription tests: SPEC.md's reference problems and closed-form
-//! mechanics of the hopper and the brick (independent of the URDF model code).
+//! Shared fixtures of the transcription tests: SPEC.md's reference problems (read from their
+//! problem files) and closed-form mechanics of the hopper and the brick (independent of the
+//! URDF model code).
 #![allow(dead_code)]
 
 pub mod analytic;
