@@ -295,6 +295,20 @@ pub enum StudyKind {
         /// Largest initial roll and pitch (rad).
         #[arg(long, default_value_t = 0.2)]
         tilt: f64,
+        /// The integrators compared (comma-separated; the paper's figure: euler,midpoint).
+        #[arg(
+            long,
+            value_delimiter = ',',
+            default_value = "euler,midpoint",
+            value_parser = integrator_parser()
+        )]
+        methods: Vec<Integrator>,
+        /// The reference's integrator (the paper's: euler).
+        #[arg(long, default_value = "euler", value_parser = integrator_parser())]
+        reference: Integrator,
+        /// The reference's steps per second.
+        #[arg(long, default_value_t = 2000.0)]
+        reference_rate: f64,
         /// Output directory.
         #[arg(long, default_value = "out/brick_accuracy")]
         out: PathBuf,

@@ -140,6 +140,9 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
                     horizon,
                     spin,
                     tilt,
+                    methods,
+                    reference,
+                    reference_rate,
                     out,
                     quiet,
                 },
@@ -150,7 +153,9 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
                 horizon,
                 spin,
                 tilt,
-                ..Default::default()
+                methods: methods.into_iter().map(vito::study::Method::of).collect(),
+                reference: vito::study::Method::of(reference),
+                reference_rate,
             };
             study::brick_accuracy(&problem, &study, &out, quiet)
         }

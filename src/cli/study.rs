@@ -25,23 +25,26 @@ pub(super) fn study_bar(quiet: bool, what: &str) -> indicatif::ProgressBar {
 
 /// Prints a study's table with each method's log-log slope of error against knot count.
 pub(super) fn print_study(table: &vito::study::StudyTable) -> Result<(), CliError> {
-    use vito::study::{Method, log_log_slope};
-    out!("knots  first_order mean ± std     variational mean ± std");
+    use vito::study::log_log_slope;
+    let methods = table.methods();
+    let mut header = String::from("knots");
+    for m in &methods {
+        header += &format!("  {:<26}", format!("{} mean ± std", m.name()));
+    }
+    out!("{}", header.trim_end());
     let mut knots: Vec<usize> = table.rows.iter().map(|r| r.knots).collect();
     knots.dedup();
     for k in knots {
-        let cell = |m| {
-            table.row(k, m).map_or_else(String::new, |r| {
+        let mut line = format!("{k:>5}");
+        for &m in &methods {
+            let cell = table.row(k, m).map_or_else(String::new, |r| {
                 format!("{:.4e} ± {:.2e}", r.mean(), r.std())
-            })
-        };
-        out!(
-            "{k:>5}  {:<26} {}",
-            cell(Method::FirstOrder),
-            cell(Method::Variational)
-        );
+            });
+            line += &format!("  {cell:<26}");
+        }
+        out!("{}", line.trim_end());
     }
-    for m in Method::BOTH {
+    for m in methods {
         if let Some(slope) = log_log_slope(&table.means(m)) {
             out!("{:<12} log-log slope {slope:.3}", m.name());
         }
@@ -67,10 +70,15 @@ pub(super) fn brick_accuracy(
     bar.finish_and_clear();
     let table = table?;
     let staged = target.stage().map_err(report::ReportError::from)?;
+    let title = format!(
+        "Tumbling brick: RMS configuration error against the {} reference at {} steps/s",
+        study.reference.label(),
+        study.reference_rate
+    );
     table.write(
         staged.path(),
         "brick_accuracy",
-        "Tumbling brick: RMS configuration error against the 2 kHz first-order reference",
+        &title,
         "RMS error (m, rad)",
     )?;
     let written = staged.commit().map_err(report::ReportError::from)?;

@@ -20,12 +20,16 @@ pub struct BrickAccuracy {
     pub knots: Vec<usize>,
     /// Horizon T (the problem's time unit).
     pub horizon: f64,
-    /// Steps per time unit of the first-order reference.
+    /// Steps per time unit of the reference.
     pub reference_rate: f64,
+    /// The reference's method (the paper's: first order).
+    pub reference: Method,
     /// Largest initial angular rate per roll–pitch–yaw coordinate (rad per time unit).
     pub spin: f64,
     /// Largest initial roll and pitch (rad).
     pub tilt: f64,
+    /// The methods compared (the paper's: first order and midpoint).
+    pub methods: Vec<Method>,
 }
 
 impl Default for BrickAccuracy {
@@ -35,8 +39,10 @@ impl Default for BrickAccuracy {
             knots: (3..=16).collect(),
             horizon: 0.5,
             reference_rate: 2000.0,
+            reference: Method::FirstOrder,
             spin: 0.5,
             tilt: 0.2,
+            methods: Method::BOTH.to_vec(),
         }
     }
 }
@@ -75,6 +81,12 @@ impl BrickAccuracy {
                 message: message.into(),
             })
         };
+        if self.methods.is_empty() {
+            return invalid(
+                "--methods",
+                "give at least one integrator, e.g. euler,midpoint",
+            );
+        }
         if self.seeds == 0 || self.seeds > 10_000 {
             return invalid("--seeds", "give 1 to 10000 initial states");
         }
@@ -133,7 +145,7 @@ impl BrickAccuracy {
             .knots
             .iter()
             .flat_map(|&knots| {
-                Method::BOTH.map(|method| StudyRow {
+                self.methods.iter().map(move |&method| StudyRow {
                     knots,
                     method,
                     runs: Vec::new(),
@@ -150,7 +162,7 @@ impl BrickAccuracy {
                 &contact,
                 &q0,
                 &v0,
-                Method::FirstOrder,
+                self.reference,
                 self.horizon / steps as f64,
                 steps,
                 gravity,

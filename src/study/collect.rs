@@ -222,7 +222,7 @@ fn bad_line(path: &Path, line: usize, message: &str) -> StudyError {
 }
 
 fn method_named(name: &str) -> Option<Method> {
-    Method::BOTH.into_iter().find(|m| m.name() == name)
+    Method::ALL.into_iter().find(|m| m.name() == name)
 }
 
 /// `knots,method,run,rms` rows of a one-gait study (its single run per row).

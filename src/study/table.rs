@@ -10,40 +10,87 @@ use plotters::prelude::*;
 use super::StudyError;
 use crate::discrete::Integrator;
 
-/// The two methods compared.
+/// The methods a study compares: the paper's two, and the higher-order Galerkin members.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Method {
     /// Semi-implicit Euler time stepping (Posa et al.; Stewart and Trinkle).
     FirstOrder,
     /// The midpoint variational method of the paper.
     Variational,
+    /// The fourth-order Galerkin variational integrator.
+    Galerkin4,
+    /// The sixth-order Galerkin variational integrator.
+    Galerkin6,
 }
 
 impl Method {
-    /// Both, first order first.
+    /// The paper's two, first order first.
     pub const BOTH: [Method; 2] = [Method::FirstOrder, Method::Variational];
+    /// Every method, in table order.
+    pub const ALL: [Method; 4] = [
+        Method::FirstOrder,
+        Method::Variational,
+        Method::Galerkin4,
+        Method::Galerkin6,
+    ];
 
     /// The integrator that implements the method.
     pub fn integrator(self) -> Integrator {
         match self {
             Method::FirstOrder => Integrator::Euler,
             Method::Variational => Integrator::Midpoint,
+            Method::Galerkin4 => Integrator::Galerkin4,
+            Method::Galerkin6 => Integrator::Galerkin6,
         }
     }
 
-    /// The CSV's name of the method.
+    /// The method an integrator implements.
+    pub fn of(integrator: Integrator) -> Method {
+        match integrator {
+            Integrator::Euler => Method::FirstOrder,
+            Integrator::Midpoint => Method::Variational,
+            Integrator::Galerkin4 => Method::Galerkin4,
+            Integrator::Galerkin6 => Method::Galerkin6,
+        }
+    }
+
+    /// The CSV's name of the method (the paper's two by the paper's names, the others by
+    /// their integrator's).
     pub fn name(self) -> &'static str {
         match self {
             Method::FirstOrder => "first_order",
             Method::Variational => "variational",
+            Method::Galerkin4 => "galerkin4",
+            Method::Galerkin6 => "galerkin6",
+        }
+    }
+
+    /// Its label in plots.
+    pub fn label(self) -> &'static str {
+        match self {
+            Method::FirstOrder => "first order",
+            Method::Variational => "variational (midpoint)",
+            Method::Galerkin4 => "galerkin4",
+            Method::Galerkin6 => "galerkin6",
+        }
+    }
+
+    /// Its plot colour.
+    fn colour(self) -> RGBColor {
+        match self {
+            Method::FirstOrder => RGBColor(200, 60, 40),
+            Method::Variational => RGBColor(40, 90, 200),
+            Method::Galerkin4 => RGBColor(30, 150, 70),
+            Method::Galerkin6 => RGBColor(140, 60, 170),
         }
     }
 }
 
-/// The sort key of a study's rows and records: knot counts ascending, first order before
-/// variational at each.
-pub fn table_order(knots: usize, method: Method) -> (usize, bool) {
-    (knots, method != Method::FirstOrder)
+/// The sort key of a study's rows and records: knot counts ascending, then the methods in
+/// [`Method::ALL`]'s order (first order first).
+pub fn table_order(knots: usize, method: Method) -> (usize, usize) {
+    let index = Method::ALL.iter().position(|&m| m == method).unwrap_or(0);
+    (knots, index)
 }
 
 /// One knot count and method.
@@ -94,6 +141,14 @@ impl StudyTable {
                 runs: vec![rms],
             }),
         }
+    }
+
+    /// The methods in the table, in [`Method::ALL`]'s order.
+    pub fn methods(&self) -> Vec<Method> {
+        Method::ALL
+            .into_iter()
+            .filter(|&m| self.rows.iter().any(|r| r.method == m))
+            .collect()
     }
 
     /// Puts the rows in the table's order: knot counts ascending, first order first.
@@ -195,20 +250,18 @@ impl StudyTable {
             .y_desc(y_label)
             .draw()
             .map_err(|x| e(&x))?;
-        for (method, colour, offset) in [
-            (Method::FirstOrder, RGBColor(200, 60, 40), -0.08),
-            (Method::Variational, RGBColor(40, 90, 200), 0.08),
-        ] {
+        let methods = self.methods();
+        for (index, &method) in methods.iter().enumerate() {
+            // Bars side by side at each knot count, 0.16 apart.
+            let offset = 0.16 * (index as f64 - (methods.len() as f64 - 1.0) / 2.0);
+            let colour = method.colour();
             let rows: Vec<&StudyRow> = self.rows.iter().filter(|r| r.method == method).collect();
             let points: Vec<(f64, f64)> = rows
                 .iter()
                 .map(|r| (r.knots as f64 + offset, r.mean()))
                 .filter(|p| p.1.is_finite())
                 .collect();
-            let label = match method {
-                Method::FirstOrder => "first order",
-                Method::Variational => "variational",
-            };
+            let label = method.label();
             chart
                 .draw_series(LineSeries::new(points.clone(), colour.stroke_width(2)))
                 .map_err(|x| e(&x))?

@@ -229,13 +229,9 @@ impl Tracking {
                 let what = format!("{} with {knots} knots", method.name());
                 let start = previous.clone();
                 let mut set = overrides.to_vec();
-                let integrator = match method {
-                    Method::FirstOrder => "\"euler\"",
-                    Method::Variational => "\"midpoint\"",
-                };
                 let mut texts = vec![
                     format!("horizon.knots={knots}"),
-                    format!("solver.integrator={integrator}"),
+                    format!("solver.integrator=\"{}\"", method.integrator().name()),
                 ];
                 if let Some(t) = horizon {
                     texts.push(format!("horizon.time_step={:e}", t / (knots - 1) as f64));
