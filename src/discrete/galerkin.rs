@@ -25,9 +25,11 @@
 //! (= −p_k⁺): `super::galerkin_interval` solves an interval's interior points and gives these
 //! end momenta with their derivatives.
 
-use super::Mechanics;
+use nalgebra::{DMatrix, DVector};
+
+use super::{Mechanics, MechanicsDerivatives};
 use crate::autodiff::Scalar;
-use crate::autodiff::{ScalarFunction, VectorFunction};
+use crate::autodiff::{ScalarFunction, ThirdOrder, VectorFunction};
 
 /// The nodes, quadrature and Lagrange basis values of the Galerkin member of degree s.
 #[derive(Debug, Clone, PartialEq)]
@@ -191,6 +193,95 @@ impl GalerkinRule {
         let qa = q.iter().zip(&half).map(|(&a, &d)| a - d).collect();
         let qb = q.iter().zip(&half).map(|(&a, &d)| a + d).collect();
         (qa, qb)
+    }
+}
+
+impl GalerkinRule {
+    /// The linear map P_i from x = [q^0; …; q^s; h] to quadrature point i's midpoint segment
+    /// z_i = [qa_i; qb_i; h] ([`GalerkinRule::segment_weights`]), for n coordinates: the
+    /// action is A(x) = Σ_i b_i Ld(P_i x), so its derivatives are the segment's pulled back,
+    /// ∇A = Σ_i b_i P_iᵀ∇Ld, ∇²A = Σ_i b_i P_iᵀ∇²Ld P_i and likewise the third derivative
+    /// contracted with d, with ∇³Ld contracted with P_i d.
+    pub fn segment_map(&self, i: usize, n: usize) -> DMatrix<f64> {
+        let points = self.nodes.len();
+        let mut p = DMatrix::zeros(2 * n + 1, points * n + 1);
+        for (nu, (wa, wb)) in self.segment_weights(i).into_iter().enumerate() {
+            for r in 0..n {
+                p[(r, nu * n + r)] = wa;
+                p[(n + r, nu * n + r)] = wb;
+            }
+        }
+        p[(2 * n, points * n)] = 1.0;
+        p
+    }
+}
+
+/// ∇A at x = [q^0; …; q^s; h] (the rows' values: ∂A/∂q^ν per control point, then ∂A/∂h),
+/// chained from the mechanics' own segment gradient through [`GalerkinRule::segment_map`].
+pub fn action_gradient<M: MechanicsDerivatives>(
+    mech: &M,
+    rule: &GalerkinRule,
+    x: &[f64],
+) -> Vec<f64> {
+    let mut out = DVector::zeros(x.len());
+    for_each_segment(mech, rule, x, |b, p, z| {
+        out += p.tr_mul(&DVector::from_vec(mech.segment_gradient(z))) * b;
+    });
+    out.as_slice().to_vec()
+}
+
+/// ∇A and ∇²A at x = [q^0; …; q^s; h], chained from the mechanics' own segment derivatives
+/// (for a URDF model, its adjoint) through [`GalerkinRule::segment_map`].
+pub fn action_gradient_hessian<M: MechanicsDerivatives>(
+    mech: &M,
+    rule: &GalerkinRule,
+    x: &[f64],
+) -> (Vec<f64>, DMatrix<f64>) {
+    let mut gradient = DVector::zeros(x.len());
+    let mut hessian = DMatrix::zeros(x.len(), x.len());
+    for_each_segment(mech, rule, x, |b, p, z| {
+        let (g, h) = mech.segment_gradient_hessian(z);
+        gradient += p.tr_mul(&DVector::from_vec(g)) * b;
+        hessian += p.tr_mul(&h) * p * b;
+    });
+    (gradient.as_slice().to_vec(), hessian)
+}
+
+/// A, ∇A, ∇²A and the third derivative contracted with `dir` at x = [q^0; …; q^s; h], chained
+/// from [`MechanicsDerivatives::segment_third_order`] with the segment's direction P_i·dir.
+pub fn action_third_order<M: MechanicsDerivatives>(
+    mech: &M,
+    rule: &GalerkinRule,
+    x: &[f64],
+    dir: &[f64],
+) -> ThirdOrder {
+    let mut out = ThirdOrder::zeros(x.len());
+    let mut gradient = DVector::zeros(x.len());
+    let dir = DVector::from_column_slice(dir);
+    for_each_segment(mech, rule, x, |b, p, z| {
+        let pd = p * &dir;
+        let t = mech.segment_third_order(z, pd.as_slice(), None);
+        out.value += b * t.value;
+        gradient += p.tr_mul(&DVector::from_vec(t.gradient)) * b;
+        out.hessian += p.tr_mul(&t.hessian) * p * b;
+        out.contracted += p.tr_mul(&t.contracted) * p * b;
+    });
+    out.gradient = gradient.as_slice().to_vec();
+    out
+}
+
+/// Calls `f(b_i, P_i, z_i)` for every quadrature point i of the action at x.
+fn for_each_segment<M: Mechanics>(
+    mech: &M,
+    rule: &GalerkinRule,
+    x: &[f64],
+    mut f: impl FnMut(f64, &DMatrix<f64>, &[f64]),
+) {
+    let x = DVector::from_column_slice(x);
+    for (i, &b) in rule.quadrature_weights().iter().enumerate() {
+        let p = rule.segment_map(i, mech.nq());
+        let z = &p * &x;
+        f(b, &p, z.as_slice());
     }
 }
 

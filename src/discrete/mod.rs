@@ -108,19 +108,6 @@ impl Integrator {
         }
     }
 
-    /// Why the planner (the NLP transcription) cannot use this integrator, or `None`: the
-    /// Galerkin members' interior points are not NLP variables yet, and the planner never
-    /// solves a problem with another rule than the one it names.
-    pub fn planner_problem(self) -> Option<String> {
-        self.galerkin_degree().map(|_| {
-            format!(
-                "`{0}` steps `vito simulate --integrator {0}` but is not available in the \
-                 planner yet; set `integrator = \"midpoint\"` (or \"euler\")",
-                self.name()
-            )
-        })
-    }
-
     /// The Galerkin member with interior points ([`Integrator::galerkin_degree`]).
     pub fn galerkin_rule(self) -> Option<GalerkinRule> {
         self.galerkin_degree().and_then(GalerkinRule::of_degree)

@@ -109,6 +109,7 @@ pub fn summary_json(problem: &LoadedProblem, solution: &Solution) -> Value {
         "nnz_jacobian": s.size.nnz_jacobian,
         "nnz_hessian": s.size.nnz_hessian,
         "knots": s.times.len(),
+        "integrator": problem.spec.integrator.name(),
         "total_time": num(s.times.last().copied().unwrap_or(0.0)),
         "final_q": final_q,
         "problem": problem.spec.name,

@@ -4,7 +4,8 @@
 //! all q_k (n each), v_0 (n), all h_j, all u_j (m each), then per interval j the contact
 //! block [c (nc), β (nc·nd, contact-major), ψ (nc), η (nc·nd)], then the loop impulses γ_j
 //! (nl each), then the slacks (1 per interval, or 3·nc per interval in per-contact mode,
-//! ordered contact-major as [ηᵀβ, c·φ, ψ·(μc − eᵀβ)]).
+//! ordered contact-major as [ηᵀβ, c·φ, ψ·(μc − eᵀβ)]), then with a Galerkin integrator of
+//! degree s the interior control points q_j^1 … q_j^{s−1} of every interval (n each).
 //!
 //! Constraint rows: per interval j, the dynamics rows (n rows: the first step for j = 0, the
 //! DEL equation at knot j after, or eq. (1) at knot j with `Integrator::Euler`; all holding
@@ -32,6 +33,9 @@ pub struct Dims {
     pub nd: usize,
     /// Loop-closure constraints nl.
     pub nl: usize,
+    /// Interior control points per interval: s − 1 for a Galerkin integrator of degree s,
+    /// 0 for the midpoint rule and Euler.
+    pub interior: usize,
 }
 
 /// The rows one block kind owns in every interval, after the dynamics rows.
@@ -60,6 +64,8 @@ pub struct Layout {
     pub nd: usize,
     /// Loop-closure constraints nl.
     pub nl: usize,
+    /// Interior control points per interval (s − 1 for a Galerkin integrator of degree s).
+    pub interior: usize,
     /// Knots N.
     pub knots: usize,
     /// Slack mode.
@@ -83,13 +89,21 @@ impl Layout {
         constraint_rows: Vec<String>,
         interval_rows: Vec<IntervalRows>,
     ) -> Layout {
-        let Dims { n, m, nc, nd, nl } = dims;
+        let Dims {
+            n,
+            m,
+            nc,
+            nd,
+            nl,
+            interior,
+        } = dims;
         Layout {
             n,
             m,
             nc,
             nd,
             nl,
+            interior,
             knots,
             slack_mode,
             equal_steps,
@@ -135,9 +149,13 @@ impl Layout {
         self.gamma_offset() + self.intervals() * self.nl
     }
 
+    fn interior_offset(&self) -> usize {
+        self.slack_offset() + self.intervals() * self.slacks_per_interval()
+    }
+
     /// Total number of variables.
     pub fn num_variables(&self) -> usize {
-        self.slack_offset() + self.intervals() * self.slacks_per_interval()
+        self.interior_offset() + self.intervals() * self.interior * self.n
     }
 
     /// Configuration q_k (length n).
@@ -195,7 +213,18 @@ impl Layout {
     }
     /// All slack variables.
     pub fn slacks(&self) -> Range<usize> {
-        self.slack_offset()..self.num_variables()
+        self.slack_offset()..self.interior_offset()
+    }
+    /// Interior control point q_j^{ν+1} of interval j, ν = 0..interior (length n): the
+    /// configuration at t_j + d_{ν+1}·h_j of a Galerkin integrator.
+    pub fn interior(&self, j: usize, nu: usize) -> Range<usize> {
+        let a = self.interior_offset() + (j * self.interior + nu) * self.n;
+        a..a + self.n
+    }
+    /// All interior control points of interval j (length interior·n).
+    pub fn interior_points(&self, j: usize) -> Range<usize> {
+        let a = self.interior_offset() + j * self.interior * self.n;
+        a..a + self.interior * self.n
     }
 
     /// Rows per interval.
@@ -350,6 +379,16 @@ impl Layout {
             let local = v - self.gamma_offset();
             return format!("gamma {}, interval {}", local % self.nl, local / self.nl);
         }
+        if v >= self.interior_offset() {
+            let local = v - self.interior_offset();
+            let (point, c) = (local / n, local % n);
+            return format!(
+                "q {}, interval {} interior point {}",
+                names.coordinate(c),
+                point / self.interior,
+                point % self.interior + 1
+            );
+        }
         let local = v - self.slack_offset();
         let per = self.slacks_per_interval();
         let j = local / per;
@@ -406,7 +445,14 @@ mod tests {
     use crate::transcription::blocks::VectorKind;
 
     fn dims(n: usize, m: usize, nc: usize, nd: usize, nl: usize) -> Dims {
-        Dims { n, m, nc, nd, nl }
+        Dims {
+            n,
+            m,
+            nc,
+            nd,
+            nl,
+            interior: 0,
+        }
     }
 
     /// A layout with the rows the block kinds declare.
@@ -528,5 +574,66 @@ mod tests {
         assert_eq!(name(start + 13), "phi right, knot 2");
         assert_eq!(name(start + 14), "friction cone left, interval 1");
         assert_eq!(name(start + 16 + 4), "s - c·phi right, interval 1");
+    }
+
+    /// A Galerkin layout (two interior points per interval): the interior points are the last
+    /// variables, every variable and row has one owner, and the interior rows (stationarity,
+    /// n per point; φ, nc per point) follow the dynamics rows and the distance rows.
+    #[test]
+    fn galerkin_interior_points_and_rows_have_one_owner() {
+        let galerkin = Dims {
+            interior: 2,
+            ..dims(3, 2, 2, 2, 0)
+        };
+        let l = layout(galerkin, 4, SlackMode::PerInterval, false, vec![]);
+        let plain = layout(
+            dims(3, 2, 2, 2, 0),
+            4,
+            SlackMode::PerInterval,
+            false,
+            vec![],
+        );
+        assert_eq!(l.num_variables(), plain.num_variables() + 3 * 2 * 3);
+        assert_eq!(l.interior(0, 0).start, plain.num_variables());
+        assert_eq!(l.interior(2, 1).end, l.num_variables());
+        assert_eq!(
+            l.interior_points(1),
+            l.interior(1, 0).start..l.interior(1, 1).end
+        );
+        assert_eq!(
+            l.rows_per_interval(),
+            plain.rows_per_interval() + 2 * 3 + 2 * 2
+        );
+        let mut rows = vec![0usize; l.num_constraints()];
+        for j in 0..l.intervals() {
+            l.dynamics_rows(j).for_each(|r| rows[r] += 1);
+            for owned in &l.interval_rows {
+                l.rows_of(owned.kind, j).for_each(|r| rows[r] += 1);
+            }
+        }
+        assert!(rows.iter().all(|&c| c == 1));
+        let stationarity = l.rows_of("GalerkinForce", 1);
+        assert_eq!(stationarity.start, l.dynamics_rows(1).end);
+        assert!(l.is_equality(stationarity.start));
+        let phi = l.rows_of("InteriorDistance", 1);
+        assert_eq!(phi.start, l.rows_of("Distance", 1).end);
+        assert!(!l.is_equality(phi.start));
+        let names = EntryNames {
+            coordinates: &["x".into(), "z".into(), "theta".into()],
+            inputs: &[],
+            contacts: &["left".into(), "right".into()],
+        };
+        assert_eq!(
+            l.row_name(stationarity.start + 4, names),
+            "interior stationarity z, interval 1 interior point 2"
+        );
+        assert_eq!(
+            l.row_name(phi.start + 3, names),
+            "phi right, interval 1 interior point 2"
+        );
+        assert_eq!(
+            l.variable_name(l.interior(2, 1).start + 2, names),
+            "q theta, interval 2 interior point 2"
+        );
     }
 }

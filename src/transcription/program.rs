@@ -85,13 +85,6 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                 message: format!("{} knots; a trajectory needs at least 2", spec.knots),
             });
         }
-        // Validation checks this for problem files; a spec built in code is checked here.
-        if let Some(message) = spec.integrator.planner_problem() {
-            return Err(TranscriptionError::Invalid {
-                field: "solver.integrator".into(),
-                message,
-            });
-        }
         let ctx = Context::new(&mech, spec);
         let nd = ctx.nd();
         for (t, term) in spec.costs.iter().enumerate() {
@@ -116,7 +109,14 @@ impl<M: MechanicsDerivatives> Transcription<M> {
             }
         }
         let equal_steps = matches!(spec.time_steps, TimeSteps::FreeEqual { .. });
-        let dims = Dims { n, m, nc, nd, nl };
+        let dims = Dims {
+            n,
+            m,
+            nc,
+            nd,
+            nl,
+            interior: spec.integrator.galerkin_degree().map_or(0, |s| s - 1),
+        };
         let layout = Layout::new(
             dims,
             spec.knots,

@@ -96,6 +96,27 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         for i in l.slacks() {
             lo[i] = 0.0;
         }
+        // A Galerkin interval's interior points are configurations strictly inside the
+        // trajectory: the joint limits and the bounds on every (or every interior) knot hold
+        // there too.
+        for c in 0..l.n {
+            let mut b = Interval::FREE;
+            if spec.joint_limits {
+                let (lower, upper) = limits[c];
+                b = intersect(b, Interval { lower, upper });
+            }
+            for cb in spec.bounds.iter().filter(|cb| cb.coordinate == c) {
+                if matches!(cb.knots, KnotSet::All | KnotSet::Interior) {
+                    b = intersect(b, cb.bound);
+                }
+            }
+            for j in 0..l.intervals() {
+                for nu in 0..l.interior {
+                    lo[l.interior(j, nu).start + c] = b.lower;
+                    hi[l.interior(j, nu).start + c] = b.upper;
+                }
+            }
+        }
         let nr = l.num_constraints();
         let mut g_lower = vec![0.0; nr];
         let mut g_upper: Vec<f64> = (0..nr)
@@ -193,6 +214,13 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         for ((xi, &lo), &hi) in x.iter_mut().zip(&self.x_lower).zip(&self.x_upper) {
             if lo == hi {
                 *xi = lo;
+            }
+        }
+        // A Galerkin interval's interior points start on the chord between its knots.
+        if let Some(rule) = &self.ctx.galerkin {
+            for j in 0..l.intervals() {
+                let chord = rule.chord_interior(&x[l.q(j)], &x[l.q(j + 1)]);
+                x[l.interior_points(j)].copy_from_slice(&chord);
             }
         }
         self.x_initial = x;

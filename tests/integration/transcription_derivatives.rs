@@ -141,8 +141,9 @@ fn hopper_everything(integrator: Integrator, slack_mode: SlackMode) -> ProblemSp
             velocity: true,
         }),
     ];
-    // The momentum arriving at q_N is the midpoint rule's DLT; Euler refuses it (below).
-    if integrator == Integrator::Midpoint {
+    // The momentum arriving at q_N is the variational integrators' DLT; Euler refuses it
+    // (below).
+    if integrator != Integrator::Euler {
         spec.constraints
             .push(Constraint::PeriodicMomentum(PeriodicMomentum {
                 names: ["x", "z", "theta", "r"].map(String::from).to_vec(),
@@ -318,6 +319,24 @@ fn hopper_midpoint_every_feature() {
     check_derivatives("hopper midpoint per-interval", &t, 1);
 }
 
+/// The Galerkin members (interior points as variables, their stationarity rows, φ ≥ 0 at
+/// them, the end momentum into `periodic_momentum`) with every other feature, both slack
+/// modes, and with a loop closure.
+#[test]
+fn hopper_galerkin_every_feature() {
+    for (seed, integrator, mode) in [
+        (21, Integrator::Galerkin4, SlackMode::PerInterval),
+        (22, Integrator::Galerkin6, SlackMode::PerContact),
+    ] {
+        let spec = hopper_everything(integrator, mode);
+        let t = Transcription::new(Hopper, &spec).unwrap();
+        check_derivatives(&format!("hopper {integrator:?} {mode:?}"), &t, seed);
+    }
+    let spec = hopper_everything(Integrator::Galerkin4, SlackMode::PerInterval);
+    let t = Transcription::new(WithLoop(Hopper), &spec).unwrap();
+    check_derivatives("hopper galerkin4 loop", &t, 23);
+}
+
 #[test]
 fn hopper_euler_per_interval_slack() {
     let mut spec = hopper_everything(Integrator::Euler, SlackMode::PerInterval);
@@ -346,6 +365,7 @@ fn brick_short_horizon_both_slack_modes_and_integrators() {
         (3, SlackMode::PerInterval, Integrator::Midpoint),
         (4, SlackMode::PerContact, Integrator::Midpoint),
         (6, SlackMode::PerInterval, Integrator::Euler),
+        (24, SlackMode::PerContact, Integrator::Galerkin4),
     ] {
         let mut spec = brick_3d();
         spec.knots = 3;
@@ -362,10 +382,15 @@ fn brick_short_horizon_both_slack_modes_and_integrators() {
 }
 
 /// Spring Flamingo from URDF (damping in Fd, springs in V, joint limits, free steps), with
-/// both integrators (Euler through the model's inverse dynamics).
+/// the midpoint rule, Euler (through the model's inverse dynamics) and galerkin4 (the
+/// discrete forces at its interior point).
 #[test]
 fn spring_flamingo_from_urdf_short_horizon() {
-    for (seed, integrator) in [(5, Integrator::Midpoint), (7, Integrator::Euler)] {
+    for (seed, integrator) in [
+        (5, Integrator::Midpoint),
+        (7, Integrator::Euler),
+        (25, Integrator::Galerkin4),
+    ] {
         let mut spec = spring_flamingo_walk();
         spec.knots = 3;
         spec.q_final = vec![Interval::FREE; 9];

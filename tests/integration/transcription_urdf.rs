@@ -130,20 +130,36 @@ fn urdf_and_closed_form_mechanics_agree() {
     }
 }
 
-/// A spec built in code that names a Galerkin member is refused by the transcription (the
-/// interior points are not NLP variables), never transcribed with the midpoint rule.
+/// A Galerkin member of degree s adds (s − 1)·n interior-point variables per interval, with
+/// (s − 1)·n stationarity rows and (s − 1)·nc non-penetration rows; the midpoint rule's
+/// variables and rows are all still there (hopper: n = 4, nc = 1, 20 intervals).
 #[test]
-fn transcription_refuses_a_galerkin_integrator() {
-    for integrator in [Integrator::Galerkin4, Integrator::Galerkin6] {
+fn galerkin_transcription_adds_interior_points_and_their_rows() {
+    let midpoint = hopper_2d();
+    let base = Transcription::new(ModelMechanics::load(&midpoint).unwrap(), &midpoint).unwrap();
+    let (v, r) = (
+        base.layout().num_variables(),
+        base.layout().num_constraints(),
+    );
+    assert_eq!((v, r), (288, 220));
+    for (integrator, s) in [(Integrator::Galerkin4, 2), (Integrator::Galerkin6, 3)] {
         let mut spec = hopper_2d();
         spec.integrator = integrator;
-        let Err(e) = Transcription::new(ModelMechanics::load(&spec).unwrap(), &spec) else {
-            panic!("{integrator:?} transcribed");
-        };
-        let message = e.to_string();
-        assert!(
-            message.starts_with("problem field `solver.integrator`: `galerkin"),
-            "{message}"
+        let t = Transcription::new(ModelMechanics::load(&spec).unwrap(), &spec).unwrap();
+        let l = t.layout();
+        assert_eq!(l.num_variables(), v + 20 * (s - 1) * 4, "{integrator:?}");
+        assert_eq!(
+            l.num_constraints(),
+            r + 20 * (s - 1) * (4 + 1),
+            "{integrator:?}"
         );
+        // The interior points start on the chord between their knots.
+        let x = t.initial_point();
+        let d = integrator.galerkin_rule().unwrap().nodes()[1];
+        for c in 0..4 {
+            let (a, b) = (x[l.q(3).start + c], x[l.q(4).start + c]);
+            let interior = x[l.interior(3, 0).start + c];
+            assert!((interior - ((1.0 - d) * a + d * b)).abs() < 1e-15);
+        }
     }
 }

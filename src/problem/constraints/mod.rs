@@ -263,12 +263,13 @@ pub(crate) fn check_constraints(
 
 impl Constraint {
     /// Why the constraint cannot be used with `integrator`, or `None`: the end momentum p_N⁻
-    /// comes from the midpoint rule's discrete Legendre transform.
+    /// comes from a variational integrator's discrete Legendre transform (the midpoint rule's
+    /// or a Galerkin member's), which semi-implicit Euler does not have.
     pub fn integrator_problem(&self, integrator: Integrator) -> Option<String> {
-        (self.receives_end_momentum() && integrator != Integrator::Midpoint).then(|| {
+        (self.receives_end_momentum() && integrator == Integrator::Euler).then(|| {
             format!(
-                "a `{}` constraint needs the momentum of the midpoint rule's last interval; \
-                 set `[solver] integrator = \"midpoint\"`",
+                "a `{}` constraint needs the momentum a variational integrator's last interval \
+                 ends with; set `[solver] integrator = \"midpoint\"` (or a Galerkin member)",
                 self.name()
             )
         })

@@ -24,9 +24,6 @@ pub(super) fn check_solver(
             ctx.unknown_name("solver.integrator", "integrator", name, &valid)
         })?,
     };
-    if let Some(message) = integrator.planner_problem() {
-        return Err(ctx.invalid("solver.integrator", message));
-    }
     let hessian = match raw.solver.hessian.as_deref() {
         None | Some("exact") => HessianMode::Exact,
         Some("lbfgs") => HessianMode::Lbfgs,

@@ -33,8 +33,11 @@ mod distance;
 mod equal_step;
 mod euler_knot;
 mod friction_cone;
+mod galerkin_force;
+mod galerkin_segment;
 mod half_force;
 mod initial_momentum;
+mod interior_distance;
 mod loop_closure;
 mod loop_work;
 mod loops;
@@ -52,8 +55,11 @@ pub(crate) use distance::Distance;
 pub(crate) use equal_step::EqualStep;
 pub(crate) use euler_knot::EulerKnot;
 pub(crate) use friction_cone::FrictionCone;
+pub(crate) use galerkin_force::GalerkinForce;
+pub(crate) use galerkin_segment::GalerkinSegment;
 pub(crate) use half_force::HalfForce;
 pub(crate) use initial_momentum::InitialMomentum;
+pub(crate) use interior_distance::InteriorDistance;
 pub(crate) use loop_closure::LoopClosure;
 pub(crate) use loop_work::LoopWork;
 pub(crate) use place::{Placement, Stage};
@@ -75,7 +81,7 @@ use nalgebra::DMatrix;
 use crate::autodiff::Scalar;
 use crate::autodiff::{ScalarFunction, SymmetricGroups, ThirdOrder, VectorFunction};
 use crate::contact::{ContactGeometry, ContactModel};
-use crate::discrete::{Mechanics, MechanicsDerivatives};
+use crate::discrete::{GalerkinRule, Mechanics, MechanicsDerivatives};
 use crate::problem::{
     Constraint as ProblemConstraint, CostTerm, Integrator, ProblemSpec, SlackMode,
 };
@@ -98,6 +104,8 @@ pub struct Context {
     pub costs: Vec<CostTerm>,
     /// The problem file's constraints (blocks refer to them by index).
     pub constraints: Vec<ProblemConstraint>,
+    /// The Galerkin member of `integrator` when it has interior points.
+    pub galerkin: Option<GalerkinRule>,
 }
 
 impl Context {
@@ -112,6 +120,7 @@ impl Context {
             integrator: spec.integrator,
             costs: spec.costs.clone(),
             constraints: spec.constraints.clone(),
+            galerkin: spec.integrator.galerkin_rule(),
         }
     }
 
@@ -464,6 +473,7 @@ macro_rules! gradient_kinds {
 
 vector_kinds! {
     HalfForce in half_force,
+    GalerkinForce in galerkin_force,
     InitialMomentum in initial_momentum,
     EulerKnot in euler_knot,
     SpinFriction in spin_friction,
@@ -471,6 +481,7 @@ vector_kinds! {
     TangentialRate in tangential_rate,
     TangentialSlack in tangential_slack,
     Distance in distance,
+    InteriorDistance in interior_distance,
     FrictionCone in friction_cone,
     Complementarity in complementarity,
     EqualStep in equal_step,
@@ -479,6 +490,7 @@ vector_kinds! {
 
 gradient_kinds! {
     Segment in segment,
+    GalerkinSegment in galerkin_segment,
     ContactWork in contact_work,
     LoopWork in loop_work,
     Cost in cost,

@@ -314,31 +314,3 @@ fn family_expression_errors_name_file_and_field() {
         .assert_exit(0);
     assert!(run.stdout.contains("(mu 0.25)"), "{}", run.stdout);
 }
-
-/// A Galerkin member named for the planner is refused at validation (exit 2, naming the
-/// field and the fix), never solved with another rule.
-#[test]
-fn galerkin_integrator_is_refused_by_the_planner() {
-    let t = TestDir::with_hopper("galerkin_integrator_is_refused_by_the_planner");
-    t.write("p.toml", &hopper_text());
-    for name in ["galerkin4", "galerkin6"] {
-        let run = t
-            .vito()
-            .args([
-                "solve",
-                "p.toml",
-                "--set",
-                &format!("solver.integrator={name}"),
-            ])
-            .assert_exit(2);
-        assert!(
-            run.stderr.contains(&format!(
-                "field `solver.integrator` (set with --set): `{name}` steps `vito simulate \
-                 --integrator {name}` but is not available in the planner yet"
-            )),
-            "{}",
-            run.stderr
-        );
-        assert!(!t.path().join("out").exists(), "nothing written");
-    }
-}
