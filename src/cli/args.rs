@@ -340,6 +340,20 @@ pub enum StudyKind {
         /// explicit]; see `vito simulate --feedback`.
         #[arg(long, value_enum)]
         feedback: Option<FeedbackArg>,
+        /// The integrators planned (comma-separated; the paper's figure: euler,midpoint).
+        #[arg(
+            long,
+            value_delimiter = ',',
+            default_value = "euler,midpoint",
+            value_parser = integrator_parser()
+        )]
+        methods: Vec<Integrator>,
+        /// The tracking simulation's integrator (the paper's: euler).
+        #[arg(long, default_value = "euler", value_parser = integrator_parser())]
+        reference: Integrator,
+        /// The tracking simulation's steps per time unit.
+        #[arg(long, default_value_t = 2000.0)]
+        reference_rate: f64,
         /// Output directory.
         #[arg(long, default_value = "out/tracking")]
         out: PathBuf,

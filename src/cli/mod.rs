@@ -167,6 +167,9 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
                     knots,
                     gains,
                     feedback,
+                    methods,
+                    reference,
+                    reference_rate,
                     out,
                     quiet,
                 },
@@ -175,7 +178,9 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
                 knots,
                 gains,
                 feedback: feedback.map(Into::into),
-                rate: 2000.0,
+                rate: reference_rate,
+                methods: methods.into_iter().map(vito::study::Method::of).collect(),
+                reference,
             };
             study::tracking(&problem, &set, &study, &out, quiet)
         }

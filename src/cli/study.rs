@@ -127,6 +127,14 @@ pub(super) fn tracking(
             measure.y_label,
         )?;
     }
+    vito::study::frontier::write_frontier(
+        staged.path(),
+        &result.plans,
+        &format!(
+            "{}: error at the knots against solve cost",
+            problem.spec.name
+        ),
+    )?;
     let written = staged.commit().map_err(report::ReportError::from)?;
     print_study(table)?;
     out!("configuration alone:");
@@ -134,13 +142,18 @@ pub(super) fn tracking(
     out!("driven joints alone (q and v):");
     print_study(&result.joints)?;
     for p in &result.plans {
+        let at_knots = p
+            .knot_error
+            .map_or(String::new(), |e| format!(", error at the knots {e:.3e}"));
         out!(
-            "plan {:>3} knots {:<12} objective {:.6e}, max slack {:.2e}, {} iterations, from {}: {}",
+            "plan {:>3} knots {:<12} objective {:.6e}, max slack {:.2e}, {} iterations, {} variables, {:.2} s, from {}: {}{at_knots}",
             p.knots,
             p.method.name(),
             p.objective,
             p.max_slack,
             p.iterations,
+            p.variables,
+            p.wall_time_s,
             p.start,
             p.outcome
         );

@@ -19,6 +19,11 @@ const ROUND_OFF_STEP: f64 = 1e-15;
 /// Relative stationarity residual accepted (of the end momenta's scale).
 const TOLERANCE: f64 = 1e-11;
 
+/// Relative residual below which a Newton iteration that no longer halves it has reached the
+/// round-off floor of the stationarity's sums (whose terms, momenta over small steps, can be
+/// far larger than the end momenta that scale [`TOLERANCE`]).
+const FLOOR_TOLERANCE: f64 = 1e-8;
+
 /// An interval at its stationary interior points.
 #[derive(Debug, Clone, PartialEq)]
 pub struct GalerkinInterval {
@@ -129,6 +134,7 @@ pub fn galerkin_interval<M: MechanicsDerivatives>(
     let mut interior = guess.map_or_else(|| rule.chord_interior(qa, qb), <[f64]>::to_vec);
     let mut last = f64::INFINITY;
     for iteration in 0..=MAX_ITERATIONS {
+        let previous = last;
         let points = control(qa, &interior, qb);
         let (value, jac) = galerkin_stationarity(mech, rule, &points, u, h);
         if !value.iter().chain(jac.iter()).all(|x| x.is_finite()) {
@@ -152,7 +158,8 @@ pub fn galerkin_interval<M: MechanicsDerivatives>(
         let small = delta
             .as_ref()
             .is_none_or(|d| d.amax() <= ROUND_OFF_STEP * q_scale);
-        if inner == 0 || converged || (small && last <= TOLERANCE * scale) {
+        let stalled = last > 0.5 * previous && last <= FLOOR_TOLERANCE * scale;
+        if inner == 0 || converged || (small && last <= TOLERANCE * scale) || stalled {
             return finish(rule, n, interior, &value, &jac, &lu, iteration);
         }
         if iteration == MAX_ITERATIONS {

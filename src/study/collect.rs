@@ -306,6 +306,10 @@ fn read_plans(path: &Path) -> Result<Vec<PlanRecord>, StudyError> {
             objective: number(2)?,
             max_slack: number(3)?,
             iterations: cells[4].parse().map_err(|_| bad())?,
+            // Not in the plans table: the frontier's, written beside it.
+            variables: 0,
+            wall_time_s: f64::NAN,
+            knot_error: None,
             start: cells[5].to_owned(),
             max_deviation,
             outcome: cells[columns.len() - 1].trim_matches('"').to_owned(),

@@ -5,10 +5,12 @@
 //! reference), `table` (the per-knot-count table, its CSV and its SVG, and the log-log slope
 //! fit), `tracking` (figure 6: plans of both methods tracked by PD control in a 2 kHz
 //! first-order simulation), `collect` (figure 6 over a set of gaits: several tracking
-//! studies' directories read back into one table).
+//! studies' directories read back into one table), `frontier` (a tracking study's plans:
+//! error at the knots against solve cost, per method).
 
 pub mod brick;
 pub mod collect;
+pub mod frontier;
 pub mod table;
 pub mod tracking;
 

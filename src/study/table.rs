@@ -76,7 +76,7 @@ impl Method {
     }
 
     /// Its plot colour.
-    fn colour(self) -> RGBColor {
+    pub(crate) fn colour(self) -> RGBColor {
         match self {
             Method::FirstOrder => RGBColor(200, 60, 40),
             Method::Variational => RGBColor(40, 90, 200),

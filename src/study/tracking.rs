@@ -1,15 +1,19 @@
 //! Figure 6 of the paper: plans of a problem solved at K knots over its horizon by each
-//! method (first order: `integrator = "euler"`, variational: `"midpoint"`), each tracked from
-//! the plan's initial state by PD feedback on its joints (the plan's inputs as feedforward)
-//! in a first-order simulation at 2 kHz. A plan's error is the RMS over the simulation's
+//! method (first order: `integrator = "euler"`, variational: `"midpoint"`; also the Galerkin
+//! members), each tracked from the plan's initial state by PD feedback on its joints (the
+//! plan's inputs as feedforward) in a first-order simulation at 2 kHz (or another
+//! integrator and rate). A plan's error is the RMS over the simulation's
 //! knots of ‖x − x_plan(t)‖, x = (q, v) in the problem's units, q_plan linear between the
 //! plan's knots and v_plan its slope (the reference the PD controller tracks).
 //!
 //! The plans are one gait at different accuracies, not a local optimum per K (which made the
 //! errors of independent solves incomparable: BENCHMARKS.md): the variational plan at the
 //! smallest K starts from the file's guess, each next K's from the previous variational plan
-//! resampled to its knots, and the first-order plan at each K from the variational plan at
-//! that K.
+//! resampled to its knots, and the other methods' plans at each K from the variational plan
+//! at that K.
+//!
+//! Each plan's record also holds its solve's cost (NLP variables, wall time) and its error at
+//! its own knots: the accuracy-for-cost frontier (`super::frontier`).
 
 use std::path::{Path, PathBuf};
 
@@ -49,6 +53,14 @@ pub struct PlanRecord {
     /// tracked): a body that tips over shows here as a deviation of its base's attitude
     /// beyond a few tenths of a radian.
     pub max_deviation: Option<f64>,
+    /// NLP variables of the plan's solve.
+    pub variables: usize,
+    /// Wall time of the plan's solve (s).
+    pub wall_time_s: f64,
+    /// RMS over the plan's knots of ‖q_sim(t_k) − q_k‖ (problem units; None when not
+    /// tracked): the configuration error where the plan states it, free of any interpolation
+    /// between knots.
+    pub knot_error: Option<f64>,
     /// `tracked`, or why the plan has no error row (Ipopt's status when it was not solved,
     /// `relaxed contact` when its slack exceeds the problem's `slack.tolerance`
     /// ([`SolveVerdict::RelaxedContact`]: its feet push through the ground or pull on it, and
@@ -163,6 +175,10 @@ pub struct Tracking {
     pub feedback: Option<crate::sim::Feedback>,
     /// Steps per time unit of the tracking simulation.
     pub rate: f64,
+    /// The methods planned (the paper's: first order and variational).
+    pub methods: Vec<Method>,
+    /// The tracking simulation's integrator (the paper's: first order).
+    pub reference: crate::discrete::Integrator,
 }
 
 impl Tracking {
@@ -176,6 +192,12 @@ impl Tracking {
         };
         if self.knots.is_empty() || self.knots.iter().any(|&k| !(3..=10_000).contains(&k)) {
             return invalid("--knots", "give knot counts from 3 to 10000, e.g. 10,15,20");
+        }
+        if self.methods.is_empty() {
+            return invalid(
+                "--methods",
+                "give at least one integrator, e.g. euler,midpoint",
+            );
         }
         if !(self.rate.is_finite() && self.rate > 0.0 && self.rate <= 1e6) {
             return invalid(
@@ -220,12 +242,16 @@ impl Tracking {
         let mut knots = self.knots.clone();
         knots.sort_unstable();
         knots.dedup();
-        let total = 2 * knots.len();
+        // The variational plan first at each K: the others start from it.
+        let mut methods = self.methods.clone();
+        methods.sort_by_key(|&m| (m != Method::Variational, table_order(0, m)));
+        methods.dedup();
+        let total = methods.len() * knots.len();
         // The last solved variational plan: the start of the next K's variational plan and of
-        // this K's first-order plan.
+        // this K's other plans.
         let mut previous: Option<(String, WarmStart)> = None;
         for &knots in &knots {
-            for method in [Method::Variational, Method::FirstOrder] {
+            for &method in &methods {
                 let what = format!("{} with {knots} knots", method.name());
                 let start = previous.clone();
                 let mut set = overrides.to_vec();
@@ -265,6 +291,9 @@ impl Tracking {
                     objective: plan.objective,
                     max_slack: plan.max_slack,
                     iterations: plan.iterations,
+                    variables: plan.size.n_variables,
+                    wall_time_s: plan.wall_time_s,
+                    knot_error: None,
                     start: start_name,
                     trajectory_csv: crate::report::trajectory_csv(&plan, &units),
                     max_deviation: None,
@@ -304,7 +333,7 @@ impl Tracking {
                 let h = 1.0 / self.rate;
                 let duration = plan.times.last().copied().unwrap_or(0.0);
                 let options = SimulationOptions {
-                    integrator: Method::FirstOrder.integrator(),
+                    integrator: self.reference,
                     h,
                     steps: (duration / h).round().max(1.0) as usize,
                     step: StepOptions {
@@ -350,6 +379,7 @@ impl Tracking {
                 };
                 if let Some(p) = plans.last_mut() {
                     p.max_deviation = Some(max_deviation(&sim, &reference));
+                    p.knot_error = Some(knot_error(&sim, &reference));
                 }
                 table.add_run(knots, method, rms_error(&sim, &reference, true));
                 joints.add_run(knots, method, rms_error_of(&sim, &reference, true, &driven));
@@ -391,6 +421,30 @@ pub fn rms_error_of(
         sum += dq * dq + dv * dv;
     });
     (sum / sim.q.len() as f64).sqrt()
+}
+
+/// √(mean over the plan's knots t_k within the simulation of ‖q_sim(t_k) − q_k‖²), q_sim
+/// linear between the simulation's steps.
+pub fn knot_error(sim: &Simulation, plan: &RecordedTrajectory) -> f64 {
+    let (mut sum, mut count) = (0.0, 0usize);
+    let last = sim.times.len().saturating_sub(1);
+    for (&t, q_plan) in plan.times.iter().zip(&plan.q) {
+        if last == 0 || t > sim.times[last] + 1e-9 * t.abs().max(1.0) {
+            continue;
+        }
+        let j = sim.times.partition_point(|&s| s <= t).clamp(1, last);
+        let (t0, t1) = (sim.times[j - 1], sim.times[j]);
+        let s = ((t - t0) / (t1 - t0)).clamp(0.0, 1.0);
+        for (i, &p) in q_plan.iter().enumerate() {
+            let q = sim.q[j - 1][i] + s * (sim.q[j][i] - sim.q[j - 1][i]);
+            sum += (q - p) * (q - p);
+        }
+        count += 1;
+    }
+    if count == 0 {
+        return f64::NAN;
+    }
+    (sum / count as f64).sqrt()
 }
 
 /// max over the simulation's knots and coordinates of |q_i − q_ref,i(t)|.

@@ -361,3 +361,26 @@ fn galerkin4_plan_replays_in_simulate() {
         );
     }
 }
+
+/// Spring Flamingo at 2 kHz with the Galerkin members (h = 0.5 ms: the interior points'
+/// stationarity sums momenta over h whose round-off, ~1e-11, is above a tolerance relative to
+/// the end momenta): the interior Newton accepts its round-off floor instead of stopping the
+/// simulation, and the steps' residuals stay at round-off.
+#[test]
+fn galerkin_steps_converge_at_the_round_off_floor() {
+    let t = TestDir::new("simulate-galerkin-floor");
+    let problem = problems_dir().join("spring_flamingo_walk.toml");
+    for name in ["galerkin4", "galerkin6"] {
+        let out = t.path().join(name);
+        t.vito()
+            .args(["simulate".as_ref(), problem.as_os_str(), "--out".as_ref()])
+            .args([out.as_os_str()])
+            .args(["--integrator", name, "--rate", "2000", "--duration", "0.05"])
+            .args(["--quiet"])
+            .assert_exit(0);
+        let s = summary(&out);
+        assert_eq!(s["steps"], 100);
+        let residual = s["max_dynamics_residual"].as_f64().unwrap();
+        assert!(residual < 1e-8, "{name}: residual {residual}");
+    }
+}

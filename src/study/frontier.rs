@@ -1,0 +1,175 @@
+//! The accuracy-for-cost frontier of a tracking study's plans: each tracked plan's error at its
+//! own knots ([`PlanRecord::knot_error`]) against what its solve cost (wall time, NLP
+//! variables), one curve per method, so that a higher-order method's extra variables per
+//! interval can be weighed against the knots it saves.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use plotters::prelude::*;
+
+use super::StudyError;
+use super::tracking::PlanRecord;
+
+/// What a frontier plot puts on its x axis.
+type PlanMeasure = fn(&PlanRecord) -> f64;
+
+/// The header of `tracking_frontier.csv`.
+pub const FRONTIER_CSV_HEADER: &str =
+    "knots,method,variables,iterations,wall_time_s,knot_error,objective";
+
+/// `tracking_frontier.csv`: one line per tracked plan, in the plans' order.
+pub fn frontier_csv(plans: &[PlanRecord]) -> String {
+    let mut s = format!("{FRONTIER_CSV_HEADER}\n");
+    for p in plans {
+        let Some(error) = p.knot_error else { continue };
+        // Infallible: writing to a String.
+        let _ = writeln!(
+            s,
+            "{},{},{},{},{:.4},{:.6e},{:.10e}",
+            p.knots,
+            p.method.name(),
+            p.variables,
+            p.iterations,
+            p.wall_time_s,
+            error,
+            p.objective
+        );
+    }
+    s
+}
+
+/// Writes `tracking_frontier.csv`, `tracking_frontier_time.svg` (knot error against solve wall
+/// time) and `tracking_frontier_size.svg` (against NLP variables) into `dir`, log-log.
+pub fn write_frontier(dir: &Path, plans: &[PlanRecord], title: &str) -> Result<(), StudyError> {
+    let fail = |path: &Path, e: &dyn std::fmt::Display| StudyError::Write {
+        path: path.to_owned(),
+        message: e.to_string(),
+    };
+    let csv = dir.join("tracking_frontier.csv");
+    crate::report::write_file_atomic(&csv, frontier_csv(plans).as_bytes())
+        .map_err(|e| fail(&csv, &e))?;
+    let axes: [(&str, &str, PlanMeasure); 2] = [
+        ("time", "solve wall time (s)", |p| p.wall_time_s),
+        ("size", "NLP variables", |p| p.variables as f64),
+    ];
+    for (stem, x_label, x) in axes {
+        let svg = dir.join(format!("tracking_frontier_{stem}.svg"));
+        let staging = dir.join(format!("tracking_frontier_{stem}.svg.tmp"));
+        frontier_svg(&staging, plans, title, x_label, x).map_err(|e| fail(&svg, &e))?;
+        std::fs::rename(&staging, &svg).map_err(|e| fail(&svg, &e))?;
+    }
+    Ok(())
+}
+
+/// Error at the knots against `x` of each tracked plan, a line per method through its knot
+/// counts.
+fn frontier_svg(
+    path: &Path,
+    plans: &[PlanRecord],
+    title: &str,
+    x_label: &str,
+    x: PlanMeasure,
+) -> Result<(), String> {
+    let e = |e: &dyn std::fmt::Display| e.to_string();
+    let points: Vec<(&PlanRecord, f64, f64)> = plans
+        .iter()
+        .filter_map(|p| Some((p, x(p), p.knot_error?)))
+        .filter(|(_, a, b)| *a > 0.0 && *b > 0.0 && a.is_finite() && b.is_finite())
+        .collect();
+    let range = |values: &mut dyn Iterator<Item = f64>| {
+        let (lo, hi) = values.fold((f64::INFINITY, 0.0_f64), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        });
+        if lo.is_finite() && hi > 0.0 {
+            (lo / 1.5, hi * 1.5)
+        } else {
+            (0.1, 10.0)
+        }
+    };
+    let (x_lo, x_hi) = range(&mut points.iter().map(|p| p.1));
+    let (y_lo, y_hi) = range(&mut points.iter().map(|p| p.2));
+    let root = SVGBackend::new(path, (800, 480)).into_drawing_area();
+    root.fill(&WHITE).map_err(|x| e(&x))?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 20))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(70)
+        .build_cartesian_2d((x_lo..x_hi).log_scale(), (y_lo..y_hi).log_scale())
+        .map_err(|x| e(&x))?;
+    chart
+        .configure_mesh()
+        .x_desc(x_label)
+        .y_desc("RMS configuration error at the plan's knots")
+        .draw()
+        .map_err(|x| e(&x))?;
+    let mut methods: Vec<_> = points.iter().map(|p| p.0.method).collect();
+    methods.sort_by_key(|&m| super::table_order(0, m));
+    methods.dedup();
+    for method in methods {
+        let colour = method.colour();
+        let mut line: Vec<(usize, f64, f64)> = points
+            .iter()
+            .filter(|p| p.0.method == method)
+            .map(|p| (p.0.knots, p.1, p.2))
+            .collect();
+        line.sort_by_key(|p| p.0);
+        let xy: Vec<(f64, f64)> = line.iter().map(|p| (p.1, p.2)).collect();
+        chart
+            .draw_series(LineSeries::new(xy.clone(), colour.stroke_width(2)))
+            .map_err(|x| e(&x))?
+            .label(method.label())
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(2))
+            });
+        chart
+            .draw_series(line.iter().map(|&(k, a, b)| {
+                EmptyElement::at((a, b))
+                    + Circle::new((0, 0), 3, colour.filled())
+                    + Text::new(format!("K={k}"), (5, -12), ("sans-serif", 11))
+            }))
+            .map_err(|x| e(&x))?;
+    }
+    crate::report::plot::legend_and_present(&mut chart, &root)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::study::Method;
+
+    fn plan(knots: usize, method: Method, error: Option<f64>) -> PlanRecord {
+        PlanRecord {
+            knots,
+            method,
+            objective: 1.5,
+            max_slack: 0.0,
+            iterations: 40,
+            variables: 100 * knots,
+            wall_time_s: 0.25,
+            knot_error: error,
+            start: "guess".into(),
+            trajectory_csv: String::new(),
+            max_deviation: error,
+            outcome: "tracked".into(),
+        }
+    }
+
+    /// Tracked plans only, in the documented columns.
+    #[test]
+    fn frontier_csv_has_a_line_per_tracked_plan() {
+        let plans = [
+            plan(10, Method::Variational, Some(2e-3)),
+            plan(10, Method::Galerkin4, None),
+            plan(20, Method::Galerkin4, Some(1e-5)),
+        ];
+        assert_eq!(
+            frontier_csv(&plans),
+            format!(
+                "{FRONTIER_CSV_HEADER}\n10,variational,1000,40,0.2500,2.000000e-3,1.5000000000e0\n\
+                 20,galerkin4,2000,40,0.2500,1.000000e-5,1.5000000000e0\n"
+            )
+        );
+    }
+}
