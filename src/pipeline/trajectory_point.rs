@@ -73,5 +73,8 @@ pub fn point_from_trajectory<M: MechanicsDerivatives>(
     for s in 0..l.slacks_per_interval() {
         set(&mut x, &format!("slack_{s}"), &|j| l.slack(j).start + s);
     }
+    // A Galerkin member's interior points (not in the file) where the trajectory's intervals
+    // put them.
+    nlp.set_interior_points(&mut x, true);
     Ok(x)
 }

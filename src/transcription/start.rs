@@ -3,7 +3,7 @@
 
 use super::program::check_len;
 use super::{Transcription, TranscriptionError};
-use crate::discrete::MechanicsDerivatives;
+use crate::discrete::{MechanicsDerivatives, galerkin_interval};
 use crate::problem::{InitialGuess, Interval, KnotSet, ProblemSpec, TimeSteps};
 
 pub(super) fn intersect(a: Interval, b: Interval) -> Interval {
@@ -216,15 +216,35 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                 *xi = lo;
             }
         }
-        // A Galerkin interval's interior points start on the chord between its knots.
-        if let Some(rule) = &self.ctx.galerkin {
-            for j in 0..l.intervals() {
-                let chord = rule.chord_interior(&x[l.q(j)], &x[l.q(j + 1)]);
-                x[l.interior_points(j)].copy_from_slice(&chord);
-            }
-        }
+        // From the linear guess the chord is the better start (hopper galerkin4: 91 iterations
+        // against 250 from the stationary points).
+        let warm = matches!(spec.initial_guess, InitialGuess::WarmStart(_));
+        self.set_interior_points(&mut x, warm);
         self.x_initial = x;
         Ok(())
+    }
+
+    /// Sets a Galerkin integrator's interior points in `x` from its knots: on the chord between
+    /// each interval's knots, or with `from_dynamics` where the interval's dynamics put them
+    /// given its knots, input and step (stationary, as at a solution: a plan of the same
+    /// integrator gets its interior points back), on the chord where that Newton solve fails.
+    /// Nothing for another integrator.
+    pub fn set_interior_points(&self, x: &mut [f64], from_dynamics: bool) {
+        let Some(rule) = &self.ctx.galerkin else {
+            return;
+        };
+        let l = &self.layout;
+        for j in 0..l.intervals() {
+            let (qa, qb) = (&x[l.q(j)], &x[l.q(j + 1)]);
+            let chord = || rule.chord_interior(qa, qb);
+            let interior = if from_dynamics {
+                galerkin_interval(&self.mech, rule, qa, qb, &x[l.u(j)], x[l.h(j)], None)
+                    .map_or_else(|_| chord(), |interval| interval.interior)
+            } else {
+                chord()
+            };
+            x[l.interior_points(j)].copy_from_slice(&interior);
+        }
     }
 
     /// Start the next solve from `x` (all variables, e.g. a previous solution), clamped to the

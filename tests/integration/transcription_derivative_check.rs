@@ -71,15 +71,34 @@ fn foot_on_edge(nlp: &Transcription<ModelMechanics>, foot: usize) -> Vec<f64> {
         let s = -0.9 + 1.8 * (k - 1) as f64 / (l.knots - 2) as f64;
         x[l.q(k).start] += edge + s * width - foot_x;
     }
+    // A Galerkin member's interior points on the chord between the moved knots: their foot
+    // lies between the knots' feet, on the edge too.
+    if let Some(rule) = &nlp.context().galerkin {
+        for j in 0..l.intervals() {
+            let chord = rule.chord_interior(&x[l.q(j)], &x[l.q(j + 1)]);
+            x[l.interior_points(j)].copy_from_slice(&chord);
+        }
+    }
     x
 }
 
 #[test]
 fn littledog_passes_with_each_foot_on_the_step_edge() {
-    let p = problem("littledog_step.toml", &[]);
+    littledog_passes_on_the_step_edge(&[], &[0, 1, 2, 3]);
+}
+
+/// The same with galerkin4 (interior points on the edge as well, their φ rows checked):
+/// a front and a hind foot.
+#[test]
+fn littledog_galerkin4_passes_with_a_foot_on_the_step_edge() {
+    littledog_passes_on_the_step_edge(&["solver.integrator=galerkin4"], &[0, 3]);
+}
+
+fn littledog_passes_on_the_step_edge(overrides: &[&str], feet: &[usize]) {
+    let p = problem("littledog_step.toml", overrides);
     let nlp = build_nlp(&p.spec).unwrap();
     let l = nlp.layout();
-    for foot in 0..4 {
+    for &foot in feet {
         let x = foot_on_edge(&nlp, foot);
         let check = assert_passes(&p, &nlp, &x, &format!("foot {foot} on the edge"));
         // The terrain slope is in play: ∂φ/∂base_x at a mid knot is −H'(x) ≈ −11 there.
@@ -97,6 +116,22 @@ fn littledog_passes_with_each_foot_on_the_step_edge() {
             slope.declared && slope.finite_difference < -1.0,
             "{slope:?}"
         );
+        // And at an interior point of the interval after that knot (a Galerkin member).
+        if l.interior > 0 {
+            let slope = check
+                .entries
+                .iter()
+                .find(|e| {
+                    e.kind == DerivativeKind::Jacobian
+                        && e.row == l.rows_of("InteriorDistance", k).start + foot
+                        && e.col == l.interior(k, 0).start
+                })
+                .unwrap();
+            assert!(
+                slope.declared && slope.finite_difference < -1.0,
+                "{slope:?}"
+            );
+        }
     }
 }
 

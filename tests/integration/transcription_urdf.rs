@@ -163,3 +163,49 @@ fn galerkin_transcription_adds_interior_points_and_their_rows() {
         }
     }
 }
+
+/// A galerkin4 plan read back from its `trajectory.csv` as an NLP point (`vito check --at`):
+/// the interior points, not in the file, are put where the intervals' dynamics put them, so
+/// their stationarity rows hold there to the solver's tolerance (on the chord between the
+/// knots they would be off by the interval's curvature).
+#[test]
+fn galerkin_plan_read_back_has_its_interior_points() {
+    use vito::ipopt::OptionValue;
+    use vito::transcription::SolveOptions;
+    let load = vito::problem::load(
+        &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/hopper_2d.toml"),
+        &[vito::problem::Override::parse("solver.integrator=galerkin4").unwrap()],
+    )
+    .unwrap();
+    let options = SolveOptions {
+        ipopt_options: vec![("print_level".into(), OptionValue::Int(0))],
+        ..SolveOptions::default()
+    };
+    let plan = vito::pipeline::solve(&load.spec, &options).expect("solves");
+    assert!(plan.verdict().is_solved());
+    let units = vito::report::column_units(&load.robot, &load.units);
+    let text = vito::report::trajectory_csv(&plan, &units);
+    let nlp = vito::pipeline::build_nlp(&load.spec).unwrap();
+    let contacts: Vec<String> = load.spec.contacts.iter().map(|c| c.name.clone()).collect();
+    let mut x = vito::pipeline::trajectory_point::point_from_trajectory(
+        &nlp,
+        &load.robot,
+        &contacts,
+        &text,
+    )
+    .unwrap();
+    let l = nlp.layout();
+    let stationarity = |x: &[f64]| {
+        let mut g = vec![0.0; l.num_constraints()];
+        nlp.constraints(x, &mut g);
+        (0..l.intervals())
+            .flat_map(|j| l.rows_of("GalerkinForce", j))
+            .fold(0.0_f64, |a, r| a.max(g[r].abs()))
+    };
+    let restored = stationarity(&x);
+    nlp.set_interior_points(&mut x, false);
+    let chord = stationarity(&x);
+    println!("interior stationarity: restored {restored:.3e}, on the chord {chord:.3e}");
+    assert!(restored < 1e-8, "{restored}");
+    assert!(chord > 1e3 * restored.max(1e-12), "{chord}");
+}

@@ -170,8 +170,8 @@ weight = 100.0
     assert_eq!((variables, constraints), (300, 202));
 }
 
-/// `vito check --derivatives` passes on every problem file at its initial guess, and names
-/// where it checked and its tolerance rule.
+/// `vito check --derivatives` passes on every problem file at its initial guess, with its own
+/// integrator and with galerkin4, and names where it checked and its tolerance rule.
 #[test]
 fn every_problem_passes_the_derivative_check_at_its_initial_guess() {
     let t = TestDir::new("derivative_check_initial_guess");
@@ -184,20 +184,24 @@ fn every_problem_passes_the_derivative_check_at_its_initial_guess() {
         } else {
             &[]
         };
-        let run = t
-            .vito()
-            .args([std::ffi::OsStr::new("check"), "--derivatives".as_ref()])
-            .args(knots)
-            .args([file.as_os_str()])
-            .assert_exit(0);
-        assert!(
-            run.stdout.contains("derivative check at the initial guess")
-                && run.stdout.contains("tolerance:")
-                && run.stdout.trim_end().ends_with("passed"),
-            "{}: {}",
-            file.display(),
-            run.stdout
-        );
+        // As the file says, and with galerkin4 (interior points, their stationarity and φ rows).
+        for integrator in [None, Some("solver.integrator=galerkin4")] {
+            let run = t
+                .vito()
+                .args([std::ffi::OsStr::new("check"), "--derivatives".as_ref()])
+                .args(knots)
+                .args(integrator.map(|set| ["--set", set]).into_iter().flatten())
+                .args([file.as_os_str()])
+                .assert_exit(0);
+            assert!(
+                run.stdout.contains("derivative check at the initial guess")
+                    && run.stdout.contains("tolerance:")
+                    && run.stdout.trim_end().ends_with("passed"),
+                "{} {integrator:?}: {}",
+                file.display(),
+                run.stdout
+            );
+        }
     }
 }
 
@@ -217,6 +221,27 @@ fn derivative_check_at_a_solved_trajectory() {
         .args([trajectory.as_os_str(), problem.as_os_str()])
         .assert_exit(0);
     assert!(run.stdout.contains("trajectory.csv ("), "{}", run.stdout);
+    // A galerkin4 plan, checked at its trajectory (interior points on the chord between its
+    // knots).
+    t.vito()
+        .args(["solve", "hopper.toml", "--quiet", "--out", "g4"])
+        .args(["--set", "solver.integrator=galerkin4"])
+        .assert_exit(0);
+    let run = t
+        .vito()
+        .args([
+            "check",
+            "--derivatives",
+            "--set",
+            "solver.integrator=galerkin4",
+            "--at",
+        ])
+        .args([
+            t.path().join("g4/trajectory.csv").as_os_str(),
+            problem.as_os_str(),
+        ])
+        .assert_exit(0);
+    assert!(run.stdout.trim_end().ends_with("passed"), "{}", run.stdout);
     let run = t
         .vito()
         .args([
