@@ -321,7 +321,9 @@ pub enum StudyKind {
     /// state error per K and method (tracking.csv, tracking_runs.csv, tracking.svg, the
     /// plans' records in tracking_plans.csv and trajectories in plans/). One gait: the
     /// smallest K's variational plan starts from the file's guess, each next K's from the
-    /// previous one, the first-order plan at each K from the variational plan at that K.
+    /// previous one, the other methods' plans at each K from the variational plan at that K;
+    /// tracking_frontier.csv and its plots: each plan's error at its knots against its solve's
+    /// wall time and variables.
     Tracking {
         /// The problem file planned (its horizon kept: a fixed step becomes T/(K − 1)).
         #[arg(long, default_value = "problems/hopper_2d.toml")]
