@@ -265,6 +265,37 @@ pub enum Command {
     },
 }
 
+/// The methods a study compares and its reference simulation (`vito study brick-accuracy` and
+/// `tracking`).
+#[derive(Debug, clap::Args)]
+pub struct StudyMethods {
+    /// The integrators compared (comma-separated; the paper's figures: euler,midpoint).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "euler,midpoint",
+        value_parser = integrator_parser()
+    )]
+    pub methods: Vec<Integrator>,
+    /// The reference simulation's integrator (the paper's: euler).
+    #[arg(long, default_value = "euler", value_parser = integrator_parser())]
+    pub reference: Integrator,
+    /// The reference simulation's steps per time unit.
+    #[arg(long, default_value_t = 2000.0)]
+    pub reference_rate: f64,
+}
+
+impl StudyMethods {
+    /// The methods as the studies name them.
+    pub fn study_methods(&self) -> Vec<vito::study::Method> {
+        self.methods
+            .iter()
+            .copied()
+            .map(vito::study::Method::of)
+            .collect()
+    }
+}
+
 /// `vito study ...`.
 #[derive(Debug, Subcommand)]
 pub enum StudyKind {
@@ -295,20 +326,9 @@ pub enum StudyKind {
         /// Largest initial roll and pitch (rad).
         #[arg(long, default_value_t = 0.2)]
         tilt: f64,
-        /// The integrators compared (comma-separated; the paper's figure: euler,midpoint).
-        #[arg(
-            long,
-            value_delimiter = ',',
-            default_value = "euler,midpoint",
-            value_parser = integrator_parser()
-        )]
-        methods: Vec<Integrator>,
-        /// The reference's integrator (the paper's: euler).
-        #[arg(long, default_value = "euler", value_parser = integrator_parser())]
-        reference: Integrator,
-        /// The reference's steps per second.
-        #[arg(long, default_value_t = 2000.0)]
-        reference_rate: f64,
+        /// The methods and the reference simulation.
+        #[command(flatten)]
+        methods: StudyMethods,
         /// Output directory.
         #[arg(long, default_value = "out/brick_accuracy")]
         out: PathBuf,
@@ -342,20 +362,9 @@ pub enum StudyKind {
         /// explicit]; see `vito simulate --feedback`.
         #[arg(long, value_enum)]
         feedback: Option<FeedbackArg>,
-        /// The integrators planned (comma-separated; the paper's figure: euler,midpoint).
-        #[arg(
-            long,
-            value_delimiter = ',',
-            default_value = "euler,midpoint",
-            value_parser = integrator_parser()
-        )]
-        methods: Vec<Integrator>,
-        /// The tracking simulation's integrator (the paper's: euler).
-        #[arg(long, default_value = "euler", value_parser = integrator_parser())]
-        reference: Integrator,
-        /// The tracking simulation's steps per time unit.
-        #[arg(long, default_value_t = 2000.0)]
-        reference_rate: f64,
+        /// The methods and the reference simulation.
+        #[command(flatten)]
+        methods: StudyMethods,
         /// Output directory.
         #[arg(long, default_value = "out/tracking")]
         out: PathBuf,

@@ -141,8 +141,6 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
                     spin,
                     tilt,
                     methods,
-                    reference,
-                    reference_rate,
                     out,
                     quiet,
                 },
@@ -153,9 +151,9 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
                 horizon,
                 spin,
                 tilt,
-                methods: methods.into_iter().map(vito::study::Method::of).collect(),
-                reference: vito::study::Method::of(reference),
-                reference_rate,
+                methods: methods.study_methods(),
+                reference: vito::study::Method::of(methods.reference),
+                reference_rate: methods.reference_rate,
             };
             study::brick_accuracy(&problem, &study, &out, quiet)
         }
@@ -168,8 +166,6 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
                     gains,
                     feedback,
                     methods,
-                    reference,
-                    reference_rate,
                     out,
                     quiet,
                 },
@@ -178,9 +174,9 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
                 knots,
                 gains,
                 feedback: feedback.map(Into::into),
-                rate: reference_rate,
-                methods: methods.into_iter().map(vito::study::Method::of).collect(),
-                reference,
+                rate: methods.reference_rate,
+                methods: methods.study_methods(),
+                reference: methods.reference,
             };
             study::tracking(&problem, &set, &study, &out, quiet)
         }
