@@ -100,15 +100,13 @@ pub fn step(
     let n = model.nq();
     check_len("q_prev", q_prev.len(), n)?;
     check_inputs(model, q_curr, u, h)?;
-    let before = match integrator {
+    let before = match integrator.galerkin_rule() {
+        Some(rule) => Before::galerkin(model, rule, |mech, rule| {
+            arriving_momentum(mech, Some(rule), q_prev, q_curr, u, h)
+        })?,
+        None if integrator == Integrator::Euler => Before::PreviousConfiguration(q_prev.to_vec()),
         // The knot's incoming momentum D2Ld(q_{k−1}, q_k) + ½Fd_{k−1} does not change.
-        Integrator::Midpoint => Before::Momentum(momentum_after(model, q_prev, q_curr, u, h)),
-        Integrator::Galerkin4 | Integrator::Galerkin6 => {
-            Before::galerkin(model, integrator, |mech, rule| {
-                arriving_momentum(mech, Some(rule), q_prev, q_curr, u, h)
-            })?
-        }
-        Integrator::Euler => Before::PreviousConfiguration(q_prev.to_vec()),
+        None => Before::Momentum(momentum_after(model, q_prev, q_curr, u, h)),
     };
     let guess = q_curr
         .iter()
@@ -133,16 +131,12 @@ pub fn first_step(
     let n = model.nq();
     check_len("v_first", v_first.len(), n)?;
     check_inputs(model, q_first, u, h)?;
-    let before = match integrator {
-        Integrator::Midpoint => {
-            Before::Momentum(crate::model::generalized_momentum(model, q_first, v_first))
-        }
-        Integrator::Galerkin4 | Integrator::Galerkin6 => {
-            Before::galerkin(model, integrator, |_, _| {
-                Ok(crate::model::generalized_momentum(model, q_first, v_first))
-            })?
-        }
-        Integrator::Euler => Before::Velocity(v_first.to_vec()),
+    let before = match integrator.galerkin_rule() {
+        Some(rule) => Before::galerkin(model, rule, |_, _| {
+            Ok(crate::model::generalized_momentum(model, q_first, v_first))
+        })?,
+        None if integrator == Integrator::Euler => Before::Velocity(v_first.to_vec()),
+        None => Before::Momentum(crate::model::generalized_momentum(model, q_first, v_first)),
     };
     let guess = q_first
         .iter()
@@ -179,17 +173,14 @@ enum Before {
 }
 
 impl Before {
-    /// The Galerkin member `integrator` of `model` (a copy, without contacts) with the
-    /// incoming momentum `p_minus` computes from it.
+    /// The Galerkin member `rule` of `model` (a copy, without contacts) with the incoming
+    /// momentum `p_minus` computes from it.
     fn galerkin(
         model: &Model,
-        integrator: Integrator,
+        rule: GalerkinRule,
         p_minus: impl FnOnce(&ModelMechanics, &GalerkinRule) -> Result<Vec<f64>, StepError>,
     ) -> Result<Before, StepError> {
         let mech = Box::new(ModelMechanics::with_contacts(model.clone(), Vec::new()));
-        let Some(rule) = integrator.galerkin_rule() else {
-            unreachable!("`Before::galerkin` is called for the Galerkin members only")
-        };
         Ok(Before::Galerkin {
             p_minus: p_minus(&mech, &rule)?,
             mech,
