@@ -100,6 +100,9 @@ fn frontier_svg(
         .map_err(|x| e(&x))?;
     chart
         .configure_mesh()
+        .light_line_style(WHITE)
+        .x_label_formatter(&|v| format!("{v:.3}"))
+        .y_label_formatter(&|v| format!("{v:.1e}"))
         .x_desc(x_label)
         .y_desc("RMS configuration error at the plan's knots")
         .draw()
