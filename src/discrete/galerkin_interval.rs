@@ -7,7 +7,10 @@
 
 use nalgebra::DMatrix;
 
-use super::{GalerkinRule, HalfForce, MechanicsDerivatives, StepError, incoming_momentum};
+use super::{
+    GalerkinRule, HalfForce, MechanicsDerivatives, StepError, action_gradient_hessian,
+    incoming_momentum,
+};
 use crate::autodiff::jacobian;
 
 /// Newton iterations before the interior solve gives up.
@@ -62,7 +65,15 @@ pub fn galerkin_stationarity<M: MechanicsDerivatives>(
     let size = points.len();
     let mut value = vec![0.0; size];
     let mut jac = DMatrix::zeros(size, size + m);
-    let forced = mech.has_discrete_force();
+    // ∇A and ∇²A over [control points; h], less the h row and column.
+    let x: Vec<f64> = points.iter().copied().chain([h]).collect();
+    let (gradient, hessian) = action_gradient_hessian(mech, rule, &x);
+    value.copy_from_slice(&gradient[..size]);
+    jac.view_mut((0, 0), (size, size))
+        .copy_from(&hessian.view((0, 0), (size, size)));
+    if !mech.has_discrete_force() {
+        return (value, jac);
+    }
     for (i, &b) in rule.quadrature_weights().iter().enumerate() {
         let weights = rule.segment_weights(i);
         let ends = |pick: fn(&(f64, f64)) -> f64| -> Vec<f64> {
@@ -73,42 +84,21 @@ pub fn galerkin_stationarity<M: MechanicsDerivatives>(
             q
         };
         let (qa, qb) = (ends(|w| w.0), ends(|w| w.1));
-        let z: Vec<f64> = qa.iter().chain(&qb).copied().chain([h]).collect();
-        let (grad, hess) = mech.segment_gradient_hessian(&z);
-        // Row/column ν·n + j of A picks wa_ν of slot j and wb_ν of slot n + j.
+        let zf: Vec<f64> = qa.iter().chain(&qb).chain(u).copied().chain([h]).collect();
+        let (half, half_jac) = jacobian(&HalfForce { mech }, &zf);
         for (nu, &(wa, wb)) in weights.iter().enumerate() {
-            for j in 0..n {
-                value[nu * n + j] += b * (wa * grad[j] + wb * grad[n + j]);
-            }
-            for (mu, &(va, vb)) in weights.iter().enumerate() {
-                for r in 0..n {
+            // h·b_i·ℓ_ν(c_i)·f = 2 b_i ℓ_ν(c_i)·½Fd_i, ℓ_ν = (wa_ν + wb_ν)/2.
+            let scale = b * (wa + wb);
+            for r in 0..n {
+                value[nu * n + r] += scale * half[r];
+                for (mu, &(va, vb)) in weights.iter().enumerate() {
                     for c in 0..n {
-                        let second = wa * va * hess[(r, c)]
-                            + wa * vb * hess[(r, n + c)]
-                            + wb * va * hess[(n + r, c)]
-                            + wb * vb * hess[(n + r, n + c)];
-                        jac[(nu * n + r, mu * n + c)] += b * second;
+                        jac[(nu * n + r, mu * n + c)] +=
+                            scale * (va * half_jac[(r, c)] + vb * half_jac[(r, n + c)]);
                     }
                 }
-            }
-        }
-        if forced {
-            let zf: Vec<f64> = qa.iter().chain(&qb).chain(u).copied().chain([h]).collect();
-            let (half, half_jac) = jacobian(&HalfForce { mech }, &zf);
-            for (nu, &(wa, wb)) in weights.iter().enumerate() {
-                // h·b_i·ℓ_ν(c_i)·f = 2 b_i ℓ_ν(c_i)·½Fd_i, ℓ_ν = (wa_ν + wb_ν)/2.
-                let scale = b * (wa + wb);
-                for r in 0..n {
-                    value[nu * n + r] += scale * half[r];
-                    for (mu, &(va, vb)) in weights.iter().enumerate() {
-                        for c in 0..n {
-                            jac[(nu * n + r, mu * n + c)] +=
-                                scale * (va * half_jac[(r, c)] + vb * half_jac[(r, n + c)]);
-                        }
-                    }
-                    for c in 0..m {
-                        jac[(nu * n + r, size + c)] += scale * half_jac[(r, 2 * n + c)];
-                    }
+                for c in 0..m {
+                    jac[(nu * n + r, size + c)] += scale * half_jac[(r, 2 * n + c)];
                 }
             }
         }
