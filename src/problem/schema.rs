@@ -134,6 +134,11 @@ pub struct ContactsSection {
     /// η) towards 1e6–1e8; a bound well above any real foot speed stops that drift without
     /// cutting off a physical motion. Default: none (SPEC.md's NLP).
     pub max_slip_speed: Option<f64>,
+    /// Intervals per contact-mode block (default 1): each complementarity row pairs an
+    /// interval's variable with the sum of its partner over the block, so that at zero slack
+    /// a contact keeps one mode (in contact or not, sliding or sticking) through each block of
+    /// this many consecutive intervals.
+    pub mode_block: Option<i64>,
     /// Explicit contact points, after the URDF ones.
     #[serde(default)]
     pub point: Vec<ContactPointEntry>,

@@ -277,6 +277,10 @@ pub struct ProblemSpec {
     pub slack_mode: SlackMode,
     /// Upper bound on every ψ (sliding speed), when set.
     pub max_slip_speed: Option<f64>,
+    /// Intervals per contact-mode block m ≥ 1 (`contacts.mode_block`): the complementarity
+    /// rows of interval j pair its ψ, η, c with the sums of the cone, β and φ over j's block
+    /// of m consecutive intervals (the last block may be shorter); 1 is SPEC.md's NLP.
+    pub mode_block: usize,
     /// Largest slack of a solved plan (`slack.tolerance`): above it the plan relaxes the
     /// contact model and is not solved ([`crate::transcription::SolveVerdict`]).
     pub slack_tolerance: f64,

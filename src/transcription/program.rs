@@ -85,6 +85,16 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                 message: format!("{} knots; a trajectory needs at least 2", spec.knots),
             });
         }
+        if spec.mode_block < 1 || spec.mode_block > spec.knots - 1 {
+            return Err(TranscriptionError::Invalid {
+                field: "mode_block".into(),
+                message: format!(
+                    "{} intervals per contact-mode block; give 1 to the horizon's {} intervals",
+                    spec.mode_block,
+                    spec.knots - 1
+                ),
+            });
+        }
         let ctx = Context::new(&mech, spec);
         let nd = ctx.nd();
         for (t, term) in spec.costs.iter().enumerate() {

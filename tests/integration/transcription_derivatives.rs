@@ -608,3 +608,91 @@ fn final_velocity_hessian_pattern_comes_from_its_inputs() {
     }
     assert!(close(at_moved(hv, hv), hh));
 }
+
+/// `contacts.mode_block`: the complementarity rows of each interval read the impulses,
+/// cones and distances of its whole contact-mode block. Blocks of 2 over 5 intervals and of
+/// 3 over 4 (each with a shorter last block), both slack modes, the midpoint rule and
+/// galerkin4 on the hopper; blocks of 2 over 3 intervals on the brick (eight contacts).
+#[test]
+fn contact_mode_blocks_have_exact_derivatives() {
+    for (seed, m, knots, integrator, mode) in [
+        (31, 2, 6, Integrator::Midpoint, SlackMode::PerInterval),
+        (32, 2, 6, Integrator::Galerkin4, SlackMode::PerContact),
+        (33, 3, 5, Integrator::Midpoint, SlackMode::PerContact),
+        (34, 3, 5, Integrator::Galerkin4, SlackMode::PerInterval),
+    ] {
+        let mut spec = hopper_everything(integrator, mode);
+        spec.knots = knots;
+        spec.mode_block = m;
+        let t = Transcription::new(Hopper, &spec).unwrap();
+        check_derivatives(
+            &format!("hopper blocks of {m} {integrator:?} {mode:?}"),
+            &t,
+            seed,
+        );
+    }
+    for (seed, mode) in [(35, SlackMode::PerInterval), (36, SlackMode::PerContact)] {
+        let mut spec = brick_3d();
+        spec.knots = 4;
+        spec.slack_mode = mode;
+        spec.mode_block = 2;
+        let t = Transcription::new(Brick, &spec).unwrap();
+        check_derivatives(&format!("brick blocks of 2 {mode:?}"), &t, seed);
+    }
+}
+
+/// Blocks of 2 add to interval j's rows exactly the partners' terms: at a point, the
+/// complementarity rows of the blocked NLP are those of the per-interval NLP plus the
+/// cross terms, computed here by hand from the variables.
+#[test]
+fn contact_mode_block_rows_pair_each_interval_with_its_block() {
+    let mut spec = hopper_2d();
+    spec.knots = 6;
+    let one = Transcription::new(Hopper, &spec).unwrap();
+    spec.mode_block = 2;
+    let two = Transcription::new(Hopper, &spec).unwrap();
+    let l = one.layout();
+    let mut rng = SeededRng::new(37);
+    let (x, _, _) = random_point(&one, &mut rng);
+    let (mut g1, mut g2) = (
+        vec![0.0; l.num_constraints()],
+        vec![0.0; l.num_constraints()],
+    );
+    one.constraints(&x, &mut g1);
+    two.constraints(&x, &mut g2);
+    let mu = spec.contacts[0].friction;
+    let foot_z = |k: usize| Hopper.contact_position(0, &x[l.q(k)])[2];
+    let beta = |j: usize| l.beta(j, 0).map(|i| x[i]).collect::<Vec<_>>();
+    let cone = |j: usize| mu * x[l.c(j, 0)] - beta(j).iter().sum::<f64>();
+    let blocks = [0..2, 0..2, 2..4, 2..4, 4..5];
+    for (j, block) in blocks.iter().enumerate() {
+        let rows = l.rows_of("Complementarity", j);
+        let eta: Vec<f64> = l.eta(j, 0).map(|i| x[i]).collect();
+        for k in block.clone().filter(|&k| k != j) {
+            let eta_beta: f64 = eta.iter().zip(beta(k)).map(|(e, b)| e * b).sum();
+            let expected = [
+                eta_beta,
+                x[l.c(j, 0)] * foot_z(k + 1),
+                x[l.psi(j, 0)] * cone(k),
+            ];
+            for (p, e) in expected.iter().enumerate() {
+                let r = rows.start + p;
+                let got = g1[r] - g2[r];
+                assert!(
+                    (got - e).abs() <= 1e-12 * e.abs().max(1.0),
+                    "interval {j} row {p}: {got} vs {e}"
+                );
+            }
+        }
+        if block.len() == 1 {
+            for r in rows {
+                assert_eq!(g1[r], g2[r], "interval {j}: a block of one adds nothing");
+            }
+        }
+    }
+    for r in 0..l.num_constraints() {
+        if !(0..5).any(|j| l.rows_of("Complementarity", j).contains(&r)) {
+            assert_eq!(g1[r], g2[r], "row {r} is no complementarity row");
+        }
+    }
+}

@@ -1,4 +1,5 @@
-//! `[contacts]`: the URDF's contact points and explicit ones, friction, the slip-speed bound.
+//! `[contacts]`: the URDF's contact points and explicit ones, friction, the slip-speed bound,
+//! the contact-mode block.
 
 use super::context::Context;
 use super::values::{finite, nonnegative, plain_name, positive};
@@ -105,4 +106,27 @@ pub(super) fn check_max_slip_speed(
         .max_slip_speed
         .map(|v| positive(ctx, "contacts.max_slip_speed", v))
         .transpose()
+}
+
+/// `contacts.mode_block`: intervals per contact-mode block, 1 (SPEC.md's NLP) to the number
+/// of intervals `knots − 1`.
+pub(super) fn check_mode_block(
+    ctx: &Context,
+    raw: &ProblemFile,
+    knots: usize,
+) -> Result<usize, ProblemError> {
+    let Some(m) = raw.contacts.mode_block else {
+        return Ok(1);
+    };
+    let intervals = knots - 1;
+    if m < 1 || m as u64 > intervals as u64 {
+        return Err(ctx.invalid(
+            "contacts.mode_block",
+            format!(
+                "must be a whole number of intervals from 1 (one contact mode per interval) \
+                 to the horizon's {intervals} intervals, got {m}"
+            ),
+        ));
+    }
+    Ok(m as usize)
 }

@@ -60,6 +60,7 @@ pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, Pr
     let costs = crate::problem::costs::check_costs(ctx, &raw, &robot, &endpoints.goal)?;
     let (slack_weight, slack_mode, slack_tolerance) = slack::check_slack_penalty(ctx, &raw)?;
     let max_slip_speed = contacts::check_max_slip_speed(ctx, &raw)?;
+    let mode_block = contacts::check_mode_block(ctx, &raw, knots)?;
     let slack_continuation = slack::check_slack_continuation(ctx, &raw)?;
     let constraints = crate::problem::constraints::check_constraints(ctx, &raw, &robot, knots)?;
     let initial_guess = initial_guess::check_initial_guess(ctx, &raw, &robot, &endpoints, knots)?;
@@ -117,6 +118,7 @@ pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, Pr
         slack_tolerance,
         slack_continuation,
         max_slip_speed,
+        mode_block,
         q_initial,
         q_initial_free,
         v_initial,

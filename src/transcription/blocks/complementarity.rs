@@ -1,5 +1,6 @@
 //! The relaxed products ηᵀβ and ψ(μc − eᵀβ) of the listed contacts with the slacks; z = [(c,
-//! β, ψ, η) per contact; slacks (0: added by another block, 1 shared, or 3)]. Bilinear:
+//! β, ψ, η) per contact; slacks (0: added by another block, 1 shared, or 3)], where c and β
+//! may be another interval's of the same contact-mode block than ψ and η. Bilinear:
 //! closed-form Jacobian and Hessian.
 
 use nalgebra::DMatrix;
@@ -48,10 +49,16 @@ impl RowBlock for Complementarity {
         })
     }
     fn place(p: &mut Placement<'_>, stage: Stage) {
-        // Per contact, its −c·φ(q_{j+1}) gap row (a `Distance` with `gap`) and its products;
-        // one block per contact keeps the Hessian sparse (products of different contacts
-        // never meet). In per-interval mode the shared slack rides on the first block and
-        // every block adds into the same three rows.
+        // Per contact, its −c·φ gap rows (`Distance` with `gap`) and its products; one block
+        // per contact keeps the Hessian sparse (products of different contacts never meet).
+        // In per-interval mode the shared slack rides on the first block and every block adds
+        // into the same three rows.
+        //
+        // Interval j's rows pair its own c, ψ, η with the sums over its contact-mode block
+        // B ∋ j (`contacts.mode_block`) of φ(q_{j'+1}), μc_{j'} − eᵀβ_{j'} and β_{j'}: one gap
+        // block and one product block per j' ∈ B, whose z takes c and β from j' and ψ, η from
+        // j (the products are bilinear, so the same functions and closed forms serve). With
+        // blocks of one interval this is SPEC.md's NLP, block for block.
         let Stage::Complementarity(j) = stage else {
             return;
         };
@@ -59,51 +66,65 @@ impl RowBlock for Complementarity {
         let rows = range_vec(l.rows_of(Self::NAME, j));
         let slacks = range_vec(l.slack(j));
         let shared = slacks.len() == 1;
-        let groups: Vec<Vec<usize>> = if l.nc == 0 {
-            vec![vec![]]
+        let (groups, partners): (Vec<Vec<usize>>, Vec<usize>) = if l.nc == 0 {
+            (vec![vec![]], vec![j])
         } else {
-            (0..l.nc).map(|i| vec![i]).collect()
+            (
+                (0..l.nc).map(|i| vec![i]).collect(),
+                p.ctx.mode_block_of(j, l.intervals()).collect(),
+            )
         };
         for (g, contacts) in groups.into_iter().enumerate() {
-            let mut vars = Vec::new();
-            for &i in &contacts {
-                vars.push(l.c(j, i));
-                vars.extend(l.beta(j, i));
-                vars.push(l.psi(j, i));
-                vars.extend(l.eta(j, i));
-            }
-            let nonlinear = vars.len();
-            let (own, block_rows) = if shared {
-                let own = if g == 0 { vec![slacks[0]] } else { vec![] };
-                (own, &rows[..3])
-            } else {
-                (slacks[3 * g..3 * g + 3].to_vec(), &rows[3 * g..3 * g + 3])
-            };
-            for &i in &contacts {
-                let mut gap_vars = range_vec(l.q(j + 1));
-                gap_vars.push(l.c(j, i));
+            for &k in &partners {
+                let mut vars = Vec::new();
+                for &i in &contacts {
+                    vars.push(l.c(k, i));
+                    vars.extend(l.beta(k, i));
+                    vars.push(l.psi(j, i));
+                    vars.extend(l.eta(j, i));
+                }
+                let nonlinear = vars.len();
+                let (own, block_rows) = if shared {
+                    let own = if g == 0 && k == j {
+                        vec![slacks[0]]
+                    } else {
+                        vec![]
+                    };
+                    (own, &rows[..3])
+                } else {
+                    let own = if k == j {
+                        slacks[3 * g..3 * g + 3].to_vec()
+                    } else {
+                        vec![]
+                    };
+                    (own, &rows[3 * g..3 * g + 3])
+                };
+                for &i in &contacts {
+                    let mut gap_vars = range_vec(l.q(k + 1));
+                    gap_vars.push(l.c(j, i));
+                    p.vector.push(Block::new(
+                        VectorKind::Distance(Distance {
+                            contact: i,
+                            gap: true,
+                        }),
+                        gap_vars,
+                        l.n + 1,
+                        vec![vec![block_rows[1]]],
+                    ));
+                }
+                let num_slacks = own.len();
+                vars.extend(own);
+                let targets = block_rows.iter().map(|&r| vec![r]).collect();
                 p.vector.push(Block::new(
-                    VectorKind::Distance(Distance {
-                        contact: i,
-                        gap: true,
+                    VectorKind::Complementarity(Complementarity {
+                        contacts: contacts.clone(),
+                        slacks: num_slacks,
                     }),
-                    gap_vars,
-                    l.n + 1,
-                    vec![vec![block_rows[1]]],
+                    vars,
+                    nonlinear,
+                    targets,
                 ));
             }
-            let num_slacks = own.len();
-            vars.extend(own);
-            let targets = block_rows.iter().map(|&r| vec![r]).collect();
-            p.vector.push(Block::new(
-                VectorKind::Complementarity(Complementarity {
-                    contacts,
-                    slacks: num_slacks,
-                }),
-                vars,
-                nonlinear,
-                targets,
-            ));
         }
     }
     fn value<D: Scalar, M: Mechanics>(&self, _: &M, ctx: &Context, z: &[D], out: &mut [D]) {

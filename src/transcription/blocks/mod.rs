@@ -106,6 +106,8 @@ pub struct Context {
     pub constraints: Vec<ProblemConstraint>,
     /// The Galerkin member of `integrator` when it has interior points.
     pub galerkin: Option<GalerkinRule>,
+    /// Intervals per contact-mode block ([`ProblemSpec::mode_block`]).
+    pub mode_block: usize,
 }
 
 impl Context {
@@ -121,7 +123,16 @@ impl Context {
             costs: spec.costs.clone(),
             constraints: spec.constraints.clone(),
             galerkin: spec.integrator.galerkin_rule(),
+            mode_block: spec.mode_block,
         }
+    }
+
+    /// The intervals of interval j's contact-mode block among `intervals`: the consecutive
+    /// runs of [`Context::mode_block`] from interval 0, the last one possibly shorter.
+    pub fn mode_block_of(&self, j: usize, intervals: usize) -> Range<usize> {
+        let m = self.mode_block.max(1);
+        let start = j / m * m;
+        start..(start + m).min(intervals)
     }
 
     /// Friction directions per contact.

@@ -8,6 +8,7 @@ pub mod errors;
 mod hostile;
 mod init;
 mod inputs;
+mod mode_blocks;
 mod output_dirs;
 mod regression;
 mod simulate;
