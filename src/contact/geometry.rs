@@ -152,15 +152,23 @@ impl<'a> ContactGeometry<'a> {
         out
     }
 
-    /// Rows (∇²K_k)·dir, rows × n (needs order ≥ 2).
+    /// Rows (∇²K_k)·dir, rows × n (needs order ≥ 2), in chain coordinates: with ṗ = P1·dir
+    /// and Q_a = Σ_b dir_b ∇²p[a, b], entry (k, q_a) is P_a·(∇²κ_k ṗ) + ∇κ_k·Q_a.
     pub(super) fn directional(&self, dir: &[f64]) -> DMatrix<f64> {
+        let c = self.jet.len();
+        let d = self.local(dir);
+        let mut pdot = Vector3::zeros();
+        for (a, &da) in d.iter().enumerate() {
+            pdot += da * self.first(a);
+        }
+        let hp = self.hessian.map(|h| h * pdot);
         let mut out = DMatrix::zeros(self.rows, self.n);
-        for k in 0..self.rows {
-            let mut w = [0.0; 3];
-            w[k] = 1.0;
-            let h = self.hessian(&w);
-            let row = &h * nalgebra::DVector::from_column_slice(dir);
-            out.row_mut(k).copy_from(&row.transpose());
+        for a in 0..c {
+            let pa = self.first(a);
+            let qa = (0..c).fold(Vector3::zeros(), |acc, b| acc + d[b] * self.second(a, b));
+            for k in 0..self.rows {
+                out[(k, self.jet.coords[a])] += pa.dot(&hp[k]) + self.gradient[k].dot(&qa);
+            }
         }
         out
     }

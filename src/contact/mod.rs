@@ -43,6 +43,6 @@ pub(crate) use tangential::{
 };
 pub use terrain::{Requirement, Step, Terrain, TerrainFeature};
 pub(crate) use work::{
-    contact_work, contact_work_gradient, contact_work_hessian, contact_work_hessian_in,
-    contact_work_third, contact_work_third_in,
+    contact_work, contact_work_contracted_in, contact_work_gradient, contact_work_hessian,
+    contact_work_hessian_in, contact_work_third,
 };

@@ -72,12 +72,13 @@ pub fn contact_work_hessian<M: MechanicsDerivatives>(
     z: &[f64],
 ) -> DMatrix<f64> {
     let geometry = ContactGeometry::new(mech, model, contact, &z[..mech.nq()], 2);
-    contact_work_derivatives(&geometry, z, None).0
+    contact_work_hessian_in(&geometry, z)
 }
 
 /// [`contact_work_hessian`] from the contact's geometry at q (order ≥ 2).
 pub(crate) fn contact_work_hessian_in(geometry: &ContactGeometry, z: &[f64]) -> DMatrix<f64> {
-    contact_work_derivatives(geometry, z, None).0
+    let b = work_weights(geometry, z);
+    with_multiplier_columns(geometry, geometry.hessian(&b), &geometry.jacobian())
 }
 
 /// [`contact_work_hessian`] and the third derivative of [`contact_work`] contracted with `dir`
@@ -105,37 +106,43 @@ pub(crate) fn contact_work_third_in(
     z: &[f64],
     dir: &[f64],
 ) -> Option<(DMatrix<f64>, DMatrix<f64>)> {
-    if dir[geometry.n()..].iter().any(|&d| d != 0.0) {
-        return None;
-    }
-    let (hessian, contracted) = contact_work_derivatives(geometry, z, Some(dir));
-    contracted.map(|c| (hessian, c))
+    let contracted = contact_work_contracted_in(geometry, z, dir)?;
+    Some((contact_work_hessian_in(geometry, z), contracted))
 }
 
-/// The Hessian of contact work and, with `dir`, its contracted third derivative, from the
-/// geometry at q (order 2, or 3 with `dir`).
-fn contact_work_derivatives(
+/// The third derivative of [`contact_work`] contracted with `dir` alone, from the geometry
+/// at q (order 3): what the Lagrangian Hessian needs. `None` when `dir` has a nonzero c or
+/// β entry (as [`contact_work_third`]).
+pub(crate) fn contact_work_contracted_in(
     geometry: &ContactGeometry,
     z: &[f64],
-    dir: Option<&[f64]>,
-) -> (DMatrix<f64>, Option<DMatrix<f64>>) {
+    dir: &[f64],
+) -> Option<DMatrix<f64>> {
+    let n = geometry.n();
+    if dir[n..].iter().any(|&d| d != 0.0) {
+        return None;
+    }
+    let b = work_weights(geometry, z);
+    Some(with_multiplier_columns(
+        geometry,
+        geometry.third(&b, &dir[..n]),
+        &geometry.directional(&dir[..n]),
+    ))
+}
+
+/// The (n + 1 + nd)² matrix with the q–q block `qq` and the q–c and q–β entries from the
+/// rows of `rows` (∇K_k for the Hessian, (∇²K_k)·dir for the contracted third derivative;
+/// sign ± for β⁺/β⁻).
+fn with_multiplier_columns(
+    geometry: &ContactGeometry,
+    qq: DMatrix<f64>,
+    rows: &DMatrix<f64>,
+) -> DMatrix<f64> {
     let (n, nd) = (geometry.n(), geometry.model().nd());
     let nt = nd / 2;
-    let b = work_weights(geometry, z);
     let dim = n + 1 + nd;
-    let mut hessian = DMatrix::zeros(dim, dim);
-    hessian
-        .view_mut((0, 0), (n, n))
-        .copy_from(&geometry.hessian(&b));
-    let jacobian = geometry.jacobian();
-    let dir_q = dir.map(|d| &d[..n]);
-    let directional = dir_q.map(|d| geometry.directional(d));
-    let mut contracted = dir_q.map(|d| {
-        let mut c = DMatrix::zeros(dim, dim);
-        c.view_mut((0, 0), (n, n)).copy_from(&geometry.third(&b, d));
-        c
-    });
-    // q–c and q–β: columns ∇K_k (sign ± for β⁺/β⁻), and their directional derivatives.
+    let mut m = DMatrix::zeros(dim, dim);
+    m.view_mut((0, 0), (n, n)).copy_from(&qq);
     let mut columns = vec![(n, 0, 1.0)];
     for d in 0..nt {
         columns.push((n + 1 + d, 1 + d, 1.0));
@@ -143,15 +150,10 @@ fn contact_work_derivatives(
     }
     for (col, row_k, sign) in columns {
         for i in 0..n {
-            let g = sign * jacobian[(row_k, i)];
-            hessian[(i, col)] = g;
-            hessian[(col, i)] = g;
-            if let (Some(c), Some(dd)) = (contracted.as_mut(), directional.as_ref()) {
-                let t = sign * dd[(row_k, i)];
-                c[(i, col)] = t;
-                c[(col, i)] = t;
-            }
+            let g = sign * rows[(row_k, i)];
+            m[(i, col)] = g;
+            m[(col, i)] = g;
         }
     }
-    (hessian, contracted)
+    m
 }

@@ -78,6 +78,19 @@ pub trait MechanicsDerivatives: Mechanics + Sized {
     fn loop_jets(&self, q: &[f64], order: usize, along: &[f64]) -> Vec<LoopJet> {
         loop_jets_by_autodiff(self, q, order, along)
     }
+    /// The Jacobian (n × (2n + m + 1)) of the half discrete force ½Fd at z = [qa; qb; u; h]
+    /// ([`crate::discrete::half_force`]) in closed form; `None` (the default): the NLP
+    /// differentiates [`Mechanics::discrete_force`] by forward AD.
+    fn half_force_jacobian(&self, z: &[f64]) -> Option<DMatrix<f64>> {
+        let _ = z;
+        None
+    }
+    /// Σ_r w_r ∇²(½Fd)_r at z = [qa; qb; u; h] in closed form ((2n + m + 1)², w of length
+    /// n); `None` (the default): by forward AD.
+    fn half_force_hessian(&self, z: &[f64], w: &[f64]) -> Option<DMatrix<f64>> {
+        let _ = (z, w);
+        None
+    }
 }
 
 /// [`MechanicsDerivatives::loop_jets`] by forward AD through [`Mechanics::loop_residual`]:

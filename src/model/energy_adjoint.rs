@@ -170,6 +170,8 @@ fn energy_sweep<D: Scalar>(
     } = buffers;
     poses.clear();
     twists.clear();
+    poses.reserve(n);
+    twists.reserve(n);
     let world = Pose::world();
     let rest = Twist {
         angular: [zero; 3],

@@ -449,11 +449,20 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         expand_hessian(&weighted_hessian(&r, &r.point(), w), inputs, z.len())
     }
 
-    /// Hessian of a cost block at z, over the inputs in the Hessian pattern only (columns
-    /// seeded by groups where its dependency pattern allows).
+    /// Hessian of a cost block at z, over the inputs in the Hessian pattern only: in closed
+    /// form where the term has one, else by generic AD (columns seeded by groups where its
+    /// dependency pattern allows).
     pub(super) fn cost_block_hessian(&self, b: &Block<ScalarKind>, z: &[f64]) -> DMatrix<f64> {
-        let f = self.scalar_fn(b);
         let inputs = b.hessian_inputs_for(self.skip_fixed);
+        if self.closed_form(b)
+            && let Some(mut h) = b.kind.hessian(&self.eval_at(b), z)
+        {
+            if inputs.len() < z.len() {
+                keep_only(&mut h, inputs);
+            }
+            return h;
+        }
+        let f = self.scalar_fn(b);
         if let Some(groups) = b.groups_for(self.skip_fixed) {
             let r = Restricted {
                 f: &f,
@@ -506,15 +515,29 @@ pub(super) fn expand_hessian(sub: &DMatrix<f64>, free: &[usize], dim: usize) -> 
     full
 }
 
+/// Zeroes the rows and columns of a square matrix outside `kept` (ascending), as
+/// [`expand_hessian`] leaves them.
+fn keep_only(m: &mut DMatrix<f64>, kept: &[usize]) {
+    let dim = m.nrows();
+    let mut keep = vec![false; dim];
+    for &i in kept {
+        keep[i] = true;
+    }
+    for i in (0..dim).filter(|&i| !keep[i]) {
+        m.row_mut(i).fill(0.0);
+        m.column_mut(i).fill(0.0);
+    }
+}
+
 /// Add a block's local Hessian (lower pairs of its nonlinear inputs) into the Hessian.
 pub(super) fn scatter_lower<K>(b: &Block<K>, local: &DMatrix<f64>, values: &mut [f64]) {
+    // The pairs (a, c ≤ a) with c < linear_from (`Block::has_hessian_pair`), in slot order.
     let mut slot = b.hessian_slots.iter();
     for a in 0..b.nonlinear {
-        for c in (0..=a).filter(|&c| b.has_hessian_pair(a, c)) {
-            if let Some(&(s, mult)) = slot.next()
-                && s != NO_SLOT
-            {
-                values[s] += mult * local[(a, c)];
+        let row = local.row(a);
+        for (c, &(s, mult)) in (0..(a + 1).min(b.linear_from)).zip(slot.by_ref()) {
+            if s != NO_SLOT {
+                values[s] += mult * row[c];
             }
         }
     }

@@ -1,5 +1,6 @@
 //! Reaching a target configuration at the last knot.
 
+use nalgebra::DMatrix;
 use serde::Deserialize;
 
 use super::{
@@ -44,6 +45,10 @@ impl CostFunction for FinalState {
     const INPUTS: CostInputs = CostInputs::LastConfiguration;
     fn value<D: Scalar>(&self, z: &[D], sizes: CostSizes) -> D {
         half_weighted_square(&self.weights, z[..sizes.n].iter().copied(), &self.q_target)
+    }
+    /// Constant: diag(w).
+    fn hessian(&self, _z: &[f64], _sizes: CostSizes) -> Option<DMatrix<f64>> {
+        Some(DMatrix::from_diagonal(&self.weights.clone().into()))
     }
     fn length_mismatch(&self, sizes: CostSizes) -> Option<LengthMismatch> {
         mismatch("q_target", sizes.n, self.q_target.len()).or(mismatch(

@@ -1,5 +1,6 @@
 //! Effort: the inputs squared on every interval.
 
+use nalgebra::DMatrix;
 use serde::Deserialize;
 
 use super::{
@@ -51,6 +52,21 @@ impl CostFunction for Input {
         } else {
             value
         }
+    }
+    /// w on the diagonal (times h), and w_j u_j between u_j and h when time-weighted.
+    fn hessian(&self, z: &[f64], sizes: CostSizes) -> Option<DMatrix<f64>> {
+        let m = sizes.m;
+        let mut hess = DMatrix::zeros(m + 1, m + 1);
+        for (j, &w) in self.weights.iter().enumerate() {
+            if self.time_weighted {
+                hess[(j, j)] = w * z[m];
+                hess[(j, m)] = w * z[j];
+                hess[(m, j)] = w * z[j];
+            } else {
+                hess[(j, j)] = w;
+            }
+        }
+        Some(hess)
     }
     fn length_mismatch(&self, sizes: CostSizes) -> Option<LengthMismatch> {
         mismatch("weights", sizes.m, self.weights.len())

@@ -1,9 +1,10 @@
 //! Smoothness: the change of the inputs between adjacent intervals.
 
+use nalgebra::DMatrix;
 use serde::Deserialize;
 
 use super::{
-    CheckCost, CostCheck, CostFunction, CostInputs, CostSizes, LengthMismatch,
+    CheckCost, CostCheck, CostFunction, CostInputs, CostSizes, LengthMismatch, change_hessian,
     half_weighted_change, mismatch,
 };
 use crate::autodiff::Scalar;
@@ -39,6 +40,10 @@ impl CostFunction for InputRate {
     const INPUTS: CostInputs = CostInputs::AdjacentInputs;
     fn value<D: Scalar>(&self, z: &[D], sizes: CostSizes) -> D {
         half_weighted_change(&self.weights, z, sizes.m)
+    }
+    /// Constant: w on both diagonals, −w between u_{j−1} and u_j.
+    fn hessian(&self, _z: &[f64], sizes: CostSizes) -> Option<DMatrix<f64>> {
+        Some(change_hessian(&self.weights, sizes.m))
     }
     fn length_mismatch(&self, sizes: CostSizes) -> Option<LengthMismatch> {
         mismatch("weights", sizes.m, self.weights.len())

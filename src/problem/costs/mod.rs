@@ -28,6 +28,7 @@ pub use state_tracking::StateTracking;
 pub use time::Time;
 pub use velocity_difference::VelocityDifference;
 
+use nalgebra::DMatrix;
 use serde::Deserialize;
 
 use super::schema::{NamedVector, ProblemFile};
@@ -135,6 +136,11 @@ pub trait CostFunction {
     const LINEAR: bool = false;
     /// Its value on z (layout from [`CostFunction::INPUTS`]).
     fn value<D: Scalar>(&self, z: &[D], sizes: CostSizes) -> D;
+    /// Its Hessian on z in closed form, dim z × dim z (`None`: generic forward AD over
+    /// [`CostFunction::value`]).
+    fn hessian(&self, _z: &[f64], _sizes: CostSizes) -> Option<DMatrix<f64>> {
+        None
+    }
     /// The first vector of the term whose length does not fit n coordinates and m inputs.
     fn length_mismatch(&self, sizes: CostSizes) -> Option<LengthMismatch>;
 }
@@ -290,6 +296,22 @@ pub fn cost_value<D: Scalar>(term: &CostTerm, sizes: CostSizes, z: &[D]) -> D {
     with_cost_function(term, Value { z, sizes })
 }
 
+/// The closed-form Hessian of one placement of `term` on z, if the term has one
+/// ([`CostFunction::hessian`]).
+pub fn cost_hessian(term: &CostTerm, sizes: CostSizes, z: &[f64]) -> Option<DMatrix<f64>> {
+    struct Hessian<'a> {
+        z: &'a [f64],
+        sizes: CostSizes,
+    }
+    impl CostVisitor for Hessian<'_> {
+        type Output = Option<DMatrix<f64>>;
+        fn visit<C: CostFunction>(self, cost: &C) -> Option<DMatrix<f64>> {
+            cost.hessian(self.z, self.sizes)
+        }
+    }
+    with_cost_function(term, Hessian { z, sizes })
+}
+
 /// What placement needs of a term: its name, its inputs and whether it is linear.
 #[derive(Debug, Clone, Copy)]
 pub struct CostDeclaration {
@@ -351,7 +373,134 @@ fn half_weighted_change<D: Scalar>(w: &[f64], z: &[D], len: usize) -> D {
     half_weighted_square(w, diff, &zeros)
 }
 
+/// The constant Hessian of [`half_weighted_change`] over z = [a; b] (2·len): w on both
+/// diagonals, −w between a_i and b_i.
+fn change_hessian(w: &[f64], len: usize) -> DMatrix<f64> {
+    let mut hess = DMatrix::zeros(2 * len, 2 * len);
+    for (i, &wi) in w.iter().enumerate() {
+        hess[(i, i)] = wi;
+        hess[(len + i, len + i)] = wi;
+        hess[(i, len + i)] = -wi;
+        hess[(len + i, i)] = -wi;
+    }
+    hess
+}
+
 /// `Some` mismatch when `found` differs from `expected`.
 fn mismatch(field: &'static str, expected: usize, found: usize) -> Option<LengthMismatch> {
     (expected != found).then_some((field, expected, found))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::autodiff::{ScalarFunction, gradient, gradient_hessian};
+    use crate::random::SeededRng;
+
+    /// One placement of a term as an AD-able function.
+    struct Placed<'a> {
+        term: &'a CostTerm,
+        sizes: CostSizes,
+        dim: usize,
+    }
+
+    impl ScalarFunction for Placed<'_> {
+        fn dim(&self) -> usize {
+            self.dim
+        }
+        fn eval<D: Scalar>(&self, z: &[D]) -> D {
+            cost_value(self.term, self.sizes, z)
+        }
+    }
+
+    fn dim(inputs: CostInputs, s: CostSizes) -> usize {
+        match inputs {
+            CostInputs::IntervalWithStep | CostInputs::LastIntervalWithStep => 2 * s.n + 1,
+            CostInputs::IntervalConfigurations => 2 * s.n,
+            CostInputs::InputWithStep => s.m + 1,
+            CostInputs::AdjacentInputs => 2 * s.m,
+            CostInputs::AdjacentIntervals => 3 * s.n + 2,
+            CostInputs::LastConfiguration => s.n,
+            CostInputs::Step => 1,
+        }
+    }
+
+    /// Every closed-form cost Hessian against forward AD (to 1e-13 of the largest entry) and
+    /// central differences of the AD gradient (1e-6), at random points with steps in
+    /// [0.05, 0.3] and random targets, weights and both time weightings.
+    #[test]
+    fn closed_form_cost_hessians_match_ad_and_finite_differences() {
+        let sizes = CostSizes { n: 4, m: 3 };
+        let mut rng = SeededRng::new(7);
+        let mut vector = |len: usize, lo: f64, hi: f64| -> Vec<f64> {
+            (0..len).map(|_| lo + (hi - lo) * rng.unit()).collect()
+        };
+        let mut terms = Vec::new();
+        for time_weighted in [true, false] {
+            terms.push(CostTerm::StateTracking(StateTracking {
+                q_target: vector(4, -1.0, 1.0),
+                v_target: vector(4, -1.0, 1.0),
+                q_weights: vector(4, 0.1, 2.0),
+                v_weights: vector(4, 0.1, 2.0),
+                time_weighted,
+            }));
+            terms.push(CostTerm::Input(Input {
+                weights: vector(3, 0.1, 2.0),
+                time_weighted,
+            }));
+        }
+        terms.push(CostTerm::InputRate(InputRate {
+            weights: vector(3, 0.1, 2.0),
+        }));
+        terms.push(CostTerm::FinalState(FinalState {
+            q_target: vector(4, -1.0, 1.0),
+            weights: vector(4, 0.1, 2.0),
+        }));
+        terms.push(CostTerm::VelocityDifference(VelocityDifference {
+            weights: vector(4, 0.1, 2.0),
+        }));
+        let mut checked = 0;
+        for term in &terms {
+            let declared = declaration(term);
+            let dim = dim(declared.inputs, sizes);
+            let f = Placed { term, sizes, dim };
+            for _ in 0..3 {
+                let mut z = vector(dim, -1.0, 1.0);
+                let steps = match declared.inputs {
+                    CostInputs::IntervalWithStep | CostInputs::InputWithStep => 1,
+                    CostInputs::AdjacentIntervals => 2,
+                    _ => 0,
+                };
+                for s in &mut z[dim - steps..] {
+                    *s = 0.05 + 0.25 * s.abs();
+                }
+                let exact = cost_hessian(term, sizes, &z).expect("a closed form");
+                let ad = gradient_hessian(&f, &z).2;
+                let scale = ad.amax().max(1.0);
+                assert!(
+                    (&exact - &ad).amax() <= 1e-13 * scale,
+                    "{}: closed form {exact} against AD {ad}",
+                    declared.name
+                );
+                let eps = 1e-6;
+                for c in 0..dim {
+                    let (mut zp, mut zm) = (z.clone(), z.clone());
+                    zp[c] += eps;
+                    zm[c] -= eps;
+                    let (gp, gm) = (gradient(&f, &zp).1, gradient(&f, &zm).1);
+                    for r in 0..dim {
+                        let fd = (gp[r] - gm[r]) / (2.0 * eps);
+                        assert!(
+                            (exact[(r, c)] - fd).abs() <= 1e-6 * exact[(r, c)].abs().max(1.0),
+                            "{}: H[{r}, {c}] closed form {} fd {fd}",
+                            declared.name,
+                            exact[(r, c)]
+                        );
+                    }
+                }
+                checked += 1;
+            }
+        }
+        assert_eq!(checked, 3 * terms.len());
+    }
 }

@@ -1,5 +1,6 @@
 //! Tracking a target state at the midpoint of every interval.
 
+use nalgebra::DMatrix;
 use serde::Deserialize;
 
 use super::{
@@ -68,6 +69,47 @@ impl CostFunction for StateTracking {
         let value = half_weighted_square(&self.q_weights, mid.into_iter(), &self.q_target)
             + half_weighted_square(&self.v_weights, vel.into_iter(), &self.v_target);
         if self.time_weighted { value * h } else { value }
+    }
+    /// With e = q̄ − q_target, v̄ = (qb − qa)/h, r = v̄ − v_target and φ the untimed term:
+    /// φ's Hessian is diagonal per coordinate i in (qa_i, qb_i), w_q/4 ± w_v/h², with
+    /// ∂²φ/∂qa_i∂h = −∂²φ/∂qb_i∂h = w_v (v̄ + r)/h² and ∂²φ/∂h² = Σ w_v (v̄² + 2 r v̄)/h²;
+    /// h·φ's is h·∇²φ + ∇φ e_hᵀ + e_h ∇φᵀ: (h w_q/4 ± w_v/h), ±w_v v̄/h + w_q e/2 and
+    /// Σ w_v v̄²/h.
+    fn hessian(&self, z: &[f64], sizes: CostSizes) -> Option<DMatrix<f64>> {
+        let n = sizes.n;
+        let h = z[2 * n];
+        let mut hess = DMatrix::zeros(2 * n + 1, 2 * n + 1);
+        let mut hh = 0.0;
+        for i in 0..n {
+            let (wq, wv) = (self.q_weights[i], self.v_weights[i]);
+            let (a, b) = (z[i], z[n + i]);
+            let v = (b - a) / h;
+            let (diagonal, cross, with_h) = if self.time_weighted {
+                let e = 0.5 * (a + b) - self.q_target[i];
+                hh += wv * v * v / h;
+                (
+                    0.25 * wq * h + wv / h,
+                    0.25 * wq * h - wv / h,
+                    [wv * v / h + 0.5 * wq * e, -wv * v / h + 0.5 * wq * e],
+                )
+            } else {
+                let r = v - self.v_target[i];
+                let h2 = h * h;
+                hh += wv * (v * v + 2.0 * r * v) / h2;
+                let t = wv * (v + r) / h2;
+                (0.25 * wq + wv / h2, 0.25 * wq - wv / h2, [t, -t])
+            };
+            hess[(i, i)] = diagonal;
+            hess[(n + i, n + i)] = diagonal;
+            hess[(i, n + i)] = cross;
+            hess[(n + i, i)] = cross;
+            for (k, value) in [i, n + i].into_iter().zip(with_h) {
+                hess[(k, 2 * n)] = value;
+                hess[(2 * n, k)] = value;
+            }
+        }
+        hess[(2 * n, 2 * n)] = hh;
+        Some(hess)
     }
     fn length_mismatch(&self, sizes: CostSizes) -> Option<LengthMismatch> {
         let n = sizes.n;

@@ -8,8 +8,8 @@ use super::{Block, Context, Eval, GeometryUse, GradientBlock, Placement, ScalarK
 use crate::autodiff::Scalar;
 use crate::autodiff::ThirdOrder;
 use crate::contact::{
-    self, ContactGeometry, contact_work_gradient, contact_work_hessian, contact_work_hessian_in,
-    contact_work_third, contact_work_third_in,
+    self, ContactGeometry, contact_work_contracted_in, contact_work_gradient, contact_work_hessian,
+    contact_work_hessian_in, contact_work_third,
 };
 use crate::discrete::{Mechanics, MechanicsDerivatives};
 
@@ -59,7 +59,7 @@ impl GradientBlock for ContactWork {
         z: &[f64],
         dir: &[f64],
     ) -> Option<DMatrix<f64>> {
-        contact_work_third_in(geometry, z, dir).map(|(_, contracted)| contracted)
+        contact_work_contracted_in(geometry, z, dir)
     }
     fn gradient<M: MechanicsDerivatives>(&self, at: &Eval<M>, z: &[f64]) -> Option<Vec<f64>> {
         Some(contact_work_gradient(

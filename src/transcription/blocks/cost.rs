@@ -1,12 +1,15 @@
 //! Cost term `term` of the problem on one placement (an interval, or the last knot); z as
 //! the term declares ([`crate::problem::costs::CostInputs`]). Each term's value is in its
-//! own file under `crate::problem::costs`; derivatives by generic AD.
+//! own file under `crate::problem::costs`; its Hessian in closed form where the term has one
+//! ([`crate::problem::costs::CostFunction::hessian`]), else by generic AD, like its gradient.
+
+use nalgebra::DMatrix;
 
 use super::place::range_vec;
-use super::{Block, Context, GradientBlock, Placement, ScalarKind, Stage};
+use super::{Block, Context, Eval, GradientBlock, Placement, ScalarKind, Stage};
 use crate::autodiff::Scalar;
-use crate::discrete::Mechanics;
-use crate::problem::costs::{self, CostInputs, CostSizes, cost_value};
+use crate::discrete::{Mechanics, MechanicsDerivatives};
+use crate::problem::costs::{self, CostInputs, CostSizes, cost_hessian, cost_value};
 use crate::transcription::layout::Layout;
 
 /// The problem's cost term `term`.
@@ -35,6 +38,13 @@ impl GradientBlock for Cost {
     fn value<D: Scalar, M: Mechanics>(&self, _: &M, ctx: &Context, z: &[D]) -> D {
         let sizes = CostSizes { n: ctx.n, m: ctx.m };
         cost_value(&ctx.costs[self.term], sizes, z)
+    }
+    fn hessian<M: MechanicsDerivatives>(&self, at: &Eval<M>, z: &[f64]) -> Option<DMatrix<f64>> {
+        let sizes = CostSizes {
+            n: at.ctx.n,
+            m: at.ctx.m,
+        };
+        cost_hessian(&at.ctx.costs[self.term], sizes, z)
     }
 }
 

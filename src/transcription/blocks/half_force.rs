@@ -1,11 +1,14 @@
 //! ½Fd(qa, qb, u, h), the discrete force's half in each of the two DEL rows of an interval
-//! (midpoint); z = [qa; qb; u; h]. Generic AD.
+//! (midpoint); z = [qa; qb; u; h]. Derivatives from the mechanics' closed forms
+//! ([`MechanicsDerivatives::half_force_jacobian`]) where it has them, else generic AD.
+
+use nalgebra::DMatrix;
 
 use super::place::range_vec;
 use super::{Block, Context, Placement, RowBlock, Stage, VectorKind};
 use crate::autodiff::Scalar;
 use crate::discrete::Integrator;
-use crate::discrete::{Mechanics, half_force};
+use crate::discrete::{Mechanics, MechanicsDerivatives, half_force};
 
 /// ½Fd(qa, qb, u, h).
 #[derive(Debug, Clone, PartialEq)]
@@ -43,5 +46,22 @@ impl RowBlock for HalfForce {
     }
     fn value<D: Scalar, M: Mechanics>(&self, mech: &M, _: &Context, z: &[D], out: &mut [D]) {
         half_force(mech, z, out)
+    }
+    fn jacobian<M: MechanicsDerivatives>(
+        &self,
+        mech: &M,
+        _: &Context,
+        z: &[f64],
+    ) -> Option<DMatrix<f64>> {
+        mech.half_force_jacobian(z)
+    }
+    fn hessian<M: MechanicsDerivatives>(
+        &self,
+        mech: &M,
+        _: &Context,
+        z: &[f64],
+        w: &[f64],
+    ) -> Option<DMatrix<f64>> {
+        mech.half_force_hessian(z, w)
     }
 }
