@@ -105,8 +105,7 @@ pub(crate) fn distance_hessian_in(
     }
     let c = z[n];
     let mut out = DMatrix::zeros(n + 1, n + 1);
-    out.view_mut((0, 0), (n, n))
-        .copy_from(&geometry.hessian(&[-w * c, 0.0, 0.0]));
+    geometry.add_hessian(&[-w * c, 0.0, 0.0], &mut out.view_mut((0, 0), (n, n)));
     let grad = geometry.gradient(&[-w, 0.0, 0.0]);
     for i in 0..n {
         out[(i, n)] = grad[i];

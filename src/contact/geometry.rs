@@ -3,7 +3,7 @@
 //! and forward AD of κ over the three components of p. Every contact block's chain-rule
 //! derivatives are built from these, so no dual number goes through the kinematic chain.
 
-use nalgebra::{DMatrix, Matrix3, Vector3};
+use nalgebra::{DMatrix, DMatrixViewMut, Matrix3, Vector3};
 
 use super::ContactModel;
 use super::{signed_distance, tangential_coordinates};
@@ -60,7 +60,20 @@ impl<'a> ContactGeometry<'a> {
         q: &[f64],
         order: usize,
     ) -> Self {
-        let jet = mech.contact_jet(contact, q, order);
+        Self::with_jet(mech, model, contact, q, order, PointJet::default())
+    }
+
+    /// [`ContactGeometry::new`] with the point jet written into `jet`'s storage (one a
+    /// previous geometry gave back by [`ContactGeometry::into_jet`]); the same numbers.
+    pub(crate) fn with_jet<M: MechanicsDerivatives>(
+        mech: &M,
+        model: &'a ContactModel,
+        contact: usize,
+        q: &[f64],
+        order: usize,
+        mut jet: PointJet,
+    ) -> Self {
+        mech.contact_jet_into(contact, q, order, &mut jet);
         let rows = 1 + model.nd() / 2;
         let mut value = [0.0; 3];
         let mut gradient = [Vector3::zeros(); 3];
@@ -85,6 +98,11 @@ impl<'a> ContactGeometry<'a> {
             gradient,
             hessian,
         }
+    }
+
+    /// The point jet, for [`ContactGeometry::with_jet`] to reuse its storage.
+    pub(crate) fn into_jet(self) -> PointJet {
+        self.jet
     }
 
     /// Coordinates n.
@@ -139,9 +157,17 @@ impl<'a> ContactGeometry<'a> {
 
     /// Σ_k w_k ∇²K_k (n × n; needs order ≥ 2): P1ᵀ H_w P1 + Σ_m (g_w)_m ∇²p_m.
     pub(super) fn hessian(&self, w: &[f64]) -> DMatrix<f64> {
+        let mut out = DMatrix::zeros(self.n, self.n);
+        self.add_hessian(w, &mut out.view_mut((0, 0), (self.n, self.n)));
+        out
+    }
+
+    /// Adds [`ContactGeometry::hessian`] into the n × n `out` (a block of the caller's
+    /// matrix, so that no n × n temporary is formed); only the chain's coordinates are
+    /// touched.
+    pub(super) fn add_hessian(&self, w: &[f64], out: &mut DMatrixViewMut<f64>) {
         let (gw, hw) = self.weighted(w);
         let c = self.jet.len();
-        let mut out = DMatrix::zeros(self.n, self.n);
         for a in 0..c {
             let hpa = hw * self.first(a);
             for b in 0..c {
@@ -149,7 +175,6 @@ impl<'a> ContactGeometry<'a> {
                 out[(self.jet.coords[a], self.jet.coords[b])] += v;
             }
         }
-        out
     }
 
     /// Rows (∇²K_k)·dir, rows × n (needs order ≥ 2), in chain coordinates: with ṗ = P1·dir
@@ -176,7 +201,9 @@ impl<'a> ContactGeometry<'a> {
     /// ∇²(∇(Σ_k w_k K_k)·dir) (n × n; needs order 3). With s = wᵀκ, ṗ = P1·dir,
     /// Q_a = ∂(P1·dir)/∂q_a and S = ∂²(P1·dir)/∂q²:
     /// (P1ᵀ ∇³s[ṗ] P1) + Σ_r (∇²s ṗ)_r ∇²p_r + P1ᵀ ∇²s Q + Qᵀ ∇²s P1 + Σ_m (∇s)_m S_m.
-    pub(super) fn third(&self, w: &[f64], dir: &[f64]) -> DMatrix<f64> {
+    /// Added into the n × n `out` (a block of the caller's matrix); only the chain's
+    /// coordinates are touched.
+    pub(super) fn add_third(&self, w: &[f64], dir: &[f64], out: &mut DMatrixViewMut<f64>) {
         let c = self.jet.len();
         let d = self.local(dir);
         let mut pdot = Vector3::zeros();
@@ -187,6 +214,8 @@ impl<'a> ContactGeometry<'a> {
         let mut gw = Vector3::zeros();
         let mut hw = Matrix3::zeros();
         let mut tw = Matrix3::zeros();
+        // One buffer for the rows (each pass overwrites it).
+        let mut s = ThirdOrder::zeros(3);
         for (k, &wk) in w.iter().enumerate().take(self.rows) {
             if wk == 0.0 {
                 continue;
@@ -195,7 +224,6 @@ impl<'a> ContactGeometry<'a> {
                 model: self.model,
                 component: k,
             };
-            let mut s = ThirdOrder::zeros(3);
             gradient_hessian_third_into::<3, _>(&f, &self.jet.position, pdot.as_slice(), &mut s);
             gw += wk * Vector3::from_column_slice(&s.gradient);
             hw += wk * Matrix3::from_column_slice(s.hessian.as_slice());
@@ -205,7 +233,6 @@ impl<'a> ContactGeometry<'a> {
             .map(|a| (0..c).fold(Vector3::zeros(), |acc, e| acc + d[e] * self.second(a, e)))
             .collect();
         let hp = hw * pdot;
-        let mut out = DMatrix::zeros(self.n, self.n);
         for a in 0..c {
             let (pa, qa) = (self.first(a), q[a]);
             let (tpa, hpa, hqa) = (tw * pa, hw * pa, hw * qa);
@@ -223,7 +250,6 @@ impl<'a> ContactGeometry<'a> {
                 out[(self.jet.coords[a], self.jet.coords[b])] += v;
             }
         }
-        out
     }
 
     /// Σ_k w_k ∇K_k (length n).

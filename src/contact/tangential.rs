@@ -164,20 +164,21 @@ pub(crate) fn tangential_rate_hessian_in(
     for d in 0..nt {
         weights[1 + d] = w[d] - w[d + nt];
     }
-    let (g, hs, t) = (
-        geometry.gradient(&weights),
-        geometry.hessian(&weights),
-        geometry.third(&weights, &v),
-    );
-    let hv = &hs * nalgebra::DVector::from_column_slice(&v);
-    let gv: f64 = g.iter().zip(&v).map(|(a, b)| a * b).sum();
+    let g = geometry.gradient(&weights);
     let mut out = DMatrix::zeros(2 * n + 1, 2 * n + 1);
+    // H and T go straight into the qb–qa and qb–qb blocks (no n × n temporaries); each
+    // entry of H is read there before it is scaled in place.
+    geometry.add_hessian(&weights, &mut out.view_mut((n, 0), (n, n)));
+    geometry.add_third(&weights, &v, &mut out.view_mut((n, n), (n, n)));
+    let hv = out.view((n, 0), (n, n)) * nalgebra::DVector::from_column_slice(&v);
+    let gv: f64 = g.iter().zip(&v).map(|(a, b)| a * b).sum();
     let (h2, ih) = (h * h, 1.0 / h);
     for i in 0..n {
         for j in 0..n {
-            out[(n + i, j)] = -hs[(i, j)] * ih;
-            out[(j, n + i)] = -hs[(i, j)] * ih;
-            out[(n + i, n + j)] = t[(i, j)] + 2.0 * hs[(i, j)] * ih;
+            let hs = out[(n + i, j)];
+            out[(n + i, n + j)] += 2.0 * hs * ih;
+            out[(n + i, j)] = -hs * ih;
+            out[(j, n + i)] = -hs * ih;
         }
         out[(2 * n, i)] = g[i] / h2;
         out[(i, 2 * n)] = g[i] / h2;

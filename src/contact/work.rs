@@ -1,7 +1,7 @@
 //! Contact work c_i φ_i(q) + Σ_t (β⁺_it − β⁻_it) t_i(q), whose q-gradient is contact i's
 //! share of the impulse J(q)ᵀλ in the discrete equations, with its chain-rule derivatives.
 
-use nalgebra::DMatrix;
+use nalgebra::{DMatrix, DMatrixViewMut};
 
 use super::{ContactGeometry, ContactModel, signed_distance, tangential_coordinates};
 use crate::autodiff::Scalar;
@@ -78,7 +78,11 @@ pub fn contact_work_hessian<M: MechanicsDerivatives>(
 /// [`contact_work_hessian`] from the contact's geometry at q (order ≥ 2).
 pub(crate) fn contact_work_hessian_in(geometry: &ContactGeometry, z: &[f64]) -> DMatrix<f64> {
     let b = work_weights(geometry, z);
-    with_multiplier_columns(geometry, geometry.hessian(&b), &geometry.jacobian())
+    with_multiplier_columns(
+        geometry,
+        |qq| geometry.add_hessian(&b, qq),
+        &geometry.jacobian(),
+    )
 }
 
 /// [`contact_work_hessian`] and the third derivative of [`contact_work`] contracted with `dir`
@@ -125,30 +129,27 @@ pub(crate) fn contact_work_contracted_in(
     let b = work_weights(geometry, z);
     Some(with_multiplier_columns(
         geometry,
-        geometry.third(&b, &dir[..n]),
+        |qq| geometry.add_third(&b, &dir[..n], qq),
         &geometry.directional(&dir[..n]),
     ))
 }
 
-/// The (n + 1 + nd)² matrix with the q–q block `qq` and the q–c and q–β entries from the
-/// rows of `rows` (∇K_k for the Hessian, (∇²K_k)·dir for the contracted third derivative;
-/// sign ± for β⁺/β⁻).
+/// The (n + 1 + nd)² matrix whose q–q block `qq` adds into (zero before), with the q–c and
+/// q–β entries from the rows of `rows` (∇K_k for the Hessian, (∇²K_k)·dir for the
+/// contracted third derivative; sign ± for β⁺/β⁻).
 fn with_multiplier_columns(
     geometry: &ContactGeometry,
-    qq: DMatrix<f64>,
+    qq: impl FnOnce(&mut DMatrixViewMut<f64>),
     rows: &DMatrix<f64>,
 ) -> DMatrix<f64> {
     let (n, nd) = (geometry.n(), geometry.model().nd());
     let nt = nd / 2;
     let dim = n + 1 + nd;
     let mut m = DMatrix::zeros(dim, dim);
-    m.view_mut((0, 0), (n, n)).copy_from(&qq);
-    let mut columns = vec![(n, 0, 1.0)];
-    for d in 0..nt {
-        columns.push((n + 1 + d, 1 + d, 1.0));
-        columns.push((n + 1 + d + nt, 1 + d, -1.0));
-    }
-    for (col, row_k, sign) in columns {
+    qq(&mut m.view_mut((0, 0), (n, n)));
+    let beta_columns =
+        (0..nt).flat_map(|d| [(n + 1 + d, 1 + d, 1.0), (n + 1 + d + nt, 1 + d, -1.0)]);
+    for (col, row_k, sign) in std::iter::once((n, 0, 1.0)).chain(beta_columns) {
         for i in 0..n {
             let g = sign * rows[(row_k, i)];
             m[(i, col)] = g;

@@ -23,6 +23,11 @@ pub trait MechanicsDerivatives: Mechanics + Sized {
     fn contact_jet(&self, contact: usize, q: &[f64], order: usize) -> PointJet {
         contact_jet_by_autodiff(self, contact, q, order)
     }
+    /// [`MechanicsDerivatives::contact_jet`] into `jet`, whose storage an implementation may
+    /// reuse (the same numbers); the default replaces it.
+    fn contact_jet_into(&self, contact: usize, q: &[f64], order: usize, jet: &mut PointJet) {
+        *jet = self.contact_jet(contact, q, order);
+    }
     /// Gradient of Ld at z = [qa; qb; h] (length 2n + 1: D1Ld, D2Ld, ∂Ld/∂h). The DEL row of
     /// knot k adds D2Ld of segment k−1 and D1Ld of segment k.
     fn segment_gradient(&self, z: &[f64]) -> Vec<f64> {

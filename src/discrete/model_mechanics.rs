@@ -13,7 +13,7 @@ use crate::autodiff::Scalar;
 use crate::autodiff::{SymmetricGroups, ThirdOrder};
 use crate::model::{
     LinkId, LoopJet, Model, PointJet, generalized_momentum, link_angular_jacobian,
-    loop_closure_jets, loop_residual, point_jet, point_position,
+    loop_closure_jets, loop_residual, point_jet_into, point_position,
 };
 
 /// A contact resolved to its link: a sphere (radius 0: a point) fixed on the link.
@@ -173,11 +173,15 @@ impl MechanicsDerivatives for ModelMechanics {
         Some(hessian)
     }
     fn contact_jet(&self, contact: usize, q: &[f64], order: usize) -> PointJet {
+        let mut jet = PointJet::default();
+        self.contact_jet_into(contact, q, order, &mut jet);
+        jet
+    }
+    fn contact_jet_into(&self, contact: usize, q: &[f64], order: usize, jet: &mut PointJet) {
         let c = &self.contacts[contact];
-        let mut jet = point_jet(&self.model, c.link, &c.centre, q, order);
+        point_jet_into(&self.model, c.link, &c.centre, q, order, jet);
         // The lowest point moves with the centre: a constant offset, the same derivatives.
         jet.position[2] -= c.radius;
-        jet
     }
     fn segment_gradient(&self, z: &[f64]) -> Vec<f64> {
         let n = self.model.nq();

@@ -8,7 +8,7 @@
 
 use super::Model;
 use super::energy::{com_position, spring_energy};
-use super::kinematics::{Pose, Twist, check_len, child_pose, child_twist};
+use super::kinematics::{Pose, Twist, check_len, child_pose_into, child_twist};
 use super::spatial::{
     Mat3, Vec3, add, axis_angle, const_mat_vec, cross, dot, mat_t_vec, mat_vec, mat_vec_const,
     scale, sub,
@@ -168,24 +168,25 @@ fn energy_sweep<D: Scalar>(
         twists,
         adjoints,
     } = buffers;
-    poses.clear();
-    twists.clear();
-    poses.reserve(n);
-    twists.reserve(n);
     let world = Pose::world();
+    // Each pose is written in place (every field), so the storage is kept as it is.
+    poses.resize(n, world);
+    twists.clear();
+    twists.reserve(n);
     let rest = Twist {
         angular: [zero; 3],
         linear: [zero; 3],
     };
-    for frame in &model.frames {
-        let parent_pose = frame.parent.map_or(&world, |p| &poses[p]);
-        let pose = child_pose(frame, parent_pose, q);
+    for (i, frame) in model.frames.iter().enumerate() {
+        let (done, todo) = poses.split_at_mut(i);
+        let parent_pose = frame.parent.map_or(&world, |p| &done[p]);
+        let pose = &mut todo[0];
+        child_pose_into(frame, parent_pose, q, pose);
         if let Some(qdot) = qdot {
             let parent_twist = frame.parent.map_or(&rest, |p| &twists[p]);
-            let twist = child_twist(frame, &pose, parent_pose.origin, parent_twist, qdot);
+            let twist = child_twist(frame, pose, parent_pose.origin, parent_twist, qdot);
             twists.push(twist);
         }
-        poses.push(pose);
     }
 
     dq.fill(zero);
@@ -197,6 +198,8 @@ fn energy_sweep<D: Scalar>(
     let mut twice_kinetic = zero;
     let mut potential = zero;
     let g = model.gravity;
+    // The adjoint of a moving joint's rotation, reused from frame to frame.
+    let mut joint_bar = [[zero; 3]; 3];
     for i in (0..n).rev() {
         let frame = &model.frames[i];
         let pose = &poses[i];
@@ -228,18 +231,18 @@ fn energy_sweep<D: Scalar>(
                 earlier[p].origin = sub(earlier[p].origin, lever_bar);
             }
         }
-        let joint_rotation_bar = pose_adjoint(frame, pose, q, bar, axis_bar, dq);
+        let joint_rotation_bar = pose_adjoint(frame, pose, q, bar, axis_bar, dq, &mut joint_bar);
         if let Some(p) = frame.parent {
             let parent = &mut earlier[p];
             // J = R_p·C and o_joint = o_p + R_p·t.
             if frame.rotation == IDENTITY {
-                for (row, bar_row) in parent.rotation.iter_mut().zip(&joint_rotation_bar) {
+                for (row, bar_row) in parent.rotation.iter_mut().zip(joint_rotation_bar) {
                     for (entry, &b) in row.iter_mut().zip(bar_row) {
                         *entry += b;
                     }
                 }
             } else {
-                for (row, bar_row) in parent.rotation.iter_mut().zip(&joint_rotation_bar) {
+                for (row, bar_row) in parent.rotation.iter_mut().zip(joint_rotation_bar) {
                     // (J̄·Cᵀ)_row = C·J̄_row.
                     let contribution = const_mat_vec(&frame.rotation, *bar_row);
                     for (entry, c) in row.iter_mut().zip(contribution) {
@@ -312,19 +315,20 @@ fn twist_adjoint<D: Scalar>(
 }
 
 /// Reverse of `child_pose`: adds the joint coordinate's adjoint into `dq` and returns the
-/// adjoint J̄ of the joint rotation J = R_parent·C (the origin's adjoint passes unchanged).
-fn pose_adjoint<D: Scalar>(
+/// adjoint J̄ of the joint rotation J = R_parent·C (the origin's adjoint passes unchanged):
+/// R̄ itself for a fixed joint, else written into `joint_bar`.
+fn pose_adjoint<'b, D: Scalar>(
     frame: &Frame,
     pose: &Pose<D>,
     q: &[D],
-    bar: &FrameAdjoint<D>,
+    bar: &'b FrameAdjoint<D>,
     mut axis_bar: Vec3<D>,
     dq: &mut [D],
-) -> Mat3<D> {
+    joint_bar: &'b mut Mat3<D>,
+) -> &'b Mat3<D> {
     let r_bar = &bar.rotation;
-    let mut joint_bar = *r_bar;
     match frame.motion {
-        Motion::Fixed => {}
+        Motion::Fixed => return r_bar,
         Motion::Revolute => {
             // R = J·Rot(axis, q), dR/dq = [a]×·R with a = J·axis the world axis, so
             // q̄ = Σ_k R̄_k·(a × R_k) = a·Σ_k R_k × R̄_k over the columns k.
@@ -334,40 +338,37 @@ fn pose_adjoint<D: Scalar>(
                 torque = add(torque, cross(column(r, k), column(r_bar, k)));
             }
             dq[frame.coordinate] += frame.to_coordinate(dot(pose.axis, torque));
-            joint_bar = rotation_adjoint(r_bar, &frame.axis, frame.joint_value(q));
+            rotation_adjoint(r_bar, &frame.axis, frame.joint_value(q), joint_bar);
         }
         Motion::Prismatic => {
             dq[frame.coordinate] += frame.to_coordinate(dot(pose.axis, bar.origin));
             axis_bar = add(axis_bar, scale(frame.joint_value(q), bar.origin));
+            *joint_bar = *r_bar;
         }
     }
-    if frame.motion != Motion::Fixed {
-        // a = J·axis.
-        add_outer_const(&mut joint_bar, axis_bar, &frame.axis);
-    }
+    // a = J·axis.
+    add_outer_const(joint_bar, axis_bar, &frame.axis);
     joint_bar
 }
 
-/// R̄·Rot(axis, angle)ᵀ, the adjoint of J in R = J·Rot(axis, angle); for a coordinate axis
-/// ±e_k only two columns mix (as in `kinematics::rotate_about`).
-fn rotation_adjoint<D: Scalar>(r_bar: &Mat3<D>, axis: &[f64; 3], angle: D) -> Mat3<D> {
+/// R̄·Rot(axis, angle)ᵀ, the adjoint of J in R = J·Rot(axis, angle), into `out`; for a
+/// coordinate axis ±e_k only two columns mix (as in `kinematics::rotate_about`).
+fn rotation_adjoint<D: Scalar>(r_bar: &Mat3<D>, axis: &[f64; 3], angle: D, out: &mut Mat3<D>) {
     let Some(k) = (0..3).find(|&k| axis[k].abs() == 1.0) else {
         let rot = axis_angle(axis, angle);
-        let mut out = [[D::from(0.0); 3]; 3];
         for (out_row, bar_row) in out.iter_mut().zip(r_bar) {
             // (R̄·Rotᵀ)_row,j = Σ_l R̄_row,l Rot_j,l.
             for (entry, rot_row) in out_row.iter_mut().zip(&rot) {
                 *entry = dot(*bar_row, *rot_row);
             }
         }
-        return out;
+        return;
     };
     let (i, j) = ((k + 1) % 3, (k + 2) % 3);
     let (s, c) = (angle.sin() * axis[k], angle.cos());
-    let mut out = *r_bar;
-    for row in 0..3 {
-        out[row][i] = r_bar[row][i] * c - r_bar[row][j] * s;
-        out[row][j] = r_bar[row][i] * s + r_bar[row][j] * c;
+    for (out_row, bar_row) in out.iter_mut().zip(r_bar) {
+        out_row[k] = bar_row[k];
+        out_row[i] = bar_row[i] * c - bar_row[j] * s;
+        out_row[j] = bar_row[i] * s + bar_row[j] * c;
     }
-    out
 }

@@ -31,53 +31,61 @@ impl<D: Scalar> Pose<D> {
 
 const IDENTITY: [[f64; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
 
-/// R·Rot(axis, angle); for a coordinate axis ±e_k only two columns of R change.
-fn rotate_about<D: Scalar>(r: &Mat3<D>, axis: &[f64; 3], angle: D) -> Mat3<D> {
+/// R ← R·Rot(axis, angle); for a coordinate axis ±e_k only two columns of R change.
+fn rotate_about<D: Scalar>(r: &mut Mat3<D>, axis: &[f64; 3], angle: D) {
     let Some(k) = (0..3).find(|&k| axis[k].abs() == 1.0) else {
-        return mat_mul(r, &axis_angle(axis, angle));
+        *r = mat_mul(r, &axis_angle(axis, angle));
+        return;
     };
     let (i, j) = ((k + 1) % 3, (k + 2) % 3);
     let (s, c) = (angle.sin() * axis[k], angle.cos());
-    let mut out = *r;
-    for row in 0..3 {
-        out[row][i] = r[row][i] * c + r[row][j] * s;
-        out[row][j] = r[row][j] * c - r[row][i] * s;
+    for row in r.iter_mut() {
+        let (ri, rj) = (row[i], row[j]);
+        row[i] = ri * c + rj * s;
+        row[j] = rj * c - ri * s;
     }
-    out
 }
 
 /// Pose of `frame` given the pose of its parent (`parent` = world if the frame has none).
 pub(crate) fn child_pose<D: Scalar>(frame: &Frame, parent: &Pose<D>, q: &[D]) -> Pose<D> {
-    let joint_rotation = if frame.rotation == IDENTITY {
-        parent.rotation
+    let mut pose = Pose::world();
+    child_pose_into(frame, parent, q, &mut pose);
+    pose
+}
+
+/// [`child_pose`] written into `out` (every field), so that a sweep over stored poses moves
+/// no pose.
+pub(crate) fn child_pose_into<D: Scalar>(
+    frame: &Frame,
+    parent: &Pose<D>,
+    q: &[D],
+    out: &mut Pose<D>,
+) {
+    // The joint rotation J first, turned in place for a revolute joint.
+    if frame.rotation == IDENTITY {
+        out.rotation = parent.rotation;
     } else {
-        mat_mul_const(&parent.rotation, &frame.rotation)
-    };
+        out.rotation = mat_mul_const(&parent.rotation, &frame.rotation);
+    }
     let joint_origin = add(
         parent.origin,
         mat_vec_const(&parent.rotation, &frame.translation),
     );
     match frame.motion {
-        Motion::Fixed => Pose {
-            rotation: joint_rotation,
-            origin: joint_origin,
-            axis: [D::from(0.0); 3],
-        },
+        Motion::Fixed => {
+            out.origin = joint_origin;
+            out.axis = [D::from(0.0); 3];
+        }
         Motion::Revolute => {
             let angle = frame.joint_value(q);
-            Pose {
-                rotation: rotate_about(&joint_rotation, &frame.axis, angle),
-                origin: joint_origin,
-                axis: mat_vec_const(&joint_rotation, &frame.axis),
-            }
+            out.axis = mat_vec_const(&out.rotation, &frame.axis);
+            rotate_about(&mut out.rotation, &frame.axis, angle);
+            out.origin = joint_origin;
         }
         Motion::Prismatic => {
-            let axis = mat_vec_const(&joint_rotation, &frame.axis);
-            Pose {
-                rotation: joint_rotation,
-                origin: add(joint_origin, scale(frame.joint_value(q), axis)),
-                axis,
-            }
+            let axis = mat_vec_const(&out.rotation, &frame.axis);
+            out.origin = add(joint_origin, scale(frame.joint_value(q), axis));
+            out.axis = axis;
         }
     }
 }

@@ -36,7 +36,7 @@ pub use error::{ModelError, describe};
 pub use inspect::{ContactInfo, CoordinateInfo, Inspection, LoopInfo, SpringInfo, inspect};
 pub use kinematics::{link_angular_jacobian, link_pose, point_position};
 pub use loops::{LoopJet, loop_closure_jets, loop_residual};
-pub use point_jet::{PointJet, point_jet, vector_jet};
+pub use point_jet::{PointJet, point_jet, point_jet_into, vector_jet};
 pub use shape::{
     ChildJoint, LinkGeometry, Shape, ShapeKind, base_link, coordinate_limbs, frames_only,
 };

@@ -22,7 +22,7 @@ use super::{LinkId, Model};
 
 /// A point's world position and its derivatives in the coordinates `coords` it depends on
 /// (every other coordinate has zero derivatives). Local index a stands for q[`coords[a]`].
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct PointJet {
     /// Coordinates the point depends on.
     pub coords: Vec<usize>,
@@ -57,21 +57,39 @@ pub fn point_jet(
     q: &[f64],
     order: usize,
 ) -> PointJet {
+    let mut jet = PointJet::default();
+    point_jet_into(model, link, point, q, order, &mut jet);
+    jet
+}
+
+/// [`point_jet`] written into `jet`, reusing its storage: a jet of the same chain and order
+/// (the last call's at another q) is overwritten entry by entry, without allocating or
+/// zero-filling its second and third derivatives.
+pub fn point_jet_into(
+    model: &Model,
+    link: LinkId,
+    point: &[f64; 3],
+    q: &[f64],
+    order: usize,
+    jet: &mut PointJet,
+) {
     let chain = Chain::to_link(model, link, q);
     let placement = &model.link_frame[link.0];
     let position = add(
         chain.pose.origin,
         mat_vec_const(&chain.pose.rotation, &placement.point_in_frame(point)),
     );
-    let first = chain
-        .joints
-        .iter()
-        .map(|&(_, motion, axis, origin)| match motion {
-            Motion::Revolute => cross(axis, sub(position, origin)),
-            _ => axis,
-        })
-        .collect();
-    chain.jet(position, first, order)
+    jet.first.clear();
+    jet.first.extend(
+        chain
+            .joints
+            .iter()
+            .map(|&(_, motion, axis, origin)| match motion {
+                Motion::Revolute => cross(axis, sub(position, origin)),
+                _ => axis,
+            }),
+    );
+    chain.jet_into(position, order, jet);
 }
 
 /// World components of a free vector fixed in `link` (`vector` in the link frame, e.g. a
@@ -139,10 +157,31 @@ impl Chain {
     /// The jet whose first derivatives are `first` (one per joint, carried by the bodies
     /// below it): higher orders by R_j and R_i (module comment).
     fn jet(&self, position: [f64; 3], first: Vec<[f64; 3]>, order: usize) -> PointJet {
+        let mut jet = PointJet {
+            first,
+            ..PointJet::default()
+        };
+        self.jet_into(position, order, &mut jet);
+        jet
+    }
+
+    /// Completes `jet`, whose `first` holds the first derivatives, with the coordinates, the
+    /// position and the higher orders; every entry of `second` and `third` is written, so
+    /// storage of the right length is reused as it is.
+    fn jet_into(&self, position: [f64; 3], order: usize, jet: &mut PointJet) {
         let c = self.joints.len();
-        let mut second = Vec::new();
+        let PointJet {
+            coords,
+            position: jet_position,
+            first,
+            second,
+            third,
+        } = jet;
+        coords.clear();
+        coords.extend(self.joints.iter().map(|j| j.0));
+        *jet_position = position;
         if order >= 2 {
-            second = vec![[0.0; 3]; c * c];
+            second.resize(c * c, [0.0; 3]);
             for k in 0..c {
                 for j in 0..=k {
                     let s = self.rotate(j, first[k]);
@@ -150,10 +189,11 @@ impl Chain {
                     second[k * c + j] = s;
                 }
             }
+        } else {
+            second.clear();
         }
-        let mut third = Vec::new();
         if order >= 3 {
-            third = vec![[0.0; 3]; c * c * c];
+            third.resize(c * c * c, [0.0; 3]);
             for k in 0..c {
                 for j in 0..=k {
                     for i in 0..=j {
@@ -171,13 +211,8 @@ impl Chain {
                     }
                 }
             }
-        }
-        PointJet {
-            coords: self.joints.iter().map(|j| j.0).collect(),
-            position,
-            first,
-            second,
-            third,
+        } else {
+            third.clear();
         }
     }
 }

@@ -5,7 +5,7 @@
 
 use std::collections::HashMap;
 use std::collections::hash_map::Entry;
-use std::sync::OnceLock;
+use std::sync::{Mutex, OnceLock};
 
 use nalgebra::DMatrix;
 use rayon::prelude::*;
@@ -21,6 +21,7 @@ use crate::autodiff::{
 };
 use crate::contact::ContactGeometry;
 use crate::discrete::MechanicsDerivatives;
+use crate::model::PointJet;
 
 /// How the contact blocks (tangential rate, contact work, signed distance, c·φ,
 /// complementarity) and the loop-closure blocks (residual rows, loop work) are differentiated.
@@ -153,66 +154,60 @@ impl<M: MechanicsDerivatives> Transcription<M> {
     pub fn jacobian_values(&self, x: &[f64], values: &mut [f64]) {
         values.fill(0.0);
         let shared = self.shared_geometries(Callback::Jacobian);
-        let build = |key| self.contact_geometry(x, key);
-        let vector = self.map_blocks(&self.vector_blocks, |b| {
-            let z = gather(x, &b.vars);
+        let build = |key, jet| self.contact_geometry(x, key, jet);
+        let vector = self.map_blocks(&self.vector_blocks, |scratch, b| {
+            let z = scratch.point(x, &b.vars);
             let geometry = shared.get(b.kind.geometry(&self.mech, self.ctx.n), &b.vars, &build);
-            self.vector_block_jacobian(b, &z, geometry)
+            self.vector_block_jacobian(b, z, geometry)
         });
         for (b, local) in self.vector_blocks.iter().zip(vector) {
             scatter_rows(b, &local, values);
         }
-        let gradient = self.map_blocks(&self.gradient_blocks, |b| {
-            let z = gather(x, &b.vars);
+        let gradient = self.map_blocks(&self.gradient_blocks, |scratch, b| {
+            let z = scratch.point(x, &b.vars);
             let geometry = shared.get(b.kind.geometry(&self.mech, self.ctx.n), &b.vars, &build);
-            self.gradient_block_hessian(b, &z, geometry)
+            self.gradient_block_hessian(b, z, geometry)
         });
         for (b, local) in self.gradient_blocks.iter().zip(gradient) {
             scatter_rows(b, &local, values);
         }
+        shared.recycle();
     }
 
     /// Values of ∇²(σ f + Σ λ_r g_r) in the order of `hessian_pattern`.
     pub fn hessian_values(&self, x: &[f64], obj_factor: f64, lambda: &[f64], values: &mut [f64]) {
         values.fill(0.0);
-        let weights = |targets: &[Vec<usize>]| -> Vec<f64> {
-            targets
-                .iter()
-                .map(|rows| rows.iter().map(|&r| lambda[r]).sum())
-                .collect()
-        };
-        let costs = self.map_blocks(&self.cost_blocks, |b| {
+        let costs = self.map_blocks(&self.cost_blocks, |scratch, b| {
             if b.nonlinear == 0 {
                 return DMatrix::zeros(0, 0);
             }
-            self.cost_block_hessian(b, &gather(x, &b.vars)) * obj_factor
+            self.cost_block_hessian(b, scratch.point(x, &b.vars)) * obj_factor
         });
         for (b, local) in self.cost_blocks.iter().zip(costs) {
             scatter_lower(b, &local, values);
         }
         let shared = self.shared_geometries(Callback::Hessian);
-        let build = |key| self.contact_geometry(x, key);
-        let vector = self.map_blocks(&self.vector_blocks, |b| {
+        let build = |key, jet| self.contact_geometry(x, key, jet);
+        let vector = self.map_blocks(&self.vector_blocks, |scratch, b| {
             if b.nonlinear == 0 {
                 return DMatrix::zeros(0, 0);
             }
-            let z = gather(x, &b.vars);
-            let w = weights(&b.targets);
+            let (z, w) = scratch.point_and_weights(x, &b.vars, lambda, &b.targets);
             let geometry = shared.get(b.kind.geometry(&self.mech, self.ctx.n), &b.vars, &build);
-            self.vector_block_hessian(b, &z, &w, geometry)
+            self.vector_block_hessian(b, z, w, geometry)
         });
         for (b, local) in self.vector_blocks.iter().zip(vector) {
             scatter_lower(b, &local, values);
         }
-        let gradient = self.map_blocks(&self.gradient_blocks, |b| {
-            let dir = weights(&b.targets);
-            let z = gather(x, &b.vars);
+        let gradient = self.map_blocks(&self.gradient_blocks, |scratch, b| {
+            let (z, dir) = scratch.point_and_weights(x, &b.vars, lambda, &b.targets);
             let geometry = shared.get(b.kind.geometry(&self.mech, self.ctx.n), &b.vars, &build);
-            self.gradient_block_third(b, &z, &dir, geometry)
+            self.gradient_block_third(b, z, dir, geometry)
         });
         for (b, local) in self.gradient_blocks.iter().zip(gradient) {
             scatter_lower(b, &local, values);
         }
+        shared.recycle();
     }
 
     /// Seconds spent on one Jacobian plus Lagrangian-Hessian evaluation per block kind
@@ -261,11 +256,18 @@ impl<M: MechanicsDerivatives> Transcription<M> {
     /// need: the tangential rate, the distance, the gap and the contact work at one knot read
     /// one point jet instead of computing it four times.
     fn shared_geometries(&self, callback: Callback) -> SharedGeometries<'_> {
-        let mut shared = SharedGeometries::default();
+        let hessian = callback == Callback::Hessian;
+        let mut shared = SharedGeometries {
+            jets: Some(if hessian {
+                &self.jets.hessian
+            } else {
+                &self.jets.jacobian
+            }),
+            ..SharedGeometries::default()
+        };
         if self.contact_derivatives != ContactDerivatives::ChainRule {
             return shared;
         }
-        let hessian = callback == Callback::Hessian;
         let extra = usize::from(hessian);
         let mut keys: Vec<GeometryKey> = Vec::new();
         for b in &self.vector_blocks {
@@ -286,13 +288,22 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         shared
     }
 
-    /// The contact geometry at (contact, configuration variables, order) at x.
+    /// The contact geometry at (contact, configuration variables, order) at x, its point jet
+    /// in `jet`'s storage.
     fn contact_geometry(
         &self,
         x: &[f64],
         (contact, q, order): (usize, &[usize], usize),
+        jet: PointJet,
     ) -> ContactGeometry<'_> {
-        ContactGeometry::new(&self.mech, &self.ctx.contact, contact, &gather(x, q), order)
+        ContactGeometry::with_jet(
+            &self.mech,
+            &self.ctx.contact,
+            contact,
+            &gather(x, q),
+            order,
+            jet,
+        )
     }
 
     /// `f` over the blocks on one thread: f, ∇f and g, which Ipopt asks at every trial
@@ -303,18 +314,24 @@ impl<M: MechanicsDerivatives> Transcription<M> {
     }
 
     /// `f` over the blocks, on rayon's pool when the transcription is parallel (derivatives
-    /// of large problems, see `Transcription::new`), in block order either way.
+    /// of large problems, see `Transcription::new`), in block order either way; each task
+    /// (the serial loop, or one per batch of the pool) lends `f` one [`BlockScratch`].
     pub(super) fn map_blocks<K: Sync, R: Send>(
         &self,
         blocks: &[Block<K>],
-        f: impl Fn(&Block<K>) -> R + Sync + Send,
+        f: impl Fn(&mut BlockScratch, &Block<K>) -> R + Sync + Send,
     ) -> Vec<R> {
         if self.parallel {
             // Batches of blocks: one task per block costs more in wake-ups than the
             // cheaper blocks take to evaluate.
-            blocks.par_iter().with_min_len(32).map(f).collect()
+            blocks
+                .par_iter()
+                .with_min_len(32)
+                .map_init(BlockScratch::default, |scratch, b| f(scratch, b))
+                .collect()
         } else {
-            blocks.iter().map(f).collect()
+            let mut scratch = BlockScratch::default();
+            blocks.iter().map(|b| f(&mut scratch, b)).collect()
         }
     }
 
@@ -488,6 +505,42 @@ pub(super) fn gather(x: &[f64], vars: &[usize]) -> Vec<f64> {
     vars.iter().map(|&v| x[v]).collect()
 }
 
+/// Storage a derivative call's task reuses from block to block: the block's local point and
+/// the summed multipliers of its outputs (no allocation per block once grown).
+#[derive(Debug, Default)]
+pub(super) struct BlockScratch {
+    z: Vec<f64>,
+    w: Vec<f64>,
+}
+
+impl BlockScratch {
+    /// x[vars] (as [`gather`]).
+    fn point(&mut self, x: &[f64], vars: &[usize]) -> &[f64] {
+        self.z.clear();
+        self.z.extend(vars.iter().map(|&v| x[v]));
+        &self.z
+    }
+
+    /// x[vars] and, per output, the sum of the multipliers of the rows it is added into.
+    fn point_and_weights(
+        &mut self,
+        x: &[f64],
+        vars: &[usize],
+        lambda: &[f64],
+        targets: &[Vec<usize>],
+    ) -> (&[f64], &[f64]) {
+        self.z.clear();
+        self.z.extend(vars.iter().map(|&v| x[v]));
+        self.w.clear();
+        self.w.extend(
+            targets
+                .iter()
+                .map(|rows| rows.iter().map(|&r| lambda[r]).sum::<f64>()),
+        );
+        (&self.z, &self.w)
+    }
+}
+
 /// Add a block's local rows (outputs or gradient components × inputs) into the Jacobian.
 pub(super) fn scatter_rows<K>(b: &Block<K>, local: &DMatrix<f64>, values: &mut [f64]) {
     let mut slot = b.jacobian_slots.iter();
@@ -553,6 +606,16 @@ enum Callback {
 /// (contact, configuration variables, order) of a shared contact geometry.
 type GeometryKey<'a> = (usize, &'a [usize], usize);
 
+/// The point jets of the last derivative calls' shared contact geometries, one pool per
+/// callback (the Jacobian's geometries are of a lower order than the Hessian's), lent to the
+/// next call's geometries so that their jets are written into storage of the right size:
+/// no allocation and no zero-filling of ∂²p and ∂³p per call.
+#[derive(Debug, Default)]
+pub(super) struct JetPools {
+    jacobian: Mutex<Vec<PointJet>>,
+    hessian: Mutex<Vec<PointJet>>,
+}
+
 /// Contact geometries shared by the blocks of one derivative call, keyed by contact and the
 /// variables of the configuration they are taken at; each is computed by the first block
 /// that reads it (on whichever thread), so sharing adds no pass over the pool.
@@ -562,6 +625,8 @@ struct SharedGeometries<'a> {
     index: HashMap<(usize, usize), usize>,
     keys: Vec<GeometryKey<'a>>,
     cells: Vec<OnceLock<ContactGeometry<'a>>>,
+    /// Where the geometries' jets come from and go back to.
+    jets: Option<&'a Mutex<Vec<PointJet>>>,
 }
 
 impl<'a> SharedGeometries<'a> {
@@ -595,11 +660,30 @@ impl<'a> SharedGeometries<'a> {
         &self,
         contact: usize,
         q: &[usize],
-        build: &(dyn Fn(GeometryKey<'a>) -> ContactGeometry<'a> + Sync),
+        build: &(dyn Fn(GeometryKey<'a>, PointJet) -> ContactGeometry<'a> + Sync),
     ) -> Option<&ContactGeometry<'a>> {
         let &i = self.index.get(&(contact, *q.first()?))?;
         let key = self.keys[i];
-        (key.1 == q).then(|| self.cells[i].get_or_init(|| build(key)))
+        (key.1 == q).then(|| self.cells[i].get_or_init(|| build(key, self.take_jet())))
+    }
+
+    /// A jet from the pool (a new one when it is empty).
+    fn take_jet(&self) -> PointJet {
+        self.jets
+            .and_then(|pool| pool.lock().ok()?.pop())
+            .unwrap_or_default()
+    }
+
+    /// Gives the jets of the geometries built back to the pool.
+    fn recycle(self) {
+        let Some(pool) = self.jets else { return };
+        let jets = self
+            .cells
+            .into_iter()
+            .filter_map(|cell| cell.into_inner().map(ContactGeometry::into_jet));
+        if let Ok(mut pool) = pool.lock() {
+            pool.extend(jets);
+        }
     }
 
     /// The shared geometry a block over `vars` reads where it declares `geometry`, if any.
@@ -607,7 +691,7 @@ impl<'a> SharedGeometries<'a> {
         &self,
         geometry: Option<GeometryUse>,
         vars: &[usize],
-        build: &(dyn Fn(GeometryKey<'a>) -> ContactGeometry<'a> + Sync),
+        build: &(dyn Fn(GeometryKey<'a>, PointJet) -> ContactGeometry<'a> + Sync),
     ) -> Option<&ContactGeometry<'a>> {
         let u = geometry?;
         self.lookup(u.contact, &vars[u.q], build)

@@ -3,7 +3,7 @@
 //! derivatives), with its accessors and evaluation settings.
 
 use super::blocks::{Block, Context, ScalarKind, VectorKind};
-use super::evaluate::ContactDerivatives;
+use super::evaluate::{ContactDerivatives, JetPools};
 use super::layout::{Dims, Layout};
 use super::pattern::Pattern;
 use super::{NlpSize, TranscriptionError};
@@ -48,6 +48,9 @@ pub struct Transcription<M> {
     pub(super) contact_derivatives: ContactDerivatives,
     /// See [`Transcription::set_skip_fixed_variables`].
     pub(super) skip_fixed: bool,
+    /// Storage of the contact geometries' point jets, kept from one derivative call to the
+    /// next.
+    pub(super) jets: JetPools,
 }
 
 pub(super) fn check_len(
@@ -156,6 +159,7 @@ impl<M: MechanicsDerivatives> Transcription<M> {
             parallel: true,
             contact_derivatives: ContactDerivatives::ChainRule,
             skip_fixed: false,
+            jets: JetPools::default(),
             mech,
         };
         t.place_blocks();
