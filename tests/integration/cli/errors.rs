@@ -253,6 +253,57 @@ fn terrain_and_cost_entries_name_their_field() {
     assert!(err.contains("unknown key `wieght`"), "{err}");
 }
 
+/// `impulse_rate`: its weight is a finite number ≥ 0, its weights name the problem's contacts,
+/// exactly one of the two is given, and no other key: each is one error naming the file, line
+/// and field, exit 2.
+#[test]
+fn impulse_rate_bad_weights_name_their_field() {
+    for (name, keys, expected) in [
+        (
+            "impulse_rate_negative_weight",
+            "weight = -0.5",
+            "bad.toml:19: field `cost[0].weight`: must be a number in [0, 1e12], got -0.5",
+        ),
+        (
+            "impulse_rate_nan_weight",
+            "weight = nan",
+            "bad.toml:19: field `cost[0].weight`: must be a number in [0, 1e12], got NaN",
+        ),
+        (
+            "impulse_rate_negative_contact_weight",
+            "weights = { default = 1.0, foot_contact = -2.0 }",
+            "field `cost[0].weights`: weight of `foot_contact` is -2; weights must be ≥ 0",
+        ),
+        (
+            "impulse_rate_unknown_contact",
+            "weights = { foot_contat = 1.0 }",
+            "field `cost[0].weights.foot_contat`: unknown contact `foot_contat`, did you mean `foot_contact`?",
+        ),
+        (
+            "impulse_rate_both",
+            "weight = 1.0\nweights = { foot_contact = 1.0 }",
+            "bad.toml:20: field `cost[0].weights`: both `weight` and `weights` are given",
+        ),
+        (
+            "impulse_rate_neither",
+            "",
+            "bad.toml:17: field `cost[0].weight`: missing; give `weight = w` (every contact)",
+        ),
+        (
+            "impulse_rate_unknown_key",
+            "weigth = 1.0",
+            "field `cost[0]`: unknown key `weigth`, did you mean `weight`?",
+        ),
+    ] {
+        let text = hopper_text().replace(
+            "[horizon]",
+            &format!("[[cost]]\ntype = \"impulse_rate\"\n{keys}\n\n[horizon]"),
+        );
+        let err = solve_fails(name, &text);
+        assert!(err.contains(expected), "{name}: {err}");
+    }
+}
+
 /// `final_velocity` resolves its weights and target by coordinate name like the other terms:
 /// an unknown name is one error naming the file, line, field and the nearest name.
 #[test]
