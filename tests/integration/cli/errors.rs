@@ -295,13 +295,16 @@ fn impulse_rate_bad_weights_name_their_field() {
             "field `cost[0]`: unknown key `weigth`, did you mean `weight`?",
         ),
     ] {
-        let text = hopper_text().replace(
-            "[horizon]",
-            &format!("[[cost]]\ntype = \"impulse_rate\"\n{keys}\n\n[horizon]"),
-        );
-        let err = solve_fails(name, &text);
-        assert!(err.contains(expected), "{name}: {err}");
+        cost_entry_fails(name, "[horizon]", "impulse_rate", keys, expected);
     }
+}
+
+/// The hopper with a `[[cost]]` entry of `kind` with `keys` inserted before `section` fails
+/// (as [`solve_fails`]) with an error containing `expected`.
+fn cost_entry_fails(name: &str, section: &str, kind: &str, keys: &str, expected: &str) {
+    let entry = format!("[[cost]]\ntype = \"{kind}\"\n{keys}\n\n{section}");
+    let err = solve_fails(name, &hopper_text().replace(section, &entry));
+    assert!(err.contains(expected), "{name}: {err}");
 }
 
 /// `final_velocity` resolves its weights and target by coordinate name like the other terms:
@@ -325,12 +328,7 @@ fn final_velocity_unknown_coordinate() {
             "field `cost[2].weights`: weight of `r` is -1; weights must be ≥ 0",
         ),
     ] {
-        let text = hopper_text().replace(
-            "[slack]",
-            &format!("[[cost]]\ntype = \"final_velocity\"\n{key}\n\n[slack]"),
-        );
-        let err = solve_fails(name, &text);
-        assert!(err.contains(expected), "{err}");
+        cost_entry_fails(name, "[slack]", "final_velocity", key, expected);
     }
 }
 
