@@ -548,13 +548,25 @@ fn final_velocity_value_matches_hand_computation() {
             0.5 * w * (v - target) * (v - target)
         })
         .sum();
-    let terms = t.objective_terms(&x);
-    let (_, value) = terms
-        .iter()
-        .find(|(name, _)| name == "final_velocity")
-        .expect("final_velocity in objective_terms");
     assert!(hand > 0.1, "the point tests nothing: {hand}");
-    assert!((value - hand).abs() <= 1e-12 * hand, "{value} vs {hand}");
+    assert_term_value(&t, &x, "final_velocity", hand);
+}
+
+/// The term `name` of `t`'s objective at x equals `hand` to 1e-12 (relative).
+fn assert_term_value<M: MechanicsDerivatives>(
+    t: &Transcription<M>,
+    x: &[f64],
+    name: &str,
+    hand: f64,
+) {
+    let terms = t.objective_terms(x);
+    let Some((_, value)) = terms.iter().find(|(n, _)| n == name) else {
+        panic!("{name} not in objective_terms: {terms:?}")
+    };
+    assert!(
+        (value - hand).abs() <= 1e-12 * hand.abs(),
+        "{name}: {value} vs {hand}"
+    );
 }
 
 /// `impulse_rate` on z = [c_{k−1}; c_k]: ½ Σ_i w_i (c_{k,i} − c_{k−1,i})², by hand; placed on
@@ -592,13 +604,8 @@ fn impulse_rate_value_and_hessian_match_hand_computation() {
                 0.5 * weights[i] * d * d
             })
             .sum();
-        let terms = t.objective_terms(&x);
-        let (_, value) = terms
-            .iter()
-            .find(|(name, _)| name == "impulse_rate")
-            .expect("impulse_rate in objective_terms");
         assert!(hand > 1e-3, "the point tests nothing: {hand}");
-        assert!((value - hand).abs() <= 1e-12 * hand, "{value} vs {hand}");
+        assert_term_value(&t, &x, "impulse_rate", hand);
 
         let mut values = vec![0.0; p.nnz()];
         t.hessian_values(&x, 1.0, &lambda, &mut values);
