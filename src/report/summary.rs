@@ -49,13 +49,19 @@ fn num(x: f64) -> Value {
     if x.is_finite() { json!(x) } else { Value::Null }
 }
 
+/// Objective terms as a JSON object by name.
+fn terms_json(terms: &[(String, f64)]) -> Value {
+    let mut map = Map::new();
+    for (name, value) in terms {
+        map.insert(name.clone(), num(*value));
+    }
+    Value::Object(map)
+}
+
 /// Builds the summary object.
 pub fn summary_json(problem: &LoadedProblem, solution: &Solution) -> Value {
     let s = solution;
-    let mut terms = Map::new();
-    for (name, value) in &s.objective_terms {
-        terms.insert(name.clone(), num(*value));
-    }
+    let terms = terms_json(&s.objective_terms);
     let mut parameters = Map::new();
     for (path, value) in &problem.parameters {
         let parsed: Value = toml::from_str::<toml::Table>(&format!("v = {value}"))
@@ -153,6 +159,7 @@ pub fn summary_json(problem: &LoadedProblem, solution: &Solution) -> Value {
                     "status": r.verdict.name(),
                     "ipopt_status": status_name(r.status),
                     "objective": num(r.objective),
+                    "objective_terms": terms_json(&r.objective_terms),
                     "max_slack": num(r.max_slack),
                     "max_constraint_violation": num(r.max_constraint_violation),
                     "iterations": r.iterations,

@@ -101,7 +101,7 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         let ctx = Context::new(&mech, spec);
         let nd = ctx.nd();
         for (t, term) in spec.costs.iter().enumerate() {
-            if let Some((field, expected, found)) = length_mismatch(term, CostSizes { n, m }) {
+            if let Some((field, expected, found)) = length_mismatch(term, CostSizes { n, m, nc }) {
                 return Err(TranscriptionError::Length {
                     field: format!("costs[{t}].{field}"),
                     expected,

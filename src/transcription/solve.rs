@@ -53,6 +53,8 @@ pub struct StartRecord {
     pub verdict: SolveVerdict,
     /// Objective at the end of the start.
     pub objective: f64,
+    /// Its terms (as [`Solution::objective_terms`]).
+    pub objective_terms: Vec<(String, f64)>,
     /// Largest slack.
     pub max_slack: f64,
     /// Largest constraint violation.
@@ -180,6 +182,7 @@ fn solve_from<M: MechanicsDerivatives>(
         status: solution.status,
         verdict: solution.verdict(),
         objective: solution.objective,
+        objective_terms: solution.objective_terms.clone(),
         max_slack: solution.max_slack,
         max_constraint_violation: solution.max_constraint_violation,
         iterations: solution.iterations,

@@ -20,8 +20,8 @@ use vito::contact::Step;
 use vito::discrete::{Mechanics, MechanicsDerivatives, ModelMechanics};
 use vito::problem::constraints::{Periodic, PeriodicMomentum};
 use vito::problem::costs::{
-    ConfigurationDifference, CostSizes, FinalState, FinalVelocity, Input, InputRate, StateTracking,
-    Time, VelocityDifference, cost_value,
+    ConfigurationDifference, CostSizes, FinalState, FinalVelocity, ImpulseRate, Input, InputRate,
+    StateTracking, Time, VelocityDifference, cost_value,
 };
 use vito::problem::{
     Constraint, CostTerm, Integrator, Interval, ProblemSpec, SlackMode, TimeSteps,
@@ -127,6 +127,8 @@ fn hopper_everything(integrator: Integrator, slack_mode: SlackMode) -> ProblemSp
         .push(CostTerm::VelocityDifference(VelocityDifference {
             weights: vec![0.5, 1.0, 2.0, 0.3],
         }));
+    spec.costs
+        .push(CostTerm::ImpulseRate(ImpulseRate { weights: vec![0.7] }));
     spec.constraints = vec![
         Constraint::Periodic(Periodic {
             coordinate: 1,
@@ -369,6 +371,9 @@ fn brick_short_horizon_both_slack_modes_and_integrators() {
     ] {
         let mut spec = brick_3d();
         spec.knots = 3;
+        spec.costs.push(CostTerm::ImpulseRate(ImpulseRate {
+            weights: (0..8).map(|i| 0.25 * i as f64).collect(),
+        }));
         spec.slack_mode = mode;
         spec.integrator = integrator;
         spec.terrain.steps.push(Step {
@@ -395,6 +400,9 @@ fn spring_flamingo_from_urdf_short_horizon() {
         spec.knots = 3;
         spec.q_final = vec![Interval::FREE; 9];
         spec.integrator = integrator;
+        spec.costs.push(CostTerm::ImpulseRate(ImpulseRate {
+            weights: vec![0.5, 1.0, 2.0, 0.0],
+        }));
         let t = Transcription::new(ModelMechanics::load(&spec).unwrap(), &spec).unwrap();
         check_derivatives(&format!("spring flamingo (URDF) {integrator:?}"), &t, seed);
     }
@@ -519,7 +527,7 @@ fn final_velocity_value_matches_hand_computation() {
         v_target: vec![1.0, 0.0, 0.5, 0.0],
         weights: vec![1.0, 2.0, 4.0, 0.0],
     });
-    let sizes = CostSizes { n: 4, m: 2 };
+    let sizes = CostSizes { n: 4, m: 2, nc: 1 };
     // v = ([0.1, 0.2, 0.0, 0.3] − [0, 0, 0.05, 0]) / 0.05 = [2, 4, −1, 6]:
     // ½ (1·(2 − 1)² + 2·4² + 4·(−1 − 0.5)² + 0·6²) = ½ (1 + 32 + 9) = 21.
     let z: [f64; 9] = [0.0, 0.0, 0.05, 0.0, 0.1, 0.2, 0.0, 0.3, 0.05];
@@ -540,13 +548,97 @@ fn final_velocity_value_matches_hand_computation() {
             0.5 * w * (v - target) * (v - target)
         })
         .sum();
-    let terms = t.objective_terms(&x);
-    let (_, value) = terms
-        .iter()
-        .find(|(name, _)| name == "final_velocity")
-        .expect("final_velocity in objective_terms");
     assert!(hand > 0.1, "the point tests nothing: {hand}");
-    assert!((value - hand).abs() <= 1e-12 * hand, "{value} vs {hand}");
+    assert_term_value(&t, &x, "final_velocity", hand);
+}
+
+/// The term `name` of `t`'s objective at x equals `hand` to 1e-12 (relative).
+fn assert_term_value<M: MechanicsDerivatives>(
+    t: &Transcription<M>,
+    x: &[f64],
+    name: &str,
+    hand: f64,
+) {
+    let terms = t.objective_terms(x);
+    let Some((_, value)) = terms.iter().find(|(n, _)| n == name) else {
+        panic!("{name} not in objective_terms: {terms:?}")
+    };
+    assert!(
+        (value - hand).abs() <= 1e-12 * hand.abs(),
+        "{name}: {value} vs {hand}"
+    );
+}
+
+/// `impulse_rate` on z = [c_{k−1}; c_k]: ½ Σ_i w_i (c_{k,i} − c_{k−1,i})², by hand; placed on
+/// the brick's eight contacts over every pair of adjacent intervals, its term in the objective
+/// is that sum over the solver's impulses, and its objective Hessian is the constant
+/// second-difference matrix: w_i on (c_{k,i}, c_{k,i}) at the first and last interval, 2 w_i
+/// between, −w_i on (c_{k+1,i}, c_{k,i}), at two different points.
+#[test]
+fn impulse_rate_value_and_hessian_match_hand_computation() {
+    let term = CostTerm::ImpulseRate(ImpulseRate {
+        weights: vec![2.0, 0.5],
+    });
+    let sizes = CostSizes { n: 4, m: 2, nc: 2 };
+    // ½ (2·(0.3 − 0.1)² + 0.5·(0 − 0.4)²) = ½ (0.08 + 0.08) = 0.08.
+    let z: [f64; 4] = [0.1, 0.4, 0.3, 0.0];
+    assert!((cost_value(&term, sizes, &z) - 0.08).abs() < 1e-15);
+
+    let weights: Vec<f64> = (0..8).map(|i| 0.5 + 0.25 * i as f64).collect();
+    let mut spec = brick_3d();
+    spec.knots = 6;
+    spec.costs = vec![CostTerm::ImpulseRate(ImpulseRate {
+        weights: weights.clone(),
+    })];
+    let t = Transcription::new(Brick, &spec).unwrap();
+    let l = t.layout();
+    let intervals = l.intervals();
+    let p = t.hessian_pattern();
+    let lambda = vec![0.0; l.num_constraints()];
+    for seed in [41, 42] {
+        let (x, _, _) = random_point(&t, &mut SeededRng::new(seed));
+        let hand: f64 = (1..intervals)
+            .flat_map(|k| (0..8).map(move |i| (k, i)))
+            .map(|(k, i)| {
+                let d = x[l.c(k, i)] - x[l.c(k - 1, i)];
+                0.5 * weights[i] * d * d
+            })
+            .sum();
+        assert!(hand > 1e-3, "the point tests nothing: {hand}");
+        assert_term_value(&t, &x, "impulse_rate", hand);
+
+        let mut values = vec![0.0; p.nnz()];
+        t.hessian_values(&x, 1.0, &lambda, &mut values);
+        let at = |r: usize, c: usize| {
+            let (r, c) = (r.max(c), r.min(c));
+            (0..p.nnz())
+                .filter(|&k| p.rows[k] == r && p.cols[k] == c)
+                .map(|k| values[k])
+                .sum::<f64>()
+        };
+        for (i, &w) in weights.iter().enumerate() {
+            for k in 0..intervals {
+                let pairs = if k == 0 || k + 1 == intervals {
+                    1.0
+                } else {
+                    2.0
+                };
+                let (diagonal, expected) = (at(l.c(k, i), l.c(k, i)), pairs * w);
+                assert!(
+                    (diagonal - expected).abs() < 1e-12,
+                    "c[{k},{i}]: {diagonal}"
+                );
+                if k + 1 < intervals {
+                    let off = at(l.c(k + 1, i), l.c(k, i));
+                    assert!((off + w).abs() < 1e-12, "c[{k},{i}] off-diagonal: {off}");
+                }
+            }
+            // No coupling between contacts or with the friction impulses.
+            let other = l.c(1, (i + 1) % 8);
+            assert_eq!(at(l.c(1, i), other), 0.0);
+            assert_eq!(at(l.c(1, i), l.beta(1, i).start), 0.0);
+        }
+    }
 }
 
 /// The Hessian pattern holds the term's step–configuration entries from its inputs, not from

@@ -13,6 +13,7 @@
 mod configuration_difference;
 mod final_state;
 mod final_velocity;
+mod impulse_rate;
 mod input;
 mod input_rate;
 mod state_tracking;
@@ -22,6 +23,7 @@ mod velocity_difference;
 pub use configuration_difference::ConfigurationDifference;
 pub use final_state::FinalState;
 pub use final_velocity::FinalVelocity;
+pub use impulse_rate::ImpulseRate;
 pub use input::Input;
 pub use input_rate::InputRate;
 pub use state_tracking::StateTracking;
@@ -52,8 +54,8 @@ macro_rules! cost_terms {
         }
 
         /// One checked cost term. Running terms are summed over intervals k = 1..N−1 (and
-        /// weighted by h_k where the term says so); weight vectors have full length (n, or
-        /// m for inputs).
+        /// weighted by h_k where the term says so); weight vectors have full length (n, m
+        /// for inputs, nc for contacts).
         #[derive(Debug, Clone, PartialEq)]
         pub enum CostTerm {
             $(
@@ -91,6 +93,7 @@ cost_terms! {
     FinalVelocity in final_velocity,
     Time in time,
     VelocityDifference in velocity_difference,
+    ImpulseRate in impulse_rate,
 }
 
 /// The knot-local variables a cost term reads, in the order of its input z, and where.
@@ -104,6 +107,9 @@ pub enum CostInputs {
     InputWithStep,
     /// z = [u_{j−1}; u_j] on every pair of adjacent intervals.
     AdjacentInputs,
+    /// z = [c_{j−1}; c_j], the normal impulses of every contact, on every pair of adjacent
+    /// intervals.
+    AdjacentImpulses,
     /// z = [q_{j−1}; q_j; q_{j+1}; h_{j−1}; h_j] on every pair of adjacent intervals.
     AdjacentIntervals,
     /// z = [q_N], the last knot, once.
@@ -121,6 +127,8 @@ pub struct CostSizes {
     pub n: usize,
     /// Inputs m.
     pub m: usize,
+    /// Contacts nc.
+    pub nc: usize,
 }
 
 /// A vector of a cost term whose length does not match the robot: (field, expected, found).
@@ -153,11 +161,13 @@ pub trait CheckCost: Sized {
     fn check(entry: &Self::Entry, at: &CostCheck) -> Result<Self, ProblemError>;
 }
 
-/// What a term's check needs: where its entry is, the robot's names and the goal.
+/// What a term's check needs: where its entry is, the robot's names, the problem's contact
+/// names (in order) and the goal.
 pub struct CostCheck<'a> {
     ctx: &'a Context,
     index: usize,
     robot: &'a RobotInfo,
+    contacts: &'a [String],
     goal: &'a [f64],
 }
 
@@ -228,6 +238,25 @@ impl CostCheck<'_> {
         self.weights(key, &self.robot.inputs, "input", weights)
     }
 
+    /// Weights ≥ 0 by contact name.
+    pub fn contact_weights(
+        &self,
+        key: &str,
+        weights: &NamedVector,
+    ) -> Result<Vec<f64>, ProblemError> {
+        self.weights(key, self.contacts, "contact", weights)
+    }
+
+    /// The number of the problem's contacts.
+    pub fn contact_count(&self) -> usize {
+        self.contacts.len()
+    }
+
+    /// The error for `cost[i].key` with `message`.
+    pub fn invalid(&self, key: &str, message: impl Into<String>) -> ProblemError {
+        self.ctx.invalid(&self.field(key), message)
+    }
+
     /// A finite number ≥ 0.
     pub fn nonnegative(&self, key: &str, value: f64) -> Result<f64, ProblemError> {
         nonnegative(self.ctx, &self.field(key), value)
@@ -252,11 +281,12 @@ impl CostCheck<'_> {
     }
 }
 
-/// `[[cost]]`: every entry checked against the robot, in file order.
+/// `[[cost]]`: every entry checked against the robot and the problem's contacts, in file order.
 pub(super) fn check_costs(
     ctx: &Context,
     raw: &ProblemFile,
     robot: &RobotInfo,
+    contacts: &[String],
     goal: &[f64],
 ) -> Result<Vec<CostTerm>, ProblemError> {
     raw.cost
@@ -267,6 +297,7 @@ pub(super) fn check_costs(
                 ctx,
                 index,
                 robot,
+                contacts,
                 goal,
             })
         })

@@ -57,7 +57,9 @@ pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, Pr
     let bounds = bounds::check_bounds(ctx, &raw, &robot, knots)?;
     let joint_limits = raw.robot.joint_limits.unwrap_or(true);
     let input_bounds = inputs::check_inputs(ctx, &raw, &robot)?;
-    let costs = crate::problem::costs::check_costs(ctx, &raw, &robot, &endpoints.goal)?;
+    let contact_names: Vec<String> = contacts.iter().map(|c| c.name.clone()).collect();
+    let costs =
+        crate::problem::costs::check_costs(ctx, &raw, &robot, &contact_names, &endpoints.goal)?;
     let (slack_weight, slack_mode, slack_tolerance) = slack::check_slack_penalty(ctx, &raw)?;
     let max_slip_speed = contacts::check_max_slip_speed(ctx, &raw)?;
     let mode_block = contacts::check_mode_block(ctx, &raw, knots)?;

@@ -36,7 +36,11 @@ impl GradientBlock for Cost {
         }
     }
     fn value<D: Scalar, M: Mechanics>(&self, _: &M, ctx: &Context, z: &[D]) -> D {
-        let sizes = CostSizes { n: ctx.n, m: ctx.m };
+        let sizes = CostSizes {
+            n: ctx.n,
+            m: ctx.m,
+            nc: ctx.nc(),
+        };
         cost_value(&ctx.costs[self.term], sizes, z)
     }
     fn hessian<M: MechanicsDerivatives>(&self, at: &Eval<M>, z: &[f64]) -> Option<DMatrix<f64>> {
@@ -74,6 +78,13 @@ fn cost_placements(l: &Layout, inputs: CostInputs) -> Vec<Vec<usize>> {
             .map(|j| {
                 let mut vars = range_vec(l.u(j - 1));
                 vars.extend(l.u(j));
+                vars
+            })
+            .collect(),
+        CostInputs::AdjacentImpulses => (1..l.intervals())
+            .map(|j| {
+                let mut vars: Vec<usize> = (0..l.nc).map(|i| l.c(j - 1, i)).collect();
+                vars.extend((0..l.nc).map(|i| l.c(j, i)));
                 vars
             })
             .collect(),

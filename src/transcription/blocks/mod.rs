@@ -135,6 +135,11 @@ impl Context {
         start..(start + m).min(intervals)
     }
 
+    /// Contacts nc.
+    pub fn nc(&self) -> usize {
+        self.contact.friction.len()
+    }
+
     /// Friction directions per contact.
     pub fn nd(&self) -> usize {
         self.contact.nd()

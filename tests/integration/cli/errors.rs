@@ -253,6 +253,60 @@ fn terrain_and_cost_entries_name_their_field() {
     assert!(err.contains("unknown key `wieght`"), "{err}");
 }
 
+/// `impulse_rate`: its weight is a finite number ≥ 0, its weights name the problem's contacts,
+/// exactly one of the two is given, and no other key: each is one error naming the file, line
+/// and field, exit 2.
+#[test]
+fn impulse_rate_bad_weights_name_their_field() {
+    for (name, keys, expected) in [
+        (
+            "impulse_rate_negative_weight",
+            "weight = -0.5",
+            "bad.toml:19: field `cost[0].weight`: must be a number in [0, 1e12], got -0.5",
+        ),
+        (
+            "impulse_rate_nan_weight",
+            "weight = nan",
+            "bad.toml:19: field `cost[0].weight`: must be a number in [0, 1e12], got NaN",
+        ),
+        (
+            "impulse_rate_negative_contact_weight",
+            "weights = { default = 1.0, foot_contact = -2.0 }",
+            "field `cost[0].weights`: weight of `foot_contact` is -2; weights must be ≥ 0",
+        ),
+        (
+            "impulse_rate_unknown_contact",
+            "weights = { foot_contat = 1.0 }",
+            "field `cost[0].weights.foot_contat`: unknown contact `foot_contat`, did you mean `foot_contact`?",
+        ),
+        (
+            "impulse_rate_both",
+            "weight = 1.0\nweights = { foot_contact = 1.0 }",
+            "bad.toml:20: field `cost[0].weights`: both `weight` and `weights` are given",
+        ),
+        (
+            "impulse_rate_neither",
+            "",
+            "bad.toml:17: field `cost[0].weight`: missing; give `weight = w` (every contact)",
+        ),
+        (
+            "impulse_rate_unknown_key",
+            "weigth = 1.0",
+            "field `cost[0]`: unknown key `weigth`, did you mean `weight`?",
+        ),
+    ] {
+        cost_entry_fails(name, "[horizon]", "impulse_rate", keys, expected);
+    }
+}
+
+/// The hopper with a `[[cost]]` entry of `kind` with `keys` inserted before `section` fails
+/// (as [`solve_fails`]) with an error containing `expected`.
+fn cost_entry_fails(name: &str, section: &str, kind: &str, keys: &str, expected: &str) {
+    let entry = format!("[[cost]]\ntype = \"{kind}\"\n{keys}\n\n{section}");
+    let err = solve_fails(name, &hopper_text().replace(section, &entry));
+    assert!(err.contains(expected), "{name}: {err}");
+}
+
 /// `final_velocity` resolves its weights and target by coordinate name like the other terms:
 /// an unknown name is one error naming the file, line, field and the nearest name.
 #[test]
@@ -274,12 +328,7 @@ fn final_velocity_unknown_coordinate() {
             "field `cost[2].weights`: weight of `r` is -1; weights must be ≥ 0",
         ),
     ] {
-        let text = hopper_text().replace(
-            "[slack]",
-            &format!("[[cost]]\ntype = \"final_velocity\"\n{key}\n\n[slack]"),
-        );
-        let err = solve_fails(name, &text);
-        assert!(err.contains(expected), "{err}");
+        cost_entry_fails(name, "[slack]", "final_velocity", key, expected);
     }
 }
 

@@ -351,6 +351,14 @@ fn solve_multi_start_keeps_the_best_feasible_and_lists_all() {
     assert_eq!(objectives[best], lowest);
     assert_eq!(multi["objective"], starts[best]["objective"]);
     assert_eq!(multi["iterations"], starts[best]["iterations"]);
+    // Each start's objective terms sum to its objective; the best start's are the summary's.
+    assert_eq!(multi["objective_terms"], starts[best]["objective_terms"]);
+    for (start, objective) in starts.iter().zip(&objectives) {
+        let terms = start["objective_terms"].as_object().unwrap();
+        assert!(terms.contains_key("state_tracking"), "{terms:?}");
+        let sum: f64 = terms.values().map(|v| v.as_f64().unwrap()).sum();
+        assert!((sum - objective).abs() <= 1e-9 * objective.abs().max(1.0));
+    }
     says(
         &t,
         &["solve", "fam.toml", "--starts", "0"],
