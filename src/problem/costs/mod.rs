@@ -450,6 +450,7 @@ mod tests {
             CostInputs::IntervalConfigurations => 2 * s.n,
             CostInputs::InputWithStep => s.m + 1,
             CostInputs::AdjacentInputs => 2 * s.m,
+            CostInputs::AdjacentImpulses => 2 * s.nc,
             CostInputs::AdjacentIntervals => 3 * s.n + 2,
             CostInputs::LastConfiguration => s.n,
             CostInputs::Step => 1,
@@ -461,7 +462,7 @@ mod tests {
     /// [0.05, 0.3] and random targets, weights and both time weightings.
     #[test]
     fn closed_form_cost_hessians_match_ad_and_finite_differences() {
-        let sizes = CostSizes { n: 4, m: 3 };
+        let sizes = CostSizes { n: 4, m: 3, nc: 0 };
         let mut rng = SeededRng::new(7);
         let mut vector = |len: usize, lo: f64, hi: f64| -> Vec<f64> {
             (0..len).map(|_| lo + (hi - lo) * rng.unit()).collect()

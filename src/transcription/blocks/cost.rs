@@ -36,19 +36,19 @@ impl GradientBlock for Cost {
         }
     }
     fn value<D: Scalar, M: Mechanics>(&self, _: &M, ctx: &Context, z: &[D]) -> D {
-        let sizes = CostSizes {
-            n: ctx.n,
-            m: ctx.m,
-            nc: ctx.nc(),
-        };
-        cost_value(&ctx.costs[self.term], sizes, z)
+        cost_value(&ctx.costs[self.term], cost_sizes(ctx), z)
     }
     fn hessian<M: MechanicsDerivatives>(&self, at: &Eval<M>, z: &[f64]) -> Option<DMatrix<f64>> {
-        let sizes = CostSizes {
-            n: at.ctx.n,
-            m: at.ctx.m,
-        };
-        cost_hessian(&at.ctx.costs[self.term], sizes, z)
+        cost_hessian(&at.ctx.costs[self.term], cost_sizes(at.ctx), z)
+    }
+}
+
+/// The sizes a cost term's input is split by, from the transcription's context.
+fn cost_sizes(ctx: &Context) -> CostSizes {
+    CostSizes {
+        n: ctx.n,
+        m: ctx.m,
+        nc: ctx.nc(),
     }
 }
 

@@ -254,8 +254,9 @@ fn a_sliding_ball_ends_rolling_with_its_angular_momentum_about_the_contact_kept(
 }
 
 /// The derivatives at the solver's final iterate of a tumbling body whose knob and tip hit the
-/// ground: a hard point (contacts active). Its slack stays open (about 0.16 at every slack
-/// weight tried, 1e3 to 1e5), so the solve is honestly `relaxed_contact`, exit 1.
+/// ground: a hard point (contacts active). Debian 12's Ipopt leaves its slack open (about 0.16
+/// at every slack weight tried, 1e3 to 1e5: `relaxed_contact`, exit 1), Debian 13's closes it
+/// (`solve_succeeded`, exit 0); either way the verdict must agree with the plan's largest slack.
 #[test]
 fn sphere_contact_derivatives_pass_at_a_solvers_final_iterate() {
     let t = TestDir::new("sphere_contact_derivatives");
@@ -293,12 +294,21 @@ weight = 1000.0
 to = "initial"
 "#,
     );
-    t.vito()
+    let run = t
+        .vito()
         .args(["solve", "p.toml", "--quiet", "--out", "solved"])
-        .assert_exit(1);
+        .run();
     let solved = summary(&t.path().join("solved"));
-    assert_eq!(solved["status"], "relaxed_contact");
     assert_eq!(solved["ipopt_status"], "solve_succeeded");
+    let slack = solved["max_slack"].as_f64().unwrap();
+    let tolerance = solved["slack_tolerance"].as_f64().unwrap();
+    let (code, status) = if slack > tolerance {
+        (1, "relaxed_contact")
+    } else {
+        (0, "solve_succeeded")
+    };
+    assert_eq!(solved["status"], status, "max slack {slack}, tolerance {tolerance}");
+    assert_eq!(run.code, code, "{}\n{}", run.stdout, run.stderr);
     let csv = std::fs::read_to_string(t.path().join("solved/trajectory.csv")).unwrap();
     let knob = read_csv(&csv).unwrap().column("knob_normal").unwrap();
     assert!(
