@@ -307,7 +307,10 @@ to = "initial"
     } else {
         (0, "solve_succeeded")
     };
-    assert_eq!(solved["status"], status, "max slack {slack}, tolerance {tolerance}");
+    assert_eq!(
+        solved["status"], status,
+        "max slack {slack}, tolerance {tolerance}"
+    );
     assert_eq!(run.code, code, "{}\n{}", run.stdout, run.stderr);
     let csv = std::fs::read_to_string(t.path().join("solved/trajectory.csv")).unwrap();
     let knob = read_csv(&csv).unwrap().column("knob_normal").unwrap();
