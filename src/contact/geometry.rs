@@ -133,6 +133,20 @@ impl<'a> ContactGeometry<'a> {
         self.jet.coords.iter().map(|&i| dir[i]).collect()
     }
 
+    /// ṗ = P1·d for a direction d in chain coordinates.
+    fn point_rate(&self, d: &[f64]) -> Vector3<f64> {
+        let mut pdot = Vector3::zeros();
+        for (a, &da) in d.iter().enumerate() {
+            pdot += da * self.first(a);
+        }
+        pdot
+    }
+
+    /// Q_a = Σ_b d_b ∇²p[a, b] for chain coordinate a and a direction d in chain coordinates.
+    fn second_along(&self, a: usize, d: &[f64]) -> Vector3<f64> {
+        (0..self.jet.len()).fold(Vector3::zeros(), |acc, b| acc + d[b] * self.second(a, b))
+    }
+
     fn weighted(&self, w: &[f64]) -> (Vector3<f64>, Matrix3<f64>) {
         let mut g = Vector3::zeros();
         let mut h = Matrix3::zeros();
@@ -182,15 +196,12 @@ impl<'a> ContactGeometry<'a> {
     pub(super) fn directional(&self, dir: &[f64]) -> DMatrix<f64> {
         let c = self.jet.len();
         let d = self.local(dir);
-        let mut pdot = Vector3::zeros();
-        for (a, &da) in d.iter().enumerate() {
-            pdot += da * self.first(a);
-        }
+        let pdot = self.point_rate(&d);
         let hp = self.hessian.map(|h| h * pdot);
         let mut out = DMatrix::zeros(self.rows, self.n);
         for a in 0..c {
             let pa = self.first(a);
-            let qa = (0..c).fold(Vector3::zeros(), |acc, b| acc + d[b] * self.second(a, b));
+            let qa = self.second_along(a, &d);
             for k in 0..self.rows {
                 out[(k, self.jet.coords[a])] += pa.dot(&hp[k]) + self.gradient[k].dot(&qa);
             }
@@ -206,10 +217,7 @@ impl<'a> ContactGeometry<'a> {
     pub(super) fn add_third(&self, w: &[f64], dir: &[f64], out: &mut DMatrixViewMut<f64>) {
         let c = self.jet.len();
         let d = self.local(dir);
-        let mut pdot = Vector3::zeros();
-        for (a, &da) in d.iter().enumerate() {
-            pdot += da * self.first(a);
-        }
+        let pdot = self.point_rate(&d);
         // ∇s, ∇²s and ∇³s contracted with ṗ, all in p.
         let mut gw = Vector3::zeros();
         let mut hw = Matrix3::zeros();
@@ -229,9 +237,7 @@ impl<'a> ContactGeometry<'a> {
             hw += wk * Matrix3::from_column_slice(s.hessian.as_slice());
             tw += wk * Matrix3::from_column_slice(s.contracted.as_slice());
         }
-        let q: Vec<Vector3<f64>> = (0..c)
-            .map(|a| (0..c).fold(Vector3::zeros(), |acc, e| acc + d[e] * self.second(a, e)))
-            .collect();
+        let q: Vec<Vector3<f64>> = (0..c).map(|a| self.second_along(a, &d)).collect();
         let hp = hw * pdot;
         for a in 0..c {
             let (pa, qa) = (self.first(a), q[a]);

@@ -516,8 +516,7 @@ pub(super) struct BlockScratch {
 impl BlockScratch {
     /// x[vars] (as [`gather`]).
     fn point(&mut self, x: &[f64], vars: &[usize]) -> &[f64] {
-        self.z.clear();
-        self.z.extend(vars.iter().map(|&v| x[v]));
+        self.gather_point(x, vars);
         &self.z
     }
 
@@ -529,8 +528,7 @@ impl BlockScratch {
         lambda: &[f64],
         targets: &[Vec<usize>],
     ) -> (&[f64], &[f64]) {
-        self.z.clear();
-        self.z.extend(vars.iter().map(|&v| x[v]));
+        self.gather_point(x, vars);
         self.w.clear();
         self.w.extend(
             targets
@@ -538,6 +536,12 @@ impl BlockScratch {
                 .map(|rows| rows.iter().map(|&r| lambda[r]).sum::<f64>()),
         );
         (&self.z, &self.w)
+    }
+
+    /// x[vars] into the point's storage.
+    fn gather_point(&mut self, x: &[f64], vars: &[usize]) {
+        self.z.clear();
+        self.z.extend(vars.iter().map(|&v| x[v]));
     }
 }
 

@@ -1,10 +1,11 @@
 //! Contact-mode smoothness: the change of each contact's normal impulse between adjacent
 //! intervals, which a touchdown or lift-off makes large.
 
+use nalgebra::DMatrix;
 use serde::Deserialize;
 
 use super::{
-    CheckCost, CostCheck, CostFunction, CostInputs, CostSizes, LengthMismatch,
+    CheckCost, CostCheck, CostFunction, CostInputs, CostSizes, LengthMismatch, change_hessian,
     half_weighted_change, mismatch,
 };
 use crate::autodiff::Scalar;
@@ -59,6 +60,10 @@ impl CostFunction for ImpulseRate {
     const INPUTS: CostInputs = CostInputs::AdjacentImpulses;
     fn value<D: Scalar>(&self, z: &[D], sizes: CostSizes) -> D {
         half_weighted_change(&self.weights, z, sizes.nc)
+    }
+    /// Constant: w on both diagonals, −w between c_{j−1} and c_j.
+    fn hessian(&self, _z: &[f64], sizes: CostSizes) -> Option<DMatrix<f64>> {
+        Some(change_hessian(&self.weights, sizes.nc))
     }
     fn length_mismatch(&self, sizes: CostSizes) -> Option<LengthMismatch> {
         mismatch("weights", sizes.nc, self.weights.len())

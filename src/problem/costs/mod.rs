@@ -462,7 +462,7 @@ mod tests {
     /// [0.05, 0.3] and random targets, weights and both time weightings.
     #[test]
     fn closed_form_cost_hessians_match_ad_and_finite_differences() {
-        let sizes = CostSizes { n: 4, m: 3, nc: 0 };
+        let sizes = CostSizes { n: 4, m: 3, nc: 2 };
         let mut rng = SeededRng::new(7);
         let mut vector = |len: usize, lo: f64, hi: f64| -> Vec<f64> {
             (0..len).map(|_| lo + (hi - lo) * rng.unit()).collect()
@@ -490,6 +490,9 @@ mod tests {
         }));
         terms.push(CostTerm::VelocityDifference(VelocityDifference {
             weights: vector(4, 0.1, 2.0),
+        }));
+        terms.push(CostTerm::ImpulseRate(ImpulseRate {
+            weights: vector(2, 0.1, 2.0),
         }));
         let mut checked = 0;
         for term in &terms {
