@@ -14,6 +14,21 @@ use crate::autodiff::{MultiDual, Scalar, SymmetricGroups, ThirdOrder, VectorFunc
 use crate::model::kinematics::check_len;
 use crate::model::{Model, SweepBuffers, lagrangian_gradient, mass_matrix_entries};
 
+/// `$f::<K>(args)` for the lane width K = `$width`, one of [`LANE_WIDTHS`].
+macro_rules! with_lane_width {
+    ($width:expr, $f:ident($($arg:expr),*)) => {
+        match $width {
+            4 => $f::<4>($($arg),*),
+            6 => $f::<6>($($arg),*),
+            8 => $f::<8>($($arg),*),
+            10 => $f::<10>($($arg),*),
+            12 => $f::<12>($($arg),*),
+            14 => $f::<14>($($arg),*),
+            _ => $f::<16>($($arg),*),
+        }
+    };
+}
+
 /// The midpoint state and the energy sweep's storage of [`midpoint_ld_gradient`], kept
 /// by a caller that evaluates many passes (one per column of a segment's derivatives) so that
 /// no pass allocates.
@@ -206,8 +221,8 @@ pub fn midpoint_third_order_columns(
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum GroupSweeps {
     /// All groups' directions at once, in the lanes of one [`MultiDual`] sweep (batches of
-    /// up to 16 groups, padded to 4, 8 or 16 lanes): each pose, sine and cosine of the tree
-    /// once per batch. The same numbers, to the bit, as `PerGroup`.
+    /// up to 16 groups, padded to an even width of 4 to 16 lanes): each pose, sine and
+    /// cosine of the tree once per batch. The same numbers, to the bit, as `PerGroup`.
     Lanes,
     /// One energy sweep per group (`Dual64`, `Dual<Dual64>`): the reference.
     PerGroup,
@@ -241,11 +256,7 @@ pub fn midpoint_gradient_hessian_grouped(
         GroupSweeps::Lanes => {
             for (first, batch, width) in lane_batches(groups.groups()) {
                 let out = (&mut gradient[..], &mut products);
-                match width {
-                    4 => products_in_lanes::<4>(model, z, batch, first, out),
-                    8 => products_in_lanes::<8>(model, z, batch, first, out),
-                    _ => products_in_lanes::<16>(model, z, batch, first, out),
-                }
+                with_lane_width!(width, products_in_lanes(model, z, batch, first, out));
             }
         }
     }
@@ -303,11 +314,10 @@ pub fn midpoint_third_order_grouped(
             let mut value = 0.0;
             for (at, batch, width) in lane_batches(groups.groups()) {
                 let out = (&mut gradient[..], &mut first, &mut second);
-                value = match width {
-                    4 => third_products_in_lanes::<4>(model, z, dir, batch, at, out),
-                    8 => third_products_in_lanes::<8>(model, z, dir, batch, at, out),
-                    _ => third_products_in_lanes::<16>(model, z, dir, batch, at, out),
-                };
+                value = with_lane_width!(
+                    width,
+                    third_products_in_lanes(model, z, dir, batch, at, out)
+                );
             }
             value
         }
@@ -583,8 +593,9 @@ fn for_each_group<S: Scalar>(
 }
 
 /// Lane widths of [`GroupSweeps::Lanes`]: a segment's groups are swept in batches, each as
-/// wide as the narrowest width that holds the groups left (the widest when none does).
-const LANE_WIDTHS: [usize; 3] = [4, 8, 16];
+/// wide as the narrowest width that holds the groups left (the widest when none does). Every
+/// padded lane costs as much as a used one, so the widths are close together.
+const LANE_WIDTHS: [usize; 7] = [4, 6, 8, 10, 12, 14, 16];
 
 /// The batches of [`GroupSweeps::Lanes`]: (first group, the batch's groups, lane width).
 fn lane_batches(groups: &[Vec<usize>]) -> Vec<(usize, &[Vec<usize>], usize)> {
