@@ -200,12 +200,7 @@ pub fn midpoint_third_order_columns(
     let value = for_each_column(
         model,
         columns,
-        |i, seeded| {
-            Dual::new(
-                Dual64::new(z[i], if seeded { 1.0 } else { 0.0 }),
-                Dual64::from(dir[i]),
-            )
-        },
+        |i, seeded| nested_input(z, dir, i, seeded),
         |row, col, y| {
             gradient[row] = y.re.re;
             hessian[(row, col)] = y.re.eps;
@@ -297,12 +292,7 @@ pub fn midpoint_third_order_grouped(
         GroupSweeps::PerGroup => for_each_group(
             model,
             groups,
-            |i, seeded| {
-                Dual::new(
-                    Dual64::new(z[i], if seeded { 1.0 } else { 0.0 }),
-                    Dual64::from(dir[i]),
-                )
-            },
+            |i, seeded| nested_input(z, dir, i, seeded),
             |row, g, y| {
                 gradient[row] = y.re.re;
                 first[(row, g)] = y.re.eps;
@@ -726,6 +716,15 @@ impl<S: Scalar> SegmentSweep<S> {
         }
         ld
     }
+}
+
+/// Input `i` of z = [qa; qb; h] for a `Dual<Dual64>` pass: the inner ε seeds its column
+/// (when `seeded`), the outer ε carries `dir`.
+fn nested_input(z: &[f64], dir: &[f64], i: usize, seeded: bool) -> Dual<Dual64> {
+    Dual::new(
+        Dual64::new(z[i], if seeded { 1.0 } else { 0.0 }),
+        Dual64::from(dir[i]),
+    )
 }
 
 /// Checks the segment length 2n+1 (a caller's programming error otherwise) and returns it.

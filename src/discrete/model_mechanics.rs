@@ -221,7 +221,9 @@ impl MechanicsDerivatives for ModelMechanics {
         dir: &[f64],
         groups: &SymmetricGroups,
     ) -> ThirdOrder {
-        midpoint_third_order_grouped(&self.model, z, dir, groups, GroupSweeps::Lanes)
+        // One `Dual<Dual64>` sweep per group: the lanes' `Dual<MultiDual<K>>` sweep takes
+        // fewer instructions but more time (BENCHMARKS.md, "Tried and dropped").
+        midpoint_third_order_grouped(&self.model, z, dir, groups, GroupSweeps::PerGroup)
     }
     fn loop_jets(&self, q: &[f64], order: usize, along: &[f64]) -> Vec<LoopJet> {
         loop_closure_jets(&self.model, q, order, along)
