@@ -10,10 +10,24 @@ use nalgebra::DMatrix;
 use num_dual::{Dual, Dual64};
 
 use super::midpoint::midpoint_state_into;
-use crate::autodiff::Scalar;
-use crate::autodiff::{SymmetricGroups, ThirdOrder, VectorFunction};
+use crate::autodiff::{MultiDual, Scalar, SymmetricGroups, ThirdOrder, VectorFunction};
 use crate::model::kinematics::check_len;
 use crate::model::{Model, SweepBuffers, lagrangian_gradient, mass_matrix_entries};
+
+/// `$f::<K>(args)` for the lane width K = `$width`, one of [`LANE_WIDTHS`].
+macro_rules! with_lane_width {
+    ($width:expr, $f:ident($($arg:expr),*)) => {
+        match $width {
+            4 => $f::<4>($($arg),*),
+            6 => $f::<6>($($arg),*),
+            8 => $f::<8>($($arg),*),
+            10 => $f::<10>($($arg),*),
+            12 => $f::<12>($($arg),*),
+            14 => $f::<14>($($arg),*),
+            _ => $f::<16>($($arg),*),
+        }
+    };
+}
 
 /// The midpoint state and the energy sweep's storage of [`midpoint_ld_gradient`], kept
 /// by a caller that evaluates many passes (one per column of a segment's derivatives) so that
@@ -186,12 +200,7 @@ pub fn midpoint_third_order_columns(
     let value = for_each_column(
         model,
         columns,
-        |i, seeded| {
-            Dual::new(
-                Dual64::new(z[i], if seeded { 1.0 } else { 0.0 }),
-                Dual64::from(dir[i]),
-            )
-        },
+        |i, seeded| nested_input(z, dir, i, seeded),
         |row, col, y| {
             gradient[row] = y.re.re;
             hessian[(row, col)] = y.re.eps;
@@ -203,26 +212,49 @@ pub fn midpoint_third_order_columns(
     symmetrise(&mut out.contracted, columns);
 }
 
+/// How the column groups of a segment are swept.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GroupSweeps {
+    /// All groups' directions at once, in the lanes of one [`MultiDual`] sweep (batches of
+    /// up to 16 groups, padded to an even width of 4 to 16 lanes): each pose, sine and
+    /// cosine of the tree once per batch. The same numbers, to the bit, as `PerGroup`.
+    Lanes,
+    /// One energy sweep per group (`Dual64`, `Dual<Dual64>`): the reference.
+    PerGroup,
+}
+
 /// [`midpoint_gradient_hessian`] with the columns seeded by `groups` (of the Hessian of
-/// Ld's dependency pattern): one [`Dual64`] pass per group, each entry read where its group
-/// shows it alone (see [`SymmetricGroups`]).
+/// Ld's dependency pattern): the product of the Hessian with each group's seed, each entry
+/// read where its group shows it alone (see [`SymmetricGroups`]), the groups swept as
+/// `sweeps` says.
 pub fn midpoint_gradient_hessian_grouped(
     model: &Model,
     z: &[f64],
     groups: &SymmetricGroups,
+    sweeps: GroupSweeps,
 ) -> (Vec<f64>, DMatrix<f64>) {
     let dim = check_segment(model, z, "midpoint_gradient_hessian_grouped");
     let mut gradient = vec![0.0; dim];
     let mut products = DMatrix::zeros(dim, groups.groups().len());
-    for_each_group(
-        model,
-        groups,
-        |i, seeded| Dual64::new(z[i], if seeded { 1.0 } else { 0.0 }),
-        |row, g, y| {
-            gradient[row] = y.re;
-            products[(row, g)] = y.eps;
-        },
-    );
+    match sweeps {
+        GroupSweeps::PerGroup => {
+            for_each_group(
+                model,
+                groups,
+                |i, seeded| Dual64::new(z[i], if seeded { 1.0 } else { 0.0 }),
+                |row, g, y| {
+                    gradient[row] = y.re;
+                    products[(row, g)] = y.eps;
+                },
+            );
+        }
+        GroupSweeps::Lanes => {
+            for (first, batch, width) in lane_batches(groups.groups()) {
+                let out = (&mut gradient[..], &mut products);
+                with_lane_width!(width, products_in_lanes(model, z, batch, first, out));
+            }
+        }
+    }
     let mut hessian = DMatrix::zeros(dim, dim);
     groups.recover(&products, &mut hessian);
     let (translated, derived) = unseeded_qa(model, groups.unseeded());
@@ -244,6 +276,7 @@ pub fn midpoint_third_order_grouped(
     z: &[f64],
     dir: &[f64],
     groups: &SymmetricGroups,
+    sweeps: GroupSweeps,
 ) -> ThirdOrder {
     let dim = check_segment(model, z, "midpoint_third_order_grouped");
     assert_eq!(
@@ -255,22 +288,30 @@ pub fn midpoint_third_order_grouped(
     let count = groups.groups().len();
     let (mut first, mut second) = (DMatrix::zeros(dim, count), DMatrix::zeros(dim, count));
     let gradient = &mut out.gradient;
-    let value = for_each_group(
-        model,
-        groups,
-        |i, seeded| {
-            Dual::new(
-                Dual64::new(z[i], if seeded { 1.0 } else { 0.0 }),
-                Dual64::from(dir[i]),
-            )
-        },
-        |row, g, y| {
-            gradient[row] = y.re.re;
-            first[(row, g)] = y.re.eps;
-            second[(row, g)] = y.eps.eps;
-        },
-    );
-    out.value = value.map_or(0.0, |v| v.re.re);
+    out.value = match sweeps {
+        GroupSweeps::PerGroup => for_each_group(
+            model,
+            groups,
+            |i, seeded| nested_input(z, dir, i, seeded),
+            |row, g, y| {
+                gradient[row] = y.re.re;
+                first[(row, g)] = y.re.eps;
+                second[(row, g)] = y.eps.eps;
+            },
+        )
+        .map_or(0.0, |v| v.re.re),
+        GroupSweeps::Lanes => {
+            let mut value = 0.0;
+            for (at, batch, width) in lane_batches(groups.groups()) {
+                let out = (&mut gradient[..], &mut first, &mut second);
+                value = with_lane_width!(
+                    width,
+                    third_products_in_lanes(model, z, dir, batch, at, out)
+                );
+            }
+            value
+        }
+    };
     groups.recover(&first, &mut out.hessian);
     groups.recover(&second, &mut out.contracted);
     let (translated, derived) = unseeded_qa(model, groups.unseeded());
@@ -527,28 +568,163 @@ fn for_each_group<S: Scalar>(
     lift: impl Fn(usize, bool) -> S,
     mut store: impl FnMut(usize, usize, &S),
 ) -> Option<S> {
-    let n = model.nq();
-    let dim = 2 * n + 1;
-    let mut zd: Vec<S> = (0..dim).map(|i| lift(i, false)).collect();
-    let mut d1 = vec![S::from(0.0); n];
-    let mut d2 = d1.clone();
-    let mut buffers = LdBuffers::default();
+    let mut sweep = SegmentSweep::new(model, |i| lift(i, false));
     let mut value = None;
     for (g, members) in groups.groups().iter().enumerate() {
-        for &c in members {
-            zd[c] = lift(c, true);
-        }
-        let (qa, qb, h) = (&zd[..n], &zd[n..2 * n], zd[2 * n]);
-        let (ld, dh) = midpoint_ld_gradient(model, qa, qb, h, &mut d1, &mut d2, &mut buffers);
-        for &c in members {
-            zd[c] = lift(c, false);
-        }
-        for (row, y) in d1.iter().chain(&d2).chain(std::iter::once(&dh)).enumerate() {
-            store(row, g, y);
-        }
+        let ld = sweep.run(
+            model,
+            std::slice::from_ref(members),
+            |i, lane| lift(i, lane.is_some()),
+            |row, y| store(row, g, y),
+        );
         value = Some(ld);
     }
     value
+}
+
+/// Lane widths of [`GroupSweeps::Lanes`]: a segment's groups are swept in batches, each as
+/// wide as the narrowest width that holds the groups left (the widest when none does). Every
+/// padded lane costs as much as a used one, so the widths are close together.
+const LANE_WIDTHS: [usize; 7] = [4, 6, 8, 10, 12, 14, 16];
+
+/// The batches of [`GroupSweeps::Lanes`]: (first group, the batch's groups, lane width).
+fn lane_batches(groups: &[Vec<usize>]) -> Vec<(usize, &[Vec<usize>], usize)> {
+    let widest = LANE_WIDTHS[LANE_WIDTHS.len() - 1];
+    let mut batches = Vec::new();
+    let mut first = 0;
+    while first < groups.len() {
+        let left = groups.len() - first;
+        let width = LANE_WIDTHS
+            .into_iter()
+            .find(|&w| w >= left)
+            .unwrap_or(widest);
+        let taken = left.min(width);
+        batches.push((first, &groups[first..first + taken], width));
+        first += taken;
+    }
+    batches
+}
+
+/// One [`MultiDual`] sweep of the adjoint gradient with group `first + k` of `batch` seeded
+/// along lane k (at most K groups): writes the gradient and the products of the Hessian with
+/// the groups' seeds (columns `first..first + batch.len()` of `products`).
+fn products_in_lanes<const K: usize>(
+    model: &Model,
+    z: &[f64],
+    batch: &[Vec<usize>],
+    first: usize,
+    (gradient, products): (&mut [f64], &mut DMatrix<f64>),
+) {
+    let mut sweep = SegmentSweep::new(model, |i| MultiDual::<K>::constant(z[i]));
+    sweep.run(
+        model,
+        batch,
+        |i, lane| MultiDual::seeded(z[i], lane),
+        |row, y| {
+            gradient[row] = y.re;
+            for (k, &e) in y.eps[..batch.len()].iter().enumerate() {
+                products[(row, first + k)] = e;
+            }
+        },
+    );
+}
+
+/// [`products_in_lanes`] for the Hessian and the contracted third derivative: one sweep of
+/// `Dual<MultiDual<K>>`, the outer ε carrying `dir` (shared by the lanes), lane k the seed
+/// of group `first + k`, as `Dual<Dual64>` per group. Writes the gradient, the Hessian's
+/// products (`first`) and the contracted third derivative's (`second`); returns Ld.
+fn third_products_in_lanes<const K: usize>(
+    model: &Model,
+    z: &[f64],
+    dir: &[f64],
+    batch: &[Vec<usize>],
+    at: usize,
+    (gradient, first, second): (&mut [f64], &mut DMatrix<f64>, &mut DMatrix<f64>),
+) -> f64 {
+    let lift = |i: usize, lane: Option<usize>| {
+        Dual::new(
+            MultiDual::<K>::seeded(z[i], lane),
+            MultiDual::constant(dir[i]),
+        )
+    };
+    let mut sweep = SegmentSweep::new(model, |i| lift(i, None));
+    let value = sweep.run(model, batch, lift, |row, y| {
+        gradient[row] = y.re.re;
+        for k in 0..batch.len() {
+            first[(row, at + k)] = y.re.eps[k];
+            second[(row, at + k)] = y.eps.eps[k];
+        }
+    });
+    value.re.re
+}
+
+/// The inputs z = [qa; qb; h] of a segment's passes, lifted, and the storage of the adjoint
+/// gradient, kept from pass to pass so that no pass allocates.
+struct SegmentSweep<S> {
+    zd: Vec<S>,
+    d1: Vec<S>,
+    d2: Vec<S>,
+    buffers: LdBuffers<S>,
+}
+
+impl<S: Scalar> SegmentSweep<S> {
+    /// The inputs lifted by `constant(i)` (no derivative seeded).
+    fn new(model: &Model, constant: impl Fn(usize) -> S) -> Self {
+        let n = model.nq();
+        SegmentSweep {
+            zd: (0..2 * n + 1).map(constant).collect(),
+            d1: vec![S::from(0.0); n],
+            d2: vec![S::from(0.0); n],
+            buffers: LdBuffers::default(),
+        }
+    }
+
+    /// One pass of the adjoint gradient with the inputs of `lanes[k]` lifted by
+    /// `lift(i, Some(k))` (the others as constructed, restored afterwards); `store` gets
+    /// every output (row, value) of [D1Ld; D2Ld; ∂Ld/∂h]. Returns Ld.
+    fn run<C: AsRef<[usize]>>(
+        &mut self,
+        model: &Model,
+        lanes: &[C],
+        lift: impl Fn(usize, Option<usize>) -> S,
+        mut store: impl FnMut(usize, &S),
+    ) -> S {
+        let n = model.nq();
+        for (k, members) in lanes.iter().enumerate() {
+            for &c in members.as_ref() {
+                self.zd[c] = lift(c, Some(k));
+            }
+        }
+        let zd = &self.zd;
+        let (qa, qb, h) = (&zd[..n], &zd[n..2 * n], zd[2 * n]);
+        let (ld, dh) = midpoint_ld_gradient(
+            model,
+            qa,
+            qb,
+            h,
+            &mut self.d1,
+            &mut self.d2,
+            &mut self.buffers,
+        );
+        for members in lanes {
+            for &c in members.as_ref() {
+                self.zd[c] = lift(c, None);
+            }
+        }
+        for (row, y) in self.d1.iter().chain(&self.d2).chain([&dh]).enumerate() {
+            store(row, y);
+        }
+        ld
+    }
+}
+
+/// Input `i` of z = [qa; qb; h] for a `Dual<Dual64>` pass: the inner ε seeds its column
+/// (when `seeded`), the outer ε carries `dir`.
+fn nested_input(z: &[f64], dir: &[f64], i: usize, seeded: bool) -> Dual<Dual64> {
+    Dual::new(
+        Dual64::new(z[i], if seeded { 1.0 } else { 0.0 }),
+        Dual64::from(dir[i]),
+    )
 }
 
 /// Checks the segment length 2n+1 (a caller's programming error otherwise) and returns it.
@@ -576,22 +752,16 @@ fn for_each_column<S: Scalar>(
     lift: impl Fn(usize, bool) -> S,
     mut store: impl FnMut(usize, usize, &S),
 ) -> S {
-    let n = model.nq();
-    let dim = 2 * n + 1;
-    let mut zd: Vec<S> = (0..dim).map(|i| lift(i, false)).collect();
-    let mut d1 = vec![S::from(0.0); n];
-    let mut d2 = d1.clone();
-    let mut buffers = LdBuffers::default();
+    let dim = 2 * model.nq() + 1;
+    let mut sweep = SegmentSweep::new(model, |i| lift(i, false));
     let mut value = S::from(0.0);
     for col in (0..dim).filter(|&c| columns.is_none_or(|m| m[c])) {
-        zd[col] = lift(col, true);
-        let (qa, qb, h) = (&zd[..n], &zd[n..2 * n], zd[2 * n]);
-        let (ld, dh) = midpoint_ld_gradient(model, qa, qb, h, &mut d1, &mut d2, &mut buffers);
-        zd[col] = lift(col, false);
-        for (row, y) in d1.iter().chain(&d2).chain(std::iter::once(&dh)).enumerate() {
-            store(row, col, y);
-        }
-        value = ld;
+        value = sweep.run(
+            model,
+            &[[col]],
+            |i, lane| lift(i, lane.is_some()),
+            |row, y| store(row, col, y),
+        );
     }
     value
 }

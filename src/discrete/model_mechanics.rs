@@ -5,7 +5,7 @@
 use nalgebra::DMatrix;
 
 use super::{
-    LdBuffers, Mechanics, MechanicsDerivatives, midpoint_gradient_hessian,
+    GroupSweeps, LdBuffers, Mechanics, MechanicsDerivatives, midpoint_gradient_hessian,
     midpoint_gradient_hessian_grouped, midpoint_ld_gradient, midpoint_third_order_columns,
     midpoint_third_order_grouped,
 };
@@ -213,7 +213,7 @@ impl MechanicsDerivatives for ModelMechanics {
         z: &[f64],
         groups: &SymmetricGroups,
     ) -> (Vec<f64>, DMatrix<f64>) {
-        midpoint_gradient_hessian_grouped(&self.model, z, groups)
+        midpoint_gradient_hessian_grouped(&self.model, z, groups, GroupSweeps::Lanes)
     }
     fn segment_third_order_grouped(
         &self,
@@ -221,7 +221,9 @@ impl MechanicsDerivatives for ModelMechanics {
         dir: &[f64],
         groups: &SymmetricGroups,
     ) -> ThirdOrder {
-        midpoint_third_order_grouped(&self.model, z, dir, groups)
+        // One `Dual<Dual64>` sweep per group: the lanes' `Dual<MultiDual<K>>` sweep takes
+        // fewer instructions but more time (BENCHMARKS.md, "Tried and dropped").
+        midpoint_third_order_grouped(&self.model, z, dir, groups, GroupSweeps::PerGroup)
     }
     fn loop_jets(&self, q: &[f64], order: usize, along: &[f64]) -> Vec<LoopJet> {
         loop_closure_jets(&self.model, q, order, along)

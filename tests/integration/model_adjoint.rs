@@ -513,11 +513,10 @@ fn third_order_over_some_columns() {
 fn grouped_segment_derivatives_match_one_column_per_pass() {
     use vito::autodiff::dependency::{DependencyScalar, Trace};
     use vito::autodiff::{SymmetricGroups, VectorFunction};
-    use vito::discrete::{
-        midpoint_gradient_hessian_grouped, midpoint_third_order_columns,
-        midpoint_third_order_grouped,
-    };
+    use vito::discrete::midpoint_third_order_columns;
     let mut rng = SeededRng::new(29);
+    // More than 16 groups somewhere: the lanes' path sweeps them in several batches.
+    let mut most_groups = 0;
     for (name, model) in robots()
         .into_iter()
         .filter(|(name, _)| ["littledog", "hamr"].contains(name))
@@ -543,6 +542,7 @@ fn grouped_segment_derivatives_match_one_column_per_pass() {
             ),
         ] {
             let groups = SymmetricGroups::new(dim, &pattern, Some(&columns));
+            most_groups = most_groups.max(groups.groups().len());
             assert!(
                 !compresses || groups.groups().len() * 3 < dim * 2,
                 "{name}: {} groups for {dim} columns",
@@ -550,8 +550,8 @@ fn grouped_segment_derivatives_match_one_column_per_pass() {
             );
             let mut part = vito::autodiff::ThirdOrder::zeros(dim);
             midpoint_third_order_columns(&model, &z, &dir, Some(&columns), &mut part);
-            let grouped = midpoint_third_order_grouped(&model, &z, &dir, &groups);
-            let (_, grouped_hessian) = midpoint_gradient_hessian_grouped(&model, &z, &groups);
+            let grouped = grouped_third_order(&model, &z, &dir, &groups);
+            let grouped_hessian = grouped_hessian(&model, &z, &groups);
             // Entries between marked columns are exact; the others are left zero.
             let between_marked = |m: &DMatrix<f64>| {
                 DMatrix::from_fn(dim, dim, |i, j| {
@@ -580,6 +580,7 @@ fn grouped_segment_derivatives_match_one_column_per_pass() {
             }
         }
     }
+    assert!(most_groups > 16, "at most {most_groups} groups");
 }
 
 /// The mass matrix from body Jacobians equals ∂²T/∂v² by nested forward duals, and its
@@ -636,6 +637,56 @@ impl ScalarFunction for KineticOf<'_> {
     }
 }
 
+/// The grouped Hessian of a segment's Ld and its third derivative contracted with `dir`, by
+/// one sweep of [`MultiDual`](vito::autodiff::MultiDual) lanes per batch of groups (the
+/// solver's path), checked equal, to the bit, to one `Dual64` / `Dual<Dual64>` sweep per
+/// group.
+fn grouped_third_order(
+    model: &Model,
+    z: &[f64],
+    dir: &[f64],
+    groups: &vito::autodiff::SymmetricGroups,
+) -> vito::autodiff::ThirdOrder {
+    use vito::discrete::{GroupSweeps, midpoint_third_order_grouped};
+    let lanes = midpoint_third_order_grouped(model, z, dir, groups, GroupSweeps::Lanes);
+    let per_group = midpoint_third_order_grouped(model, z, dir, groups, GroupSweeps::PerGroup);
+    assert_bits_equal(&lanes.gradient, &per_group.gradient, "gradient");
+    assert_bits_equal(&[lanes.value], &[per_group.value], "value");
+    assert_bits_equal(lanes.hessian.as_slice(), per_group.hessian.as_slice(), "H");
+    assert_bits_equal(
+        lanes.contracted.as_slice(),
+        per_group.contracted.as_slice(),
+        "contracted",
+    );
+    lanes
+}
+
+/// [`grouped_third_order`]'s Hessian alone, from the first-order (Jacobian) sweeps.
+fn grouped_hessian(
+    model: &Model,
+    z: &[f64],
+    groups: &vito::autodiff::SymmetricGroups,
+) -> DMatrix<f64> {
+    use vito::discrete::{GroupSweeps, midpoint_gradient_hessian_grouped};
+    let (gradient, lanes) = midpoint_gradient_hessian_grouped(model, z, groups, GroupSweeps::Lanes);
+    let (per_group_gradient, per_group) =
+        midpoint_gradient_hessian_grouped(model, z, groups, GroupSweeps::PerGroup);
+    assert_bits_equal(&gradient, &per_group_gradient, "gradient (J)");
+    assert_bits_equal(lanes.as_slice(), per_group.as_slice(), "H (J)");
+    lanes
+}
+
+fn assert_bits_equal(a: &[f64], b: &[f64], what: &str) {
+    assert_eq!(a.len(), b.len(), "{what}: lengths");
+    for (i, (x, y)) in a.iter().zip(b).enumerate() {
+        assert_eq!(
+            x.to_bits(),
+            y.to_bits(),
+            "{what}[{i}]: lanes {x:e}, per group {y:e}"
+        );
+    }
+}
+
 /// The segment groups that leave qa columns unseeded ([`midpoint_segment_groups`]: the qa–qa
 /// block from the midpoint identity H_aa = H_ab + H_abᵀ − H_bb + (4/h)·M(q̄) and its
 /// derivative), the qa columns of base translations (minus their qb columns: L is at most
@@ -649,12 +700,12 @@ impl ScalarFunction for KineticOf<'_> {
 fn segment_groups_with_the_midpoint_identity_match_every_column() {
     use vito::autodiff::dependency::{DependencyScalar, Trace};
     use vito::autodiff::{SymmetricGroups, VectorFunction};
-    use vito::discrete::{
-        midpoint_gradient_hessian_grouped, midpoint_segment_groups, midpoint_third_order_grouped,
-    };
+    use vito::discrete::midpoint_segment_groups;
     let mut all = robots();
     all.push(("hopper_2d", robot("hopper_2d.urdf", BaseType::Fixed)));
     let mut rng = SeededRng::new(1606);
+    // Every lane width of the lanes' path (4, 8, 16) is exercised.
+    let mut group_counts = Vec::new();
     for (name, model) in all {
         let n = model.nq();
         let dim = 2 * n + 1;
@@ -697,6 +748,7 @@ fn segment_groups_with_the_midpoint_identity_match_every_column() {
                 (0..dim).map(|i| i >= n).collect(),
             ] {
                 let groups = midpoint_segment_groups(&pattern, &columns, &translations);
+                group_counts.push(groups.groups().len());
                 let previous = SymmetricGroups::new(dim, &pattern, Some(&columns));
                 let marked = columns.iter().filter(|&&c| c).count();
                 // Fewer passes than columns wherever a qa column is needed.
@@ -728,7 +780,7 @@ fn segment_groups_with_the_midpoint_identity_match_every_column() {
                     if !along_h {
                         d[2 * n] = 0.0;
                     }
-                    let ours = midpoint_third_order_grouped(&model, &z, &d, &groups);
+                    let ours = grouped_third_order(&model, &z, &d, &groups);
                     // The contracted entries are sums whose terms are as large as the
                     // Hessian's (the kinetic part cancels to zero along q): round-off is
                     // measured against both.
@@ -753,7 +805,7 @@ fn segment_groups_with_the_midpoint_identity_match_every_column() {
                         );
                     }
                 }
-                let (_, hessian) = midpoint_gradient_hessian_grouped(&model, &z, &groups);
+                let hessian = grouped_hessian(&model, &z, &groups);
                 assert_matrix_close(
                     &format!("{name} {point} J"),
                     &between_marked(&hessian),
@@ -764,7 +816,7 @@ fn segment_groups_with_the_midpoint_identity_match_every_column() {
             // Central differences of the adjoint gradient (step 1e-6 of the scale).
             let fd = central_jacobian(&MidpointGradient { model: &model }, &z);
             let groups = midpoint_segment_groups(&pattern, &vec![true; dim], &translations);
-            let (_, hessian) = midpoint_gradient_hessian_grouped(&model, &z, &groups);
+            let hessian = grouped_hessian(&model, &z, &groups);
             assert_matrix_close(
                 &format!("{name} {point} H against differences"),
                 &hessian,
@@ -772,5 +824,11 @@ fn segment_groups_with_the_midpoint_identity_match_every_column() {
                 1e-6,
             );
         }
+    }
+    for (low, high) in [(1, 4), (5, 8), (9, 16)] {
+        assert!(
+            group_counts.iter().any(|c| (low..=high).contains(c)),
+            "no segment with {low}–{high} groups: {group_counts:?}"
+        );
     }
 }
