@@ -6,6 +6,7 @@ use std::ptr::NonNull;
 
 use super::callbacks::{self, Context};
 use super::compat::{self, Index, Int};
+use super::options::known_integer;
 use super::sys;
 use super::{Nlp, OptionValue};
 
@@ -92,10 +93,13 @@ impl Handle {
     }
 
     /// Sets one option; an integer for a number option (or an integral number for an integer
-    /// option) is retried as the other type. Returns the value Ipopt accepted, or `None`.
+    /// option) is retried as the other type, or offered as the option's own type first when
+    /// vito knows it ([`known_integer`]: then Ipopt prints no type complaint). Returns the
+    /// value Ipopt accepted, or `None`.
     ///
     /// Ipopt prints its reason for a rejection on stdout (its console journal).
     pub fn set_option(&mut self, name: &str, value: &OptionValue) -> Option<OptionValue> {
+        let known = known_integer(name);
         let name = CString::new(name).ok()?;
         match value {
             OptionValue::Str(s) => {
@@ -112,20 +116,27 @@ impl Handle {
                 compat::is_true(ok).then(|| value.clone())
             }
             OptionValue::Num(x) => {
+                let integral = x.fract() == 0.0 && x.abs() <= f64::from(Int::MAX);
+                let as_int = || OptionValue::Int(*x as i64);
+                if integral && known == Some(true) && self.add_int(&name, *x as Int) {
+                    return Some(as_int());
+                }
                 if self.add_num(&name, *x) {
                     return Some(value.clone());
                 }
-                let integral = x.fract() == 0.0 && x.abs() <= f64::from(Int::MAX);
-                (integral && self.add_int(&name, *x as Int)).then_some(OptionValue::Int(*x as i64))
+                (integral && known != Some(true) && self.add_int(&name, *x as Int)).then(as_int)
             }
             OptionValue::Int(i) => {
+                let as_num = OptionValue::Num(*i as f64);
+                if known == Some(false) && self.add_num(&name, *i as f64) {
+                    return Some(as_num);
+                }
                 if let Ok(small) = Int::try_from(*i)
                     && self.add_int(&name, small)
                 {
                     return Some(value.clone());
                 }
-                self.add_num(&name, *i as f64)
-                    .then_some(OptionValue::Num(*i as f64))
+                (known != Some(false) && self.add_num(&name, *i as f64)).then_some(as_num)
             }
         }
     }

@@ -318,6 +318,48 @@ pub const PROBLEM_FILE_OPTIONS: &[&str] = &[
     "point_perturbation_radius",
 ];
 
+/// The integer options of [`PROBLEM_FILE_OPTIONS`] (Ipopt's option types, the same in 3.11 and
+/// 3.14): a value is offered to Ipopt as the option's own type first, so that a `max_iter =
+/// 3000.0` or a `bound_push = 1` is set without Ipopt first printing that it has the other
+/// type.
+pub(super) const INTEGER_OPTIONS: &[&str] = &[
+    "max_iter",
+    "acceptable_iter",
+    "print_level",
+    "adaptive_mu_kkterror_red_iters",
+    "quality_function_max_section_steps",
+    "accept_after_max_steps",
+    "watchdog_shortened_iter_trigger",
+    "watchdog_trial_iter_max",
+    "max_soc",
+    "max_filter_resets",
+    "filter_reset_trigger",
+    "max_soft_resto_iters",
+    "max_resto_iter",
+    "max_refinement_steps",
+    "min_refinement_steps",
+    "mumps_mem_percent",
+    "mumps_permuting_scaling",
+    "mumps_pivot_order",
+    "mumps_scaling",
+    "limited_memory_max_history",
+    "limited_memory_max_skipping",
+    "derivative_test_first_index",
+];
+
+/// Whether Ipopt option `name` is an integer option: `Some(true)` for [`INTEGER_OPTIONS`],
+/// `Some(false)` for the rest of [`PROBLEM_FILE_OPTIONS`] (numbers and strings), `None` for a
+/// name outside vito's lists (tried as the value's type first, as Ipopt may know it).
+pub(super) fn known_integer(name: &str) -> Option<bool> {
+    if INTEGER_OPTIONS.contains(&name) {
+        Some(true)
+    } else if PROBLEM_FILE_OPTIONS.contains(&name) {
+        Some(false)
+    } else {
+        None
+    }
+}
+
 /// String options of [`PROBLEM_FILE_OPTIONS`] with only some values allowed: the others need
 /// HSL routines Debian's Ipopt does not have (and `ma97` ends the process).
 const RESTRICTED_VALUES: &[(&str, &[&str])] = &[
@@ -467,5 +509,21 @@ mod tests {
         names.sort_unstable();
         names.dedup();
         assert_eq!(names.len(), PROBLEM_FILE_OPTIONS.len(), "a duplicate entry");
+    }
+
+    /// The integer options are problem-file options, and Ipopt takes each as an integer: a
+    /// value of 1 (in range for all of them) offered as a number comes back as an integer.
+    #[test]
+    fn integer_options_are_ipopts_integers() {
+        let mut solver = crate::ipopt::Solver::new();
+        for name in INTEGER_OPTIONS {
+            assert_eq!(known_integer(name), Some(true));
+            solver.set_option(name, 1.0).unwrap();
+            let set = solver.options().iter().find(|(n, _)| n == name);
+            assert_eq!(set.map(|(_, v)| v), Some(&OptionValue::Int(1)), "{name}");
+        }
+        assert_eq!(known_integer("bound_push"), Some(false));
+        assert_eq!(known_integer("mu_strategy"), Some(false));
+        assert_eq!(known_integer("sb"), None);
     }
 }

@@ -667,6 +667,32 @@ fn hs071_through_a_trait_object() {
     assert_hs071_optimum(&report, 0.0, 1e-6);
 }
 
+/// An integer for a number option and an integral number for an integer option are set as
+/// the option's own type without Ipopt's "not of type" complaint on standard output, and
+/// reach the solve (max_iter 5 stops it).
+#[test]
+fn option_types_are_converted_without_ipopts_complaint() {
+    let out = tempfile::tempdir().unwrap();
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_vito"))
+        .args(["solve", "problems/hopper_2d.toml", "--out"])
+        .arg(out.path())
+        .args([
+            "--set",
+            "solver.ipopt.bound_push=1",
+            "--set",
+            "solver.ipopt.max_iter=5.0",
+        ])
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!stdout.contains("not of type"), "{stdout}");
+    assert!(!stderr.contains("not of type"), "{stderr}");
+    let summary = std::fs::read_to_string(out.path().join("summary.json")).unwrap();
+    let summary: serde_json::Value = serde_json::from_str(&summary).unwrap();
+    assert_eq!(summary["iterations"], 5, "{summary}");
+}
+
 /// The version built against is a release build.rs accepts, and `vito --version` shows it.
 #[test]
 fn ipopt_version_is_shown_by_vito_version() {
