@@ -92,10 +92,7 @@ impl Handle {
         };
         // SAFETY: live problem; the callback has Ipopt's exact signature.
         unsafe {
-            sys::SetIntermediateCallback(
-                handle.raw.as_ptr(),
-                Some(callbacks::intermediate::<P>),
-            )
+            sys::SetIntermediateCallback(handle.raw.as_ptr(), Some(callbacks::intermediate::<P>))
         };
         match def.scaling {
             Some(scaling) => handle.with_scaling(scaling, def.x_lower.len(), def.g_lower.len()),

@@ -87,12 +87,7 @@ impl Scaling {
             .enumerate()
             .fold(0.0_f64, |a, (j, &g)| a.max(scaled(j, g)));
         let mut row_largest = vec![0.0_f64; m];
-        for ((&r, &c), &v) in jacobian
-            .rows
-            .iter()
-            .zip(jacobian.cols)
-            .zip(jacobian.values)
-        {
+        for ((&r, &c), &v) in jacobian.rows.iter().zip(jacobian.cols).zip(jacobian.values) {
             row_largest[r] = row_largest[r].max(scaled(c, v));
         }
         Scaling {
@@ -149,14 +144,8 @@ mod tests {
         let skip = [false, false, true];
         let rule = GradientRule::default();
         // Unscaled variables: row 0 has 500 > 100, so 0.2; row 1 has 50: 1.
-        let plain = Scaling::with_gradient_rule(
-            vec![1.0; 3],
-            &[1e3, 0.0, 0.0],
-            jacobian,
-            2,
-            &skip,
-            rule,
-        );
+        let plain =
+            Scaling::with_gradient_rule(vec![1.0; 3], &[1e3, 0.0, 0.0], jacobian, 2, &skip, rule);
         assert_eq!(plain.objective, 0.1);
         assert_eq!(plain.constraints, Some(vec![0.2, 1.0]));
         // x0 scaled by 10 (x̃0 = 10·x0): row 0's entry becomes 50 and the objective's 100;

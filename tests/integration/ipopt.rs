@@ -244,7 +244,10 @@ fn hs071_user_scaling_reaches_ipopt_and_returns_unscaled_numbers() {
     let last = scaled.seen.last().map(|i| i.objective);
     assert_eq!(last.map(|f| (f - HS071_F).abs() < 1e-6), Some(true));
     for (a, b) in report.mult_g.iter().zip(&plain_report.mult_g) {
-        assert!((a - b).abs() < 1e-5 * b.abs().max(1.0), "mult_g {a} against {b}");
+        assert!(
+            (a - b).abs() < 1e-5 * b.abs().max(1.0),
+            "mult_g {a} against {b}"
+        );
     }
     let x = report.x.clone();
     let mut grad = [0.0; 4];
@@ -278,10 +281,16 @@ fn hs071_user_scaling_reaches_ipopt_and_returns_unscaled_numbers() {
         ..Hs071::default()
     };
     let err = Solver::new().solve(&mut wrong).unwrap_err();
-    assert!(err.to_string().contains("3 variable scaling factors for 4"), "{err}");
+    assert!(
+        err.to_string().contains("3 variable scaling factors for 4"),
+        "{err}"
+    );
     let mut negative = rows_only(-1.0);
     let err = Solver::new().solve(&mut negative).unwrap_err();
-    assert!(err.to_string().contains("objective's scaling = -1"), "{err}");
+    assert!(
+        err.to_string().contains("objective's scaling = -1"),
+        "{err}"
+    );
 }
 
 /// Without `hessian_nnz` the wrapper must switch Ipopt to L-BFGS (an exact-Hessian solve
