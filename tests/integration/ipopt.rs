@@ -154,6 +154,22 @@ fn assert_hs071_optimum(report: &SolveReport, offset: f64, tol_f: f64) {
     }
 }
 
+/// Stationarity in HS071's own (unscaled) terms, with Ipopt's sign convention:
+/// ∇f + Jᵀ mult_g − mult_x_lower + mult_x_upper = 0 at the returned x.
+fn assert_stationary(problem: &mut Hs071, report: &SolveReport) {
+    let x = report.x.clone();
+    let mut grad = [0.0; 4];
+    problem.gradient(&x, true, &mut grad);
+    let mut jac = [0.0; 8];
+    problem.jacobian_values(&x, true, &mut jac);
+    for j in 0..4 {
+        let r = grad[j] + jac[j] * report.mult_g[0] + jac[4 + j] * report.mult_g[1]
+            - report.mult_x_lower[j]
+            + report.mult_x_upper[j];
+        assert!(r.abs() < 1e-6, "stationarity residual {r} in x{j}");
+    }
+}
+
 /// The headline check of issue 2: exact Jacobian and Hessian give f* to |Δ| < 1e-6, and the
 /// multipliers satisfy stationarity with Ipopt's sign convention as documented.
 #[test]
@@ -167,18 +183,7 @@ fn hs071_exact_hessian_reaches_known_optimum() {
     let mut g = [0.0; 2];
     problem.constraints(&report.x, true, &mut g);
     assert_eq!(g.to_vec(), report.g);
-    // Stationarity: ∇f + Jᵀ mult_g − mult_x_lower + mult_x_upper = 0.
-    let x = report.x.clone();
-    let mut grad = [0.0; 4];
-    problem.gradient(&x, true, &mut grad);
-    let mut jac = [0.0; 8];
-    problem.jacobian_values(&x, true, &mut jac);
-    for j in 0..4 {
-        let r = grad[j] + jac[j] * report.mult_g[0] + jac[4 + j] * report.mult_g[1]
-            - report.mult_x_lower[j]
-            + report.mult_x_upper[j];
-        assert!(r.abs() < 1e-6, "stationarity residual {r} in x{j}");
-    }
+    assert_stationary(&mut problem, &report);
     // x1 sits at its lower bound with a positive multiplier; the inequality is active.
     assert!(report.mult_x_lower[0] > 0.1);
     assert!(report.mult_g[0] < 0.0, "mult_g = {:?}", report.mult_g);
@@ -249,17 +254,7 @@ fn hs071_user_scaling_reaches_ipopt_and_returns_unscaled_numbers() {
             "mult_g {a} against {b}"
         );
     }
-    let x = report.x.clone();
-    let mut grad = [0.0; 4];
-    scaled.gradient(&x, true, &mut grad);
-    let mut jac = [0.0; 8];
-    scaled.jacobian_values(&x, true, &mut jac);
-    for j in 0..4 {
-        let r = grad[j] + jac[j] * report.mult_g[0] + jac[4 + j] * report.mult_g[1]
-            - report.mult_x_lower[j]
-            + report.mult_x_upper[j];
-        assert!(r.abs() < 1e-6, "stationarity residual {r} in x{j}");
-    }
+    assert_stationary(&mut scaled, &report);
 
     // An explicit scaling method wins: `none` ignores the problem's factors.
     let mut ignored = Hs071 {
