@@ -264,10 +264,11 @@ impl Solver {
     /// Solves `problem` from its initial point.
     ///
     /// Waits while another thread solves. Sizes, bounds, the starting point, the sparsity
-    /// and the problem's [`Scaling`] are checked first ([`IpoptError::InvalidProblem`]); a panic in any method of
-    /// `problem` stops the solve and becomes [`IpoptError::CallbackPanicked`]. Without
-    /// `hessian_nnz` the solve uses `hessian_approximation limited-memory`; with
-    /// [`Nlp::scaling`], `nlp_scaling_method user-scaling` unless the options set that name.
+    /// and the problem's [`Scaling`] are checked first ([`IpoptError::InvalidProblem`]); a
+    /// panic in any method of `problem` stops the solve and becomes
+    /// [`IpoptError::CallbackPanicked`]. Without `hessian_nnz` the solve uses
+    /// `hessian_approximation limited-memory`; with [`Nlp::scaling`], `nlp_scaling_method
+    /// user-scaling` unless the options set that name.
     pub fn solve<P: Nlp + ?Sized>(&mut self, problem: &mut P) -> Result<SolveReport, IpoptError> {
         let lock = IpoptLock::acquire()?;
         super::threads::pin_one_thread();
