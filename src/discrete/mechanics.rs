@@ -37,6 +37,11 @@ pub trait Mechanics: Sync {
     fn input_names(&self) -> Vec<String> {
         (0..self.nu()).map(|i| format!("u{i}")).collect()
     }
+    /// The robot's weight m·|g| (total mass times gravity, in the model's units), when
+    /// known: the force unit of the NLP's scaling from units (`[solver] scaling`).
+    fn weight(&self) -> Option<f64> {
+        None
+    }
     /// Whether the discrete force Fd can be nonzero (inputs or damping present).
     fn has_discrete_force(&self) -> bool;
     /// Whether every contact point stays in a plane y = const for every q, from the

@@ -82,6 +82,10 @@ impl Mechanics for ModelMechanics {
     fn moves_in_xz_plane(&self) -> bool {
         self.model.moves_in_xz_plane()
     }
+    fn weight(&self) -> Option<f64> {
+        let g = self.model.gravity();
+        Some(self.model.total_mass() * (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt())
+    }
     fn has_discrete_force(&self) -> bool {
         !self.model.input_names().is_empty() || self.model.damping().iter().any(|&d| d != 0.0)
     }

@@ -8,7 +8,7 @@ use super::callbacks::{self, Context};
 use super::compat::{self, Index, Int};
 use super::options::known_integer;
 use super::sys;
-use super::{Nlp, OptionValue};
+use super::{Nlp, OptionValue, Scaling};
 
 /// One Ipopt problem, freed on drop. Not `Send`: it stays on the thread holding the lock.
 pub(super) struct Handle {
@@ -29,6 +29,8 @@ pub(super) struct Definition<'a> {
     pub jacobian_nnz: usize,
     /// Hessian nonzeros (0 without a Hessian).
     pub hessian_nnz: usize,
+    /// The problem's own scaling factors, checked against n and m.
+    pub scaling: Option<&'a Scaling>,
 }
 
 /// What `IpoptSolve` wrote back.
@@ -86,10 +88,41 @@ impl Handle {
                 Some(callbacks::eval_h::<P>),
             )
         };
-        let raw = NonNull::new(raw)?;
-        // SAFETY: raw is a live problem; the callback has Ipopt's exact signature.
-        unsafe { sys::SetIntermediateCallback(raw.as_ptr(), Some(callbacks::intermediate::<P>)) };
-        Some(Handle { raw })
+        let handle = Handle {
+            raw: NonNull::new(raw)?,
+        };
+        // SAFETY: live problem; the callback has Ipopt's exact signature.
+        unsafe {
+            sys::SetIntermediateCallback(handle.raw.as_ptr(), Some(callbacks::intermediate::<P>))
+        };
+        match def.scaling {
+            Some(scaling) => handle.with_scaling(scaling, def.x_lower.len(), def.g_lower.len()),
+            None => Some(handle),
+        }
+    }
+
+    /// Hands the problem's scaling to Ipopt (`None` if its sizes are not n and m, or Ipopt
+    /// refuses it; the handle is then dropped, which frees the problem).
+    fn with_scaling(self, scaling: &Scaling, n: usize, m: usize) -> Option<Handle> {
+        scaling.check(n, m).ok()?;
+        // A null pointer leaves that part unscaled; so does an empty row vector (m = 0).
+        let pointer = |factors: &Option<Vec<f64>>| match factors {
+            Some(f) if !f.is_empty() => f.as_ptr().cast_mut(),
+            _ => std::ptr::null_mut(),
+        };
+        // SAFETY: live problem with n variables and m rows; the factor arrays hold n and m
+        // values (checked above) or are null. Ipopt (3.11 to 3.14) copies them into the
+        // problem before returning and never writes through the pointers despite the
+        // `*mut` in its signature.
+        let ok = unsafe {
+            sys::SetIpoptProblemScaling(
+                self.raw.as_ptr(),
+                scaling.objective,
+                pointer(&scaling.variables),
+                pointer(&scaling.constraints),
+            )
+        };
+        compat::is_true(ok).then_some(self)
     }
 
     /// Sets one option; an integer for a number option (or an integral number for an integer

@@ -3,7 +3,8 @@
 //! The only module with `unsafe`.
 //!
 //! A problem implements [`Nlp`]; a [`Solver`] holds the options (vito's defaults from
-//! `vendor-config/ipopt-defaults.opt`, then the caller's) and returns a [`SolveReport`].
+//! `vendor-config/ipopt-defaults.opt`, then the caller's) and returns a [`SolveReport`]. A
+//! problem may supply its own [`Scaling`] (`nlp_scaling_method user-scaling`).
 //!
 //! Safety rules the wrapper keeps, because Debian's Ipopt 3.11.9 (and 3.14.17) breaks otherwise:
 //! - one solve per process at a time (a global lock; parallel work uses processes; on Debian
@@ -37,6 +38,7 @@ mod error;
 mod handle;
 mod nlp;
 mod options;
+mod scaling;
 mod solver;
 mod status;
 mod sys;
@@ -49,6 +51,7 @@ pub use options::{
     DEFAULTS_FILE, OptionValue, PROBLEM_FILE_OPTIONS, check_allowed, check_problem_option,
     default_options, parse_option_file,
 };
+pub use scaling::{GradientRule, JacobianEntries, Scaling};
 pub use solver::{CallbackSplit, CallbackStat, Multipliers, SolveReport, Solver};
 pub use status::Status;
 pub use threads::{BlasThreads, pin_one_thread};

@@ -77,6 +77,13 @@ pub trait Nlp {
     ) {
     }
 
+    /// Scaling factors for Ipopt ([`super::Scaling`]), asked once per solve after the
+    /// starting point; `None` (the default) leaves the scaling to Ipopt's options. When given,
+    /// the solve sets `nlp_scaling_method user-scaling` unless the options set that name.
+    fn scaling(&self) -> Option<super::Scaling> {
+        None
+    }
+
     /// Called once per iteration; return `false` to stop the solve (status
     /// `UserRequestedStop`, the current iterate is still returned).
     fn intermediate(&mut self, _info: &IterationInfo) -> bool {

@@ -10,7 +10,7 @@ use super::callbacks::{Context, panic_message};
 use super::compat::Index;
 use super::handle::{Definition, Handle};
 use super::options::{FORCED, check_allowed, default_options};
-use super::{IpoptError, Nlp, OptionValue, Status};
+use super::{IpoptError, Nlp, OptionValue, Scaling, Status};
 
 /// Serialises every use of Ipopt in the process: Debian's Ipopt 3.11 with sequential MUMPS
 /// crashes, or exits with status 0, when two solves run at once; 3.14 with the MPI build of
@@ -223,6 +223,7 @@ impl Solver {
                 g_upper: &[],
                 jacobian_nnz: 0,
                 hessian_nnz: 0,
+                scaling: None,
             })
             .ok_or(IpoptError::CreateFailed)?;
             handle.set_option(name, &value)
@@ -262,10 +263,12 @@ impl Solver {
 
     /// Solves `problem` from its initial point.
     ///
-    /// Waits while another thread solves. Sizes, bounds, the starting point and the
-    /// sparsity are checked first ([`IpoptError::InvalidProblem`]); a panic in any method of
-    /// `problem` stops the solve and becomes [`IpoptError::CallbackPanicked`]. Without
-    /// `hessian_nnz` the solve uses `hessian_approximation limited-memory`.
+    /// Waits while another thread solves. Sizes, bounds, the starting point, the sparsity
+    /// and the problem's [`Scaling`] are checked first ([`IpoptError::InvalidProblem`]); a
+    /// panic in any method of `problem` stops the solve and becomes
+    /// [`IpoptError::CallbackPanicked`]. Without `hessian_nnz` the solve uses
+    /// `hessian_approximation limited-memory`; with [`Nlp::scaling`], `nlp_scaling_method
+    /// user-scaling` unless the options set that name.
     pub fn solve<P: Nlp + ?Sized>(&mut self, problem: &mut P) -> Result<SolveReport, IpoptError> {
         let lock = IpoptLock::acquire()?;
         super::threads::pin_one_thread();
@@ -289,6 +292,7 @@ impl Solver {
             g_upper: &setup.g_upper,
             jacobian_nnz: setup.jacobian_rows.len(),
             hessian_nnz: setup.hessian_rows.len(),
+            scaling: setup.scaling.as_ref(),
         })
         .ok_or(IpoptError::CreateFailed)?;
         let forced = FORCED
@@ -300,7 +304,20 @@ impl Solver {
                 OptionValue::from("limited-memory"),
             )
         });
-        for (name, value) in forced.chain(self.options.iter().cloned()).chain(lbfgs) {
+        // The problem's own scaling is used unless the options choose a scaling method.
+        let user_scaling = (setup.scaling.is_some()
+            && !self.options.iter().any(|(n, _)| n == "nlp_scaling_method"))
+        .then(|| {
+            (
+                "nlp_scaling_method".to_string(),
+                OptionValue::from("user-scaling"),
+            )
+        });
+        for (name, value) in forced
+            .chain(user_scaling)
+            .chain(self.options.iter().cloned())
+            .chain(lbfgs)
+        {
             check_allowed(&name, &value)?;
             if handle.set_option(&name, &value).is_none() {
                 return Err(IpoptError::InvalidOption {
@@ -364,6 +381,7 @@ struct Setup {
     hessian_rows: Vec<Index>,
     hessian_cols: Vec<Index>,
     has_hessian: bool,
+    scaling: Option<Scaling>,
 }
 
 fn invalid(what: String) -> IpoptError {
@@ -422,6 +440,10 @@ impl Setup {
             }
             None => (Vec::new(), Vec::new(), false),
         };
+        let scaling = problem.scaling();
+        if let Some(scaling) = &scaling {
+            scaling.check(n, m).map_err(invalid)?;
+        }
         Ok(Setup {
             x_lower,
             x_upper,
@@ -433,6 +455,7 @@ impl Setup {
             hessian_rows,
             hessian_cols,
             has_hessian,
+            scaling,
         })
     }
 }

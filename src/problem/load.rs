@@ -477,6 +477,43 @@ mod tests {
         assert!(err.contains("no column for coordinate `z`"), "{err}");
     }
 
+    /// `[solver] scaling`: Ipopt's own by default, `"units"` by name; a misspelt name and an
+    /// Ipopt option that would undo the units' scaling are errors naming their field.
+    #[test]
+    fn solver_scaling_is_checked() {
+        use crate::problem::ScalingMode;
+        let path = problems_dir().join("hopper_2d.toml");
+        let load_with = |sets: &[&str]| {
+            let o: Vec<Override> = sets.iter().map(|s| Override::parse(s).unwrap()).collect();
+            load(&path, &o)
+        };
+        assert_eq!(load_with(&[]).unwrap().spec.scaling, ScalingMode::Ipopt);
+        let units = load_with(&["solver.scaling=\"units\""]).unwrap();
+        assert_eq!(units.spec.scaling, ScalingMode::Units);
+        let err = load_with(&["solver.scaling=\"unit\""])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("solver.scaling") && err.contains("units"),
+            "{err}"
+        );
+        let err = load_with(&[
+            "solver.scaling=\"units\"",
+            "solver.ipopt.nlp_scaling_method=\"gradient-based\"",
+        ])
+        .unwrap_err()
+        .to_string();
+        assert!(
+            err.contains("field `solver.ipopt.nlp_scaling_method`") && err.contains("remove"),
+            "{err}"
+        );
+        let explicit = load_with(&[
+            "solver.scaling=\"units\"",
+            "solver.ipopt.nlp_scaling_method=\"user-scaling\"",
+        ]);
+        assert!(explicit.is_ok());
+    }
+
     #[test]
     fn other_units_need_explicit_gravity() {
         let dir = dir_with_hopper_urdf();

@@ -538,6 +538,8 @@ pub struct SolverSection {
     pub integrator: Option<String>,
     /// `"exact"` (default) or `"lbfgs"`.
     pub hessian: Option<String>,
+    /// `"ipopt"` (default: Ipopt's own scaling) or `"units"`.
+    pub scaling: Option<String>,
     /// Ipopt options passed through in file order (checked by the wrapper).
     #[serde(default)]
     pub ipopt: toml::Table,

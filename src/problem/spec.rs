@@ -36,6 +36,22 @@ pub enum SlackMode {
     PerContact,
 }
 
+/// How the NLP is scaled for Ipopt (`[solver] scaling`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ScalingMode {
+    /// Ipopt's own (`nlp_scaling_method`, gradient-based by default): no user scaling.
+    #[default]
+    Ipopt,
+    /// Each variable kind by its physical unit (`transcription`'s scaling from units), the
+    /// objective and rows by Ipopt's gradient rule in the scaled variables.
+    Units,
+}
+
+impl ScalingMode {
+    /// The names a problem file gives.
+    pub const NAMES: [&str; 2] = ["ipopt", "units"];
+}
+
 /// The robot model and its environment constants.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RobotSpec {
@@ -305,6 +321,8 @@ pub struct ProblemSpec {
     pub constraints: Vec<Constraint>,
     pub initial_guess: InitialGuess,
     pub hessian: HessianMode,
+    /// How the NLP is scaled for Ipopt.
+    pub scaling: ScalingMode,
     /// Ipopt options in the order given (checked by the wrapper).
     pub solver_options: Vec<(String, OptionValue)>,
     /// What the summary reports under `metrics`.

@@ -10,7 +10,8 @@
 //! `crate::contact`; cost terms, one file each, are `crate::problem::costs`), `placement`
 //! (the driver that has every kind place its blocks), `structure` (sparsity patterns),
 //! `start` (bounds, initial guess, warm start), `evaluate` (values and derivatives),
-//! `program` (the [`Transcription`] itself), `nlp` (the Ipopt callbacks' adapter), `solve`
+//! `program` (the [`Transcription`] itself), `nlp` (the Ipopt callbacks' adapter), `scaling`
+//! (Ipopt's user scaling from the problem's units, `[solver] scaling = "units"`), `solve`
 //! (solving a problem file's NLP, slack continuation; the entry point is
 //! `crate::pipeline::solve`), `robot` (a problem's URDF mechanics).
 
@@ -24,6 +25,7 @@ mod pattern;
 mod placement;
 mod program;
 mod robot;
+mod scaling;
 mod solution;
 mod solve;
 mod start;

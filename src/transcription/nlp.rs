@@ -2,7 +2,7 @@
 
 use super::Transcription;
 use crate::discrete::MechanicsDerivatives;
-use crate::ipopt::{IterationInfo, Nlp};
+use crate::ipopt::{IterationInfo, Nlp, Scaling};
 use crate::problem::HessianMode;
 
 /// Numbers reported after each Ipopt iteration.
@@ -29,6 +29,7 @@ pub struct TranscriptionNlp<'a, M> {
     transcription: &'a Transcription<M>,
     last_x: Vec<f64>,
     progress: Option<&'a ProgressFn>,
+    scaling: Option<Scaling>,
 }
 
 impl<'a, M: MechanicsDerivatives> TranscriptionNlp<'a, M> {
@@ -38,7 +39,14 @@ impl<'a, M: MechanicsDerivatives> TranscriptionNlp<'a, M> {
             last_x: transcription.initial_point().to_vec(),
             transcription,
             progress,
+            scaling: None,
         }
+    }
+
+    /// Hand Ipopt this scaling (`[solver] scaling = "units"`).
+    pub fn with_scaling(mut self, scaling: Option<Scaling>) -> Self {
+        self.scaling = scaling;
+        self
     }
 
     fn remember(&mut self, x: &[f64], new_x: bool) {
@@ -116,6 +124,9 @@ impl<M: MechanicsDerivatives> Nlp for TranscriptionNlp<'_, M> {
         self.remember(x, new_x);
         self.transcription
             .hessian_values(x, obj_factor, lambda, values);
+    }
+    fn scaling(&self) -> Option<Scaling> {
+        self.scaling.clone()
     }
     fn intermediate(&mut self, info: &IterationInfo) -> bool {
         if let Some(progress) = self.progress {

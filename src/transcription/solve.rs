@@ -11,7 +11,7 @@ use super::{
     MechanicsDerivatives, NlpSize, Solution, SolveVerdict, Transcription, TranscriptionError,
 };
 use crate::ipopt::{self, Multipliers, OptionValue, Solver};
-use crate::problem::{HessianMode, ProblemSpec, SlackRestart};
+use crate::problem::{HessianMode, ProblemSpec, ScalingMode, SlackRestart};
 
 /// How to run a solve besides the problem itself.
 #[derive(Default)]
@@ -238,7 +238,7 @@ fn solve_transcription<M: MechanicsDerivatives>(
 ) -> Result<Solution, TranscriptionError> {
     transcription.set_skip_fixed_variables(ipopt_drops_fixed_variables(spec, options));
     let mut solver = configure(spec, options)?;
-    let mut nlp = TranscriptionNlp::new(transcription, options.progress.as_deref());
+    let mut nlp = adapter(transcription, spec, options);
     let report = solver.solve(&mut nlp)?;
     let mut solution = fill_solution(transcription, spec, &report);
     let Some(continuation) = spec.slack_continuation else {
@@ -312,7 +312,7 @@ fn solve_transcription<M: MechanicsDerivatives>(
                 solver.set_option(name, value)?;
             }
         }
-        let mut nlp = TranscriptionNlp::new(transcription, options.progress.as_deref());
+        let mut nlp = adapter(transcription, spec, options);
         let next_report = solver.solve(&mut nlp)?;
         let mut next = fill_solution(transcription, spec, &next_report);
         next.iterations += solution.iterations;
@@ -325,6 +325,28 @@ fn solve_transcription<M: MechanicsDerivatives>(
         report = next_report;
     }
     Ok(solution)
+}
+
+/// The transcription as Ipopt's problem from its current starting point, with the scaling
+/// `[solver] scaling` asks for (from units: taken at that point, as Ipopt's gradient rule is).
+fn adapter<'a, M: MechanicsDerivatives>(
+    transcription: &'a Transcription<M>,
+    spec: &ProblemSpec,
+    options: &'a SolveOptions,
+) -> TranscriptionNlp<'a, M> {
+    let scaling = match spec.scaling {
+        ScalingMode::Ipopt => None,
+        ScalingMode::Units => {
+            let given: Vec<(String, OptionValue)> = spec
+                .solver_options
+                .iter()
+                .chain(&options.ipopt_options)
+                .cloned()
+                .collect();
+            Some(transcription.units_scaling(&given, ipopt_drops_fixed_variables(spec, options)))
+        }
+    };
+    TranscriptionNlp::new(transcription, options.progress.as_deref()).with_scaling(scaling)
 }
 
 /// Benchmark with the given mechanics and the initial guess as it stands: the benchmark behind

@@ -6,7 +6,8 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use vito::ipopt::{
-    IpoptError, IterationInfo, MpiState, Nlp, OptionValue, SolveReport, Solver, Status, mpi_state,
+    IpoptError, IterationInfo, MpiState, Nlp, OptionValue, Scaling, SolveReport, Solver, Status,
+    mpi_state,
 };
 
 /// Hock–Schittkowski problem 71, Ipopt's own example:
@@ -27,6 +28,10 @@ struct Hs071 {
     seen: Vec<IterationInfo>,
     /// Calls of `hessian_values`.
     hessian_calls: usize,
+    /// The scaling `scaling` supplies.
+    scaling: Option<Scaling>,
+    /// The point of the first objective evaluation.
+    first_objective_x: Option<Vec<f64>>,
 }
 
 const HS071_F: f64 = 17.014017145179164;
@@ -51,6 +56,7 @@ impl Nlp for Hs071 {
         x.copy_from_slice(&[1.0, 5.0, 5.0, 1.0]);
     }
     fn objective(&mut self, x: &[f64], _new_x: bool) -> f64 {
+        self.first_objective_x.get_or_insert_with(|| x.to_vec());
         x[0] * x[3] * (x[0] + x[1] + x[2]) + x[2] + self.offset
     }
     fn gradient(&mut self, x: &[f64], _new_x: bool, grad: &mut [f64]) {
@@ -117,6 +123,9 @@ impl Nlp for Hs071 {
         v[8] = sigma * x[0] + l1 * x[0] * x[1];
         v[9] = l2 * 2.0;
     }
+    fn scaling(&self) -> Option<Scaling> {
+        self.scaling.clone()
+    }
     fn intermediate(&mut self, info: &IterationInfo) -> bool {
         self.seen.push(*info);
         if let Some((at, flag)) = &self.cancel_at
@@ -145,6 +154,22 @@ fn assert_hs071_optimum(report: &SolveReport, offset: f64, tol_f: f64) {
     }
 }
 
+/// Stationarity in HS071's own (unscaled) terms, with Ipopt's sign convention:
+/// ∇f + Jᵀ mult_g − mult_x_lower + mult_x_upper = 0 at the returned x.
+fn assert_stationary(problem: &mut Hs071, report: &SolveReport) {
+    let x = report.x.clone();
+    let mut grad = [0.0; 4];
+    problem.gradient(&x, true, &mut grad);
+    let mut jac = [0.0; 8];
+    problem.jacobian_values(&x, true, &mut jac);
+    for j in 0..4 {
+        let r = grad[j] + jac[j] * report.mult_g[0] + jac[4 + j] * report.mult_g[1]
+            - report.mult_x_lower[j]
+            + report.mult_x_upper[j];
+        assert!(r.abs() < 1e-6, "stationarity residual {r} in x{j}");
+    }
+}
+
 /// The headline check of issue 2: exact Jacobian and Hessian give f* to |Δ| < 1e-6, and the
 /// multipliers satisfy stationarity with Ipopt's sign convention as documented.
 #[test]
@@ -158,18 +183,7 @@ fn hs071_exact_hessian_reaches_known_optimum() {
     let mut g = [0.0; 2];
     problem.constraints(&report.x, true, &mut g);
     assert_eq!(g.to_vec(), report.g);
-    // Stationarity: ∇f + Jᵀ mult_g − mult_x_lower + mult_x_upper = 0.
-    let x = report.x.clone();
-    let mut grad = [0.0; 4];
-    problem.gradient(&x, true, &mut grad);
-    let mut jac = [0.0; 8];
-    problem.jacobian_values(&x, true, &mut jac);
-    for j in 0..4 {
-        let r = grad[j] + jac[j] * report.mult_g[0] + jac[4 + j] * report.mult_g[1]
-            - report.mult_x_lower[j]
-            + report.mult_x_upper[j];
-        assert!(r.abs() < 1e-6, "stationarity residual {r} in x{j}");
-    }
+    assert_stationary(&mut problem, &report);
     // x1 sits at its lower bound with a positive multiplier; the inequality is active.
     assert!(report.mult_x_lower[0] > 0.1);
     assert!(report.mult_g[0] < 0.0, "mult_g = {:?}", report.mult_g);
@@ -180,6 +194,98 @@ fn hs071_exact_hessian_reaches_known_optimum() {
     assert_eq!(report.evaluation_errors, 0);
     assert!(report.callback_time_s >= 0.0 && report.callback_time_s <= report.wall_time_s);
     assert!((report.ipopt_time_s - (report.wall_time_s - report.callback_time_s)).abs() < 1e-12);
+}
+
+/// A problem's own scaling reaches Ipopt and leaves the solution as it is. Ipopt pushes the
+/// start off its bounds in the scaled variables: x4 = 1 on its bound [1, 5], scaled by 0.01
+/// to [0.01, 0.05], moves by min(0.01, 0.01·0.04) = 4e-4 scaled, 0.04 unscaled, where the
+/// unscaled push is min(0.01, 0.01·4) = 0.01. Iteration 0's primal infeasibility is Ipopt's
+/// scaled one: row 2 (Σ xi² = 40, violated by 12 at the start) scaled by 0.1 shows a tenth.
+/// x, f, g and every multiplier come back unscaled: the same optimum, and stationarity holds
+/// in the unscaled problem.
+#[test]
+fn hs071_user_scaling_reaches_ipopt_and_returns_unscaled_numbers() {
+    let mut plain = Hs071 {
+        scaling: Some(Scaling {
+            objective: 1.0,
+            variables: None,
+            constraints: None,
+        }),
+        ..Hs071::default()
+    };
+    let plain_report = solve(&mut plain);
+    let rows_only = |objective| Hs071 {
+        scaling: Some(Scaling {
+            objective,
+            variables: None,
+            constraints: Some(vec![1.0, 0.1]),
+        }),
+        ..Hs071::default()
+    };
+    let mut rows = rows_only(1.0);
+    solve(&mut rows);
+    let (inf_plain, inf_rows) = (plain.seen[0].inf_pr, rows.seen[0].inf_pr);
+    assert!(inf_plain > 1.0, "inf_pr at the start {inf_plain}");
+    assert!(
+        (inf_rows / inf_plain - 0.1).abs() < 1e-12,
+        "{inf_rows} against {inf_plain}"
+    );
+
+    let scaling = Scaling {
+        objective: 0.05,
+        variables: Some(vec![1.0, 3.0, 0.2, 0.01]),
+        constraints: Some(vec![0.01, 0.1]),
+    };
+    let mut scaled = Hs071 {
+        scaling: Some(scaling.clone()),
+        ..Hs071::default()
+    };
+    let report = solve(&mut scaled);
+    let x4 = |p: &Hs071| p.first_objective_x.as_ref().map(|x| x[3]);
+    assert_eq!(x4(&plain).map(|v| (v - 1.01).abs() < 1e-6), Some(true));
+    assert_eq!(x4(&scaled).map(|v| (v - 1.04).abs() < 1e-6), Some(true));
+    assert_hs071_optimum(&report, 0.0, 1e-6);
+    // The objective in the intermediate callback is unscaled too.
+    let last = scaled.seen.last().map(|i| i.objective);
+    assert_eq!(last.map(|f| (f - HS071_F).abs() < 1e-6), Some(true));
+    for (a, b) in report.mult_g.iter().zip(&plain_report.mult_g) {
+        assert!(
+            (a - b).abs() < 1e-5 * b.abs().max(1.0),
+            "mult_g {a} against {b}"
+        );
+    }
+    assert_stationary(&mut scaled, &report);
+
+    // An explicit scaling method wins: `none` ignores the problem's factors.
+    let mut ignored = Hs071 {
+        scaling: Some(scaling),
+        ..Hs071::default()
+    };
+    let mut solver = Solver::new();
+    solver.set_option("nlp_scaling_method", "none").unwrap();
+    solver.solve(&mut ignored).unwrap();
+    assert_eq!(x4(&ignored).map(|v| (v - 1.01).abs() < 1e-6), Some(true));
+
+    // Factors of the wrong length or sign are refused before Ipopt sees them.
+    let mut wrong = Hs071 {
+        scaling: Some(Scaling {
+            objective: 1.0,
+            variables: Some(vec![1.0; 3]),
+            constraints: None,
+        }),
+        ..Hs071::default()
+    };
+    let err = Solver::new().solve(&mut wrong).unwrap_err();
+    assert!(
+        err.to_string().contains("3 variable scaling factors for 4"),
+        "{err}"
+    );
+    let mut negative = rows_only(-1.0);
+    let err = Solver::new().solve(&mut negative).unwrap_err();
+    assert!(
+        err.to_string().contains("objective's scaling = -1"),
+        "{err}"
+    );
 }
 
 /// Without `hessian_nnz` the wrapper must switch Ipopt to L-BFGS (an exact-Hessian solve

@@ -480,3 +480,65 @@ fn initial_guess_restart_repeats_a_direct_solve() {
     assert_eq!(continued.objective, direct.objective);
     assert_eq!(continued.q, direct.q);
 }
+
+/// `[solver] scaling = "units"` on the hopper's URDF (3.3 kg, g = 9.81, h = 0.05 s, |τ| ≤ 10,
+/// |f| ≤ 100): each variable kind gets its unit, the row factors follow Ipopt's gradient rule
+/// in the scaled variables (none above 1), the factors reach Ipopt (the solve takes another
+/// path than with Ipopt's own scaling), and what the solve reports is unscaled: the objective
+/// Ipopt returns is the sum of the terms recomputed at the returned point, and the slacks and
+/// the contact rows hold in the problem's own units.
+#[test]
+fn units_scaling_reaches_ipopt_and_reports_unscaled_numbers() {
+    use vito::problem::ScalingMode;
+    use vito::transcription::{ModelMechanics, Transcription};
+    let mut spec = hopper_2d();
+    let own = run(
+        "hopper URDF, Ipopt's scaling",
+        ModelMechanics::load(&spec).unwrap(),
+        &spec,
+    );
+    spec.scaling = ScalingMode::Units;
+    let t = Transcription::new(ModelMechanics::load(&spec).unwrap(), &spec).unwrap();
+    let (l, units) = (t.layout(), t.variable_units());
+    let impulse = 3.3 * 9.81 * 0.05;
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * b;
+    assert!(close(units[l.h(3)], 0.05));
+    assert_eq!(units[l.u(3)].to_vec(), [10.0, 100.0]);
+    assert!(close(units[l.c(3, 0)], impulse));
+    assert!(units[l.beta(3, 0)].iter().all(|&u| close(u, impulse)));
+    assert!(units[l.slack(3)].iter().all(|&u| close(u, impulse)));
+    assert!(
+        units[l.q(3)]
+            .iter()
+            .chain(&units[l.eta(3, 0)])
+            .all(|&u| u == 1.0)
+    );
+    assert_eq!(units[l.psi(3, 0)], 1.0);
+    let scaling = t.units_scaling(&[], true);
+    let rows = scaling.constraints.unwrap();
+    assert_eq!(rows.len(), l.num_constraints());
+    assert!(rows.iter().all(|&d| d > 0.0 && d <= 1.0));
+    assert!(scaling.objective > 0.0 && scaling.objective <= 1.0);
+    let variables = scaling.variables.unwrap();
+    assert!(variables.iter().zip(&units).all(|(d, u)| close(d * u, 1.0)));
+
+    let s = run(
+        "hopper URDF, units",
+        ModelMechanics::load(&spec).unwrap(),
+        &spec,
+    );
+    assert!(s.status.is_success(), "{:?}", s.status);
+    assert_ne!(s.iterations, own.iterations);
+    let terms: f64 = s.objective_terms.iter().map(|(_, v)| v).sum();
+    assert!(
+        (s.objective - terms).abs() <= 1e-9 * s.objective.abs(),
+        "Ipopt's objective {} against the terms' {terms}",
+        s.objective
+    );
+    assert!(s.max_slack <= 1e-4, "max slack {:e}", s.max_slack);
+    assert!(
+        s.max_constraint_violation <= 1e-6,
+        "violation {:e}",
+        s.max_constraint_violation
+    );
+}

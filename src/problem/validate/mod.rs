@@ -72,6 +72,7 @@ pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, Pr
     let solver::CheckedSolver {
         integrator,
         hessian,
+        scaling,
         solver_options,
     } = solver::check_solver(ctx, &raw)?;
     // `check_constraints` lists the `[[periodic]]` shorthands first, then `[[constraint]]`.
@@ -132,6 +133,7 @@ pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, Pr
         constraints,
         initial_guess,
         hessian,
+        scaling,
         solver_options,
         metrics,
     };
