@@ -142,8 +142,14 @@ pub(super) fn print_summary(
         out!("status       {verdict} (Ipopt: {})", status_name(s.status));
     }
     out!("objective    {:.10e}", s.objective);
+    // Aligned at 22 columns, or wider for a longer name ("complementarity_penalty").
+    let width = s
+        .objective_terms
+        .iter()
+        .map(|(name, _)| name.chars().count())
+        .fold(22, usize::max);
     for (name, value) in &s.objective_terms {
-        out!("  {name:<22} {value:.6e}");
+        out!("  {name:<width$} {value:.6e}");
     }
     out!("iterations   {}", s.iterations);
     out!(

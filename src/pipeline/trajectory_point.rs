@@ -69,7 +69,10 @@ pub fn point_from_trajectory<M: MechanicsDerivatives>(
             });
         }
     }
-    set(&mut x, "slack", &|j| l.slack(j).start);
+    // Penalty mode has no slack variables (its `slack` column is the products' largest sum).
+    if l.slacks_per_interval() > 0 {
+        set(&mut x, "slack", &|j| l.slack(j).start);
+    }
     for s in 0..l.slacks_per_interval() {
         set(&mut x, &format!("slack_{s}"), &|j| l.slack(j).start + s);
     }

@@ -425,7 +425,8 @@ pub struct InputsSection {
 pub struct SlackSection {
     /// Penalty α > 0 on Σ s.
     pub weight: f64,
-    /// `"per_interval"` (default, the paper's) or `"per_contact"`.
+    /// `"per_interval"` (default, the paper's), `"per_contact"` or `"penalty"` (no slacks:
+    /// the complementarity products weighted by `weight` in the objective).
     pub mode: Option<String>,
     /// Largest slack of a solved plan (default 1e-4, problem units); a solve ending above it
     /// is `relaxed_contact`, not solved.

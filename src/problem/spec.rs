@@ -26,7 +26,7 @@ pub enum HessianMode {
     Lbfgs,
 }
 
-/// How many complementarity slacks the relaxation uses.
+/// How the complementarity is relaxed: elastic rows with slacks, or a penalty.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum SlackMode {
     /// One slack s_k per interval shared by all contacts (the paper's and SPEC's).
@@ -34,6 +34,11 @@ pub enum SlackMode {
     PerInterval,
     /// One slack per interval, contact and complementarity pair.
     PerContact,
+    /// No slacks and no complementarity rows: the objective gets α Σ_j Σ_i (ηᵀβ + c·φ +
+    /// ψ(μc − eᵀβ)), each factor kept ≥ 0 by bounds and the distance and cone rows (the
+    /// penalty form of Leyffer, López-Calva & Nocedal 2006). A plan's "slack" is then the
+    /// largest of an interval's three product sums, what the elastic slack would be there.
+    Penalty,
 }
 
 /// How the NLP is scaled for Ipopt (`[solver] scaling`).
@@ -288,7 +293,8 @@ pub struct ProblemSpec {
     pub knots: usize,
     pub time_steps: TimeSteps,
     pub integrator: Integrator,
-    /// Slack penalty α > 0 in the objective α Σ s.
+    /// Slack penalty α > 0 in the objective α Σ s (with [`SlackMode::Penalty`], the weight
+    /// of the complementarity products in the objective).
     pub slack_weight: f64,
     pub slack_mode: SlackMode,
     /// Upper bound on every ψ (sliding speed), when set.

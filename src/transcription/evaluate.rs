@@ -10,6 +10,7 @@ use std::sync::{Mutex, OnceLock};
 use nalgebra::DMatrix;
 use rayon::prelude::*;
 
+use super::blocks::complementarity_penalty::{PENALTY_TERM, interval_products, interval_slack};
 use super::blocks::{
     Block, Eval, GeometryUse, ScalarBlockFn, ScalarKind, VectorBlockFn, VectorKind,
 };
@@ -22,6 +23,7 @@ use crate::autodiff::{
 use crate::contact::ContactGeometry;
 use crate::discrete::MechanicsDerivatives;
 use crate::model::PointJet;
+use crate::problem::SlackMode;
 
 /// How the contact blocks (tangential rate, contact work, signed distance, c·φ,
 /// complementarity) and the loop-closure blocks (residual rows, loop work) are differentiated.
@@ -75,24 +77,68 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         (violations, g)
     }
 
-    /// Problem cost per term (names as in `Solution::objective_terms`) and the slack penalty.
+    /// Problem cost per term (names as in `Solution::objective_terms`) and the slack penalty
+    /// ("slack_penalty"), or in penalty mode the weighted complementarity products
+    /// ("complementarity_penalty").
     pub fn objective_terms(&self, x: &[f64]) -> Vec<(String, f64)> {
         let mut terms: Vec<(String, f64)> = Vec::new();
+        let mut penalty = 0.0;
         for b in &self.cost_blocks {
-            let ScalarKind::Cost(cost) = &b.kind else {
-                continue;
-            };
-            let name = crate::problem::costs::term_name(&self.ctx.costs[cost.term]);
             let z = gather(x, &b.vars);
             let value = crate::autodiff::ScalarFunction::eval(&self.scalar_fn(b), &z);
+            let name = match &b.kind {
+                ScalarKind::Cost(cost) => {
+                    crate::problem::costs::term_name(&self.ctx.costs[cost.term])
+                }
+                ScalarKind::ComplementarityPenalty(_) => {
+                    penalty += value;
+                    continue;
+                }
+                _ => continue,
+            };
             match terms.iter_mut().find(|(n, _)| n == name) {
                 Some(entry) => entry.1 += value,
                 None => terms.push((name.to_string(), value)),
             }
         }
-        let slack: f64 = x[self.layout.slacks()].iter().sum();
-        terms.push(("slack_penalty".into(), self.slack_weight * slack));
+        if self.layout.slack_mode == SlackMode::Penalty {
+            terms.push((PENALTY_TERM.into(), penalty));
+        } else {
+            let slack: f64 = x[self.layout.slacks()].iter().sum();
+            terms.push(("slack_penalty".into(), self.slack_weight * slack));
+        }
         terms
+    }
+
+    /// Per interval and contact, the complementarity products at x ([`interval_products`]:
+    /// η_jᵀβ, c_j·φ(q_{j+1}), ψ_j(μc_j − eᵀβ_j), summed over the partners of j's
+    /// contact-mode block, factors clipped at 0).
+    pub fn complementarity_products(&self, x: &[f64]) -> Vec<Vec<[f64; 3]>> {
+        let l = &self.layout;
+        let phi: Vec<Vec<f64>> = (0..l.knots)
+            .map(|k| {
+                let q = &x[l.q(k)];
+                (0..l.nc)
+                    .map(|i| crate::contact::distance(&self.mech, &self.ctx.contact, i, q))
+                    .collect()
+            })
+            .collect();
+        interval_products(l, &self.ctx, x, &phi)
+    }
+
+    /// The largest slack at x: of the slack variables, or in penalty mode the largest
+    /// interval's [`interval_slack`] of its products (the slack the elastic form would hold).
+    pub fn max_slack(&self, x: &[f64]) -> f64 {
+        if self.layout.slack_mode == SlackMode::Penalty {
+            return self
+                .complementarity_products(x)
+                .iter()
+                .map(|p| interval_slack(p))
+                .fold(0.0_f64, f64::max);
+        }
+        x[self.layout.slacks()]
+            .iter()
+            .fold(0.0_f64, |a, &b| a.max(b))
     }
 
     /// Objective f(x) = problem cost + α Σ s.
@@ -109,8 +155,9 @@ impl<M: MechanicsDerivatives> Transcription<M> {
     /// Gradient of the objective (length = variables).
     pub fn gradient(&self, x: &[f64], grad: &mut [f64]) {
         grad.fill(0.0);
+        // Cost terms by generic AD; penalty-mode products by their closed forms.
         let locals = self.map_blocks_serial(&self.cost_blocks, |b| {
-            gradient(&self.scalar_fn(b), &gather(x, &b.vars)).1
+            self.gradient_block_gradient(b, &gather(x, &b.vars))
         });
         for (b, g) in self.cost_blocks.iter().zip(locals) {
             for (&v, gi) in b.vars.iter().zip(g) {

@@ -4,7 +4,7 @@
 //! all q_k (n each), v_0 (n), all h_j, all u_j (m each), then per interval j the contact
 //! block [c (nc), β (nc·nd, contact-major), ψ (nc), η (nc·nd)], then the loop impulses γ_j
 //! (nl each), then the slacks (1 per interval, or 3·nc per interval in per-contact mode,
-//! ordered contact-major as [ηᵀβ, c·φ, ψ·(μc − eᵀβ)]), then with a Galerkin integrator of
+//! ordered contact-major as [ηᵀβ, c·φ, ψ·(μc − eᵀβ)]; none in penalty mode), then with a Galerkin integrator of
 //! degree s the interior control points q_j^1 … q_j^{s−1} of every interval (n each).
 //!
 //! Constraint rows: per interval j, the dynamics rows (n rows: the first step for j = 0, the
@@ -12,7 +12,7 @@
 //! J(q_{j+1})ᵀλ_j), then the rows each block kind owns in every interval ([`IntervalRows`],
 //! declared in the kind's file, in the kinds' list order: loop closure a(q_{j+1}) (nl),
 //! tangential velocity (nc·nd), non-penetration φ(q_{j+1}) (nc), friction cone (nc),
-//! complementarity (3, or 3·nc per contact)); then after all intervals: N−2 equal-step rows
+//! complementarity (3, or 3·nc per contact, none in penalty mode)); then after all intervals: N−2 equal-step rows
 //! (free steps only), the loop closure at q_0 (nl), and the rows of the problem file's
 //! constraints (`problem::constraints`), in their order.
 
@@ -122,11 +122,12 @@ impl Layout {
         self.nc * (2 + 2 * self.nd)
     }
 
-    /// Slack variables per interval: 1, or 3·nc per contact.
+    /// Slack variables per interval: 1, 3·nc per contact, or none in penalty mode.
     pub fn slacks_per_interval(&self) -> usize {
         match self.slack_mode {
             SlackMode::PerInterval => 1,
             SlackMode::PerContact => 3 * self.nc,
+            SlackMode::Penalty => 0,
         }
     }
 
@@ -390,10 +391,11 @@ impl Layout {
             );
         }
         let local = v - self.slack_offset();
-        let per = self.slacks_per_interval();
+        // Penalty mode has no slack variables (`per` is 0): no index reaches here.
+        let per = self.slacks_per_interval().max(1);
         let j = local / per;
         match self.slack_mode {
-            SlackMode::PerInterval => format!("s, interval {j}"),
+            SlackMode::PerInterval | SlackMode::Penalty => format!("s, interval {j}"),
             SlackMode::PerContact => {
                 let r = local % per;
                 format!(

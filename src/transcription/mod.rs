@@ -43,7 +43,9 @@ pub use nlp::{Progress, ProgressFn, TranscriptionNlp};
 pub use pattern::{Pattern, PatternBuilder};
 pub use program::{InitialGuessReport, Transcription};
 pub use solution::{NlpSize, Solution};
-pub use solve::{BenchRow, MultiStart, PERTURBATION, SolveOptions, StartRecord};
+pub use solve::{
+    BenchRow, MultiStart, PENALTY_BOUND_RELAX, PERTURBATION, SolveOptions, StartRecord,
+};
 pub(crate) use solve::{bench_with, solve_with};
 pub use verdict::{
     DEFAULT_SLACK_TOLERANCE, RELAXED_CONTACT, RowViolation, SlackPeak, SolveVerdict,

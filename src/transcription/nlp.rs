@@ -17,7 +17,9 @@ pub struct Progress {
     /// Dual infeasibility.
     pub inf_du: f64,
     /// Largest slack at the latest point Ipopt evaluated (Ipopt 3.11's C intermediate
-    /// callback does not pass the iterate, so this is the last x seen by an evaluation).
+    /// callback does not pass the iterate, so this is the last x seen by an evaluation); in
+    /// penalty mode the largest interval's complementarity product sum
+    /// ([`Transcription::max_slack`]).
     pub max_slack: f64,
 }
 
@@ -130,8 +132,7 @@ impl<M: MechanicsDerivatives> Nlp for TranscriptionNlp<'_, M> {
     }
     fn intermediate(&mut self, info: &IterationInfo) -> bool {
         if let Some(progress) = self.progress {
-            let slacks = self.transcription.layout().slacks();
-            let max_slack = self.last_x[slacks].iter().fold(0.0_f64, |a, &b| a.max(b));
+            let max_slack = self.transcription.max_slack(&self.last_x);
             progress(&Progress {
                 iteration: info.iteration,
                 objective: info.objective,

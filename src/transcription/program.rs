@@ -179,9 +179,10 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         self.slack_weight
     }
 
-    /// Change α (for the exact-penalty continuation).
+    /// Change α (for the exact-penalty continuation; in penalty mode the products' weight).
     pub fn set_slack_weight(&mut self, weight: f64) {
         self.slack_weight = weight;
+        self.ctx.slack_weight = weight;
     }
 
     /// Evaluate the Jacobian's and the Hessian's blocks on rayon's thread pool or on one

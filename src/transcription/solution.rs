@@ -17,7 +17,8 @@ pub struct Solution {
     pub status: Status,
     /// Total objective (problem cost + slack penalty).
     pub objective: f64,
-    /// The objective split by term, named like "state_tracking", "input", "slack_penalty".
+    /// The objective split by term, named like "state_tracking", "input", "slack_penalty"
+    /// ("complementarity_penalty" in penalty mode).
     pub objective_terms: Vec<(String, f64)>,
     pub iterations: usize,
     pub wall_time_s: f64,
@@ -53,9 +54,11 @@ pub struct Solution {
     pub signed_distance: Vec<Vec<f64>>,
     /// World position of every contact point at every knot (N × nc).
     pub contact_positions: Vec<Vec<[f64; 3]>>,
-    /// Slacks per interval (N−1 × slacks per interval: 1, or 3·nc in per-contact mode).
+    /// Slacks per interval (N−1 × slacks per interval: 1, or 3·nc in per-contact mode; in
+    /// penalty mode 1, the largest of the interval's three complementarity product sums).
     pub slack: Vec<Vec<f64>>,
-    /// Largest slack value (at least 0: Ipopt's bound relaxation leaves slacks at −1e-8).
+    /// Largest slack value (at least 0: Ipopt's bound relaxation leaves slacks at −1e-8); in
+    /// penalty mode the largest interval's product sum.
     pub max_slack: f64,
     /// Where the largest slack sits (None without slacks).
     pub slack_peak: Option<super::SlackPeak>,

@@ -6,12 +6,13 @@ use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
+use super::blocks::complementarity_penalty::{interval_products, interval_slack};
 use super::nlp::{ProgressFn, TranscriptionNlp};
 use super::{
     MechanicsDerivatives, NlpSize, Solution, SolveVerdict, Transcription, TranscriptionError,
 };
 use crate::ipopt::{self, Multipliers, OptionValue, Solver};
-use crate::problem::{HessianMode, ProblemSpec, ScalingMode, SlackRestart};
+use crate::problem::{HessianMode, ProblemSpec, ScalingMode, SlackMode, SlackRestart};
 
 /// How to run a solve besides the problem itself.
 #[derive(Default)]
@@ -106,11 +107,28 @@ fn configure(spec: &ProblemSpec, options: &SolveOptions) -> Result<Solver, Trans
     if spec.hessian == HessianMode::Lbfgs {
         solver.set_option("hessian_approximation", "limited-memory")?;
     }
+    let given = |name: &str| {
+        spec.solver_options
+            .iter()
+            .chain(&options.ipopt_options)
+            .any(|(n, _)| n == name)
+    };
+    if spec.slack_mode == SlackMode::Penalty && !given(PENALTY_BOUND_RELAX.0) {
+        solver.set_option(PENALTY_BOUND_RELAX.0, PENALTY_BOUND_RELAX.1)?;
+    }
     if let Some(flag) = &options.cancel {
         solver.set_cancel_flag(flag.clone());
     }
     Ok(solver)
 }
+
+/// The Ipopt option penalty mode sets unless the problem sets it (to 0, the only value
+/// validation accepts then): Ipopt's default relaxes every bound and inequality row by 1e-8,
+/// and a factor at −1e-8 makes its product with an unbounded partner (ψ or η of a foot in
+/// flight) a direction of unbounded descent of the penalty. From the files' starts with the
+/// default: Spring Flamingo's penalty reached −3.2e4 and LittleDog's −1.0e5 (relaxed_contact,
+/// clipped products 3.2 and 1.0).
+pub const PENALTY_BOUND_RELAX: (&str, f64) = ("bound_relax_factor", 0.0);
 
 /// Solve `spec` for the given mechanics with its initial guess as it stands (a simulated guess
 /// held at q_1): the solve behind [`crate::pipeline::solve_with`], which resolves the guess
@@ -479,9 +497,22 @@ fn fill_solution<M: MechanicsDerivatives>(
         // A slack is ≥ 0; Ipopt's bound relaxation leaves it at −1e-8 where it is 0.
         slack.push(x[l.slack(j)].iter().map(|s| s.max(0.0)).collect());
     }
-    let max_slack = x[l.slacks()].iter().fold(0.0_f64, |a, &b| a.max(b));
     let contact_names: Vec<String> = spec.contacts.iter().map(|c| c.name.clone()).collect();
-    let slack_peak = slack_peak(t, x, &signed_distance, &contact_names);
+    let (max_slack, slack_peak) = if l.slack_mode == SlackMode::Penalty {
+        // No slack variables: an interval's slack is the one the elastic form would hold
+        // there, the largest sum of its products (so a plan whose products exceed the
+        // tolerance is still `relaxed_contact`).
+        let products = interval_products(l, t.context(), x, &signed_distance);
+        slack = products.iter().map(|p| vec![interval_slack(p)]).collect();
+        let peak = penalty_slack_peak(&products, &contact_names);
+        (peak.as_ref().map_or(0.0, |p| p.slack), peak)
+    } else {
+        let max_slack = x[l.slacks()].iter().fold(0.0_f64, |a, &b| a.max(b));
+        (
+            max_slack,
+            slack_peak(t, x, &signed_distance, &contact_names),
+        )
+    };
     let contact_positions = q
         .iter()
         .map(|qk| {
@@ -582,6 +613,35 @@ fn slack_peak<M: MechanicsDerivatives>(
         interval,
         contact: contact.and_then(|i| contacts.get(i).cloned()),
         slack: slack.max(0.0),
+    })
+}
+
+/// Where the largest interval slack of penalty mode sits ([`interval_slack`] of each
+/// interval's products): its interval and the contact with the largest product there (None
+/// when no product is positive).
+fn penalty_slack_peak(
+    products: &[Vec<[f64; 3]>],
+    contacts: &[String],
+) -> Option<crate::transcription::SlackPeak> {
+    let (interval, slack) = products
+        .iter()
+        .map(|p| interval_slack(p))
+        .enumerate()
+        .fold(None, |best: Option<(usize, f64)>, (j, s)| match best {
+            Some((_, b)) if s <= b || s.is_nan() => best,
+            _ => Some((j, s)),
+        })?;
+    let contact = products[interval]
+        .iter()
+        .map(|p| p.iter().copied().fold(0.0_f64, f64::max))
+        .enumerate()
+        .filter(|&(_, p)| p > 0.0)
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+        .and_then(|(i, _)| contacts.get(i).cloned());
+    Some(crate::transcription::SlackPeak {
+        interval,
+        contact,
+        slack,
     })
 }
 

@@ -5,7 +5,10 @@
 //! (near) zero: a slack s lets a foot push while above the ground (c·φ ≤ s), slide without
 //! friction's resistance or stick while sliding. A solve is solved when Ipopt reached an
 //! optimum ([`Status::is_success`]) and its largest slack is within the problem's
-//! `slack.tolerance` ([`DEFAULT_SLACK_TOLERANCE`] by default).
+//! `slack.tolerance` ([`DEFAULT_SLACK_TOLERANCE`] by default). Penalty mode
+//! (`SlackMode::Penalty`) has no slack variables; its slack of an interval is the largest of
+//! the interval's three complementarity product sums (what the elastic slack would be at its
+//! optimum), so the same verdict applies.
 
 use crate::ipopt::Status;
 

@@ -788,3 +788,130 @@ fn contact_mode_block_rows_pair_each_interval_with_its_block() {
         }
     }
 }
+
+/// `[slack] mode = "penalty"`: no slacks, no complementarity rows, the weighted products in
+/// the objective (cost blocks with closed-form gradient and Hessian). Every feature on the
+/// hopper with the midpoint rule, galerkin4 and Euler (with a loop), the brick's eight
+/// contacts on a step, and contact-mode blocks of 2 and 3 (shorter last blocks).
+#[test]
+fn penalty_mode_has_exact_derivatives() {
+    for (seed, integrator) in [
+        (41, Integrator::Midpoint),
+        (42, Integrator::Galerkin4),
+        (43, Integrator::Euler),
+    ] {
+        let spec = hopper_everything(integrator, SlackMode::Penalty);
+        let t = Transcription::new(WithLoop(Hopper), &spec).unwrap();
+        check_derivatives(&format!("hopper penalty {integrator:?}"), &t, seed);
+    }
+    for (seed, m, knots) in [(44, 2, 6), (45, 3, 5)] {
+        let mut spec = hopper_everything(Integrator::Midpoint, SlackMode::Penalty);
+        spec.knots = knots;
+        spec.mode_block = m;
+        let t = Transcription::new(Hopper, &spec).unwrap();
+        check_derivatives(&format!("hopper penalty blocks of {m}"), &t, seed);
+    }
+    let mut spec = brick_3d();
+    spec.knots = 4;
+    spec.slack_mode = SlackMode::Penalty;
+    spec.mode_block = 2;
+    spec.terrain.steps.push(Step {
+        edge_x: 0.05,
+        rise: 0.02,
+        width: 0.1,
+    });
+    let t = Transcription::new(Brick, &spec).unwrap();
+    check_derivatives("brick penalty blocks of 2", &t, 46);
+}
+
+/// The penalty's closed forms (the elastic rows' bilinear forms and the gap row's chain
+/// rule, weighted by −α) equal generic AD of the blocks' values: objective gradient and
+/// Lagrangian Hessian at random points, the hopper and LittleDog's 3-D legs.
+#[test]
+fn penalty_closed_forms_match_generic_ad() {
+    fn compare<M: MechanicsDerivatives>(name: &str, mut t: Transcription<M>, seed: u64) {
+        let mut rng = SeededRng::new(seed);
+        let (x, lambda, sigma) = random_point(&t, &mut rng);
+        let nnz = t.hessian_pattern().nnz();
+        let mut values = Vec::new();
+        for chain_rule in [true, false] {
+            t.set_contact_chain_rule(chain_rule);
+            let mut grad = vec![0.0; x.len()];
+            t.gradient(&x, &mut grad);
+            let mut hess = vec![0.0; nnz];
+            t.hessian_values(&x, sigma, &lambda, &mut hess);
+            values.push((grad, hess));
+        }
+        let close = |a: &[f64], b: &[f64]| {
+            a.iter()
+                .zip(b)
+                .all(|(p, q)| (p - q).abs() <= 1e-10 * p.abs().max(1.0))
+        };
+        assert!(close(&values[0].0, &values[1].0), "{name}: gradient");
+        assert!(close(&values[0].1, &values[1].1), "{name}: Hessian");
+        // The check has teeth: the penalty moves the gradient at this point.
+        assert!(values[0].0.iter().any(|g| g.abs() > 1e-3), "{name}");
+    }
+    let mut spec = hopper_everything(Integrator::Midpoint, SlackMode::Penalty);
+    spec.mode_block = 2;
+    compare("hopper", Transcription::new(Hopper, &spec).unwrap(), 47);
+    let mut spec = littledog_step();
+    spec.knots = 3;
+    spec.slack_mode = SlackMode::Penalty;
+    let mech = ModelMechanics::load(&spec).unwrap();
+    compare("littledog", Transcription::new(mech, &spec).unwrap(), 48);
+}
+
+/// The penalty is the elastic rows' products weighted by α: at a point, the objective's
+/// `complementarity_penalty` term equals −α times the sum of the elastic NLP's
+/// complementarity rows with every slack at 0 (per-interval slacks, blocks of 1 and 2), the
+/// penalty NLP has neither those rows nor slacks, and its cost terms are the elastic ones.
+#[test]
+fn penalty_term_is_the_weighted_elastic_products() {
+    for m in [1, 2] {
+        let mut spec = hopper_2d();
+        spec.knots = 6;
+        spec.mode_block = m;
+        let elastic = Transcription::new(Hopper, &spec).unwrap();
+        spec.slack_mode = SlackMode::Penalty;
+        let penalty = Transcription::new(Hopper, &spec).unwrap();
+        let (le, lp) = (elastic.layout(), penalty.layout());
+        assert_eq!(lp.slacks().len(), 0);
+        assert_eq!(
+            le.num_constraints() - lp.num_constraints(),
+            3 * le.intervals()
+        );
+        assert_eq!(le.num_variables() - lp.num_variables(), le.intervals());
+        let mut rng = SeededRng::new(49 + m as u64);
+        let (xp, _, _) = random_point(&penalty, &mut rng);
+        // The elastic point: the same variables, its slacks (the last ones, midpoint) at 0.
+        let mut xe = xp.clone();
+        xe.extend(std::iter::repeat_n(0.0, le.intervals()));
+        assert_eq!(le.slacks(), lp.num_variables()..le.num_variables());
+        let mut g = vec![0.0; le.num_constraints()];
+        elastic.constraints(&xe, &mut g);
+        let rows: f64 = (0..le.intervals())
+            .flat_map(|j| le.rows_of("Complementarity", j))
+            .map(|r| g[r])
+            .sum();
+        let term = |t: &Transcription<Hopper>, x: &[f64], name: &str| {
+            t.objective_terms(x)
+                .into_iter()
+                .find(|(n, _)| n == name)
+                .map(|(_, v)| v)
+        };
+        let weighted = term(&penalty, &xp, "complementarity_penalty").unwrap();
+        let expected = -spec.slack_weight * rows;
+        assert!(
+            (weighted - expected).abs() <= 1e-12 * expected.abs().max(1.0),
+            "blocks of {m}: penalty {weighted} against −α Σ rows {expected}"
+        );
+        assert!(expected > 1.0, "blocks of {m}: {expected}");
+        assert_eq!(term(&penalty, &xp, "slack_penalty"), None);
+        let objective = penalty.objective(&xp);
+        assert!(
+            (objective - (elastic.objective(&xe) + weighted)).abs() <= 1e-12 * objective.abs(),
+            "blocks of {m}"
+        );
+    }
+}

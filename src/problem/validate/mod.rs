@@ -75,6 +75,7 @@ pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, Pr
         scaling,
         solver_options,
     } = solver::check_solver(ctx, &raw)?;
+    slack::check_penalty_options(ctx, slack_mode, &solver_options)?;
     // `check_constraints` lists the `[[periodic]]` shorthands first, then `[[constraint]]`.
     for (i, constraint) in constraints.iter().enumerate() {
         if let Some(message) = constraint.integrator_problem(integrator) {

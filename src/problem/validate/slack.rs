@@ -2,6 +2,7 @@
 
 use super::context::Context;
 use super::values::positive;
+use crate::ipopt::OptionValue;
 use crate::problem::schema::ProblemFile;
 use crate::problem::{ProblemError, SlackContinuation, SlackMode, SlackRestart};
 
@@ -18,8 +19,9 @@ pub(super) fn check_slack_penalty(
     let slack_mode = match raw.slack.mode.as_deref() {
         None | Some("per_interval") => SlackMode::PerInterval,
         Some("per_contact") => SlackMode::PerContact,
+        Some("penalty") => SlackMode::Penalty,
         Some(other) => {
-            let valid = ["per_interval", "per_contact"].map(String::from);
+            let valid = ["per_interval", "per_contact", "penalty"].map(String::from);
             return Err(ctx.unknown_name("slack.mode", "slack mode", other, &valid));
         }
     };
@@ -79,4 +81,33 @@ pub(super) fn check_slack_continuation(
         }
     };
     Ok(slack_continuation)
+}
+
+/// Penalty mode needs its products' factors ≥ 0: Ipopt's `bound_relax_factor` must be 0 (the
+/// mode's default, `transcription::PENALTY_BOUND_RELAX`) if the file gives it.
+pub(super) fn check_penalty_options(
+    ctx: &Context,
+    slack_mode: SlackMode,
+    solver_options: &[(String, OptionValue)],
+) -> Result<(), ProblemError> {
+    if slack_mode != SlackMode::Penalty {
+        return Ok(());
+    }
+    let relaxed = solver_options.iter().find(|(name, value)| {
+        name == "bound_relax_factor"
+            && !matches!(value, OptionValue::Num(v) if *v == 0.0)
+            && !matches!(value, OptionValue::Int(0))
+    });
+    match relaxed {
+        Some((_, value)) => Err(ctx.invalid(
+            "solver.ipopt.bound_relax_factor",
+            format!(
+                "is {value}, but `slack.mode = \"penalty\"` puts the complementarity products in \
+                 the objective and needs their factors >= 0: relaxed bounds let a product go \
+                 below 0 without limit (the penalty runs to -1e4 and beyond); remove it (penalty \
+                 mode sets 0) or use an elastic slack mode (\"per_interval\", \"per_contact\")"
+            ),
+        )),
+        None => Ok(()),
+    }
 }

@@ -28,9 +28,11 @@ impl RowBlock for Complementarity {
         let count = match slack_mode {
             SlackMode::PerInterval => 3,
             SlackMode::PerContact => 3 * dims.nc,
+            // The products are in the objective (`ComplementarityPenalty`).
+            SlackMode::Penalty => return None,
         };
         let name: fn(&Layout, usize, usize, EntryNames) -> String = match slack_mode {
-            SlackMode::PerInterval => |_, local, j, _| {
+            SlackMode::PerInterval | SlackMode::Penalty => |_, local, j, _| {
                 format!("s - sum {}, interval {j}", COMPLEMENTARITY_NAMES[local % 3])
             },
             SlackMode::PerContact => |_, local, j, names| {
@@ -63,6 +65,9 @@ impl RowBlock for Complementarity {
             return;
         };
         let l = p.layout;
+        if l.slack_mode == SlackMode::Penalty {
+            return;
+        }
         let rows = range_vec(l.rows_of(Self::NAME, j));
         let slacks = range_vec(l.slack(j));
         let shared = slacks.len() == 1;

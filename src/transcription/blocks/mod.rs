@@ -26,6 +26,7 @@
 //! in each interval.
 
 mod complementarity;
+pub(crate) mod complementarity_penalty;
 mod constraint;
 mod contact_work;
 pub(crate) mod cost;
@@ -48,6 +49,7 @@ mod tangential_rate;
 mod tangential_slack;
 
 pub(crate) use complementarity::Complementarity;
+pub(crate) use complementarity_penalty::ComplementarityPenalty;
 pub(crate) use constraint::Constraint;
 pub(crate) use contact_work::ContactWork;
 pub(crate) use cost::Cost;
@@ -108,6 +110,9 @@ pub struct Context {
     pub galerkin: Option<GalerkinRule>,
     /// Intervals per contact-mode block ([`ProblemSpec::mode_block`]).
     pub mode_block: usize,
+    /// The slack weight α ([`ProblemSpec::slack_weight`], or raised by `[slack] target`):
+    /// the weight of the products in penalty mode ([`ComplementarityPenalty`]).
+    pub slack_weight: f64,
 }
 
 impl Context {
@@ -124,6 +129,7 @@ impl Context {
             constraints: spec.constraints.clone(),
             galerkin: spec.integrator.galerkin_rule(),
             mode_block: spec.mode_block,
+            slack_weight: spec.slack_weight,
         }
     }
 
@@ -509,6 +515,7 @@ gradient_kinds! {
     GalerkinSegment in galerkin_segment,
     ContactWork in contact_work,
     LoopWork in loop_work,
+    ComplementarityPenalty in complementarity_penalty,
     Cost in cost,
 }
 

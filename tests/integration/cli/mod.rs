@@ -10,6 +10,7 @@ mod init;
 mod inputs;
 mod mode_blocks;
 mod output_dirs;
+mod penalty;
 mod regression;
 mod simulate;
 mod solve;
