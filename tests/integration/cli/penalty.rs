@@ -89,11 +89,16 @@ fn penalty_hopper_solves_complementary_at_an_elastic_optimum() {
     let terms = s["objective_terms"].as_object().unwrap();
     assert!(terms.get("slack_penalty").is_none(), "{terms:?}");
     let penalty = terms["complementarity_penalty"].as_f64().unwrap();
-    // Factors ≥ 0 (bound_relax_factor 0): a small nonnegative penalty.
-    assert!((0.0..=1e-6).contains(&penalty), "penalty {penalty}");
     let cost = cost_without_penalty(&s);
     let objective = s["objective"].as_f64().unwrap();
+    // Factors ≥ 0 (bound_relax_factor 0): a nonnegative penalty, small against the cost
+    // (measured: below 1e-6 with Ipopt 3.11, 6.2e-6 with Debian 13's 3.14.17).
+    assert!(
+        (0.0..=1e-5 * objective).contains(&penalty),
+        "penalty {penalty}"
+    );
     assert!((objective - (cost + penalty)).abs() <= 1e-12 * objective);
+    // The same plan with Debian 12's 3.11 and 13's 3.14.17 (6.4728427 there, 103 iterations).
     assert!(
         (cost - 6.4728425).abs() <= 1e-5 * cost,
         "penalty plan cost {cost}"
