@@ -105,7 +105,7 @@ impl<M: MechanicsDerivatives> Transcription<M> {
             terms.push((PENALTY_TERM.into(), penalty));
         } else {
             let slack: f64 = x[self.layout.slacks()].iter().sum();
-            terms.push(("slack_penalty".into(), self.slack_weight * slack));
+            terms.push(("slack_penalty".into(), self.ctx.slack_weight * slack));
         }
         terms
     }
@@ -149,7 +149,7 @@ impl<M: MechanicsDerivatives> Transcription<M> {
             .map(|b| crate::autodiff::ScalarFunction::eval(&self.scalar_fn(b), &gather(x, &b.vars)))
             .sum();
         let slack: f64 = x[self.layout.slacks()].iter().sum();
-        cost + self.slack_weight * slack
+        cost + self.ctx.slack_weight * slack
     }
 
     /// Gradient of the objective (length = variables).
@@ -165,7 +165,7 @@ impl<M: MechanicsDerivatives> Transcription<M> {
             }
         }
         for i in self.layout.slacks() {
-            grad[i] += self.slack_weight;
+            grad[i] += self.ctx.slack_weight;
         }
     }
 

@@ -31,7 +31,6 @@ pub struct Transcription<M> {
     pub(super) mech: M,
     pub(super) ctx: Context,
     pub(super) layout: Layout,
-    pub(super) slack_weight: f64,
     pub(super) hessian_mode: HessianMode,
     pub(super) x_lower: Vec<f64>,
     pub(super) x_upper: Vec<f64>,
@@ -144,7 +143,6 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         let mut t = Transcription {
             ctx,
             layout,
-            slack_weight: spec.slack_weight,
             hessian_mode: spec.hessian,
             x_lower: Vec::new(),
             x_upper: Vec::new(),
@@ -176,12 +174,11 @@ impl<M: MechanicsDerivatives> Transcription<M> {
 
     /// Slack weight α of the objective α Σ s.
     pub fn slack_weight(&self) -> f64 {
-        self.slack_weight
+        self.ctx.slack_weight
     }
 
     /// Change α (for the exact-penalty continuation; in penalty mode the products' weight).
     pub fn set_slack_weight(&mut self, weight: f64) {
-        self.slack_weight = weight;
         self.ctx.slack_weight = weight;
     }
 
