@@ -448,7 +448,11 @@ impl Problem {
             })),
             cancel: Some(cancel),
             ipopt_options: Vec::new(),
-            multi_start: Some(MultiStart { starts, seed }),
+            multi_start: Some(MultiStart {
+                starts,
+                seed,
+                only: None,
+            }),
         };
         let solved = py.detach(|| pipeline::solve(&problem.spec, &options));
         drop(options);
@@ -939,7 +943,7 @@ fn simulate(
 /// Runs `vito sweep` (the library's sweep runner: one `exe solve` process per point) and
 /// returns the path of the table (`sweep.csv`). `vito.sweep` is the public function.
 #[pyfunction]
-#[pyo3(signature = (problem, axes, exe, out, jobs, time_limit = None, neighbour = false))]
+#[pyo3(signature = (problem, axes, exe, out, jobs, time_limit = None, neighbour = false, starts = 1, seed = 0, neighbour_rounds = vito::sweep::DEFAULT_ROUNDS))]
 #[allow(clippy::too_many_arguments)]
 fn _sweep(
     py: Python<'_>,
@@ -950,8 +954,14 @@ fn _sweep(
     jobs: usize,
     time_limit: Option<f64>,
     neighbour: bool,
+    starts: usize,
+    seed: u64,
+    neighbour_rounds: usize,
 ) -> PyResult<PathBuf> {
     use vito::sweep::{Axis, Grid, Shard, SweepOptions, WarmStart};
+    if starts == 0 {
+        return Err(VitoError::new_err("starts=0: give at least 1"));
+    }
     let usage = |e: vito::sweep::SweepError| vito_error(&e);
     let grid = Grid::new(
         axes.iter()
@@ -994,6 +1004,9 @@ fn _sweep(
             WarmStart::None
         },
         stop: None,
+        starts,
+        seed,
+        neighbour_rounds,
     };
     let sha = problem.loaded.sha256.clone();
     py.detach(|| vito::sweep::run_sweep(&options, &sha, |_| {}))

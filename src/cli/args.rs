@@ -110,6 +110,16 @@ pub enum Command {
         /// Seed of the multi-start perturbations.
         #[arg(long, default_value_t = 0)]
         seed: u64,
+        /// Starts solved at a time, each in its own process (default: the number of cores);
+        /// the result is the same as with --jobs 1.
+        #[arg(long, value_name = "J")]
+        jobs: Option<usize>,
+        /// Internal: solve only this start of the --starts (a parallel multi-start's share).
+        #[arg(long, hide = true, value_name = "K", requires = "start_result")]
+        only_start: Option<usize>,
+        /// Internal: write that start's solution (JSON) to this file, no output directory.
+        #[arg(long, hide = true, value_name = "FILE", requires = "only_start")]
+        start_result: Option<PathBuf>,
         /// Internal: the process id of the sweep that started this run (the run dies with it).
         #[arg(long, hide = true, value_name = "PID")]
         sweep_parent: Option<u32>,
@@ -426,6 +436,18 @@ pub struct SweepRunArgs {
     /// `neighbour`: start each run from the trajectory of its nearest finished grid point.
     #[arg(long, value_enum, default_value = "none")]
     pub(super) warm_start: WarmStartArg,
+    /// Solve each point from K starts and keep its best (as `vito solve --starts`); the table
+    /// gets the solved starts' objectives (objective_starts_min, _max).
+    #[arg(long, value_name = "K", default_value_t = 1)]
+    pub(super) starts: usize,
+    /// Seed of the starts' perturbations (as `vito solve --seed`).
+    #[arg(long, default_value_t = 0)]
+    pub(super) seed: u64,
+    /// Rounds of the neighbour pass: after every point is solved, each is solved again from
+    /// its grid neighbours' plans while that lowers its objective by more than 1 % (0: no
+    /// neighbour pass).
+    #[arg(long, value_name = "N", default_value_t = vito::sweep::DEFAULT_ROUNDS)]
+    pub(super) neighbour_rounds: usize,
 }
 
 /// `--warm-start` of a sweep.

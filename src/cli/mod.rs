@@ -39,6 +39,7 @@ mod output;
 mod regress;
 mod simulate;
 mod solve;
+mod starts;
 mod study;
 mod sweep;
 mod view;
@@ -78,19 +79,41 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
             ipopt_log,
             starts,
             seed,
+            jobs,
+            only_start,
+            start_result,
             sweep_parent,
         } => {
             if starts == 0 {
                 return Err(CliError::Input("--starts 0: give at least 1".into()));
             }
-            let multi_start = vito::transcription::MultiStart { starts, seed };
+            if jobs == Some(0) {
+                return Err(CliError::Input("--jobs 0: give at least 1".into()));
+            }
+            if only_start.is_some_and(|k| k >= starts) {
+                return Err(CliError::Input(format!(
+                    "--only-start {}: give a start below --starts {starts}",
+                    only_start.unwrap_or(0)
+                )));
+            }
+            let plan = solve::StartsPlan {
+                multi: vito::transcription::MultiStart {
+                    starts,
+                    seed,
+                    only: only_start,
+                },
+                jobs: jobs.unwrap_or_else(|| {
+                    std::thread::available_parallelism().map_or(1, std::num::NonZero::get)
+                }),
+                result: start_result,
+            };
             solve::solve(
                 &file,
                 &set,
                 out.as_deref(),
                 quiet,
                 ipopt_log,
-                multi_start,
+                plan,
                 sweep_parent,
             )
         }

@@ -26,13 +26,23 @@ pub(super) fn progress_line(
     format!("{iteration:>5}  {objective:>14.7e}  {inf_pr:>9.2e}  {inf_du:>9.2e}  {max_slack:>9.2e}")
 }
 
+/// How `vito solve` runs its starts.
+pub(super) struct StartsPlan {
+    /// The starts (and, in a parallel multi-start's process, the one to solve).
+    pub(super) multi: vito::transcription::MultiStart,
+    /// Starts at a time, each in its own process.
+    pub(super) jobs: usize,
+    /// In a parallel multi-start's process: where to write the start's solution.
+    pub(super) result: Option<std::path::PathBuf>,
+}
+
 pub(super) fn solve(
     file: &Path,
     set: &[String],
     out: Option<&Path>,
     quiet: bool,
     ipopt_log: bool,
-    multi_start: vito::transcription::MultiStart,
+    plan: StartsPlan,
     sweep_parent: Option<u32>,
 ) -> Result<u8, CliError> {
     if let Some(parent) = sweep_parent
@@ -46,8 +56,19 @@ pub(super) fn solve(
     }
     let overrides = parse_overrides(set)?;
     let problem = load(file, &overrides)?;
-    print_model_warnings(&problem.robot);
     pipeline::check_solver_options(&problem)?;
+    let multi_start = plan.multi;
+    if let Some(result) = &plan.result {
+        // One start of a parallel multi-start: its solution to the file, nothing else.
+        let cancel = on_stop_request(|| {}, || std::process::exit(1));
+        let solution = run_solver(&problem, cancel, true, Vec::new(), multi_start)?;
+        super::starts::write_start_result(result, &solution)?;
+        return Ok(0);
+    }
+    print_model_warnings(&problem.robot);
+    // Parallel starts run in processes of their own; Ipopt's log is one solve's, so
+    // --ipopt-log keeps the starts in this process.
+    let parallel = multi_start.starts > 1 && plan.jobs > 1 && !ipopt_log;
     let target =
         pipeline::output::checked_output_dir(&problem, out).map_err(report::ReportError::from)?;
     // With --ipopt-log, staged before solving so that Ipopt's log goes straight into the
@@ -92,9 +113,22 @@ pub(super) fn solve(
             problem.spec.name,
             problem.spec.knots
         );
-        note!(" iter       objective     inf_pr     inf_du  max_slack");
+        if !parallel {
+            note!(" iter       objective     inf_pr     inf_du  max_slack");
+        }
     }
-    let solution = run_solver(&problem, cancel.clone(), quiet, ipopt_options, multi_start)?;
+    let solution = if parallel {
+        if !quiet {
+            note!(
+                "{} starts, {} at a time, each in its own process",
+                multi_start.starts,
+                plan.jobs.min(multi_start.starts)
+            );
+        }
+        super::starts::solve_in_parallel(file, set, multi_start, plan.jobs, &cancel, quiet)?
+    } else {
+        run_solver(&problem, cancel.clone(), quiet, ipopt_options, multi_start)?
+    };
     let staged = match staged {
         Some(staged) => staged,
         None => target.stage().map_err(report::ReportError::from)?,

@@ -34,6 +34,9 @@ pub(super) fn sweep(args: SweepRunArgs) -> Result<u8, CliError> {
     if args.jobs == Some(0) {
         return Err(CliError::Input("--jobs 0: give at least 1".into()));
     }
+    if args.starts == 0 {
+        return Err(CliError::Input("--starts 0: give at least 1".into()));
+    }
     let overrides = parse_overrides(&args.set)?;
     let problem = load(&file, &overrides)?;
     vito::sweep::check_grid(&file, &overrides, &grid)?;
@@ -74,6 +77,9 @@ pub(super) fn sweep(args: SweepRunArgs) -> Result<u8, CliError> {
             WarmStartArg::Neighbour => WarmStart::Neighbour,
         },
         stop: Some(stop),
+        starts: args.starts,
+        seed: args.seed,
+        neighbour_rounds: args.neighbour_rounds,
     };
     let started = std::time::Instant::now();
     let mut display = SweepDisplay::new(started)?;
@@ -87,6 +93,26 @@ pub(super) fn sweep(args: SweepRunArgs) -> Result<u8, CliError> {
         Event::Stopping { running } => display.line(&format!(
             "stopping: {running} running runs asked to stop after their current iteration; no new run starts"
         )),
+        Event::Round { round, attempts, to_run } => display.line(&format!(
+            "neighbour pass, round {round}: {attempts} re-solves from neighbours' plans ({} on disk already)",
+            attempts - to_run
+        )),
+        Event::RoundEnded { round, improved, table } => {
+            display.line(&format!(
+                "neighbour pass, round {round}: {} points improved by more than {} %",
+                improved.len(),
+                vito::sweep::SETTLE_RATIO * 100.0
+            ));
+            for row in table.rows.iter().filter(|r| improved.contains(&r.index)) {
+                display.line(&format!(
+                    "  point {} ({}): {} from {}",
+                    row.index,
+                    row.point_label(),
+                    row.objective.map_or("-".into(), |o| format!("objective {o:.6e}")),
+                    row.start
+                ));
+            }
+        }
     }
     })?;
     display.finish();
@@ -181,7 +207,7 @@ impl SweepDisplay {
 
     fn progress(&mut self, p: &vito::sweep::Progress) {
         let counts = format!(
-            "done {}, running {}, failed {}{}{}",
+            "done {}, running {}, failed {}{}{}{}",
             p.done,
             p.running,
             p.failed,
@@ -194,30 +220,39 @@ impl SweepDisplay {
                 format!(" ({} finished before)", p.skipped)
             } else {
                 String::new()
+            },
+            if p.attempts_total > 0 {
+                format!(
+                    ", neighbour re-solves {}/{}",
+                    p.attempts_done, p.attempts_total
+                )
+            } else {
+                String::new()
             }
         );
-        let ended = p.done + p.failed + p.interrupted;
+        let ended = p.done + p.failed + p.interrupted + p.attempts_done;
+        let total = p.total + p.attempts_total;
         match &self.bar {
             Some(bar) => {
-                bar.set_length(p.total as u64);
+                bar.set_length(total as u64);
                 bar.set_position(ended as u64);
                 bar.set_message(counts);
             }
             None => {
                 // Plain lines only when a run ended (a start changes only `running`).
-                let ended_before = self
-                    .last
-                    .map_or(usize::MAX, |l| l.done + l.failed + l.interrupted);
+                let ended_before = self.last.map_or(usize::MAX, |l| {
+                    l.done + l.failed + l.interrupted + l.attempts_done
+                });
                 if ended != ended_before {
                     let ran = ended - p.skipped;
-                    let left = p.total - ended;
+                    let left = total - ended;
                     let eta = if ran > 0 && left > 0 {
                         let per_run = self.started.elapsed().as_secs_f64() / ran as f64;
                         format!(", ETA {:.0} s", per_run * left as f64)
                     } else {
                         String::new()
                     };
-                    eprintln!("progress: {ended}/{} runs, {counts}{eta}", p.total);
+                    eprintln!("progress: {ended}/{total} runs, {counts}{eta}");
                 }
             }
         }

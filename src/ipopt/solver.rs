@@ -85,7 +85,7 @@ pub struct SolveReport {
 }
 
 /// Calls and seconds of one kind of callback.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct CallbackStat {
     pub calls: usize,
     pub seconds: f64,
@@ -93,7 +93,7 @@ pub struct CallbackStat {
 
 /// Where the callback time went: Ipopt asks f and g at every trial point of its line
 /// search, ∇f, the Jacobian and the Hessian once per iteration.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct CallbackSplit {
     pub objective: CallbackStat,
     pub gradient: CallbackStat,

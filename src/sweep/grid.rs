@@ -160,7 +160,21 @@ impl Grid {
     }
 }
 
+/// Values as `key=value` pairs separated by spaces (a point's label in lines and tables).
+pub(crate) fn values_label(values: &[(String, String)]) -> String {
+    values
+        .iter()
+        .map(|(k, v)| format!("{k}={v}"))
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
 impl Point {
+    /// The point's values as `key=value` pairs separated by spaces.
+    pub fn label(&self) -> String {
+        values_label(&self.values)
+    }
+
     /// The `--set` arguments of this point.
     pub fn set_args(&self) -> Vec<String> {
         self.values
@@ -207,7 +221,7 @@ impl Point {
 }
 
 /// FNV-1a: a stable hash (unlike std's, the same in every build) for directory names.
-fn fnv1a(bytes: &[u8]) -> u64 {
+pub(super) fn fnv1a(bytes: &[u8]) -> u64 {
     bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
         (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
     })

@@ -7,6 +7,9 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
+use std::collections::BTreeSet;
+
+use crate::sweep::neighbours;
 use crate::sweep::table::{
     OnDisk, RUNS, Row, RunStatus, Table, WARM_START_KEY, expected_parameters, read_result,
 };
@@ -54,6 +57,12 @@ pub struct SweepOptions {
     /// A stop request (a signal): no new run starts, the running ones are asked to stop
     /// after their current iteration (SIGTERM) and are waited for.
     pub stop: Option<Arc<AtomicBool>>,
+    /// Starts of each point's own run (`vito solve --starts`; 1: the problem's guess only).
+    pub starts: usize,
+    /// Seed of those starts (`vito solve --seed`).
+    pub seed: u64,
+    /// Rounds of the neighbour pass (0: none): see [`crate::sweep::SETTLE_RATIO`].
+    pub neighbour_rounds: usize,
 }
 
 /// Counts for a progress display.
@@ -71,6 +80,10 @@ pub struct Progress {
     pub total: usize,
     /// Finished before this sweep started (skipped).
     pub skipped: usize,
+    /// Neighbour-pass attempts run so far in this sweep.
+    pub attempts_done: usize,
+    /// Neighbour-pass attempts planned so far in this sweep.
+    pub attempts_total: usize,
 }
 
 /// What a sweep reports while it runs.
@@ -84,6 +97,24 @@ pub enum Event<'a> {
     Stopping {
         /// Runs asked to stop.
         running: usize,
+    },
+    /// A round of the neighbour pass starts.
+    Round {
+        /// Its number, from 1.
+        round: usize,
+        /// Attempts it plans.
+        attempts: usize,
+        /// Of them, those not already on disk from an earlier run of the sweep.
+        to_run: usize,
+    },
+    /// A round of the neighbour pass ended; the table is up to date.
+    RoundEnded {
+        /// Its number, from 1.
+        round: usize,
+        /// The grid indices of the points whose answer it improved.
+        improved: &'a [usize],
+        /// The table.
+        table: &'a Table,
     },
 }
 
@@ -189,19 +220,44 @@ fn create_new_file(path: &Path) -> Result<std::fs::File, SweepError> {
         })
 }
 
-struct Running {
+/// One process to run: a grid point's own run (the first pass) or a neighbour-pass attempt.
+struct Job {
     point: Point,
+    /// Its run directory, relative to the sweep directory.
+    dir: String,
+    /// Its log, relative to the sweep directory.
+    log: String,
+    /// The run directory (relative to the sweep directory) whose plan is its start.
+    warm: Option<String>,
+    /// A neighbour-pass attempt (one start), not the point's own run.
+    attempt: bool,
+}
+
+struct Running {
+    job: Job,
     child: Child,
     started: Instant,
 }
 
-/// Runs the shard's points that have no finished result yet and returns the table (also
-/// written to `out` after each run) with the final counts. `on_event` hears of every run
-/// that starts or ends and of a stop request.
+/// A sweep in progress: the table, the counts and the caller's ear.
+struct SweepRun<'a, F: FnMut(Event)> {
+    options: &'a SweepOptions,
+    sha256: &'a str,
+    points: Vec<Point>,
+    table: Table,
+    counts: Progress,
+    stopping: bool,
+    on_event: F,
+}
+
+/// Runs the shard's points that have no finished result yet, then (unless
+/// `neighbour_rounds` is 0) the neighbour pass, and returns the table (also written to `out`
+/// after each run) with the final counts. `on_event` hears of every run that starts or ends
+/// and of a stop request.
 pub fn run_sweep(
     options: &SweepOptions,
     sha256: &str,
-    mut on_event: impl FnMut(Event),
+    on_event: impl FnMut(Event),
 ) -> Result<Outcome, SweepError> {
     let out = &options.out;
     prepare_dir(out)?;
@@ -226,115 +282,310 @@ pub fn run_sweep(
         let name = p.run_name();
         let mut row = Row::pending(p, format!("{RUNS}/{name}"));
         let parameters = expected_parameters(&options.sets, p)?;
-        if read_result(&mut row, &runs.join(&name), sha256, &parameters) != OnDisk::Finished {
-            queue.push(p.clone());
+        if read_result(&mut row, &runs.join(&name), sha256, &parameters) == OnDisk::Finished {
+            row.start = first_pass_start(&runs.join(&name), &points);
+        } else {
+            queue.push(Job {
+                point: p.clone(),
+                dir: format!("{RUNS}/{name}"),
+                log: format!("{LOGS}/{name}.log"),
+                warm: None,
+                attempt: false,
+            });
         }
         table.rows.push(row);
     }
     table.write(out)?;
-    let mut counts = Progress {
+    let counts = Progress {
         done: points.len() - queue.len(),
         total: points.len(),
         skipped: points.len() - queue.len(),
         ..Progress::default()
     };
-    on_event(Event::Progress(&counts));
+    let mut run = SweepRun {
+        options,
+        sha256,
+        points,
+        table,
+        counts,
+        stopping: false,
+        on_event,
+    };
+    (run.on_event)(Event::Progress(&run.counts));
     queue.reverse(); // pop() takes them in grid order
-    let mut running: Vec<Running> = Vec::new();
-    let jobs = options.jobs.max(1);
-    let mut stopping = false;
-    let stop_requested = || {
-        options
+    run.run_jobs(queue)?;
+    if options.neighbour_rounds > 0 && !run.stopping {
+        run.neighbour_pass()?;
+    }
+    Ok(Outcome {
+        table: run.table,
+        counts: run.counts,
+        interrupted: run.stopping,
+    })
+}
+
+impl<F: FnMut(Event)> SweepRun<'_, F> {
+    fn stop_requested(&self) -> bool {
+        self.options
             .stop
             .as_ref()
             .is_some_and(|s| s.load(Ordering::SeqCst))
-    };
-    while (!queue.is_empty() && !stopping) || !running.is_empty() {
-        if !stopping && stop_requested() {
-            stopping = true;
-            // Runs in the sweep's process group heard a terminal's Ctrl-C already; the
-            // request counts once whoever sends it twice (vito solve takes signals within a
-            // second as one).
-            for r in &running {
-                let _ = rustix::process::kill_process(
-                    rustix::process::Pid::from_child(&r.child),
-                    rustix::process::Signal::TERM,
-                );
-            }
-            on_event(Event::Stopping {
-                running: running.len(),
-            });
-        }
-        while running.len() < jobs && !stopping {
-            let Some(point) = queue.pop() else { break };
-            let warm = match options.warm_start {
-                WarmStart::None => None,
-                WarmStart::Neighbour => nearest_finished(&point, &points, &table_rows(&table)),
-            };
-            let row = table
-                .rows
-                .iter_mut()
-                .find(|r| r.index == point.index)
-                .ok_or_else(|| SweepError::Internal("a point without a row".into()))?;
-            row.note = warm
-                .as_ref()
-                .map(|n| format!("warm start from {}", n.run_name()))
-                .unwrap_or_default();
-            let child = spawn(options, &point, warm.as_ref())?;
-            running.push(Running {
-                point,
-                child,
-                started: Instant::now(),
-            });
-            counts.running = running.len();
-            on_event(Event::Progress(&counts));
-        }
-        std::thread::sleep(Duration::from_millis(20));
-        let mut i = 0;
-        while i < running.len() {
-            let r = &mut running[i];
-            let timed_out = options
-                .time_limit
-                .is_some_and(|limit| r.started.elapsed() > limit);
-            let exit = match r.child.try_wait() {
-                Ok(Some(status)) => Some((status.code(), false)),
-                Ok(None) if timed_out => {
-                    let _ = r.child.kill();
-                    let _ = r.child.wait();
-                    Some((None, true))
+    }
+
+    fn row_mut(&mut self, index: usize) -> Result<&mut Row, SweepError> {
+        self.table
+            .rows
+            .iter_mut()
+            .find(|r| r.index == index)
+            .ok_or_else(|| SweepError::Internal("a point without a row".into()))
+    }
+
+    /// Runs `queue` (popped from the end), at most `jobs` at a time, until it is empty or a
+    /// stop request arrives, and waits for the running ones.
+    fn run_jobs(&mut self, mut queue: Vec<Job>) -> Result<(), SweepError> {
+        let options = self.options;
+        let mut running: Vec<Running> = Vec::new();
+        let jobs = options.jobs.max(1);
+        while (!queue.is_empty() && !self.stopping) || !running.is_empty() {
+            if !self.stopping && self.stop_requested() {
+                self.stopping = true;
+                // Runs in the sweep's process group heard a terminal's Ctrl-C already; the
+                // request counts once whoever sends it twice (vito solve takes signals within
+                // a second as one).
+                for r in &running {
+                    let _ = rustix::process::kill_process(
+                        rustix::process::Pid::from_child(&r.child),
+                        rustix::process::Signal::TERM,
+                    );
                 }
-                Ok(None) => None,
-                Err(e) => {
-                    let _ = r.child.kill();
-                    let _ = r.child.wait();
-                    return Err(SweepError::Internal(format!("waiting for a run: {e}")));
-                }
-            };
-            let Some((code, killed)) = exit else {
-                i += 1;
-                continue;
-            };
-            let r = running.swap_remove(i);
-            match record(options, &mut table, &r.point, code, killed, sha256)? {
-                OnDisk::Finished => counts.done += 1,
-                OnDisk::Interrupted => counts.interrupted += 1,
-                OnDisk::Nothing => counts.failed += 1,
+                (self.on_event)(Event::Stopping {
+                    running: running.len(),
+                });
             }
-            counts.running = running.len();
-            table.write(out)?;
-            let row = table
-                .rows
-                .iter()
-                .find(|row| row.index == r.point.index)
-                .ok_or_else(|| SweepError::Internal("a point without a row".into()))?;
-            on_event(Event::Ended(row, &counts));
+            while running.len() < jobs && !self.stopping {
+                let Some(mut job) = queue.pop() else { break };
+                if !job.attempt && options.warm_start == WarmStart::Neighbour {
+                    let rows = table_rows(&self.table);
+                    job.warm = nearest_finished(&job.point, &self.points, &rows)
+                        .map(|n| format!("{RUNS}/{}", n.run_name()));
+                }
+                if !job.attempt {
+                    let note = job
+                        .warm
+                        .as_ref()
+                        .map(|w| {
+                            let name = w.strip_prefix(&format!("{RUNS}/")).unwrap_or(w);
+                            format!("warm start from {name}")
+                        })
+                        .unwrap_or_default();
+                    self.row_mut(job.point.index)?.note = note;
+                }
+                let child = spawn(options, &job)?;
+                running.push(Running {
+                    job,
+                    child,
+                    started: Instant::now(),
+                });
+                self.counts.running = running.len();
+                (self.on_event)(Event::Progress(&self.counts));
+            }
+            std::thread::sleep(Duration::from_millis(20));
+            let mut i = 0;
+            while i < running.len() {
+                let r = &mut running[i];
+                let timed_out = options
+                    .time_limit
+                    .is_some_and(|limit| r.started.elapsed() > limit);
+                let exit = match r.child.try_wait() {
+                    Ok(Some(status)) => Some((status.code(), false)),
+                    Ok(None) if timed_out => {
+                        let _ = r.child.kill();
+                        let _ = r.child.wait();
+                        Some((None, true))
+                    }
+                    Ok(None) => None,
+                    Err(e) => {
+                        let _ = r.child.kill();
+                        let _ = r.child.wait();
+                        return Err(SweepError::Internal(format!("waiting for a run: {e}")));
+                    }
+                };
+                let Some((code, killed)) = exit else {
+                    i += 1;
+                    continue;
+                };
+                let r = running.swap_remove(i);
+                self.counts.running = running.len();
+                if r.job.attempt {
+                    self.counts.attempts_done += 1;
+                    (self.on_event)(Event::Progress(&self.counts));
+                    continue;
+                }
+                match record(options, &mut self.table, &r.job, code, killed, self.sha256)? {
+                    OnDisk::Finished => self.counts.done += 1,
+                    OnDisk::Interrupted => self.counts.interrupted += 1,
+                    OnDisk::Nothing => self.counts.failed += 1,
+                }
+                if let Some(w) = &r.job.warm {
+                    let label = self.label_of_dir(w);
+                    self.row_mut(r.job.point.index)?.start = format!("warm {label}");
+                } else {
+                    self.row_mut(r.job.point.index)?.start = "guess".into();
+                }
+                self.table.write(&options.out)?;
+                let row = self
+                    .table
+                    .rows
+                    .iter()
+                    .find(|row| row.index == r.job.point.index)
+                    .ok_or_else(|| SweepError::Internal("a point without a row".into()))?;
+                (self.on_event)(Event::Ended(row, &self.counts));
+            }
+        }
+        Ok(())
+    }
+
+    /// The point label of the point whose run directory `dir` is (`runs/<name>` or
+    /// `attempts/<name>/…`), or `dir` itself.
+    fn label_of_dir(&self, dir: &str) -> String {
+        let name = dir.split('/').nth(1).unwrap_or(dir);
+        self.points
+            .iter()
+            .find(|p| p.run_name() == name)
+            .map_or_else(|| dir.to_owned(), |p| p.label())
+    }
+
+    /// Rounds of re-solves from the neighbours' plans (see [`neighbours`]): each round plans
+    /// its attempts from the answers at its start, runs those not already on disk, then folds
+    /// them in, in grid order; a rerun replays the same rounds from the attempts on disk.
+    fn neighbour_pass(&mut self) -> Result<(), SweepError> {
+        let options = self.options;
+        let mut tried = BTreeSet::new();
+        for round in 1..=options.neighbour_rounds {
+            let plan = neighbours::plan_round(&self.points, &self.table.rows, &tried);
+            if plan.is_empty() {
+                break;
+            }
+            let mut queue = Vec::new();
+            for a in &plan {
+                let Some(point) = self.points.iter().find(|p| p.index == a.target).cloned() else {
+                    continue;
+                };
+                if self.attempt_result(&point, a)?.is_some() {
+                    continue;
+                }
+                let parent = options.out.join(neighbours::ATTEMPTS);
+                own_subdir(&options.out, neighbours::ATTEMPTS)?;
+                own_subdir(&parent, &point.run_name())?;
+                queue.push(Job {
+                    point,
+                    dir: a.dir.clone(),
+                    log: format!("{LOGS}/{}.log", a.dir.replace('/', "__")),
+                    warm: Some(a.source_dir.clone()),
+                    attempt: true,
+                });
+            }
+            self.counts.attempts_total += queue.len();
+            (self.on_event)(Event::Round {
+                round,
+                attempts: plan.len(),
+                to_run: queue.len(),
+            });
+            queue.reverse();
+            self.run_jobs(queue)?;
+            if self.stopping {
+                return Ok(());
+            }
+            let mut improved = Vec::new();
+            for a in &plan {
+                tried.insert(a.dir.clone());
+                let Some(point) = self.points.iter().find(|p| p.index == a.target).cloned() else {
+                    continue;
+                };
+                let Some(candidate) = self.attempt_result(&point, a)? else {
+                    continue;
+                };
+                let source_label = self.label_of_dir(&a.source_dir);
+                let row = self.row_mut(a.target)?;
+                if neighbours::improves(&candidate, row) {
+                    let note = std::mem::take(&mut row.note);
+                    *row = Row {
+                        start: format!("neighbour {source_label}"),
+                        note,
+                        ..candidate
+                    };
+                    if !improved.contains(&a.target) {
+                        improved.push(a.target);
+                    }
+                }
+            }
+            self.mark_settled(&tried);
+            self.table.write(&options.out)?;
+            (self.on_event)(Event::RoundEnded {
+                round,
+                improved: &improved,
+                table: &self.table,
+            });
+            if improved.is_empty() {
+                break;
+            }
+        }
+        self.mark_settled(&tried);
+        self.table.write(&options.out)
+    }
+
+    fn mark_settled(&mut self, tried: &BTreeSet<String>) {
+        let settled: Vec<bool> = self
+            .table
+            .rows
+            .iter()
+            .map(|r| {
+                self.points.iter().find(|p| p.index == r.index).is_some_and(|p| {
+                    neighbours::settled(p, &self.points, &self.table.rows, tried)
+                })
+            })
+            .collect();
+        for (row, s) in self.table.rows.iter_mut().zip(settled) {
+            row.settled = Some(s);
         }
     }
-    Ok(Outcome {
-        table,
-        counts,
-        interrupted: stopping,
-    })
+
+    /// The attempt's result when its run directory holds a finished summary of this problem
+    /// and point.
+    fn attempt_result(
+        &self,
+        point: &Point,
+        attempt: &neighbours::Attempt,
+    ) -> Result<Option<Row>, SweepError> {
+        let mut row = Row::pending(point, attempt.dir.clone());
+        let parameters = expected_parameters(&self.options.sets, point)?;
+        let dir = self.options.out.join(&attempt.dir);
+        Ok(
+            (read_result(&mut row, &dir, self.sha256, &parameters) == OnDisk::Finished)
+                .then_some(row),
+        )
+    }
+}
+
+/// `start` of a first-pass run found on disk: `warm <point>` when its summary says it was
+/// warm-started from a run of this sweep, else `guess`.
+fn first_pass_start(run_dir: &Path, points: &[Point]) -> String {
+    let warm = std::fs::read_to_string(run_dir.join("summary.json"))
+        .ok()
+        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+        .and_then(|s| s["parameters"][WARM_START_KEY].as_str().map(str::to_owned));
+    let Some(path) = warm else {
+        return "guess".into();
+    };
+    let name = Path::new(&path)
+        .parent()
+        .and_then(Path::file_name)
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    points
+        .iter()
+        .find(|p| p.run_name() == name)
+        .map_or_else(|| "warm start".into(), |p| format!("warm {}", p.label()))
 }
 
 fn table_rows(table: &Table) -> Vec<(usize, RunStatus)> {
@@ -359,10 +610,9 @@ fn nearest_finished(
         .cloned()
 }
 
-fn spawn(options: &SweepOptions, point: &Point, warm: Option<&Point>) -> Result<Child, SweepError> {
+fn spawn(options: &SweepOptions, job: &Job) -> Result<Child, SweepError> {
     let out = &options.out;
-    let name = point.run_name();
-    let log_path = out.join(LOGS).join(format!("{name}.log"));
+    let log_path = out.join(&job.log);
     let log = create_own_file(&log_path)?;
     let log_err = log.try_clone().map_err(|source| SweepError::Io {
         path: log_path.clone(),
@@ -371,17 +621,27 @@ fn spawn(options: &SweepOptions, point: &Point, warm: Option<&Point>) -> Result<
     let mut cmd = Command::new(&options.exe);
     // Not --quiet: the log shows each iteration, so a killed or stopped run shows where it was.
     cmd.arg("solve").arg(&options.problem);
-    for s in options.sets.iter().cloned().chain(point.set_args()) {
+    for s in options.sets.iter().cloned().chain(job.point.set_args()) {
         cmd.arg("--set").arg(s);
     }
-    if let Some(n) = warm {
-        let csv = std::path::absolute(out.join(RUNS).join(n.run_name()).join("trajectory.csv"))
-            .map_err(|source| SweepError::Io {
+    if let Some(dir) = &job.warm {
+        let csv = std::path::absolute(out.join(dir).join("trajectory.csv")).map_err(|source| {
+            SweepError::Io {
                 path: out.to_owned(),
                 source,
-            })?;
+            }
+        })?;
         let value = toml::Value::String(csv.display().to_string());
         cmd.arg("--set").arg(format!("{WARM_START_KEY}={value}"));
+    }
+    // The point's own run takes the sweep's starts; an attempt starts from one plan.
+    if !job.attempt && options.starts > 1 {
+        cmd.arg("--starts")
+            .arg(options.starts.to_string())
+            .arg("--seed")
+            .arg(options.seed.to_string())
+            // The sweep's jobs are the parallelism; its runs' starts go one after another.
+            .args(["--jobs", "1"]);
     }
     // Parallelism comes from the runs (processes); BLAS threads would only compete with
     // them, and one thread gives the same numbers on every run.
@@ -389,7 +649,7 @@ fn spawn(options: &SweepOptions, point: &Point, warm: Option<&Point>) -> Result<
         cmd.env("OPENBLAS_NUM_THREADS", "1");
     }
     cmd.arg("--out")
-        .arg(out.join(RUNS).join(&name))
+        .arg(out.join(&job.dir))
         .arg(PARENT_FLAG)
         .arg(std::process::id().to_string())
         .stdin(Stdio::null())
@@ -405,11 +665,12 @@ fn spawn(options: &SweepOptions, point: &Point, warm: Option<&Point>) -> Result<
 fn record(
     options: &SweepOptions,
     table: &mut Table,
-    point: &Point,
+    job: &Job,
     code: Option<i32>,
     killed: bool,
     sha256: &str,
 ) -> Result<OnDisk, SweepError> {
+    let point = &job.point;
     let name = point.run_name();
     let parameters = expected_parameters(&options.sets, point)?;
     let row = table

@@ -74,6 +74,19 @@ pub struct Row {
     pub dir: String,
     /// Why it failed, or where its warm start came from.
     pub note: String,
+    /// Where the answer started: `guess` (the problem's initial guess, or the best of its
+    /// starts with `--starts`), `warm <point>` (a first-pass warm start from that point's
+    /// plan) or `neighbour <point>` (the neighbour pass found it from that point's plan).
+    #[serde(default)]
+    pub start: String,
+    /// Whether the neighbour pass tried every solved neighbour's current plan from this point
+    /// without improving it by more than [`crate::sweep::SETTLE_RATIO`] (None: no neighbour
+    /// pass ran).
+    #[serde(default)]
+    pub settled: Option<bool>,
+    /// With `--starts K`: the objectives of the starts that solved (the answer is the lowest).
+    #[serde(default)]
+    pub start_objectives: Vec<f64>,
 }
 
 impl Row {
@@ -91,16 +104,15 @@ impl Row {
             metrics: BTreeMap::new(),
             dir,
             note: String::new(),
+            start: String::new(),
+            settled: None,
+            start_objectives: Vec::new(),
         }
     }
 
     /// The point's values as `key=value` pairs separated by spaces.
     pub fn point_label(&self) -> String {
-        self.values
-            .iter()
-            .map(|(k, v)| format!("{k}={v}"))
-            .collect::<Vec<_>>()
-            .join(" ")
+        crate::sweep::grid::values_label(&self.values)
     }
 
     /// The value of a column by name: `objective`, `iterations`, `wall_time_s`, `max_slack`
@@ -207,6 +219,21 @@ pub fn read_result(
     row.max_slack = summary["max_slack"].as_f64();
     row.metrics.clear();
     flatten_numbers(&summary["metrics"], "", &mut row.metrics);
+    row.start_objectives = summary["starts"]
+        .as_array()
+        .map(|starts| {
+            starts
+                .iter()
+                .filter(|s| {
+                    s["status"]
+                        .as_str()
+                        .and_then(crate::transcription::SolveVerdict::from_name)
+                        .is_some_and(|v| v.is_solved())
+                })
+                .filter_map(|s| s["objective"].as_f64())
+                .collect()
+        })
+        .unwrap_or_default();
     if interrupted {
         OnDisk::Interrupted
     } else {
@@ -280,14 +307,25 @@ impl Table {
             ]
             .map(String::from),
         );
+        if self.has_starts() {
+            c.extend(
+                ["starts_solved", "objective_starts_min", "objective_starts_max"].map(String::from),
+            );
+        }
         c.extend(self.metric_names().iter().map(|m| format!("metrics.{m}")));
-        c.extend(["dir", "note"].map(String::from));
+        c.extend(["start", "settled", "dir", "note"].map(String::from));
         c
+    }
+
+    /// Whether any row lists the objectives of several starts (`--starts K`).
+    pub fn has_starts(&self) -> bool {
+        self.rows.iter().any(|r| !r.start_objectives.is_empty())
     }
 
     /// Each row's cells, in [`Table::columns`] order.
     pub fn cells(&self) -> Vec<Vec<String>> {
         let metrics = self.metric_names();
+        let starts = self.has_starts();
         let opt = |x: Option<f64>| x.map_or(String::new(), |v| format!("{v:e}"));
         self.rows
             .iter()
@@ -300,7 +338,15 @@ impl Table {
                 c.push(r.iterations.map_or(String::new(), |i| i.to_string()));
                 c.push(r.wall_time_s.map_or(String::new(), |t| format!("{t:.3}")));
                 c.push(opt(r.max_slack));
+                if starts {
+                    let band = r.start_objectives.iter().copied();
+                    c.push(r.start_objectives.len().to_string());
+                    c.push(opt(band.clone().reduce(f64::min)));
+                    c.push(opt(band.reduce(f64::max)));
+                }
                 c.extend(metrics.iter().map(|m| opt(r.metrics.get(m).copied())));
+                c.push(r.start.clone());
+                c.push(r.settled.map_or(String::new(), |s| s.to_string()));
                 c.push(r.dir.clone());
                 c.push(r.note.clone());
                 c
@@ -450,10 +496,10 @@ mod tests {
         let lines: Vec<&str> = csv.lines().collect();
         assert_eq!(
             lines[0],
-            "index,k,status,solver_status,objective,iterations,wall_time_s,max_slack,metrics.slip,dir,note"
+            "index,k,status,solver_status,objective,iterations,wall_time_s,max_slack,metrics.slip,start,settled,dir,note"
         );
-        assert_eq!(lines[1], "0,1,finished,,2.5e0,,,,2.5e-1,x,");
-        assert_eq!(lines[2], "1,2,pending,,,,,,,x,\"error: a, \"\"b\"\"\"");
+        assert_eq!(lines[1], "0,1,finished,,2.5e0,,,,2.5e-1,,,x,");
+        assert_eq!(lines[2], "1,2,pending,,,,,,,,,x,\"error: a, \"\"b\"\"\"");
         assert_eq!(t.rows[0].metric("metrics.slip"), Some(0.25));
         assert_eq!(t.rows[0].metric("objective"), Some(2.5));
     }

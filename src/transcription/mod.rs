@@ -44,7 +44,7 @@ pub use pattern::{Pattern, PatternBuilder};
 pub use program::{InitialGuessReport, Transcription};
 pub use solution::{NlpSize, Solution};
 pub use solve::{
-    BenchRow, MultiStart, PENALTY_BOUND_RELAX, PERTURBATION, SolveOptions, StartRecord,
+    BenchRow, MultiStart, PENALTY_BOUND_RELAX, PERTURBATION, SolveOptions, StartRecord, best_of,
 };
 pub(crate) use solve::{bench_with, solve_with};
 pub use verdict::{

@@ -38,13 +38,16 @@ pub struct MultiStart {
     pub starts: usize,
     /// Seed of the perturbations (start k uses `seed + k`).
     pub seed: u64,
+    /// Solve only start `k` of the `starts` (its record the only one listed): one process's
+    /// share of starts run in parallel, merged by [`best_of`].
+    pub only: Option<usize>,
 }
 
 /// Relative size of a multi-start perturbation.
 pub const PERTURBATION: f64 = 0.1;
 
 /// One start of a multi-start solve, as `summary.json` lists it.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct StartRecord {
     /// 0 for the problem's own guess, else the perturbation's seed.
     pub seed: Option<u64>,
@@ -143,6 +146,26 @@ pub(crate) fn solve_with<M: MechanicsDerivatives>(
         return solve_transcription(&mut transcription, spec, options);
     };
     let guess = transcription.initial_point().to_vec();
+    if let Some(k) = multi.only {
+        let mut records = Vec::new();
+        let (start, seed) = if k == 0 {
+            (guess, None)
+        } else {
+            let seed = multi.seed.wrapping_add(k as u64);
+            (perturbed(&transcription, &guess, seed), Some(seed))
+        };
+        let mut solution = solve_from(
+            &mut transcription,
+            spec,
+            options,
+            &start,
+            seed,
+            &mut records,
+        )?;
+        solution.starts = records;
+        solution.best_start = k;
+        return Ok(solution);
+    }
     let cancelled = || {
         options
             .cancel
@@ -207,6 +230,28 @@ fn solve_from<M: MechanicsDerivatives>(
         wall_time_s: solution.wall_time_s,
     });
     Ok(solution)
+}
+
+/// The best of starts solved one by one (each with `only` set, listing its own record): all
+/// their records in start order and the best solution, as one multi-start solve of them all
+/// returns it (ties go to the earlier start). None when `solutions` is empty.
+pub fn best_of(mut solutions: Vec<(usize, Solution)>) -> Option<Solution> {
+    solutions.sort_by_key(|(k, _)| *k);
+    let records: Vec<StartRecord> = solutions
+        .iter()
+        .flat_map(|(_, s)| s.starts.iter().cloned())
+        .collect();
+    let mut best: Option<(usize, Solution)> = None;
+    for (i, (_, s)) in solutions.into_iter().enumerate() {
+        if best.as_ref().is_none_or(|(_, b)| better(&s, b)) {
+            best = Some((i, s));
+        }
+    }
+    best.map(|(i, mut s)| {
+        s.starts = records;
+        s.best_start = i;
+        s
+    })
 }
 
 /// A solved start ([`Solution::verdict`]) beats a relaxed one, which beats an unsolved one;

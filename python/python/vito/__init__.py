@@ -108,7 +108,18 @@ def find_executable():
     )
 
 
-def sweep(problem, grid, out, jobs=None, time_limit=None, warm_start=None, exe=None):
+def sweep(
+    problem,
+    grid,
+    out,
+    jobs=None,
+    time_limit=None,
+    warm_start=None,
+    exe=None,
+    starts=1,
+    seed=0,
+    neighbour_rounds=5,
+):
     """Solve ``problem`` over a grid of values, each point in its own process, like ``vito sweep``.
 
     ``problem``: a :class:`Problem` (its overrides apply to every run). ``grid``: a dict
@@ -117,7 +128,10 @@ def sweep(problem, grid, out, jobs=None, time_limit=None, warm_start=None, exe=N
     sweep's, which resumes: finished points are not solved again). ``jobs``: runs at a time
     (default: the number of cores). ``time_limit``: seconds per run. ``warm_start``: None, or
     ``"neighbour"`` to start each run from its nearest finished point. ``exe``: the ``vito``
-    command (default :func:`find_executable`).
+    command (default :func:`find_executable`). ``starts``, ``seed``: each point solved from
+    that many seeded starts, the best kept (``vito solve --starts``). ``neighbour_rounds``:
+    rounds of the neighbour pass (each point solved again from its grid neighbours' plans
+    while that lowers its objective by more than 1 %; 0: none), as ``vito sweep``.
 
     Returns the sweep table (``sweep.csv``, one row per point) as a pandas DataFrame.
     Releases the GIL while the runs go.
@@ -139,6 +153,9 @@ def sweep(problem, grid, out, jobs=None, time_limit=None, warm_start=None, exe=N
         jobs if jobs is not None else (_os.cpu_count() or 1),
         time_limit,
         warm_start == "neighbour",
+        starts,
+        seed,
+        neighbour_rounds,
     )
     return pandas.read_csv(table)
 

@@ -22,7 +22,14 @@ pub fn hopper_family() -> String {
 /// The grid of the resume test: finished, failed (its run directory holds a file that is not
 /// vito's), finished, timeout.
 const GRID: [&str; 6] = ["sweep", "fam.toml", "--grid", "n=5,7,6,2000", "--out", "sw"];
-const OPTIONS: [&str; 4] = ["--jobs", "1", "--time-limit", "8"];
+const OPTIONS: [&str; 6] = [
+    "--jobs",
+    "1",
+    "--time-limit",
+    "8",
+    "--neighbour-rounds",
+    "0",
+];
 
 fn table(dir: &Path) -> serde_json::Value {
     let text = std::fs::read_to_string(dir.join("sweep.json")).expect("sweep.json");
@@ -113,7 +120,7 @@ fn sweep_isolates_failures_and_resumes_after_a_kill() {
     let lines: Vec<&str> = csv.lines().collect();
     assert_eq!(lines.len(), 5, "{csv}");
     assert!(lines[0].starts_with(
-        "index,n,status,solver_status,objective,iterations,wall_time_s,max_slack,dir,note"
+        "index,n,status,solver_status,objective,iterations,wall_time_s,max_slack,start,settled,dir,note"
     ));
     assert!(
         lines[3].starts_with(&format!(
@@ -136,7 +143,16 @@ fn sweep_isolates_failures_and_resumes_after_a_kill() {
     // plans relax contact).
     says(
         &t,
-        &["sweep", "fam.toml", "--grid", "n=5,6", "--out", "sw"],
+        &[
+            "sweep",
+            "fam.toml",
+            "--grid",
+            "n=5,6",
+            "--out",
+            "sw",
+            "--neighbour-rounds",
+            "0",
+        ],
         1,
         "2 runs: 2 finished (2 of them before this sweep)",
     );
@@ -410,6 +426,7 @@ fn sweep_stopped_by_a_signal_keeps_the_iterates_and_says_so() {
         let sw = t.path().join(out);
         let child = Command::new(env!("CARGO_BIN_EXE_vito"))
             .args(["sweep", "fam.toml", "--grid", "n=2000,5", "--jobs", "1"])
+            .args(["--neighbour-rounds", "0"])
             .args(["--out", out])
             .current_dir(t.path())
             .process_group(0)
@@ -478,7 +495,16 @@ fn sweep_warm_starts_from_the_nearest_finished_neighbour() {
     ];
     let warm = [
         &grid[..],
-        &["--out", "warm", "--jobs", "1", "--warm-start", "neighbour"],
+        &[
+            "--out",
+            "warm",
+            "--jobs",
+            "1",
+            "--warm-start",
+            "neighbour",
+            "--neighbour-rounds",
+            "0",
+        ],
     ]
     .concat();
     says(&t, &warm, 0, "3 runs: 3 finished");
@@ -498,7 +524,7 @@ fn sweep_warm_starts_from_the_nearest_finished_neighbour() {
         "{from}"
     );
     // A warm-started run is still the same problem: a rerun without warm starts keeps it.
-    let cold = [&grid[..], &["--out", "warm"]].concat();
+    let cold = [&grid[..], &["--out", "warm", "--neighbour-rounds", "0"]].concat();
     says(&t, &cold, 0, "3 finished (3 of them before this sweep)");
 }
 
@@ -516,4 +542,95 @@ fn solve_ignores_a_sweep_marker_in_the_environment() {
         crate::cli::util::summary(&t.path().join("out"))["status"],
         "solve_succeeded"
     );
+}
+
+/// The neighbour pass on a friction family of the hopper, cold from its linear guess: every
+/// answer is at least as good as the point's own solve (read from its own run directory),
+/// an answer taken from a neighbour is that attempt's result and says where it came from, and
+/// at the end no neighbour's plan improves any point by more than 1 % (settled). A rerun finds
+/// every attempt on disk and solves nothing.
+#[test]
+fn sweep_neighbour_pass_improves_points_from_their_neighbours_plans_until_settled() {
+    let t = TestDir::with_hopper(
+        "sweep_neighbour_pass_improves_points_from_their_neighbours_plans_until_settled",
+    );
+    t.write("hopper.toml", &hopper_text());
+    let args = [
+        "sweep",
+        "hopper.toml",
+        "--grid",
+        "contacts.friction=0.2,0.3,0.5,0.8,1.0",
+        "--jobs",
+        "2",
+        "--out",
+        "sw",
+    ];
+    let run = t.vito().args(args).assert_exit(0);
+    assert!(
+        run.stderr.contains("neighbour pass, round 1:"),
+        "{}",
+        run.stderr
+    );
+    let sw = t.path().join("sw");
+    let rows = table(&sw)["rows"].as_array().unwrap().clone();
+    let rank = |status: &str| match status {
+        "solve_succeeded" | "solved_to_acceptable_level" => 0,
+        "relaxed_contact" => 1,
+        _ => 2,
+    };
+    let mut from_neighbours = 0;
+    for row in &rows {
+        assert_eq!(row["solver_status"], "solve_succeeded", "{row}");
+        assert_eq!(row["settled"], true, "{row}");
+        let own = crate::cli::util::summary(&sw.join("runs").join(format!(
+            "contacts.friction-{}",
+            row["values"][0][1].as_str().unwrap()
+        )));
+        let (objective, own_objective) = (
+            row["objective"].as_f64().unwrap(),
+            own["objective"].as_f64().unwrap(),
+        );
+        let own_rank = rank(own["status"].as_str().unwrap());
+        assert!(
+            own_rank > 0 || objective <= own_objective,
+            "the answer {objective} is worse than the point's own solve {own_objective}"
+        );
+        let dir = row["dir"].as_str().unwrap();
+        let start = row["start"].as_str().unwrap();
+        if dir.starts_with("attempts/") {
+            from_neighbours += 1;
+            // It improved on the point's own solve by more than the settle ratio.
+            assert!(
+                own_rank > 0 || objective < own_objective * 0.99,
+                "{objective} against {own_objective}"
+            );
+            let summary = crate::cli::util::summary(&sw.join(dir));
+            assert_eq!(row["objective"], summary["objective"]);
+            let source = summary["parameters"]["initial_guess.warm_start"]
+                .as_str()
+                .unwrap();
+            let label = start.strip_prefix("neighbour ").unwrap();
+            let mu = label.strip_prefix("contacts.friction=").unwrap();
+            assert!(
+                source.contains(&format!("contacts.friction-{mu}")),
+                "{source} is not the plan of {label}"
+            );
+        } else {
+            assert_eq!(start, "guess");
+        }
+    }
+    assert!(from_neighbours > 0, "no point was improved by a neighbour's plan");
+    // The rerun replays the rounds from the attempts on disk.
+    let again = t.vito().args(args).assert_exit(0);
+    assert!(
+        again.stdout.contains("5 finished (5 of them before this sweep)"),
+        "{}",
+        again.stdout
+    );
+    assert!(
+        !again.stderr.contains("neighbour re-solves"),
+        "the rerun solved again: {}",
+        again.stderr
+    );
+    assert_eq!(table(&sw)["rows"].as_array().unwrap(), &rows);
 }

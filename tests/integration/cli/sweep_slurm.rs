@@ -79,7 +79,7 @@ fn sweep_runs_as_a_slurm_array_and_collects() {
         "sweep.sbatch",
         &format!(
             "#!/bin/sh\nexport OPENBLAS_NUM_THREADS=1\n\
-             exec {} sweep fam.toml --grid n=8,7,9,10 --jobs 1 \
+             exec {} sweep fam.toml --grid n=8,7,9,10 --jobs 1 --neighbour-rounds 0 \
              --shard \"$SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT\" \
              --out \"shard-$SLURM_ARRAY_TASK_ID\"\n",
             env!("CARGO_BIN_EXE_vito")
