@@ -11,9 +11,9 @@
 
 use std::collections::BTreeSet;
 
-use crate::sweep::table::{RunStatus, Row};
 use crate::sweep::Point;
 use crate::sweep::grid::fnv1a;
+use crate::sweep::table::{Row, RunStatus};
 use crate::transcription::SolveVerdict;
 
 /// Where the attempts live, under the sweep directory.
@@ -161,9 +161,15 @@ mod tests {
     fn a_better_verdict_or_a_lower_objective_by_more_than_one_percent_improves() {
         let grid = Grid::new(vec![Axis::parse("k=1,2,3").unwrap()]).unwrap();
         let r = rows(&grid, &[(0, 10.0), (1, 5.0), (0, 9.95)]);
-        assert!(improves(&r[0], &r[1]), "solved beats relaxed whatever the objective");
+        assert!(
+            improves(&r[0], &r[1]),
+            "solved beats relaxed whatever the objective"
+        );
         assert!(!improves(&r[1], &r[0]));
-        assert!(!improves(&r[2], &r[0]), "0.5 % lower is within the settle ratio");
+        assert!(
+            !improves(&r[2], &r[0]),
+            "0.5 % lower is within the settle ratio"
+        );
         let mut lower = r[2].clone();
         lower.objective = Some(9.8);
         assert!(improves(&lower, &r[0]), "2 % lower improves");
@@ -196,7 +202,10 @@ mod tests {
         moved[1].dir = "attempts/x/from-p0-0".into();
         let again = plan_round(&points, &moved, &tried);
         assert_eq!(
-            again.iter().map(|a| (a.target, a.source)).collect::<Vec<_>>(),
+            again
+                .iter()
+                .map(|a| (a.target, a.source))
+                .collect::<Vec<_>>(),
             vec![(0, 1), (2, 1), (4, 1)]
         );
         assert!(!settled(&points[4], &points, &moved, &tried));

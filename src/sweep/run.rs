@@ -540,9 +540,10 @@ impl<F: FnMut(Event)> SweepRun<'_, F> {
             .rows
             .iter()
             .map(|r| {
-                self.points.iter().find(|p| p.index == r.index).is_some_and(|p| {
-                    neighbours::settled(p, &self.points, &self.table.rows, tried)
-                })
+                self.points
+                    .iter()
+                    .find(|p| p.index == r.index)
+                    .is_some_and(|p| neighbours::settled(p, &self.points, &self.table.rows, tried))
             })
             .collect();
         for (row, s) in self.table.rows.iter_mut().zip(settled) {

@@ -309,7 +309,12 @@ impl Table {
         );
         if self.has_starts() {
             c.extend(
-                ["starts_solved", "objective_starts_min", "objective_starts_max"].map(String::from),
+                [
+                    "starts_solved",
+                    "objective_starts_min",
+                    "objective_starts_max",
+                ]
+                .map(String::from),
             );
         }
         c.extend(self.metric_names().iter().map(|m| format!("metrics.{m}")));

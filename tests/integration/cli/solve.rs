@@ -367,6 +367,55 @@ fn solve_multi_start_keeps_the_best_feasible_and_lists_all() {
     );
 }
 
+/// Starts in parallel processes give what the starts one after another give: the same
+/// trajectory to the byte and the same record of every start (but its wall time).
+#[test]
+fn solve_parallel_starts_equal_sequential_starts() {
+    let t = TestDir::with_hopper("solve_parallel_starts_equal_sequential_starts");
+    t.write("fam.toml", &hopper_family());
+    let three = [
+        "solve", "fam.toml", "--set", "n=8", "--starts", "3", "--seed", "7",
+    ];
+    let serial = t
+        .vito()
+        .args(three)
+        .args(["--out", "serial", "--jobs", "1"])
+        .assert_exit(0);
+    let parallel = t
+        .vito()
+        .args(three)
+        .args(["--out", "parallel", "--jobs", "3"])
+        .assert_exit(0);
+    assert!(
+        parallel.stderr.contains("3 starts, 3 at a time")
+            && parallel.stderr.contains("start 2/3: solve_succeeded"),
+        "{}",
+        parallel.stderr
+    );
+    assert!(!serial.stderr.contains("at a time"), "{}", serial.stderr);
+    let csv = |dir: &str| std::fs::read(t.path().join(dir).join("trajectory.csv")).unwrap();
+    assert_eq!(csv("serial"), csv("parallel"));
+    let records = |dir: &str| {
+        let mut s = summary(&t.path().join(dir));
+        let starts = s["starts"].as_array_mut().unwrap();
+        for start in starts.iter_mut() {
+            start.as_object_mut().unwrap().remove("wall_time_s");
+        }
+        (
+            s["starts"].clone(),
+            s["best_start"].clone(),
+            s["objective"].clone(),
+        )
+    };
+    assert_eq!(records("serial"), records("parallel"));
+    says(
+        &t,
+        &["solve", "fam.toml", "--starts", "2", "--jobs", "0"],
+        2,
+        "--jobs 0: give at least 1",
+    );
+}
+
 /// `[metrics]` on the hopper (forward = x, vertical = z): `summary.json` holds each metric
 /// with its unit, equal to what trajectory.csv gives by hand: the forward distance, over T,
 /// the highest z above its start, and eq. 38's slip of the foot at (x + r sin θ, z − r cos θ).

@@ -619,11 +619,16 @@ fn sweep_neighbour_pass_improves_points_from_their_neighbours_plans_until_settle
             assert_eq!(start, "guess");
         }
     }
-    assert!(from_neighbours > 0, "no point was improved by a neighbour's plan");
+    assert!(
+        from_neighbours > 0,
+        "no point was improved by a neighbour's plan"
+    );
     // The rerun replays the rounds from the attempts on disk.
     let again = t.vito().args(args).assert_exit(0);
     assert!(
-        again.stdout.contains("5 finished (5 of them before this sweep)"),
+        again
+            .stdout
+            .contains("5 finished (5 of them before this sweep)"),
         "{}",
         again.stdout
     );
