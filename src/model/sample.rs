@@ -168,13 +168,13 @@ pub fn cart_pole() -> String {
     xml + "</robot>\n"
 }
 
-/// vito's planar hopper of SPEC.md (`problems/robots/hopper_2d.urdf`), fixed base,
+/// vito's planar hopper of the reference problem hopper-2d (`problems/robots/hopper_2d.urdf`), fixed base,
 /// q = [x, z, theta, r].
 pub fn hopper_2d() -> &'static str {
     include_str!("../../problems/robots/hopper_2d.urdf")
 }
 
-/// The brick of SPEC.md (`problems/robots/brick.urdf`): use with a floating base.
+/// The brick of the reference problem brick-3d (`problems/robots/brick.urdf`): use with a floating base.
 pub fn brick() -> &'static str {
     include_str!("../../problems/robots/brick.urdf")
 }

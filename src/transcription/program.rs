@@ -15,7 +15,7 @@ use crate::problem::{HessianMode, ProblemSpec, TimeSteps};
 /// rayon's pool (see [`Transcription::set_parallel`]).
 pub const PARALLEL_FROM_JACOBIAN_NNZ: usize = 100_000;
 
-/// SPEC.md's values at the initial guess (no solver involved).
+/// The values at the initial guess (docs/reference-problems.md) (no solver involved).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct InitialGuessReport {
     /// Objective f(x₀) (problem cost + slack penalty).
@@ -26,7 +26,7 @@ pub struct InitialGuessReport {
     pub equality_residual_norm: f64,
 }
 
-/// The variational contact NLP of one problem (SPEC.md), ready for Ipopt.
+/// The variational contact NLP of one problem (docs/reference-problems.md), ready for Ipopt.
 pub struct Transcription<M> {
     pub(super) mech: M,
     pub(super) ctx: Context,

@@ -436,7 +436,7 @@ mod tests {
     const G: f64 = 9.81;
     const MU: f64 = 0.5;
 
-    /// SPEC.md's brick (1 kg, 0.2 m long, 0.05 m high) on a planar base [x, z, pitch], with
+    /// The reference brick (1 kg, 0.2 m long, 0.05 m high) on a planar base [x, z, pitch], with
     /// point contacts at its two lower edges (heel and toe), friction `MU`, on flat ground.
     pub(super) fn brick() -> (ModelMechanics, ContactModel) {
         let model = Model::from_urdf_str(sample::brick(), BaseType::Planar).expect("loads");
