@@ -347,3 +347,7 @@ impl ProblemSpec {
         )
     }
 }
+
+/// `slack.tolerance` when the problem file gives none (problem units: the products c·φ, ηᵀβ,
+/// ψ(μc − eᵀβ) in impulse × length or impulse × speed), the paper's order of a closed slack.
+pub const DEFAULT_SLACK_TOLERANCE: f64 = 1e-4;

@@ -164,7 +164,7 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         t.set_bounds(spec)?;
         t.set_initial_guess(spec)?;
         t.build_patterns();
-        // Measured in solves on the shared 2-core machine (BENCHMARKS.md, issue 16): the
+        // Measured in solves on the shared 2-core machine (BENCHMARKS.md): the
         // pool pays for HAMR's Jacobian and Hessian (143,302 Jacobian nonzeros: J 41 ms, H
         // 127 ms a call against 63 and 170 serial) and costs on the brick's (32,546: callbacks
         // 6.4 s a solve against 3.9 s serial), whose J + H now take 5 ms.

@@ -4,6 +4,5 @@
 #![allow(dead_code)]
 
 pub mod analytic;
-pub mod finite_differences;
 pub mod reference;
 pub mod swing;
