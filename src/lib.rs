@@ -1,6 +1,6 @@
 //! vito: variational contact-implicit trajectory optimisation for legged robots.
 //!
-//! The pipeline (see `../shared/DESIGN.md`): a TOML problem file is parsed and checked into a
+//! The pipeline (see `ARCHITECTURE.md`): a TOML problem file is parsed and checked into a
 //! [`problem::ProblemSpec`]; the robot comes from a URDF as a [`model::Model`]; the
 //! [`transcription`] turns both into a sparse nonlinear program whose derivatives come from
 //! [`autodiff`] over the [`discrete`] mechanics and [`contact`] geometry; [`ipopt`] solves it;

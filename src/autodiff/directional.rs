@@ -84,6 +84,7 @@ pub fn jacobian_directional_tiled<const T: usize, F: VectorFunction>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::autodiff::finite_differences::{along, central};
     use crate::autodiff::test_functions::{CoupledVector, dims, point};
     use crate::autodiff::{jacobian, weighted_hessian};
 
@@ -98,12 +99,7 @@ mod tests {
             let (values, jac) = jacobian(&f, &z);
             assert_eq!(r.values, values);
             assert!((&r.jacobian - &jac).amax() < 1e-13 * (1.0 + jac.amax()));
-            let s = 1e-6;
-            let at = |sign: f64| -> DMatrix<f64> {
-                let x: Vec<f64> = z.iter().zip(&dir).map(|(a, d)| a + sign * s * d).collect();
-                jacobian(&f, &x).1
-            };
-            let fd = (at(1.0) - at(-1.0)) / (2.0 * s);
+            let fd = central(|t| jacobian(&f, &along(&z, &dir, t)).1, 1e-6);
             let scale = 1.0 + fd.amax();
             assert!((&r.directional - &fd).amax() < 1e-6 * scale, "n={n}");
         }

@@ -166,8 +166,9 @@ pub fn weighted_hessian_into<const T: usize, F: VectorFunction>(
 mod tests {
     use super::*;
     use crate::autodiff::Scalar;
+    use crate::autodiff::finite_differences::gradient as fd_gradient;
     use crate::autodiff::gradient;
-    use crate::autodiff::test_functions::{Coupled, CoupledVector, dims, fd_gradient, point};
+    use crate::autodiff::test_functions::{Coupled, CoupledVector, dims, point};
 
     /// Closed form: f = z_0² z_1 + sin z_1 has H = [[2 z_1, 2 z_0], [2 z_0, −sin z_1]].
     #[test]

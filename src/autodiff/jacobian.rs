@@ -108,7 +108,8 @@ pub fn gradient_into<const T: usize, F: ScalarFunction>(f: &F, z: &[f64], grad: 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::autodiff::test_functions::{Coupled, CoupledVector, dims, fd_gradient, point};
+    use crate::autodiff::finite_differences::gradient as fd_gradient;
+    use crate::autodiff::test_functions::{Coupled, CoupledVector, dims, point};
 
     /// Closed form: f(z) = z_0² z_1 + sin(z_1) has ∇f = (2 z_0 z_1, z_0² + cos z_1).
     #[test]

@@ -20,6 +20,7 @@
 mod coloring;
 pub mod dependency;
 mod directional;
+pub mod finite_differences;
 mod hessian;
 mod jacobian;
 mod multi_dual;
@@ -99,19 +100,6 @@ pub(crate) mod test_functions {
             }
             cubic + sum * weighted.sin() + (z[0] * z[self.n - 1]).exp()
         }
-    }
-
-    /// Central-difference gradient of a scalar function evaluated in f64.
-    pub fn fd_gradient(f: &impl Fn(&[f64]) -> f64, z: &[f64], step: f64) -> Vec<f64> {
-        (0..z.len())
-            .map(|i| {
-                let mut zp = z.to_vec();
-                let mut zm = z.to_vec();
-                zp[i] += step;
-                zm[i] -= step;
-                (f(&zp) - f(&zm)) / (2.0 * step)
-            })
-            .collect()
     }
 
     /// g(z)_j = Coupled restricted to a rotation of z, times (j + 1): m outputs.

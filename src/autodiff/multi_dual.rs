@@ -561,6 +561,7 @@ impl<const K: usize> DualNum for MultiDual<K> {
 mod tests {
     use super::*;
     use crate::autodiff::Scalar;
+    use crate::autodiff::finite_differences::central;
     use num_dual::{Dual, Dual64};
 
     /// A function using every operation the model code does and most others: products,
@@ -597,9 +598,8 @@ mod tests {
             let single: Vec<Dual64> = (0..4).map(|i| Dual64::new(X[i], dir[i])).collect();
             let reference = f(&single);
             assert_eq!(y.eps[k].to_bits(), reference.eps.to_bits(), "lane {k}");
-            let step = 1e-6;
             let at = |t: f64| f(&std::array::from_fn::<f64, 4, _>(|i| X[i] + t * dir[i]));
-            let fd = (at(step) - at(-step)) / (2.0 * step);
+            let fd = central(at, 1e-6);
             assert!(
                 (y.eps[k] - fd).abs() <= 1e-8 * fd.abs().max(1.0),
                 "lane {k}: {} against differences {fd}",
@@ -639,14 +639,13 @@ mod tests {
                 assert_eq!(ours.to_bits(), theirs.to_bits(), "lane {k}");
             }
             // d/dt of the seed's directional derivative at X + t·shared.
-            let step = 1e-5;
             let along = |t: f64| {
                 let lifted: Vec<Dual64> = (0..4)
                     .map(|i| Dual64::new(X[i] + t * shared[i], seed[i]))
                     .collect();
                 f(&lifted).eps
             };
-            let fd = (along(step) - along(-step)) / (2.0 * step);
+            let fd = central(along, 1e-5);
             assert!(
                 (y.eps.eps[k] - fd).abs() <= 1e-7 * fd.abs().max(1.0),
                 "lane {k}: {} against differences {fd}",

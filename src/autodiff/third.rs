@@ -131,6 +131,7 @@ pub fn gradient_hessian_third_into<const T: usize, F: ScalarFunction>(
 mod tests {
     use super::*;
     use crate::autodiff::Scalar;
+    use crate::autodiff::finite_differences::{along, central};
     use crate::autodiff::gradient_hessian;
     use crate::autodiff::test_functions::{Coupled, dims, point};
 
@@ -170,16 +171,7 @@ mod tests {
             assert_eq!(t.value, v);
             assert_eq!(t.gradient, g);
             assert!((&t.hessian - &h).amax() < 1e-13 * (1.0 + h.amax()));
-            let s = 1e-6;
-            let shifted = |sign: f64| -> Vec<f64> {
-                z.iter()
-                    .zip(&dir)
-                    .map(|(zi, di)| zi + sign * s * di)
-                    .collect()
-            };
-            let hp = gradient_hessian(&f, &shifted(1.0)).2;
-            let hm = gradient_hessian(&f, &shifted(-1.0)).2;
-            let fd = (hp - hm) / (2.0 * s);
+            let fd = central(|t| gradient_hessian(&f, &along(&z, &dir, t)).2, 1e-6);
             for i in 0..n {
                 for j in 0..n {
                     let r = fd[(i, j)];

@@ -1,4 +1,4 @@
-//! `vito bench`: sizes and timings of problems (by default SPEC.md's reference problems),
+//! `vito bench`: sizes and timings of problems (by default the reference problems),
 //! beside the independent CasADi implementation where it can run.
 
 use std::path::PathBuf;
@@ -42,7 +42,7 @@ pub(super) fn bench(files: &[PathBuf], set: &[String], casadi: bool) -> Result<u
         "ipopt s",
         "J+H eval s"
     );
-    // The CasADi script implements SPEC.md's problems as they are: not with `--set`.
+    // The CasADi script implements the reference problems as they are: not with `--set`.
     let independent = match (casadi, set.is_empty()) {
         (false, _) => Err("left out (--no-casadi)".to_owned()),
         (true, false) => {

@@ -147,7 +147,7 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
                 inputs,
                 track,
                 gains,
-                feedback: feedback.map(Into::into),
+                feedback,
                 duration,
                 rate,
                 integrator,
@@ -196,7 +196,7 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
             let study = vito::study::tracking::Tracking {
                 knots,
                 gains,
-                feedback: feedback.map(Into::into),
+                feedback,
                 rate: methods.reference_rate,
                 methods: methods.study_methods(),
                 reference: methods.reference,

@@ -7,7 +7,7 @@ use crate::autodiff::Scalar;
 /// positive above, zero on, negative below the surface.
 ///
 /// This is the vertical distance to the height map, not the Euclidean one: on the flat
-/// parts they agree and the surface normal is exactly +z (SPEC.md, littledog-step).
+/// parts they agree and the surface normal is exactly +z (littledog-step, docs/reference-problems.md).
 pub fn signed_distance<D: Scalar>(terrain: &Terrain, p: &[D; 3]) -> D {
     p[2] - terrain.height(p[0])
 }

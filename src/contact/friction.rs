@@ -21,7 +21,7 @@ impl FrictionBasis {
     /// The one rule for the friction basis of a robot: planar (friction along world x, 2
     /// directions) for a model whose points all move in the x–z plane
     /// ([`crate::model::Model::moves_in_xz_plane`]: a planar base, or a fixed base with
-    /// joints about y and slides within x–z, like SPEC's hopper); spatial (x and y, 4
+    /// joints about y and slides within x–z, like the reference hopper); spatial (x and y, 4
     /// directions) for every robot that moves in 3D, fixed base or not.
     pub fn for_robot(moves_in_xz_plane: bool) -> FrictionBasis {
         if moves_in_xz_plane {

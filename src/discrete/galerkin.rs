@@ -357,6 +357,7 @@ impl<M: Mechanics> VectorFunction for GalerkinForce<'_, M> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::autodiff::finite_differences::central;
 
     /// The quadrature integrates polynomials of degree 2s − 1 exactly (order 2s), the basis
     /// interpolates (ℓ_ν(d_μ) = δ_νμ) and ℓ̇ is the derivative of ℓ.
@@ -388,9 +389,7 @@ mod tests {
                     assert!((lagrange(&rule.nodes, nu, d) - expected).abs() < 1e-14);
                 }
                 let tau = 0.37;
-                let e = 1e-6;
-                let fd = (lagrange(&rule.nodes, nu, tau + e) - lagrange(&rule.nodes, nu, tau - e))
-                    / (2.0 * e);
+                let fd = central(|t| lagrange(&rule.nodes, nu, tau + t), 1e-6);
                 assert!((lagrange_rate(&rule.nodes, nu, tau) - fd).abs() < 1e-8);
             }
         }

@@ -221,17 +221,15 @@ pub fn arriving_momentum<M: MechanicsDerivatives>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::autodiff::finite_differences::{central, gradient as fd_gradient};
     use crate::autodiff::{ScalarFunction, gradient};
     use crate::discrete::{GalerkinAction, GalerkinForce, ModelMechanics};
     use crate::model::{BaseType, Model, sample};
 
     /// A 3-link chain on a planar base (n = 6, 3 inputs) with damping 0.3 on every hinge.
     fn damped_chain() -> ModelMechanics {
-        let xml = sample::planar_chain(3).replace(
-            "<axis xyz=\"0 1 0\"/>",
-            "<axis xyz=\"0 1 0\"/>\n    <dynamics damping=\"0.3\"/>",
-        );
-        let model = Model::from_urdf_str(&xml, BaseType::Planar).expect("chain loads");
+        let model =
+            Model::from_urdf_str(&sample::damped_chain(3), BaseType::Planar).expect("chain loads");
         ModelMechanics::with_contacts(model, Vec::new())
     }
 
@@ -258,12 +256,9 @@ mod tests {
             let mut force = vec![0.0; points.len()];
             rule.forces(&mech, &points, &U, H, &mut force);
             let n = 6;
-            let e = 1e-6;
+            let differences = fd_gradient(|x| action.eval(x), &z, 1e-6);
             for j in 0..points.len() {
-                let (mut zp, mut zm) = (z.clone(), z.clone());
-                zp[j] += e;
-                zm[j] -= e;
-                let fd = (action.eval(&zp) - action.eval(&zm)) / (2.0 * e);
+                let fd = differences[j];
                 assert!(
                     (fd - grad[j]).abs() < 1e-7,
                     "s {s}, ∂A/∂z{j}: {fd} vs {}",
@@ -341,21 +336,19 @@ mod tests {
                 galerkin_interval(&mech, &rule, &QA, qb, u, H, None).expect("solves")
             };
             let base = at(&QB, &U);
-            let e = 1e-6;
             let mut worst = 0.0_f64;
             for j in 0..QB.len() + U.len() {
-                let shifted = |sign: f64| {
+                let shifted = |t: f64| {
                     let (mut qb, mut u) = (QB.to_vec(), U.to_vec());
                     if j < QB.len() {
-                        qb[j] += sign * e;
+                        qb[j] += t;
                     } else {
-                        u[j - QB.len()] += sign * e;
+                        u[j - QB.len()] += t;
                     }
                     at(&qb, &u).start
                 };
-                let (plus, minus) = (shifted(1.0), shifted(-1.0));
-                for r in 0..QB.len() {
-                    let fd = (plus[r] - minus[r]) / (2.0 * e);
+                let fd_column = central(shifted, 1e-6);
+                for (r, &fd) in fd_column.iter().enumerate() {
                     let exact = if j < QB.len() {
                         base.start_by_end[(r, j)]
                     } else {

@@ -3,7 +3,7 @@
 //! limits), in its coordinate order.
 //!
 //! [`super::ModelMechanics`] implements it for a URDF [`crate::model::Model`]; tests implement
-//! it in closed form for SPEC.md's hopper and brick. Every method is generic over [`Scalar`]
+//! it in closed form for the reference hopper and brick. Every method is generic over [`Scalar`]
 //! so that everything built on it is differentiated by forward AD; faster derivative paths are
 //! the separate trait [`super::MechanicsDerivatives`].
 
@@ -52,7 +52,7 @@ pub trait Mechanics: Sync {
     /// interval (qa, qb length n; h > 0).
     fn discrete_lagrangian<D: Scalar>(&self, qa: &[D], qb: &[D], h: D) -> D;
     /// Midpoint discrete generalized force Fd(qa, qb, u, h) of one interval into `out`
-    /// (length n): h·B(q̄)u − diag(d)(qb − qa), q̄ = (qa + qb)/2 (SPEC.md).
+    /// (length n): h·B(q̄)u − diag(d)(qb − qa), q̄ = (qa + qb)/2 (docs/reference-problems.md).
     fn discrete_force<D: Scalar>(&self, qa: &[D], qb: &[D], u: &[D], h: D, out: &mut [D]);
     /// Generalized momentum M(q)v into `out` (length n).
     fn momentum<D: Scalar>(&self, q: &[D], v: &[D], out: &mut [D]);

@@ -1,6 +1,6 @@
 //! The midpoint discrete Lagrangian Ld(qa, qb, h) = h·L((qa+qb)/2, (qb−qa)/h), its slot
 //! derivatives, the discrete force, the DEL residual and the discrete Legendre transforms
-//! (benchmarks/SPEC.md, with joint damping from its addition 2).
+//! (docs/reference-problems.md, with joint damping from its extension 2).
 
 use super::{LdBuffers, midpoint_ld_gradient};
 use crate::autodiff::Scalar;

@@ -240,6 +240,7 @@ impl MechanicsDerivatives for ModelMechanics {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::autodiff::finite_differences::{jacobian as fd_jacobian, values};
     use crate::model::{BaseType, sample};
 
     /// The model's mechanics with the Euler residual left to the trait's default (built
@@ -280,10 +281,7 @@ mod tests {
     /// floating brick (3-D rotations, Coriolis terms).
     #[test]
     fn euler_residual_override_matches_the_default_from_ld() {
-        let chain = sample::planar_chain(3).replace(
-            "<axis xyz=\"0 1 0\"/>",
-            "<axis xyz=\"0 1 0\"/>\n    <dynamics damping=\"0.3\"/>",
-        );
+        let chain = sample::damped_chain(3);
         for (xml, base) in [
             (chain.as_str(), BaseType::Planar),
             (sample::brick(), BaseType::Floating),
@@ -317,10 +315,7 @@ mod tests {
     fn half_force_closed_forms_match_ad_and_finite_differences() {
         use crate::autodiff::{jacobian, weighted_hessian};
         use crate::discrete::HalfForce;
-        let chain = sample::planar_chain(3).replace(
-            "<axis xyz=\"0 1 0\"/>",
-            "<axis xyz=\"0 1 0\"/>\n    <dynamics damping=\"0.3\"/>",
-        );
+        let chain = sample::damped_chain(3);
         let model = Model::from_urdf_str(&chain, BaseType::Planar).expect("sample loads");
         let mech = ModelMechanics::with_contacts(model, Vec::new());
         let (n, m) = (mech.nq(), mech.nu());
@@ -338,27 +333,21 @@ mod tests {
         assert!((&exact_j - &ad_j).amax() <= 1e-14 * ad_j.amax().max(1.0));
         assert!((&exact_h - &ad_h).amax() <= 1e-14 * ad_h.amax().max(1.0));
         assert!(exact_h.amax() > 0.1, "a zero Hessian proves nothing");
-        let eps = 1e-6;
         let weighted_row = |z: &[f64]| -> Vec<f64> {
             let j = mech.half_force_jacobian(z).expect("closed form");
             (0..dim)
                 .map(|c| (0..n).map(|r| w[r] * j[(r, c)]).sum())
                 .collect()
         };
+        let fd_j = fd_jacobian(|x| values(&f, x), &z, |_| 1e-6);
+        let fd_h = fd_jacobian(weighted_row, &z, |_| 1e-6);
         for c in 0..dim {
-            let (mut zp, mut zm) = (z.clone(), z.clone());
-            zp[c] += eps;
-            zm[c] -= eps;
-            let (mut fp, mut fm) = (vec![0.0; n], vec![0.0; n]);
-            crate::autodiff::VectorFunction::eval(&f, &zp, &mut fp);
-            crate::autodiff::VectorFunction::eval(&f, &zm, &mut fm);
             for r in 0..n {
-                let fd = (fp[r] - fm[r]) / (2.0 * eps);
+                let fd = fd_j[(r, c)];
                 assert!((exact_j[(r, c)] - fd).abs() < 1e-7, "J[{r}, {c}]");
             }
-            let (gp, gm) = (weighted_row(&zp), weighted_row(&zm));
             for r in 0..dim {
-                let fd = (gp[r] - gm[r]) / (2.0 * eps);
+                let fd = fd_h[(r, c)];
                 assert!((exact_h[(r, c)] - fd).abs() < 1e-7, "H[{r}, {c}]");
             }
         }

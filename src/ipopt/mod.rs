@@ -38,6 +38,7 @@ mod error;
 mod handle;
 mod nlp;
 mod options;
+pub mod sample;
 mod scaling;
 mod solver;
 mod status;

@@ -529,56 +529,7 @@ impl Nlp for Unsolvable {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// min (x − 3)² over x ∈ [−10, 10], with an exact Hessian.
-    struct Parabola;
-
-    impl Nlp for Parabola {
-        fn num_variables(&self) -> usize {
-            1
-        }
-        fn num_constraints(&self) -> usize {
-            0
-        }
-        fn variable_bounds(&self, lower: &mut [f64], upper: &mut [f64]) {
-            lower[0] = -10.0;
-            upper[0] = 10.0;
-        }
-        fn constraint_bounds(&self, _: &mut [f64], _: &mut [f64]) {}
-        fn initial_point(&self, x: &mut [f64]) {
-            x[0] = 0.0;
-        }
-        fn objective(&mut self, x: &[f64], _: bool) -> f64 {
-            (x[0] - 3.0).powi(2)
-        }
-        fn gradient(&mut self, x: &[f64], _: bool, grad: &mut [f64]) {
-            grad[0] = 2.0 * (x[0] - 3.0);
-        }
-        fn constraints(&mut self, _: &[f64], _: bool, _: &mut [f64]) {}
-        fn jacobian_nnz(&self) -> usize {
-            0
-        }
-        fn jacobian_structure(&self, _: &mut [usize], _: &mut [usize]) {}
-        fn jacobian_values(&mut self, _: &[f64], _: bool, _: &mut [f64]) {}
-        fn hessian_nnz(&self) -> Option<usize> {
-            Some(1)
-        }
-        fn hessian_structure(&self, rows: &mut [usize], cols: &mut [usize]) {
-            rows[0] = 0;
-            cols[0] = 0;
-        }
-        fn hessian_values(
-            &mut self,
-            _: &[f64],
-            _: bool,
-            s: f64,
-            _: &[f64],
-            _: bool,
-            v: &mut [f64],
-        ) {
-            v[0] = 2.0 * s;
-        }
-    }
+    use crate::ipopt::sample::Quadratic;
 
     /// A thread that panicked while holding the lock poisons it; later solves must still run.
     #[test]
@@ -589,9 +540,9 @@ mod tests {
         });
         assert!(poisoner.join().is_err());
         assert!(SOLVE_LOCK.is_poisoned());
-        let report = Solver::new().solve(&mut Parabola).unwrap();
+        let report = Solver::new().solve(&mut Quadratic::default()).unwrap();
         assert_eq!(report.status, Status::SolveSucceeded);
-        assert!((report.x[0] - 3.0).abs() < 1e-8, "x = {:?}", report.x);
+        assert!((report.x[0] - 1.0).abs() < 1e-8, "x = {:?}", report.x);
     }
 
     #[test]

@@ -83,6 +83,15 @@ pub fn planar_chain(n: usize) -> String {
     xml + "</robot>\n"
 }
 
+/// [`planar_chain`] of `n` rods with damping 0.3 N·m·s/rad on every hinge, so that inputs and
+/// damping enter the discrete force.
+pub fn damped_chain(n: usize) -> String {
+    planar_chain(n).replace(
+        "<axis xyz=\"0 1 0\"/>",
+        "<axis xyz=\"0 1 0\"/>\n    <dynamics damping=\"0.3\"/>",
+    )
+}
+
 /// A simple pendulum: one uniform rod (1 kg, 1 m) on joint `joint1` (same as `planar_chain(1)`).
 pub fn pendulum() -> String {
     planar_chain(1)
@@ -168,13 +177,14 @@ pub fn cart_pole() -> String {
     xml + "</robot>\n"
 }
 
-/// vito's planar hopper of SPEC.md (`problems/robots/hopper_2d.urdf`), fixed base,
-/// q = [x, z, theta, r].
+/// vito's planar hopper of the reference problem hopper-2d
+/// (`problems/robots/hopper_2d.urdf`), fixed base, q = [x, z, theta, r].
 pub fn hopper_2d() -> &'static str {
     include_str!("../../problems/robots/hopper_2d.urdf")
 }
 
-/// The brick of SPEC.md (`problems/robots/brick.urdf`): use with a floating base.
+/// The brick of the reference problem brick-3d (`problems/robots/brick.urdf`): use with a
+/// floating base.
 pub fn brick() -> &'static str {
     include_str!("../../problems/robots/brick.urdf")
 }

@@ -132,7 +132,7 @@ pub struct ContactsSection {
     /// Upper bound on ψ, the sliding-speed variable of every contact and interval (length /
     /// time units). In flight nothing bounds ψ from above, and the barrier then pushes it (and
     /// η) towards 1e6–1e8; a bound well above any real foot speed stops that drift without
-    /// cutting off a physical motion. Default: none (SPEC.md's NLP).
+    /// cutting off a physical motion. Default: none (the reference NLP).
     pub max_slip_speed: Option<f64>,
     /// Intervals per contact-mode block (default 1): each complementarity row pairs an
     /// interval's variable with the sum of its partner over the block, so that at zero slack

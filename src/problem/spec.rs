@@ -29,7 +29,7 @@ pub enum HessianMode {
 /// How the complementarity is relaxed: elastic rows with slacks, or a penalty.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum SlackMode {
-    /// One slack s_k per interval shared by all contacts (the paper's and SPEC's).
+    /// One slack s_k per interval shared by all contacts (the paper's and the reference problems').
     #[default]
     PerInterval,
     /// One slack per interval, contact and complementarity pair.
@@ -150,7 +150,7 @@ pub struct CoordinateBound {
 /// Where the solver starts.
 #[derive(Debug, Clone, PartialEq)]
 pub enum InitialGuess {
-    /// The common rule of SPEC.md: q linear from `from` (q_1) to `to`, u = 0, contact
+    /// The common rule of the reference problems: q linear from `from` (q_1) to `to`, u = 0, contact
     /// variables 0.01, s = 0.01, h as given (t_max/(N−1) when free), v_0 its fixed value or 0.
     Linear { from: Vec<f64>, to: Vec<f64> },
     /// A previous solution resampled to this problem's knots (times from 0 to T).
@@ -301,7 +301,7 @@ pub struct ProblemSpec {
     pub max_slip_speed: Option<f64>,
     /// Intervals per contact-mode block m ≥ 1 (`contacts.mode_block`): the complementarity
     /// rows of interval j pair its ψ, η, c with the sums of the cone, β and φ over j's block
-    /// of m consecutive intervals (the last block may be shorter); 1 is SPEC.md's NLP.
+    /// of m consecutive intervals (the last block may be shorter); 1 is the reference NLP.
     pub mode_block: usize,
     /// Largest slack of a solved plan (`slack.tolerance`): above it the plan relaxes the
     /// contact model and is not solved ([`crate::transcription::SolveVerdict`]).
@@ -347,3 +347,7 @@ impl ProblemSpec {
         )
     }
 }
+
+/// `slack.tolerance` when the problem file gives none (problem units: the products c·φ, ηᵀβ,
+/// ψ(μc − eᵀβ) in impulse × length or impulse × speed), the paper's order of a closed slack.
+pub const DEFAULT_SLACK_TOLERANCE: f64 = 1e-4;

@@ -18,6 +18,10 @@ pub enum TrackingFeedback {
 }
 
 impl TrackingFeedback {
+    /// Every mode, in the order messages list them: the one list of names the command line,
+    /// the problem file and the Python package accept.
+    pub const ALL: [TrackingFeedback; 2] = [TrackingFeedback::Explicit, TrackingFeedback::Implicit];
+
     /// The name used by `--feedback` and `[tracking] feedback`.
     pub fn name(self) -> &'static str {
         match self {
@@ -28,9 +32,24 @@ impl TrackingFeedback {
 
     /// The mode named `name`, if any.
     pub fn from_name(name: &str) -> Option<TrackingFeedback> {
-        [TrackingFeedback::Explicit, TrackingFeedback::Implicit]
-            .into_iter()
-            .find(|f| f.name() == name)
+        TrackingFeedback::ALL.into_iter().find(|f| f.name() == name)
+    }
+}
+
+impl std::str::FromStr for TrackingFeedback {
+    type Err = String;
+
+    /// The mode named `name` ([`TrackingFeedback::name`]); the error lists the names.
+    fn from_str(name: &str) -> Result<Self, String> {
+        TrackingFeedback::from_name(name).ok_or_else(|| {
+            let names: Vec<String> = TrackingFeedback::ALL
+                .map(|f| format!("{:?}", f.name()))
+                .into();
+            format!(
+                "`{name}` is not a feedback mode: give one of {}",
+                names.join(" or ")
+            )
+        })
     }
 }
 

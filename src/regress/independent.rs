@@ -1,4 +1,4 @@
-//! The independent CasADi implementation of SPEC.md's reference problems
+//! The independent CasADi implementation of the reference problems
 //! (`tools/independent/spec_casadi.py`), run for timing beside vito's own solves.
 //!
 //! It shares no code with vito; `vito bench` runs its `--bench` mode, one problem per

@@ -1,9 +1,9 @@
-//! SPEC.md's reference problems: the one list `vito bench` runs by default and the
+//! The reference problems (docs/reference-problems.md): the one list `vito bench` runs by default and the
 //! independent CasADi implementation ([`super::independent`]) implements.
 
 use std::path::PathBuf;
 
-/// The reference problems by name (`name` in each problem file, SPEC.md's section names).
+/// The reference problems by name (`name` in each problem file, the section names of docs/reference-problems.md).
 pub const NAMES: [&str; 4] = [
     "hopper-2d",
     "brick-3d",

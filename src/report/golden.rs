@@ -41,7 +41,7 @@ pub struct GoldenRecord {
     pub problem: Vec<GoldenEntry>,
 }
 
-/// Default relative tolerance of a blessed entry (SPEC.md compares objectives to 1e-6).
+/// Default relative tolerance of a blessed entry (the reference problems' objectives are compared to 1e-6).
 pub const DEFAULT_TOLERANCE: f64 = 1e-6;
 
 const HEADER: &str = "# Regression record of solved costs, checked by `vito regress`.\n\

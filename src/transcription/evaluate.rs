@@ -39,7 +39,7 @@ pub enum ContactDerivatives {
 
 impl<M: MechanicsDerivatives> Transcription<M> {
     /// Objective, largest constraint violation and ‖equality residuals‖₂ at the initial
-    /// point (SPEC.md's "values at the initial guess").
+    /// point (docs/reference-problems.md, "values at the initial guess").
     pub fn initial_guess_report(&self) -> InitialGuessReport {
         let x = &self.x_initial;
         let (max_violation, eq_norm) = self.violation(x);

@@ -469,7 +469,7 @@ mod tests {
         Layout::new(dims, knots, slack_mode, equal_steps, constraint_rows, rows)
     }
 
-    /// SPEC.md's spring-flamingo-walk: 954 variables, 695 constraints (672 + 23).
+    /// spring-flamingo-walk (docs/reference-problems.md): 954 variables, 695 constraints (672 + 23).
     #[test]
     fn spring_flamingo_sizes_match_spec() {
         let l = layout(
@@ -484,7 +484,7 @@ mod tests {
         assert_eq!(l.rows_per_interval() * 24, 672);
     }
 
-    /// SPEC.md's littledog-step: 2124 variables, 1333 constraints (1305 + 28).
+    /// littledog-step (docs/reference-problems.md): 2124 variables, 1333 constraints (1305 + 28).
     #[test]
     fn littledog_sizes_match_spec() {
         let l = layout(

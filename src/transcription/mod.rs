@@ -1,6 +1,6 @@
 //! The variational contact NLP: variable layout, constraint blocks, costs, sparse assembly.
 //!
-//! [`Transcription`] builds SPEC.md's nonlinear program for a [`ProblemSpec`] and a robot
+//! [`Transcription`] builds the variational contact NLP (docs/reference-problems.md) for a [`ProblemSpec`] and a robot
 //! given as [`Mechanics`] (with [`MechanicsDerivatives`]); its value methods assemble exact
 //! sparse derivatives from per-block derivatives.
 //!

@@ -15,7 +15,7 @@ use crate::problem::{HessianMode, ProblemSpec, TimeSteps};
 /// rayon's pool (see [`Transcription::set_parallel`]).
 pub const PARALLEL_FROM_JACOBIAN_NNZ: usize = 100_000;
 
-/// SPEC.md's values at the initial guess (no solver involved).
+/// The values at the initial guess (docs/reference-problems.md) (no solver involved).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct InitialGuessReport {
     /// Objective f(x₀) (problem cost + slack penalty).
@@ -26,7 +26,7 @@ pub struct InitialGuessReport {
     pub equality_residual_norm: f64,
 }
 
-/// The variational contact NLP of one problem (SPEC.md), ready for Ipopt.
+/// The variational contact NLP of one problem (docs/reference-problems.md), ready for Ipopt.
 pub struct Transcription<M> {
     pub(super) mech: M,
     pub(super) ctx: Context,
@@ -164,7 +164,7 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         t.set_bounds(spec)?;
         t.set_initial_guess(spec)?;
         t.build_patterns();
-        // Measured in solves on the shared 2-core machine (BENCHMARKS.md, issue 16): the
+        // Measured in solves on the shared 2-core machine (BENCHMARKS.md): the
         // pool pays for HAMR's Jacobian and Hessian (143,302 Jacobian nonzeros: J 41 ms, H
         // 127 ms a call against 63 and 170 serial) and costs on the brick's (32,546: callbacks
         // 6.4 s a solve against 3.9 s serial), whose J + H now take 5 ms.

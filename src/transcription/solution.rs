@@ -65,7 +65,7 @@ pub struct Solution {
     /// The problem's `slack.tolerance`: the largest slack of a solved plan.
     pub slack_tolerance: f64,
     /// Largest contact complementarity residual Σ_i max(c, 0)·max(φ, 0) over intervals (the
-    /// clipped c·φ of SPEC.md). ηᵀβ and ψ(μc − eᵀβ) are not reported: ψ and η are
+    /// clipped c·φ, docs/reference-problems.md). ηᵀβ and ψ(μc − eᵀβ) are not reported: ψ and η are
     /// undetermined in flight and stick, and their rows are covered by the slack.
     pub max_complementarity: f64,
     /// Largest constraint-row violation at the point Ipopt returned.

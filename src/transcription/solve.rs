@@ -307,7 +307,7 @@ fn solve_transcription<M: MechanicsDerivatives>(
     let Some(continuation) = spec.slack_continuation else {
         return Ok(solution);
     };
-    // Exact-penalty continuation: a finite α can leave the solve at a relaxed point (SPEC.md);
+    // Exact-penalty continuation: a finite α can leave the solve at a relaxed point;
     // raise α and restart from that point, near the central path (small μ and bound push, unless
     // the problem file or the caller sets them), so that the complementarity pattern found is
     // kept. A solve stopped by a limit is no such point (LittleDog with L-BFGS, stopped after
@@ -531,7 +531,7 @@ fn fill_solution<M: MechanicsDerivatives>(
         let phi = &signed_distance[j + 1];
         let c: Vec<f64> = (0..l.nc).map(|i| x[l.c(j, i)]).collect();
         let beta: Vec<Vec<f64>> = (0..l.nc).map(|i| x[l.beta(j, i)].to_vec()).collect();
-        // SPEC.md: report the slack and the clipped c·φ. The other two products (ηᵀβ and
+        // Report the slack and the clipped c·φ. The other two products (ηᵀβ and
         // ψ(μc − eᵀβ)) are not meaningful per contact: ψ and η are undetermined in flight
         // and stick and drift to 1e5–1e8, where Ipopt's 1e-8 bound relaxation shows as
         // O(1e-2) terms that cancel within a row.

@@ -210,7 +210,7 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         for i in l.slacks() {
             x[i] = 0.01;
         }
-        // A fixed variable starts at its fixed value (SPEC.md).
+        // A fixed variable starts at its fixed value (docs/reference-problems.md).
         for ((xi, &lo), &hi) in x.iter_mut().zip(&self.x_lower).zip(&self.x_upper) {
             if lo == hi {
                 *xi = lo;

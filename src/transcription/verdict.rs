@@ -12,9 +12,8 @@
 
 use crate::ipopt::Status;
 
-/// `slack.tolerance` when the problem file gives none (problem units: the products c·φ, ηᵀβ,
-/// ψ(μc − eᵀβ) in impulse × length or impulse × speed), the paper's order of a closed slack.
-pub const DEFAULT_SLACK_TOLERANCE: f64 = 1e-4;
+/// Defined with the problem's slack settings; the verdict reads it from there.
+pub use crate::problem::DEFAULT_SLACK_TOLERANCE;
 
 /// The status name of a plan whose slack exceeds its tolerance.
 pub const RELAXED_CONTACT: &str = "relaxed_contact";

@@ -1,8 +1,8 @@
-//! Discrete mechanics (issue 3): energy behaviour, convergence orders, loop closure, and AD
+//! Discrete mechanics: energy behaviour, convergence orders, loop closure, and AD
 //! derivatives against central differences.
 
-use crate::common::finite_differences::central_jacobian;
 use nalgebra::{DMatrix, DVector};
+use vito::autodiff::finite_differences::{self as fd, relative_step};
 use vito::autodiff::{ScalarFunction, gradient, gradient_hessian, jacobian};
 use vito::discrete::{
     DiscreteForce, EulerKnotResidual, InitialMomentum, Integrator, KnotWindow, LoopClosure,
@@ -19,11 +19,7 @@ fn double_pendulum() -> Model {
 /// A 3-link chain (3 inputs) with damping 0.3 N·m·s/rad on every hinge, so that inputs and
 /// damping enter the derivatives; on a planar base (n = 6) base coordinates enter too.
 fn damped_chain(base: BaseType) -> Model {
-    let xml = sample::planar_chain(3).replace(
-        "<axis xyz=\"0 1 0\"/>",
-        "<axis xyz=\"0 1 0\"/>\n    <dynamics damping=\"0.3\"/>",
-    );
-    let m = Model::from_urdf_str(&xml, base).expect("chain loads");
+    let m = Model::from_urdf_str(&sample::damped_chain(3), base).expect("chain loads");
     assert_eq!(m.input_coordinates().len(), 3);
     assert!(m.damping().iter().filter(|&&d| d == 0.3).count() == 3);
     m
@@ -219,19 +215,6 @@ fn four_bar_stays_closed() {
     }
 }
 
-/// Central-difference gradient of `f` at `z`.
-fn fd_gradient(f: impl Fn(&[f64]) -> f64, z: &[f64]) -> Vec<f64> {
-    let s = 1e-6;
-    (0..z.len())
-        .map(|i| {
-            let (mut zp, mut zm) = (z.to_vec(), z.to_vec());
-            zp[i] += s;
-            zm[i] -= s;
-            (f(&zp) - f(&zm)) / (2.0 * s)
-        })
-        .collect()
-}
-
 /// Agreement to 1e-6 relative to the size of the matrix (max entry, at least 1).
 fn assert_close(ad: &DMatrix<f64>, fd: &DMatrix<f64>, what: &str) {
     let scale = ad.amax().max(1.0);
@@ -262,7 +245,7 @@ fn gradient_of_ld_matches_central_differences() {
             let z: Vec<f64> = qa.iter().chain(&qb).copied().chain([h]).collect();
             let (value, grad) = gradient(&seg, &z);
             assert_eq!(value, ld(&model, &qa, &qb, h));
-            let fd = fd_gradient(|x| seg.eval(x), &z);
+            let fd = fd::gradient(|x| seg.eval(x), &z, 1e-6);
             assert_close(
                 &DMatrix::from_row_slice(1, 2 * n + 1, &grad),
                 &DMatrix::from_row_slice(1, 2 * n + 1, &fd),
@@ -310,7 +293,11 @@ fn jacobians_of_knot_residuals_match_central_differences() {
                     "{values:?} vs {direct:?}"
                 );
             }
-            assert_close(&jac, &central_jacobian(&del, &z), "midpoint DEL Jacobian");
+            assert_close(
+                &jac,
+                &fd::jacobian(|x| fd::values(&del, x), &z, relative_step),
+                "midpoint DEL Jacobian",
+            );
 
             // The NLP's route: the same Jacobian from segment Hessians and force Jacobians.
             let seg = MidpointSegment { model: &model };
@@ -367,7 +354,7 @@ fn jacobians_of_knot_residuals_match_central_differences() {
                 let (_, jac) = jacobian(&euler, &ze);
                 assert_close(
                     &jac,
-                    &central_jacobian(&euler, &ze),
+                    &fd::jacobian(|x| fd::values(&euler, x), &ze, relative_step),
                     "Euler residual Jacobian",
                 );
             }
@@ -381,7 +368,7 @@ fn jacobians_of_knot_residuals_match_central_differences() {
             );
             assert_close(
                 &jac,
-                &central_jacobian(&momentum, &zm),
+                &fd::jacobian(|x| fd::values(&momentum, x), &zm, relative_step),
                 "initial momentum Jacobian",
             );
         }

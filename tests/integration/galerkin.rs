@@ -1,4 +1,4 @@
-//! Galerkin variational integrators (issue 30): the s = 1 member is the midpoint rule, the
+//! Galerkin variational integrators: the s = 1 member is the midpoint rule, the
 //! measured orders of accuracy without contact, bounded energy error, and resting contact.
 
 use nalgebra::DVector;

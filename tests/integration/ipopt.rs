@@ -5,6 +5,7 @@
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
+use vito::ipopt::sample::Quadratic;
 use vito::ipopt::{
     IpoptError, IterationInfo, MpiState, Nlp, OptionValue, Scaling, SolveReport, Solver, Status,
     mpi_state,
@@ -170,7 +171,7 @@ fn assert_stationary(problem: &mut Hs071, report: &SolveReport) {
     }
 }
 
-/// The headline check of issue 2: exact Jacobian and Hessian give f* to |Δ| < 1e-6, and the
+/// The wrapper's headline check: exact Jacobian and Hessian give f* to |Δ| < 1e-6, and the
 /// multipliers satisfy stationarity with Ipopt's sign convention as documented.
 #[test]
 fn hs071_exact_hessian_reaches_known_optimum() {
@@ -374,81 +375,14 @@ fn infeasible_problem_reports_infeasibility() {
     );
 }
 
-/// A one-variable problem, min (x − 1)², whose callbacks can misbehave on purpose.
-struct Quadratic {
-    /// Panic in `gradient` on this call (1-based).
-    panic_on_gradient_call: Option<usize>,
-    gradient_calls: usize,
-    /// The objective is NaN for x above this.
-    nan_above: f64,
-    /// Hessian value used (2 is exact; smaller overshoots).
-    curvature: f64,
-}
-
-impl Quadratic {
-    fn new() -> Self {
-        Quadratic {
-            panic_on_gradient_call: None,
-            gradient_calls: 0,
-            nan_above: f64::INFINITY,
-            curvature: 2.0,
-        }
-    }
-}
-
-impl Nlp for Quadratic {
-    fn num_variables(&self) -> usize {
-        1
-    }
-    fn num_constraints(&self) -> usize {
-        0
-    }
-    fn variable_bounds(&self, lower: &mut [f64], upper: &mut [f64]) {
-        lower[0] = -10.0;
-        upper[0] = 10.0;
-    }
-    fn constraint_bounds(&self, _: &mut [f64], _: &mut [f64]) {}
-    fn initial_point(&self, x: &mut [f64]) {
-        x[0] = -1.0;
-    }
-    fn objective(&mut self, x: &[f64], _: bool) -> f64 {
-        if x[0] > self.nan_above {
-            f64::NAN
-        } else {
-            (x[0] - 1.0).powi(2)
-        }
-    }
-    fn gradient(&mut self, x: &[f64], _: bool, g: &mut [f64]) {
-        self.gradient_calls += 1;
-        if self.panic_on_gradient_call == Some(self.gradient_calls) {
-            panic!("gradient blew up on purpose");
-        }
-        g[0] = 2.0 * (x[0] - 1.0);
-    }
-    fn constraints(&mut self, _: &[f64], _: bool, _: &mut [f64]) {}
-    fn jacobian_nnz(&self) -> usize {
-        0
-    }
-    fn jacobian_structure(&self, _: &mut [usize], _: &mut [usize]) {}
-    fn jacobian_values(&mut self, _: &[f64], _: bool, _: &mut [f64]) {}
-    fn hessian_nnz(&self) -> Option<usize> {
-        Some(1)
-    }
-    fn hessian_structure(&self, rows: &mut [usize], cols: &mut [usize]) {
-        rows[0] = 0;
-        cols[0] = 0;
-    }
-    fn hessian_values(&mut self, _: &[f64], _: bool, s: f64, _: &[f64], _: bool, v: &mut [f64]) {
-        v[0] = s * self.curvature;
-    }
-}
-
 /// A panic must not unwind into Ipopt's C++ (that aborts the process): it is caught, the
 /// solve stops, the panic comes back as an error naming the method, and later solves work.
 #[test]
 fn panicking_callback_is_an_error_and_the_process_lives() {
-    let mut problem = Quadratic::new();
-    problem.panic_on_gradient_call = Some(2);
+    let mut problem = Quadratic {
+        panic_on_gradient_call: Some(2),
+        ..Quadratic::default()
+    };
     let err = Solver::new().solve(&mut problem).unwrap_err();
     match &err {
         IpoptError::CallbackPanicked { callback, message } => {
@@ -468,8 +402,10 @@ fn panicking_callback_is_an_error_and_the_process_lives() {
 /// with "Invalid number in NLP function or derivative detected".
 #[test]
 fn nan_at_the_starting_point_is_an_invalid_number() {
-    let mut problem = Quadratic::new();
-    problem.nan_above = f64::NEG_INFINITY;
+    let mut problem = Quadratic {
+        nan_above: f64::NEG_INFINITY,
+        ..Quadratic::default()
+    };
     let report = solve(&mut problem);
     assert_eq!(report.status, Status::InvalidNumberDetected);
     assert!(report.evaluation_errors >= 1);
@@ -481,9 +417,11 @@ fn nan_at_the_starting_point_is_an_invalid_number() {
 /// Ipopt cuts the step back and still converges to x = 1.
 #[test]
 fn nan_away_from_the_start_makes_ipopt_backtrack() {
-    let mut problem = Quadratic::new();
-    problem.nan_above = 2.0;
-    problem.curvature = 0.5;
+    let mut problem = Quadratic {
+        nan_above: 2.0,
+        curvature: 0.5,
+        ..Quadratic::default()
+    };
     let report = solve(&mut problem);
     assert_eq!(report.status, Status::SolveSucceeded);
     assert!(report.evaluation_errors >= 1);

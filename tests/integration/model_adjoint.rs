@@ -2,8 +2,8 @@
 //! gradients of T, V and L, the midpoint slot derivatives, and the Hessian and contracted
 //! third derivative of Ld taken through it, on the reference robots and the paper's robots.
 
-use crate::common::finite_differences::central_jacobian;
 use std::path::Path;
+use vito::autodiff::finite_differences::{self as fd, relative_step, values};
 
 use nalgebra::DMatrix;
 use num_dual::Dual64;
@@ -446,24 +446,10 @@ fn adjoint_hessian_matches_central_differences() {
     let dir = direction(model.nq(), &mut rng);
     let fast = midpoint_third_order(&model, &z, &dir);
     let f = MidpointGradient { model: &model };
-    let eval = |x: &[f64]| {
-        let mut out = vec![0.0; z.len()];
-        vito::autodiff::VectorFunction::eval(&f, x, &mut out);
-        out
-    };
-    let s = 1e-6;
-    for j in 0..z.len() {
-        let (mut zp, mut zm) = (z.clone(), z.clone());
-        zp[j] += s;
-        zm[j] -= s;
-        let (gp, gm) = (eval(&zp), eval(&zm));
-        let column: Vec<f64> = gp
-            .iter()
-            .zip(&gm)
-            .map(|(a, b)| (a - b) / (2.0 * s))
-            .collect();
+    let columns = fd::columns(|x| values(&f, x), &z, |_| 1e-6);
+    for (j, column) in columns.iter().enumerate() {
         let exact: Vec<f64> = (0..z.len()).map(|i| fast.hessian[(i, j)]).collect();
-        assert_close(&format!("column {j}"), &exact, &column, 1e-6);
+        assert_close(&format!("column {j}"), &exact, column, 1e-6);
     }
     // And the value: Ld of the segment.
     let value = MidpointSegment { model: &model }.eval(&z);
@@ -814,7 +800,11 @@ fn segment_groups_with_the_midpoint_identity_match_every_column() {
                 );
             }
             // Central differences of the adjoint gradient (step 1e-6 of the scale).
-            let fd = central_jacobian(&MidpointGradient { model: &model }, &z);
+            let fd = fd::jacobian(
+                |x| values(&MidpointGradient { model: &model }, x),
+                &z,
+                relative_step,
+            );
             let groups = midpoint_segment_groups(&pattern, &vec![true; dim], &translations);
             let hessian = grouped_hessian(&model, &z, &groups);
             assert_matrix_close(

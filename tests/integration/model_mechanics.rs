@@ -6,6 +6,7 @@ use std::f64::consts::PI;
 use std::path::Path;
 
 use num_dual::{Dual64, HyperDual64};
+use vito::autodiff::finite_differences::{Differenced, along, central};
 use vito::model::{
     BaseType, Model, generalized_damping_force, generalized_input_force, generalized_momentum,
     generalized_point_force, inverse_dynamics, kinetic_energy, loop_residual, mass_matrix,
@@ -334,12 +335,10 @@ fn inverse_dynamics_satisfies_euler_lagrange_of_the_kinetic_energy() {
             let vs: Vec<f64> = v.iter().zip(&a).map(|(x, d)| x + s * d).collect();
             dt_dqdot(&model, &qs, &vs)
         };
-        let (plus, minus) = (shift(eps), shift(-eps));
+        let fd = central(shift, eps);
         let dtq = dt_dq(&model, &q, &v);
         let dvq = dv_dq(&model, &q);
-        let el: Vec<f64> = (0..n)
-            .map(|i| (plus[i] - minus[i]) / (2.0 * eps) - dtq[i] + dvq[i])
-            .collect();
+        let el: Vec<f64> = (0..n).map(|i| fd[i] - dtq[i] + dvq[i]).collect();
         let scale = el.iter().fold(1e-300f64, |m, x| m.max(x.abs()));
         for i in 0..n {
             assert!(
@@ -408,10 +407,9 @@ fn point_position_potential_and_loop_residual_ad_match_central_differences() {
         let (q, _, _) = random_state(&model, &mut rng);
         let dir = rng.symmetric_vec(n, 1.0);
         let qd = dual_at(&q, &dir);
-        let qp: Vec<f64> = q.iter().zip(&dir).map(|(x, d)| x + h * d).collect();
-        let qm: Vec<f64> = q.iter().zip(&dir).map(|(x, d)| x - h * d).collect();
+        let (qp, qm) = (along(&q, &dir, h), along(&q, &dir, -h));
         let check = |what: &str, ad: f64, plus: f64, minus: f64, scale: f64| {
-            let fd = (plus - minus) / (2.0 * h);
+            let fd = f64::central(plus, minus, h);
             assert!(
                 close(ad, fd, 1e-6, 1e-7 * scale),
                 "{name} {what}: AD {ad} vs FD {fd}"

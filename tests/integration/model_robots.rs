@@ -1,5 +1,5 @@
 //! The paper's robots and vito's reference robots load with the right counts, masses,
-//! springs and loop closures; the reference robots' energies equal SPEC.md's closed forms.
+//! springs and loop closures; the reference robots' energies equal the closed forms of docs/reference-problems.md.
 
 use std::path::{Path, PathBuf};
 
@@ -79,7 +79,7 @@ fn spring_flamingo_planar() {
 
 #[test]
 fn spring_flamingo_contacts_touch_ground_in_the_start_pose() {
-    // SPEC.md: q_1 = [0, 0.875, 0, 0, 0, δ, 0, 0, δ] levels the soles at z = 9.01e-10.
+    // spring-flamingo-walk: q_1 = [0, 0.875, 0, 0, 0, δ, 0, 0, δ] levels the soles at z = 9.01e-10.
     let m = load(
         "spring_flamingo/spring_flamingo_passive_ankle.normalized.urdf",
         BaseType::Planar,
@@ -156,7 +156,7 @@ fn littledog_floating() {
 
 #[test]
 fn littledog_home_pose_feet_just_above_ground() {
-    // SPEC.md: with base_z = 0.136 the feet sit 0.65 mm above the ground (0.36 mm for BR).
+    // littledog-step: with base_z = 0.136 the feet sit 0.65 mm above the ground (0.36 mm for BR).
     let m = load("littledog/LittleDog.normalized.urdf", BaseType::Floating);
     let mut q = vec![0.0; 18];
     q[2] = 0.136;
@@ -405,7 +405,7 @@ fn fixed_leg(hip_axis: &str, hip_rpy: &str) -> Model {
 
 #[test]
 fn only_models_moving_in_the_xz_plane_are_planar() {
-    // SPEC's hopper (slides along x and z, a joint about −y) and a planar base are planar.
+    // The reference hopper (slides along x and z, a joint about −y) and a planar base are planar.
     assert!(load("hopper_2d.urdf", BaseType::Fixed).moves_in_xz_plane());
     let flamingo = robot("spring_flamingo")
         .read_dir()

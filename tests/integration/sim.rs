@@ -1,4 +1,4 @@
-//! Forward simulation (issue 15): the step solver against conservation, resting contact,
+//! Forward simulation: the step solver against conservation, resting contact,
 //! Coulomb sliding and sticking, and the discrete-mechanics step.
 
 use vito::discrete::{Integrator, Mechanics, ModelMechanics};

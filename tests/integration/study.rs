@@ -1,4 +1,4 @@
-//! The accuracy studies (issue 15, figures 5 and 6 of the paper), short versions.
+//! The accuracy studies (figures 5 and 6 of the paper), short versions.
 
 use vito::study::brick::BrickAccuracy;
 use vito::study::{Method, StudyTable, log_log_slope};

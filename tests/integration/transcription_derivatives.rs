@@ -16,6 +16,7 @@ use crate::common;
 use common::analytic::{Brick, Hopper};
 use common::reference::{brick_3d, hopper_2d, littledog_step, spring_flamingo_walk};
 use vito::autodiff::Scalar;
+use vito::autodiff::finite_differences::{central, moved};
 use vito::contact::Step;
 use vito::discrete::{Mechanics, MechanicsDerivatives, ModelMechanics};
 use vito::problem::constraints::{Periodic, PeriodicMomentum};
@@ -231,23 +232,23 @@ fn check_derivatives<M: MechanicsDerivatives>(name: &str, t: &Transcription<M>, 
         declared[p.rows[k]][p.cols[k]] = true;
     }
     let (mut worst_j, mut checked) = (0.0_f64, 0);
-    let mut gp = vec![0.0; nr];
-    let mut gm = vec![0.0; nr];
     for i in 0..nv {
-        let mut xp = x.clone();
-        let mut xm = x.clone();
-        xp[i] += eps;
-        xm[i] -= eps;
-        let fd_f = (t.objective(&xp) - t.objective(&xm)) / (2.0 * eps);
+        let fd_f = central(|d| t.objective(&moved(&x, i, d)), eps);
         assert!(
             agree(grad[i], fd_f, tol),
             "{name}: ∂f/∂x[{i}] exact {} fd {fd_f}",
             grad[i]
         );
-        t.constraints(&xp, &mut gp);
-        t.constraints(&xm, &mut gm);
+        let fd_g = central(
+            |d| {
+                let mut g = vec![0.0; nr];
+                t.constraints(&moved(&x, i, d), &mut g);
+                g
+            },
+            eps,
+        );
         for r in 0..nr {
-            let fd = (gp[r] - gm[r]) / (2.0 * eps);
+            let fd = fd_g[r];
             if !declared[r][i] {
                 assert!(
                     fd.abs() < 1e-8,
@@ -282,14 +283,12 @@ fn check_derivatives<M: MechanicsDerivatives>(name: &str, t: &Transcription<M>, 
     }
     let mut worst_h = 0.0_f64;
     for i in 0..nv {
-        let mut xp = x.clone();
-        let mut xm = x.clone();
-        xp[i] += eps;
-        xm[i] -= eps;
-        let lp = lagrangian_gradient(t, &xp, &lambda, sigma);
-        let lm = lagrangian_gradient(t, &xm, &lambda, sigma);
+        let fd_l = central(
+            |d| lagrangian_gradient(t, &moved(&x, i, d), &lambda, sigma),
+            eps,
+        );
         for r in i..nv {
-            let fd = (lp[r] - lm[r]) / (2.0 * eps);
+            let fd = fd_l[r];
             if !hdecl[r][i] {
                 assert!(
                     fd.abs() < 1e-7,

@@ -1,6 +1,6 @@
-//! SPEC.md's "values at the initial guess" (no solver involved): objective, largest
+//! The reference problems' "values at the initial guess" (no solver involved): objective, largest
 //! constraint violation and ‖equality residuals‖₂, for hopper-2d and brick-3d, on the
-//! closed-form mechanics of SPEC.md. Also the problem sizes.
+//! closed-form mechanics of docs/reference-problems.md. Also the problem sizes.
 
 use crate::common;
 

@@ -1,4 +1,4 @@
-//! Solves of SPEC.md's reference problems (run in release:
+//! Solves of the reference problems (run in release:
 //! `cargo test --release --test integration transcription_solve:: -- --nocapture`).
 //!
 //! hopper-2d must converge with max slack and complementarity below 1e-4 and hop as the
@@ -317,7 +317,7 @@ fn slack_modes_and_integrators_compared() {
 /// The full path: robot from problems/robots/hopper_2d.urdf, through the model code.
 #[test]
 fn hopper_from_urdf_matches_the_independent_optimum() {
-    // At SPEC's tol = 1e-6 the leg length in flight, a nearly flat direction of the optimum,
+    // At the reference tol = 1e-6 the leg length in flight, a nearly flat direction of the optimum,
     // can stop 3e-5 away from the independent solution (seen after a round-off change);
     // at 1e-8 the two agree to 4e-7, so the comparison tests the NLP, not the stopping point.
     let mut opts = quiet();

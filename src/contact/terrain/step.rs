@@ -9,7 +9,7 @@ use crate::autodiff::Scalar;
 /// H(x) = rise · ½ (1 + tanh((x − edge_x)/width)). C∞, so Newton steps can cross it.
 /// Its fields are the problem file's `[[terrain.step]]` entry.
 ///
-/// SPEC.md's LittleDog step is `Step { edge_x: 0.25, rise: 0.11, width: 0.005 }`
+/// The LittleDog step of littledog-step is `Step { edge_x: 0.25, rise: 0.11, width: 0.005 }`
 /// (metres). A negative `rise` makes a step down.
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]

@@ -108,7 +108,7 @@ pub(super) fn check_max_slip_speed(
         .transpose()
 }
 
-/// `contacts.mode_block`: intervals per contact-mode block, 1 (SPEC.md's NLP) to the number
+/// `contacts.mode_block`: intervals per contact-mode block, 1 (the reference NLP) to the number
 /// of intervals `knots − 1`.
 pub(super) fn check_mode_block(
     ctx: &Context,

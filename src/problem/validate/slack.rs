@@ -13,7 +13,7 @@ pub(super) fn check_slack_penalty(
 ) -> Result<(f64, SlackMode, f64), ProblemError> {
     let slack_weight = positive(ctx, "slack.weight", raw.slack.weight)?;
     let slack_tolerance = match raw.slack.tolerance {
-        None => crate::transcription::DEFAULT_SLACK_TOLERANCE,
+        None => crate::problem::DEFAULT_SLACK_TOLERANCE,
         Some(t) => positive(ctx, "slack.tolerance", t)?,
     };
     let slack_mode = match raw.slack.mode.as_deref() {

@@ -57,6 +57,17 @@ pub enum StepFailure {
     /// The interior points of the Galerkin interval before the knot were not solved.
     #[error("the interior points of the interval before the step: {0}")]
     Interval(crate::discrete::StepError),
+    /// The step's `before` is not what its integrator's knot equation takes: the incoming
+    /// momentum for the variational integrators, v_k or the previous configuration for Euler.
+    #[error(
+        "the step's `before` does not match its integrator `{integrator}`: give Before::{expected}"
+    )]
+    IntegratorMismatch {
+        /// The step's integrator.
+        integrator: &'static str,
+        /// The `Before` variant that integrator takes.
+        expected: &'static str,
+    },
 }
 
 /// The smoothed system's residual Φ_ε(x), its Jacobian, and its unsmoothed size at a point.

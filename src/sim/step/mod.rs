@@ -242,6 +242,20 @@ impl<M: MechanicsDerivatives> ContactStep<'_, M> {
         warm: &Impulses,
         options: &StepOptions,
     ) -> Result<StepOutcome, StepFailure> {
+        let expected = match self.integrator {
+            Integrator::Euler => "Euler",
+            Integrator::Midpoint | Integrator::Galerkin4 | Integrator::Galerkin6 => "Momentum",
+        };
+        let given = match self.before {
+            Before::Momentum(_) => "Momentum",
+            Before::Euler { .. } => "Euler",
+        };
+        if given != expected {
+            return Err(StepFailure::IntegratorMismatch {
+                integrator: self.integrator.name(),
+                expected,
+            });
+        }
         let (n, nc, nd, stride) = (self.n(), self.nc(), self.contact.nd(), self.stride());
         let nl = self.mech.num_loop_constraints();
         let mut x = q_guess.to_vec();
@@ -436,7 +450,7 @@ mod tests {
     const G: f64 = 9.81;
     const MU: f64 = 0.5;
 
-    /// SPEC.md's brick (1 kg, 0.2 m long, 0.05 m high) on a planar base [x, z, pitch], with
+    /// The reference brick (1 kg, 0.2 m long, 0.05 m high) on a planar base [x, z, pitch], with
     /// point contacts at its two lower edges (heel and toe), friction `MU`, on flat ground.
     pub(super) fn brick() -> (ModelMechanics, ContactModel) {
         let model = Model::from_urdf_str(sample::brick(), BaseType::Planar).expect("loads");
@@ -467,6 +481,48 @@ mod tests {
         let warm = Impulses::zeros(&mech, &contact);
         step.solve(&guess, &warm, &StepOptions::default())
             .expect("solves")
+    }
+
+    /// A step whose `before` does not match its integrator is an error naming the pairing,
+    /// not a panic: Euler given a momentum, the midpoint rule given Euler's velocity.
+    #[test]
+    fn a_mismatched_integrator_and_before_is_an_error() {
+        let (mech, contact) = brick();
+        let q = [0.0, 0.025, 0.0];
+        let u = StepInput::from(vec![0.0; mech.nu()]);
+        let momentum = incoming_momentum(&mech, &q, &q, &u.held, H);
+        let v = [0.0; 3];
+        for (integrator, before, expected) in [
+            (Integrator::Euler, Before::Momentum(momentum), "Euler"),
+            (
+                Integrator::Midpoint,
+                Before::Euler {
+                    before: &v,
+                    first_step: true,
+                    h_prev: H,
+                },
+                "Momentum",
+            ),
+        ] {
+            let step = ContactStep {
+                mech: &mech,
+                contact: &contact,
+                integrator,
+                before,
+                q_curr: &q,
+                u: &u,
+                h: H,
+            };
+            let warm = Impulses::zeros(&mech, &contact);
+            let err = step
+                .solve(&q, &warm, &StepOptions::default())
+                .expect_err("a mismatch is refused");
+            assert!(
+                matches!(err, StepFailure::IntegratorMismatch { expected: e, .. } if e == expected),
+                "{err}"
+            );
+            assert!(err.to_string().contains(integrator.name()), "{err}");
+        }
     }
 
     #[test]

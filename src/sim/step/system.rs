@@ -88,7 +88,10 @@ impl<M: MechanicsDerivatives> ContactStep<'_, M> {
     /// The knot's equations' Jacobian in u_k (n × m).
     fn knot_input_jacobian(&self, q_next: &[f64], u: &[f64]) -> DMatrix<f64> {
         match (&self.before, self.integrator) {
-            (Before::Euler { .. }, Integrator::Euler) => self.euler_knot(u).input_jacobian(q_next),
+            (Before::Euler { .. }, Integrator::Euler) => match self.euler_knot(u) {
+                Some(f) => f.input_jacobian(q_next),
+                None => DMatrix::from_element(self.n(), u.len(), f64::NAN),
+            },
             (_, Integrator::Galerkin4 | Integrator::Galerkin6) => match self.interval(q_next, u) {
                 Some(interval) => interval.start_by_input,
                 None => DMatrix::from_element(self.n(), u.len(), f64::NAN),
@@ -104,18 +107,18 @@ impl<M: MechanicsDerivatives> ContactStep<'_, M> {
         galerkin_interval(self.mech, &rule, self.q_curr, q_next, u, self.h, None).ok()
     }
 
-    /// The Euler knot equation as a function of q_{k+1} at input u_k = `u`.
-    fn euler_knot<'s>(&'s self, u: &'s [f64]) -> EulerKnotInNext<'s, M> {
+    /// The Euler knot equation as a function of q_{k+1} at input u_k = `u`, when `before` is
+    /// Euler's (`ContactStep::solve` refuses any other pairing before it gets here).
+    fn euler_knot<'s>(&'s self, u: &'s [f64]) -> Option<EulerKnotInNext<'s, M>> {
         let Before::Euler {
             before,
             first_step,
             h_prev,
         } = &self.before
         else {
-            // The caller pairs them (see `super::run`); a mismatch is a programming error.
-            panic!("ContactStep: `before` does not match the integrator")
+            return None;
         };
-        EulerKnotInNext {
+        Some(EulerKnotInNext {
             mech: self.mech,
             first_step: *first_step,
             before,
@@ -123,7 +126,7 @@ impl<M: MechanicsDerivatives> ContactStep<'_, M> {
             h_prev: *h_prev,
             h_curr: self.h,
             u_curr: u,
-        }
+        })
     }
 
     /// The knot's discrete equations at input u_k = `u`, and their Jacobian in q_{k+1} with
@@ -157,7 +160,9 @@ impl<M: MechanicsDerivatives> ContactStep<'_, M> {
                 (value, with_jacobian.then_some(jac))
             }
             (Before::Euler { .. }, Integrator::Euler) => {
-                let f = self.euler_knot(u);
+                let Some(f) = self.euler_knot(u) else {
+                    return self.failed_knot(with_jacobian);
+                };
                 if with_jacobian {
                     let (v, j) = jacobian(&f, q_next);
                     (v, Some(j))
@@ -167,9 +172,19 @@ impl<M: MechanicsDerivatives> ContactStep<'_, M> {
                     (v, None)
                 }
             }
-            // The caller pairs them (see `super::run`); a mismatch is a programming error.
-            _ => panic!("ContactStep: `before` does not match the integrator"),
+            // `ContactStep::solve` refuses a mismatched pairing; should one get here, the
+            // residual is NaN, a failed step.
+            _ => self.failed_knot(with_jacobian),
         }
+    }
+
+    /// A knot equation that cannot be evaluated: NaN values (and Jacobian), a failed step.
+    fn failed_knot(&self, with_jacobian: bool) -> (Vec<f64>, Option<DMatrix<f64>>) {
+        let n = self.n();
+        (
+            vec![f64::NAN; n],
+            with_jacobian.then(|| DMatrix::from_element(n, n, f64::NAN)),
+        )
     }
 
     /// Residual at x with smoothing ε and contact scales `scale`; the Jacobian only when
@@ -451,6 +466,7 @@ impl<M: MechanicsDerivatives> LinearisedComplementarity for StepSystem<'_, '_, M
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::autodiff::finite_differences::{central, moved};
     use crate::discrete::Mechanics;
     use crate::sim::step::StepInput;
     use crate::sim::step::tests::{H, brick};
@@ -481,14 +497,11 @@ mod tests {
         ];
         let eps = 1e-4;
         let e = system.evaluate(&x, eps, true);
-        let d = 1e-7;
         for j in 0..x.len() {
-            let (mut xp, mut xm) = (x.to_vec(), x.to_vec());
-            xp[j] += d;
-            xm[j] -= d;
-            let fd = (system.evaluate(&xp, eps, false).residual
-                - system.evaluate(&xm, eps, false).residual)
-                / (2.0 * d);
+            let fd = central(
+                |t| system.evaluate(&moved(&x, j, t), eps, false).residual,
+                1e-7,
+            );
             for r in 0..x.len() {
                 let exact = e.jacobian[(r, j)];
                 assert!(

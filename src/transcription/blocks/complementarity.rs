@@ -60,7 +60,7 @@ impl RowBlock for Complementarity {
         // B ∋ j (`contacts.mode_block`) of φ(q_{j'+1}), μc_{j'} − eᵀβ_{j'} and β_{j'}: one gap
         // block and one product block per j' ∈ B, whose z takes c and β from j' and ψ, η from
         // j (the products are bilinear, so the same functions and closed forms serve). With
-        // blocks of one interval this is SPEC.md's NLP, block for block.
+        // blocks of one interval this is the reference NLP, block for block.
         let Stage::Complementarity(j) = stage else {
             return;
         };

@@ -110,7 +110,7 @@ fn bench_prints_the_casadi_column_beside_vito() {
     );
 }
 
-/// The CasADi port of SPEC.md's URDF problems starts where SPEC.md says (objective, largest
+/// The CasADi port of the URDF reference problems starts where docs/reference-problems.md says (objective, largest
 /// violation, ‖equality residuals‖₂ at the initial guess), as the closed-form two do.
 #[test]
 fn casadi_port_matches_spec_initial_values() {
@@ -152,7 +152,7 @@ fn casadi_port_matches_spec_initial_values() {
             let got = v[key].as_f64().unwrap();
             assert!(
                 (got - want).abs() <= rel * want.abs(),
-                "{name} {key}: {got} vs SPEC {want}"
+                "{name} {key}: {got} vs reference {want}"
             );
         };
         close("objective", objective, 1e-12);

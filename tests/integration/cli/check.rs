@@ -29,7 +29,7 @@ fn every_problem_file_checks() {
     );
 }
 
-/// The sizes `vito check` reports match SPEC.md for the two paper robots.
+/// The sizes `vito check` reports match docs/reference-problems.md for the two paper robots.
 #[test]
 fn check_reports_spec_sizes() {
     let t = TestDir::new("check_reports_spec_sizes");

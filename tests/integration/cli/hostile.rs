@@ -1,5 +1,5 @@
-//! Issue 11, items 5–17: hostile or careless input ends in one clear error (exit 2) naming
-//! the file and field, before any solving, with nothing written; one test per item at least.
+//! Hostile or careless input ends in one clear error (exit 2) naming the file and field,
+//! before any solving, with nothing written; one test per kind of input at least.
 
 use crate::cli::errors::solve_fails;
 use crate::cli::util::{TestDir, hopper_text};
@@ -23,7 +23,7 @@ fn check_fails(name: &str, text: &str, extra: &[&str]) -> String {
     run.stderr
 }
 
-/// Item 5: options that read or write files are refused in `check` and `solve`, naming the
+/// Options that read or write files are refused in `check` and `solve`, naming the
 /// option; the file named is neither created nor read.
 #[test]
 fn ipopt_options_outside_the_allow_list_are_refused() {
@@ -61,7 +61,7 @@ fn ipopt_options_outside_the_allow_list_are_refused() {
     );
 }
 
-/// Item 5: Ipopt never reads an `ipopt.opt` from the working directory (one that would stop
+/// Ipopt never reads an `ipopt.opt` from the working directory (one that would stop
 /// the solve after one iteration changes nothing), and `--ipopt-log` writes Ipopt's log into
 /// the output directory.
 #[test]
@@ -84,7 +84,7 @@ fn ipopt_log_goes_into_the_output_directory_and_cwd_ipopt_opt_is_ignored() {
     assert!(!t.path().join("res/ipopt.log").exists());
 }
 
-/// Item 9: non-finite numeric Ipopt options are input errors (`tol = nan` hung in MUMPS).
+/// Non-finite numeric Ipopt options are input errors (`tol = nan` hung in MUMPS).
 #[test]
 fn non_finite_ipopt_options_are_input_errors() {
     for value in ["nan", "inf", "-inf"] {
@@ -99,7 +99,7 @@ fn non_finite_ipopt_options_are_input_errors() {
     }
 }
 
-/// Item 7: a horizon whose NLP cannot fit in memory is refused by `check` and `solve`
+/// A horizon whose NLP cannot fit in memory is refused by `check` and `solve`
 /// before anything per knot is allocated, saying how much it would need.
 #[test]
 fn huge_horizons_are_refused_with_the_memory_they_need() {
@@ -118,7 +118,7 @@ fn huge_horizons_are_refused_with_the_memory_they_need() {
     }
 }
 
-/// Item 8: a horizon T = time_step·(knots − 1) that overflows is found at validation.
+/// A horizon T = time_step·(knots − 1) that overflows is found at validation.
 #[test]
 fn overflowing_horizon_is_an_input_error() {
     let err = check_fails(
@@ -143,7 +143,7 @@ fn overflowing_horizon_is_an_input_error() {
     );
 }
 
-/// Item 12: extreme finite values are refused against the README's sane ranges, naming the
+/// Extreme finite values are refused against the README's sane ranges, naming the
 /// field.
 #[test]
 fn extreme_finite_values_are_refused_by_range() {
@@ -185,7 +185,7 @@ fn extreme_finite_values_are_refused_by_range() {
     }
 }
 
-/// Items 12, 14, 15: bound ends that are not a range are blamed on the bound itself, not on
+/// Bound ends that are not a range are blamed on the bound itself, not on
 /// `initial.q`; `knots = []` applies nowhere and is an error.
 #[test]
 fn bad_bounds_name_the_bound() {
@@ -216,7 +216,7 @@ fn bad_bounds_name_the_bound() {
     );
 }
 
-/// Item 10: a URDF nested 100,000 deep is an error naming the file and line in `inspect`,
+/// A URDF nested 100,000 deep is an error naming the file and line in `inspect`,
 /// `init` and `check`/`solve` (it overflowed the stack); more than 10,000 links is refused;
 /// a 10,000-link chain loads.
 #[test]
@@ -278,7 +278,7 @@ fn deep_or_huge_urdfs_are_clear_errors() {
     );
 }
 
-/// Item 11 and 14: a FIFO or a device as the problem file or the URDF is refused at once
+/// A FIFO or a device as the problem file or the URDF is refused at once
 /// (it blocked forever), saying what it is; a directory is not "does not exist".
 #[test]
 fn fifos_devices_and_directories_are_not_read() {
@@ -365,7 +365,7 @@ fn check_with_urdf(name: &str, urdf: &str) -> String {
     run.stderr
 }
 
-/// Items 12 and 14: NaN or crossed URDF values are errors naming the URDF element (not
+/// NaN or crossed URDF values are errors naming the URDF element (not
 /// `initial.q`, not Ipopt's "invalid number" after solving).
 #[test]
 fn bad_urdf_numbers_name_the_element() {
@@ -423,7 +423,7 @@ fn bad_urdf_numbers_name_the_element() {
     assert!(err.contains("<origin"), "{err}");
 }
 
-/// Item 15: what was accepted silently is an error naming the element.
+/// What was accepted silently is an error naming the element.
 #[test]
 fn silently_accepted_urdf_mistakes_are_errors() {
     let u = hopper_urdf();
@@ -459,7 +459,7 @@ fn silently_accepted_urdf_mistakes_are_errors() {
     );
 }
 
-/// Item 15: the URDF reader's warnings are shown by `check` (and `solve`), not only `inspect`.
+/// The URDF reader's warnings are shown by `check` (and `solve`), not only `inspect`.
 #[test]
 fn model_warnings_are_shown_by_check() {
     let t = TestDir::with_hopper("model_warnings");
@@ -475,7 +475,7 @@ fn model_warnings_are_shown_by_check() {
     assert!(run.stderr.contains("velocity"), "{}", run.stderr);
 }
 
-/// Item 6: control characters in names the problem defines are refused; names from a URDF
+/// Control characters in names the problem defines are refused; names from a URDF
 /// are printed escaped.
 #[test]
 fn control_characters_never_reach_the_terminal() {
@@ -504,7 +504,7 @@ fn control_characters_never_reach_the_terminal() {
     );
 }
 
-/// Items 1–4 (open part): `name` names `out/<name>`, so it is a plain file-name component.
+/// `name` names `out/<name>`, so it is a plain file-name component.
 #[test]
 fn problem_name_is_a_plain_file_name() {
     for bad in ["", ".", "..", "../../x", "/abs/path", "a/b"] {
@@ -545,7 +545,7 @@ fn output_dir_is_relative_to_the_problem_file() {
     assert!(t.path().join("cwd/here/summary.json").exists());
 }
 
-/// Item 13: output paths that cannot work are exit 2 before solving, the solver never runs.
+/// Output paths that cannot work are exit 2 before solving, the solver never runs.
 #[test]
 fn bad_output_paths_are_found_before_solving() {
     let t = TestDir::with_hopper("bad_output_paths");
@@ -573,7 +573,7 @@ fn bad_output_paths_are_found_before_solving() {
     );
 }
 
-/// Item 17: `inspect`, `init` and `check` fail (exit 2, a message) when stdout cannot be
+/// `inspect`, `init` and `check` fail (exit 2, a message) when stdout cannot be
 /// written.
 #[test]
 fn unwritable_stdout_is_an_error() {
@@ -604,7 +604,7 @@ fn unwritable_stdout_is_an_error() {
     }
 }
 
-/// Item 16: a regression record's non-finite objective, unknown status or negative/NaN
+/// A regression record's non-finite objective, unknown status or negative/NaN
 /// tolerance is an input error (exit 2) before anything is solved, also with `--bless`
 /// (which so never keeps a negative tolerance).
 #[test]
@@ -647,7 +647,7 @@ fn bad_regression_records_are_input_errors() {
     assert!(run.stderr.contains("does not exist"), "{}", run.stderr);
 }
 
-/// Item 14: serde's messages in the problem file's words: a 3-vector of the wrong length
+/// Serde's messages in the problem file's words: a 3-vector of the wrong length
 /// names the 3-vector fields, `robot = 3` asks for a table.
 #[test]
 fn schema_messages_speak_the_files_language() {
@@ -669,8 +669,8 @@ fn schema_messages_speak_the_files_language() {
     assert!(!err.contains("RobotSection"), "{err}");
 }
 
-// Issue 27 (round three) and issue 26 item 8: one test per item, each failing on the code
-// before them.
+// Output streams that cannot be written, the default base of `init` and `inspect`, and
+// inputs built to be slow to read.
 
 /// `vito` with its standard output or error sent to `/dev/full`.
 fn vito_into_dev_full(t: &TestDir, args: &[&str], stream: &str) -> i32 {
@@ -689,7 +689,7 @@ fn vito_into_dev_full(t: &TestDir, args: &[&str], stream: &str) -> i32 {
     cmd.status().unwrap().code().unwrap_or(-1)
 }
 
-/// Item 1: `vito bench` imports no `casadi.py` and runs no `tools/independent/*.py` planted
+/// `vito bench` imports no `casadi.py` and runs no `tools/independent/*.py` planted
 /// in the working directory (a downloaded dataset's).
 #[test]
 fn bench_runs_no_python_from_the_working_directory() {
@@ -717,7 +717,7 @@ fn bench_runs_no_python_from_the_working_directory() {
     );
 }
 
-/// Item 2: a warm start that is not a trajectory CSV (here a passwd-like file) is refused
+/// A warm start that is not a trajectory CSV (here a passwd-like file) is refused
 /// from its header, quoting none of it; a bad cell of a trajectory CSV is named by row and
 /// column and quoted only when short and number-like.
 #[test]
@@ -751,7 +751,7 @@ fn csv_errors_never_echo_another_files_contents() {
     );
 }
 
-/// Item 3: `vito init --out` onto a dangling symbolic link writes nothing through it.
+/// `vito init --out` onto a dangling symbolic link writes nothing through it.
 #[test]
 fn init_never_writes_through_a_dangling_link() {
     let t = TestDir::with_hopper("init_never_writes_through_a_dangling_link");
@@ -771,7 +771,7 @@ fn init_never_writes_through_a_dangling_link() {
     );
 }
 
-/// Item 8: 30,000 parentheses, 50,000 minus signs and a 20,000-part `--set` key are input
+/// 30,000 parentheses, 50,000 minus signs and a 20,000-part `--set` key are input
 /// errors naming the field, not a stack overflow.
 #[test]
 fn deep_expressions_and_keys_are_input_errors() {
@@ -819,7 +819,7 @@ fn chain_urdf(n: usize) -> String {
     xml
 }
 
-/// Item 9: a 1,000-link chain (within the 10,000 links read) is refused at once by its
+/// A 1,000-link chain (within the 10,000 links read) is refused at once by its
 /// coordinate count, naming the limit, instead of aborting on a 4 GB allocation.
 #[test]
 fn long_chains_are_refused_by_their_coordinates() {
@@ -836,7 +836,7 @@ fn long_chains_are_refused_by_their_coordinates() {
     );
 }
 
-/// Item 9: the memory guard reads the process's own limit (`ulimit -v`), not the machine's
+/// The memory guard reads the process's own limit (`ulimit -v`), not the machine's
 /// RAM: 40,000 hopper knots (an estimated 4.4 GiB) under a 4 GiB limit are an input error.
 #[test]
 fn memory_guard_reads_the_process_limit() {
@@ -861,7 +861,7 @@ fn memory_guard_reads_the_process_limit() {
     );
 }
 
-/// Item 10: 40,000 attributes on one element are refused before parsing, naming the line.
+/// 40,000 attributes on one element are refused before parsing, naming the line.
 #[test]
 fn many_attributes_on_an_element_are_refused() {
     let attributes: String = (0..40_000).map(|i| format!(" a{i}=\"1\"")).collect();
@@ -906,7 +906,7 @@ fn column_index(text: &str, name: &str) -> usize {
         .unwrap_or_else(|| panic!("no column {name} in {header}"))
 }
 
-/// Item 13: NaN and infinite inputs, an empty input cell and a `--track` file missing an
+/// NaN and infinite inputs, an empty input cell and a `--track` file missing an
 /// input column are input errors (exit 2) of `simulate`, as is `--rate 1e308`.
 #[test]
 fn simulate_refuses_non_finite_and_missing_inputs() {
@@ -955,7 +955,7 @@ fn simulate_refuses_non_finite_and_missing_inputs() {
     assert!(!t.path().join("sim").exists());
 }
 
-/// Item 13: `check --derivatives --at` refuses NaN cells, times scaled by 1e300 and a
+/// `check --derivatives --at` refuses NaN cells, times scaled by 1e300 and a
 /// duplicated column (it checked them and exited 0).
 #[test]
 fn check_at_refuses_nan_cells_scaled_times_and_duplicate_columns() {
@@ -995,7 +995,7 @@ fn check_at_refuses_nan_cells_scaled_times_and_duplicate_columns() {
     assert!(err.contains("are both `z`"), "{err}");
 }
 
-/// Item 13: a `--set` value holding a line break and more TOML is refused, not cut.
+/// A `--set` value holding a line break and more TOML is refused, not cut.
 #[test]
 fn set_values_with_line_breaks_are_refused() {
     let err = check_fails(
@@ -1006,7 +1006,7 @@ fn set_values_with_line_breaks_are_refused() {
     assert!(err.contains("line break"), "{err}");
 }
 
-/// Item 13: a full standard output or error is its own exit code (4), and a solve whose
+/// A full standard output or error is its own exit code (4), and a solve whose
 /// standard error is full still writes its results.
 #[test]
 fn full_output_streams_are_exit_4_and_keep_the_results() {
@@ -1022,7 +1022,7 @@ fn full_output_streams_are_exit_4_and_keep_the_results() {
     assert!(t.path().join("res/trajectory.csv").is_file());
 }
 
-/// Item 13: `name` and `description` are text even when they begin with `=`; a name holding
+/// `name` and `description` are text even when they begin with `=`; a name holding
 /// a right-to-left override (or another invisible formatting character) is refused.
 #[test]
 fn text_fields_are_never_expressions_and_names_are_plain() {
@@ -1091,7 +1091,7 @@ fn every_exit_code_is_documented_and_reached() {
     assert_eq!(vito_into_dev_full(&t, &["check", "p.toml"], "stdout"), 4);
 }
 
-/// Issue 26 item 8: `init` and `inspect` choose the same base by default: fixed for the
+/// `init` and `inspect` choose the same base by default: fixed for the
 /// hopper, whose URDF slides its root itself (no six extra coordinates), standing on the
 /// ground; a fixed-base starter whose contacts would start under the ground is an error.
 #[test]
@@ -1133,7 +1133,7 @@ fn init_base_defaults_to_inspects_and_refuses_feet_under_ground() {
     assert!(!t.path().join("b.toml").exists());
 }
 
-/// Round three, fuzz: 200,000 `<visual>` parts in one link (17 MB, within the 64 MiB read)
+/// 200,000 `<visual>` parts in one link (17 MB, within the 64 MiB read)
 /// took 15.8 s to read; a URDF of more than 200,000 elements is refused before any parser
 /// reads it, naming the file, the limit and the fix.
 #[test]
@@ -1152,7 +1152,7 @@ fn urdfs_with_too_many_elements_are_refused() {
     );
 }
 
-/// Round three, fuzz: a fixed-joint star of 10,000 links (the documented link limit) is
+/// A fixed-joint star of 10,000 links (the documented link limit) is
 /// read, and the line it names for an element it does not use is the element's line (the
 /// line of each element was found by a scan from the file's start: 14 s for this file).
 #[test]

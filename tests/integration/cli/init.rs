@@ -70,18 +70,14 @@ fn urdfs_under(dir: &Path, found: &mut Vec<std::path::PathBuf>) {
 }
 
 /// `vito init` reads URDFs as `vito inspect` does (one reader): for every URDF of the
-/// repository and of `../shared/robots` (the original paper files too, with `-pi/4` limits
-/// and spaced collision origins) and every base that `inspect` loads it with, `init` writes a
+/// repository (`problems/robots/`: the original paper files too, with `-pi/4` limits and
+/// spaced collision origins, beside their normalised copies) and every base that `inspect` loads it with, `init` writes a
 /// starter that `vito check` accepts.
 #[test]
 fn init_accepts_every_urdf_that_inspect_loads() {
     let t = TestDir::new("init_accepts_every_urdf_that_inspect_loads");
     let mut urdfs = Vec::new();
     urdfs_under(&problems_dir().join("robots"), &mut urdfs);
-    urdfs_under(
-        &Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/robots"),
-        &mut urdfs,
-    );
     let original_hamr = urdfs
         .iter()
         .filter(|p| p.to_string_lossy().ends_with("hamr/HAMR_scaledV2.urdf"))

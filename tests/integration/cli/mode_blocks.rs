@@ -1,4 +1,4 @@
-//! `contacts.mode_block`: blocks of one interval are SPEC.md's NLP (the same solve as without
+//! `contacts.mode_block`: blocks of one interval are the reference NLP (the same solve as without
 //! the key, at the independent optimum); blocks of two give a plan with one contact mode per
 //! block, checked from the configurations and impulses of its trajectory CSV with the hand-written hopper's
 //! kinematics; bad values are input errors.
@@ -36,7 +36,7 @@ fn blocks_of_one_interval_are_the_spec_nlp() {
     ] {
         assert_eq!(default[key], one[key], "{key}");
     }
-    // SPEC.md's hopper: its pattern, and the independent CasADi optimum (relative 1e-6).
+    // The reference hopper: its pattern, and the independent CasADi optimum (relative 1e-6).
     assert_eq!(one["nnz_jacobian"], 2152);
     assert_eq!(one["nnz_hessian"], 1044);
     let objective = one["objective"].as_f64().unwrap();

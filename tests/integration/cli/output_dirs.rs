@@ -1,4 +1,4 @@
-//! Output directories never cost a user a file (issue 11, items 1–4): every refused target
+//! Output directories never cost a user a file: every refused target
 //! ends in exit 2 before solving, and what was there is left as it was.
 
 use crate::cli::util::{TestDir, hopper_text};

@@ -1,4 +1,4 @@
-//! `[slack] mode = "penalty"` (issue 32): the complementarity products weighted in the
+//! `[slack] mode = "penalty"`: the complementarity products weighted in the
 //! objective instead of slacks and complementarity rows. Its derivatives on the shipped
 //! problems, the hopper's solve (complementary, at the elastic form's optimum when started
 //! there), `target` continuation on the products, and its validation.

@@ -6,8 +6,9 @@ use std::path::Path;
 use crate::cli::sweep::hopper_family;
 use crate::cli::util::{TestDir, problems_dir, says, summary};
 
-/// Solves `file` into a temp dir and checks what issue 5 asks of every solve, the objective
-/// against the regression record `record` (under `problems/`).
+/// Solves `file` into a temp dir and checks what every solve must give (a solved status, a
+/// closed slack), and the objective against the regression record `record` (under
+/// `problems/`).
 fn solve_and_check(name: &str, file: &str, max_slack: f64, record: &str) {
     let t = TestDir::new(name);
     let out = t.path().join("out");

@@ -1,4 +1,4 @@
-//! Closed-form mechanics of SPEC.md's hopper-2d and brick-3d, written straight from SPEC.md
+//! Closed-form mechanics of the reference hopper-2d and brick-3d, written straight from docs/reference-problems.md
 //! (not through the URDF model), so the transcription is tested on its own.
 
 use num_dual::Dual;
@@ -42,7 +42,7 @@ fn discrete_lagrangian<D: Scalar>(
     lagrangian(&q, &v) * h
 }
 
-/// SPEC.md's hopper: q = [x, z, θ, r], u = [τ, f].
+/// The reference hopper: q = [x, z, θ, r], u = [τ, f].
 pub struct Hopper;
 
 impl Hopper {
@@ -81,7 +81,7 @@ impl Mechanics for Hopper {
         true
     }
     fn moves_in_xz_plane(&self) -> bool {
-        // Slides along x and z, a leg turning about y: SPEC's planar hopper.
+        // Slides along x and z, a leg turning about y: the reference planar hopper.
         true
     }
     fn discrete_lagrangian<D: Scalar>(&self, qa: &[D], qb: &[D], h: D) -> D {
@@ -102,7 +102,7 @@ impl Mechanics for Hopper {
     }
 }
 
-/// SPEC.md's brick: q = [x, y, z, roll, pitch, yaw], R = Rz·Ry·Rx, 8 corners.
+/// The reference brick: q = [x, y, z, roll, pitch, yaw], R = Rz·Ry·Rx, 8 corners.
 pub struct Brick;
 
 pub const BRICK_SIZE: [f64; 3] = [0.2, 0.1, 0.05];

@@ -1,9 +1,8 @@
-//! Shared fixtures of the transcription tests: SPEC.md's reference problems (read from their
+//! Shared fixtures of the transcription tests: the reference problems (read from their
 //! problem files) and closed-form mechanics of the hopper and the brick (independent of the
 //! URDF model code).
 #![allow(dead_code)]
 
 pub mod analytic;
-pub mod finite_differences;
 pub mod reference;
 pub mod swing;

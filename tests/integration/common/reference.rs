@@ -1,4 +1,4 @@
-//! SPEC.md's reference problems, read from their problem files in `problems/`: the tests
+//! The reference problems (docs/reference-problems.md), read from their problem files in `problems/`: the tests
 //! solve and differentiate exactly what `vito solve problems/<name>.toml` does.
 
 use std::path::PathBuf;
