@@ -8,6 +8,7 @@ mod common;
 mod cli;
 mod constraints;
 mod discrete;
+mod frames;
 mod fuzz;
 mod galerkin;
 mod hamr;
