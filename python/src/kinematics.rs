@@ -119,7 +119,10 @@ impl Kinematics {
         let rotation = Array2::from_shape_vec((3, 3), flat)
             .map_err(|e| PyValueError::new_err(e.to_string()))?;
         dict.set_item("rotation", rotation.into_pyarray(py))?;
-        dict.set_item("position", Array1::from(pose.position.to_vec()).into_pyarray(py))?;
+        dict.set_item(
+            "position",
+            Array1::from(pose.position.to_vec()).into_pyarray(py),
+        )?;
         dict.set_item(
             "roll_pitch_yaw",
             Array1::from(pose.roll_pitch_yaw.to_vec()).into_pyarray(py),

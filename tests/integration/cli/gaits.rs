@@ -88,7 +88,11 @@ fn littledog_trot_reads_back_as_a_trot() {
     let problem = super::util::problems_dir().join("littledog_trot.toml");
     let out = t.path().join("out");
     t.vito()
-        .args(["check".as_ref(), "--derivatives".as_ref(), problem.as_os_str()])
+        .args([
+            "check".as_ref(),
+            "--derivatives".as_ref(),
+            problem.as_os_str(),
+        ])
         .env("OPENBLAS_NUM_THREADS", "1")
         .assert_exit(0);
     t.vito()
@@ -103,7 +107,11 @@ fn littledog_trot_reads_back_as_a_trot() {
         .assert_exit(0);
     let s = super::util::summary(&out);
     assert_eq!(s["status"], "solve_succeeded");
-    assert!(s["max_slack"].as_f64().unwrap() <= 1e-4, "{}", s["max_slack"]);
+    assert!(
+        s["max_slack"].as_f64().unwrap() <= 1e-4,
+        "{}",
+        s["max_slack"]
+    );
     let table = read_csv(&std::fs::read_to_string(out.join("trajectory.csv")).unwrap()).unwrap();
     let column = |name: &str| table.column(name).unwrap_or_else(|| panic!("no {name}"));
     let distance = |foot: &str| column(&format!("{foot}_distance"));
@@ -113,8 +121,16 @@ fn littledog_trot_reads_back_as_a_trot() {
     // Per knot: which pair is up (the two feet of a pair always agree; never both pairs).
     let mut swings: Vec<(char, Vec<usize>)> = Vec::new();
     for k in 0..fl.len() {
-        assert_eq!(up(&fl, k), up(&br, k), "front_left and back_right at knot {k}");
-        assert_eq!(up(&fr, k), up(&bl, k), "front_right and back_left at knot {k}");
+        assert_eq!(
+            up(&fl, k),
+            up(&br, k),
+            "front_left and back_right at knot {k}"
+        );
+        assert_eq!(
+            up(&fr, k),
+            up(&bl, k),
+            "front_right and back_left at knot {k}"
+        );
         let pair = match (up(&fl, k), up(&fr, k)) {
             (true, true) => panic!("all four feet up at knot {k}"),
             (true, false) => 'A',
@@ -127,12 +143,18 @@ fn littledog_trot_reads_back_as_a_trot() {
         }
     }
     let order: String = swings.iter().map(|(p, _)| *p).collect();
-    assert_eq!(order, "BABA", "the pairs alternate, two swings each: {swings:?}");
+    assert_eq!(
+        order, "BABA",
+        "the pairs alternate, two swings each: {swings:?}"
+    );
     for (pair, knots) in &swings {
         let (a, b) = if *pair == 'A' { (&fl, &br) } else { (&fr, &bl) };
         for d in [a, b] {
             let peak = knots.iter().map(|&k| d[k]).fold(0.0_f64, f64::max);
-            assert!(peak >= 0.03 - 1e-6, "pair {pair} at {knots:?} peaks at {peak}");
+            assert!(
+                peak >= 0.03 - 1e-6,
+                "pair {pair} at {knots:?} peaks at {peak}"
+            );
         }
     }
     let x = column("base_x");
