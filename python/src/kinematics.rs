@@ -111,9 +111,15 @@ impl Kinematics {
         &self,
         py: Python<'py>,
         link: &str,
-        q: Vec<f64>,
+        q: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let pose = self.robot.link_pose(link, &q).map_err(error)?;
+        let (rows, many) = rows(q)?;
+        if many {
+            return Err(PyValueError::new_err(
+                "link_pose takes one q, of shape (n,)",
+            ));
+        }
+        let pose = self.robot.link_pose(link, &rows[0]).map_err(error)?;
         let dict = PyDict::new(py);
         let flat: Vec<f64> = pose.rotation.iter().flatten().copied().collect();
         let rotation = Array2::from_shape_vec((3, 3), flat)

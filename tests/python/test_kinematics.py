@@ -25,6 +25,7 @@ def test_a_contact_position_is_the_foot_worked_out_by_hand():
     # theta turns the body about -y: its pitch is -theta.
     assert pose["roll_pitch_yaw"][1] == pytest.approx(0.4, abs=1e-12)
     assert pose["position"] == pytest.approx([0.1, 0.0, 0.7], abs=1e-12)
+    assert np.allclose(k.link_pose("body", np.array(q))["rotation"], pose["rotation"])
 
 
 def test_a_solutions_knots_give_one_row_each(hopper_solution):
