@@ -86,6 +86,7 @@ pub fn check_solver_options(problem: &LoadedProblem) -> Result<(), ProblemError>
 
 pub mod feasibility;
 pub mod gains;
+pub mod kinematics;
 pub mod output;
 pub mod simulation;
 pub mod trajectory_point;

@@ -15,6 +15,8 @@ use pyo3::exceptions::PyException;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 
+mod kinematics;
+
 use vito::pipeline;
 use vito::problem::{InitialGuess, LoadedProblem, Override};
 use vito::report;
@@ -1031,6 +1033,7 @@ fn _vito(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Trajectory>()?;
     m.add_class::<Solution>()?;
     m.add_class::<Simulation>()?;
+    kinematics::register(m)?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(_sweep, m)?)?;
     m.add_function(wrap_pyfunction!(pinned_coretype, m)?)?;

@@ -58,6 +58,13 @@ pub trait Mechanics: Sync {
     fn momentum<D: Scalar>(&self, q: &[D], v: &[D], out: &mut [D]);
     /// World position of contact point `contact` at configuration q (length units).
     fn contact_position<D: Scalar>(&self, contact: usize, q: &[D]) -> [D; 3];
+    /// World pose of link `link` (its index in the model's link order, `Model::link_names`)
+    /// at configuration q: (rotation R, row-major, mapping link axes to world axes; the link
+    /// origin in the world, length units). `None` for mechanics without links (closed-form
+    /// test robots), the default.
+    fn link_pose<D: Scalar>(&self, _link: usize, _q: &[D]) -> Option<([[D; 3]; 3], [D; 3])> {
+        None
+    }
     /// Whether contact `contact` is a sphere that rolls: friction acts at its lowest
     /// material point, which moves with [`Mechanics::contact_position`]'s point plus the
     /// spin term of [`Mechanics::contact_spin_columns`]. False for points (the default).

@@ -12,7 +12,7 @@ use super::{
 use crate::autodiff::Scalar;
 use crate::autodiff::{SymmetricGroups, ThirdOrder};
 use crate::model::{
-    LinkId, LoopJet, Model, PointJet, generalized_momentum, link_angular_jacobian,
+    LinkId, LoopJet, Model, PointJet, generalized_momentum, link_angular_jacobian, link_pose,
     loop_closure_jets, loop_residual, point_jet_into, point_position,
 };
 
@@ -128,6 +128,9 @@ impl Mechanics for ModelMechanics {
             p[2] -= D::from(c.radius);
         }
         p
+    }
+    fn link_pose<D: Scalar>(&self, link: usize, q: &[D]) -> Option<([[D; 3]; 3], [D; 3])> {
+        (link < self.model.link_names().len()).then(|| link_pose(&self.model, LinkId(link), q))
     }
     fn contact_rolls(&self, contact: usize) -> bool {
         self.contacts[contact].radius != 0.0

@@ -5,7 +5,8 @@
 //! `<name>_dot [m/s|rad/s]` (v_0 on the first row, the backward difference (q_k − q_{k−1})/h
 //! after); each input `u_<name> [N|N·m]`; per contact `<contact>_normal [N·s]`, its friction
 //! impulses `<contact>_friction_<dir> [N·s]` (dir +x, −x in the plane; +x, +y, −x, −y in
-//! space) and its signed distance `<contact>_distance [m]` at the row's own knot; the slacks
+//! space), its signed distance `<contact>_distance [m]` and its world position
+//! `<contact>_x [m]`, `<contact>_y [m]`, `<contact>_z [m]` at the row's own knot; the slacks
 //! `slack` (or `slack_<j>` in per-contact mode). Interval quantities (inputs, impulses,
 //! slacks) sit on the interval's first knot; the last row leaves them empty. The impulses of
 //! row k are complementary to the distance of row k + 1 (c_k·φ(q_{k+1}) ≤ s_k). Units follow
@@ -41,9 +42,15 @@ pub struct Trajectory<'a> {
     pub friction_impulse: &'a [Vec<Vec<f64>>],
     /// Signed distances at every knot (N × nc).
     pub signed_distance: &'a [Vec<f64>],
+    /// World positions of the contact points at every knot (N × nc; empty: unknown, the
+    /// cells left empty).
+    pub contact_positions: &'a [Vec<[f64; 3]>],
     /// Slacks per interval (N−1 × slacks per interval).
     pub slack: &'a [Vec<f64>],
 }
+
+/// The world axes of a contact's position columns `<contact>_x`, `_y`, `_z`.
+const AXES: [&str; 3] = ["x", "y", "z"];
 
 /// Unit labels for the columns.
 #[derive(Debug, Clone, PartialEq)]
@@ -141,6 +148,9 @@ pub fn write_trajectory(trajectory: &Trajectory<'_>, units: &ColumnUnits) -> Str
             names.push(header(&format!("{c}_friction_{d}"), &units.impulse));
         }
         names.push(header(&format!("{c}_distance"), &units.length));
+        for axis in AXES {
+            names.push(header(&format!("{c}_{axis}"), &units.length));
+        }
     }
     let slacks = s.slack.first().map_or(1, Vec::len);
     if slacks == 1 {
@@ -180,6 +190,14 @@ pub fn write_trajectory(trajectory: &Trajectory<'_>, units: &ColumnUnits) -> Str
                     .and_then(|p| p.get(i))
                     .map_or(String::new(), |&d| number(d)),
             );
+            for a in 0..AXES.len() {
+                row.push(
+                    s.contact_positions
+                        .get(k)
+                        .and_then(|p| p.get(i))
+                        .map_or(String::new(), |p| number(p[a])),
+                );
+            }
         }
         for j in 0..slacks {
             row.push(cell(s.slack.get(k).and_then(|x| x.get(j))));
@@ -421,6 +439,7 @@ mod tests {
             normal_impulse: &[vec![1.0], vec![0.0]],
             friction_impulse: &[vec![vec![0.5, 0.0]], vec![vec![0.0, 0.0]]],
             signed_distance: &[vec![0.0], vec![0.1], vec![0.25]],
+            contact_positions: &[],
             slack: &[vec![1e-9], vec![2e-9]],
         };
         let units = ColumnUnits {

@@ -129,6 +129,17 @@ pub fn link_pose<D: Scalar>(model: &Model, link: LinkId, q: &[D]) -> ([[D; 3]; 3
     )
 }
 
+/// The Z-Y-X angles (roll, pitch, yaw) of a rotation R = Rz(yaw)·Ry(pitch)·Rx(roll)
+/// (row-major): roll = atan2(R₃₂, R₃₃), pitch = atan2(−R₃₁, √(R₃₂² + R₃₃²)),
+/// yaw = atan2(R₂₁, R₁₁); pitch in [−π/2, π/2].
+pub fn roll_pitch_yaw<D: Scalar>(r: &[[D; 3]; 3]) -> [D; 3] {
+    [
+        r[2][1].atan2(r[2][2]),
+        (-r[2][0]).atan2((r[2][1] * r[2][1] + r[2][2] * r[2][2]).sqrt()),
+        r[1][0].atan2(r[0][0]),
+    ]
+}
+
 /// World angular velocity of `link` per unit rate of the coordinates: one (coordinate,
 /// ∂ω/∂q̇_coordinate) pair per revolute joint on the link's path (its world axis, times the
 /// multiplier of a mimic joint, whose coordinate is its leader's), root to leaf; a coordinate

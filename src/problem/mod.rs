@@ -7,6 +7,7 @@ pub mod constraints;
 pub mod costs;
 mod error;
 pub mod family;
+pub mod frames;
 mod load;
 mod overrides;
 mod robot;

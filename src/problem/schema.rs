@@ -15,6 +15,7 @@ use serde::{Deserialize, Deserializer};
 
 pub use super::constraints::{ConstraintEntry, PeriodicEntry};
 pub use super::costs::CostEntry;
+pub use super::frames::{ContactWindowEntry, FrameEntry, GaitEntry};
 
 /// A whole problem file.
 #[derive(Debug, Clone, Deserialize)]
@@ -56,6 +57,15 @@ pub struct ProblemFile {
     /// `[[constraint]]`: constraints of any kind, chosen by `type`.
     #[serde(default)]
     pub constraint: Vec<ConstraintEntry>,
+    /// `[[frame]]`: costs and rows on a point of the robot (position, clearance,
+    /// orientation, velocity) at chosen knots.
+    #[serde(default)]
+    pub frame: Vec<FrameEntry>,
+    /// `[[contact_window]]`: a contact in flight or in stance over a time window.
+    #[serde(default)]
+    pub contact_window: Vec<ContactWindowEntry>,
+    /// `[gait]`: contact windows from a period, a duty factor and phase offsets.
+    pub gait: Option<GaitEntry>,
     /// `[initial_guess]`.
     #[serde(default)]
     pub initial_guess: InitialGuessSection,

@@ -10,6 +10,7 @@ use std::path::PathBuf;
 
 use super::constraints::Constraint;
 use super::costs::CostTerm;
+use super::frames::FrameTerm;
 use crate::contact::{ContactModel, Terrain};
 pub use crate::discrete::Integrator;
 use crate::discrete::Mechanics;
@@ -325,6 +326,11 @@ pub struct ProblemSpec {
     pub costs: Vec<CostTerm>,
     /// The problem file's constraints (`[[periodic]]`, `[[constraint]]`).
     pub constraints: Vec<Constraint>,
+    /// `[[frame]]` terms, then the clearance terms of `[[contact_window]]` and `[gait]`.
+    pub frames: Vec<FrameTerm>,
+    /// (contact, interval j) pairs whose normal impulse c_{j,contact} is held at 0 (flight
+    /// windows), ascending.
+    pub zero_impulse: Vec<(usize, usize)>,
     pub initial_guess: InitialGuess,
     pub hessian: HessianMode,
     /// How the NLP is scaled for Ipopt.

@@ -261,6 +261,9 @@ pub fn starter_problem(
     if !robot.inputs.is_empty() {
         t.push_str("[[cost]]\ntype = \"input\"\nweights = { default = 0.01 }\n\n");
     }
+    t.push_str(&steering_examples(
+        robot.contacts.iter().map(|c| c.name.as_str()),
+    ));
     t.push_str("[slack]\nweight = 100.0   # α on Σ s (complementarity relaxation)\nmode = \"per_interval\"\n\n");
     t.push_str("[initial_guess]\nto = \"final\"   # q linear from q_1 to the goal; or warm_start = \"out/x/trajectory.csv\"\n\n");
     t.push_str(SOLVER);
@@ -355,8 +358,50 @@ fn standing_problem(model: &Model, robot: &RobotInfo, base: BaseType, urdf: &str
     if !robot.inputs.is_empty() {
         t.push_str("[[cost]]\ntype = \"input\"\nweights = { default = 0.001 }\n\n");
     }
+    t.push_str(&steering_examples(feet.iter().map(|f| f.name.as_str())));
     t.push_str("[slack]\nweight = 1000.0   # α on Σ s (complementarity relaxation)\nmode = \"per_interval\"\n\n");
     t.push_str("[initial_guess]\nto = \"initial\"   # every q_k = q_1; or warm_start = \"out/x/trajectory.csv\"\n\n");
     t.push_str(SOLVER);
+    t
+}
+
+/// Commented examples of a clearance term and a gait for the robot's own contacts (none
+/// without contacts): uncommented, they load as they stand.
+fn steering_examples<'a>(contacts: impl Iterator<Item = &'a str>) -> String {
+    let names: Vec<&str> = contacts.collect();
+    let Some(first) = names.first() else {
+        return String::new();
+    };
+    let offsets: Vec<String> = names
+        .iter()
+        .enumerate()
+        .map(|(i, n)| format!("{n} = {}", if i % 2 == 0 { "0.0" } else { "0.5" }))
+        .collect();
+    let mut t = String::new();
+    t.push_str(
+        "# Steering the plan (optional). A foot's height above the terrain at chosen knots,\n",
+    );
+    t.push_str("# as rows lower ≤ φ ≤ upper, or as a cost ½·weight·(φ − target)²:\n");
+    t.push_str(
+        "# [[frame]]\n# type = \"clearance\"   # position | clearance | orientation | velocity\n",
+    );
+    t.push_str(&format!(
+        "# contact = \"{first}\"   # or link = \"...\" with point = [x, y, z]\n"
+    ));
+    t.push_str("# window = [0.35, 0.45]   # [s] (its swing in the gait below); or knots = \"all\" | \"interior\" | \"final\" | [3, 4]\n");
+    t.push_str("# lower = 0.02   # [m]\n#\n");
+    t.push_str(
+        "# A gait: stance and flight windows from a period, a duty factor and phase offsets.\n",
+    );
+    t.push_str(
+        "# [gait]\n# period = 0.5   # [s]\n# duty = 0.6   # the stance fraction of the period\n",
+    );
+    t.push_str(
+        "# clearance = 0.02   # [m] each swing's distance between lift-off and touch-down\n",
+    );
+    t.push_str(&format!(
+        "# offsets = {{ {} }}   # fractions of the period\n\n",
+        offsets.join(", ")
+    ));
     t
 }

@@ -26,6 +26,7 @@ pub fn solution_trajectory(s: &Solution) -> Trajectory<'_> {
         normal_impulse: &s.normal_impulse,
         friction_impulse: &s.friction_impulse,
         signed_distance: &s.signed_distance,
+        contact_positions: &s.contact_positions,
         slack: &s.slack,
     }
 }

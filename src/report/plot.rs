@@ -337,6 +337,7 @@ mod tests {
             normal_impulse: &[],
             friction_impulse: &[],
             signed_distance: &[],
+            contact_positions: &[],
             slack: &[],
         };
         let units = crate::report::column_units(&problem.robot, &problem.units);

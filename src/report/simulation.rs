@@ -54,6 +54,7 @@ impl SimulationColumns {
             normal_impulse: &self.normal,
             friction_impulse: &self.friction,
             signed_distance: &sim.distance,
+            contact_positions: &[],
             slack: &self.slack,
         }
     }

@@ -90,6 +90,7 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                 ScalarKind::Cost(cost) => {
                     crate::problem::costs::term_name(&self.ctx.costs[cost.term])
                 }
+                ScalarKind::FrameCost(cost) => self.ctx.frames[cost.term].cost_name(),
                 ScalarKind::ComplementarityPenalty(_) => {
                     penalty += value;
                     continue;

@@ -7,8 +7,9 @@ use super::evaluate::{ContactDerivatives, JetPools};
 use super::layout::{Dims, Layout};
 use super::pattern::Pattern;
 use super::{NlpSize, TranscriptionError};
-use crate::discrete::MechanicsDerivatives;
+use crate::discrete::{Mechanics, MechanicsDerivatives};
 use crate::problem::costs::{CostSizes, length_mismatch};
+use crate::problem::frames::FrameReads;
 use crate::problem::{HessianMode, ProblemSpec, TimeSteps};
 
 /// From this many Jacobian nonzeros on, the Jacobian and Hessian blocks are evaluated on
@@ -120,6 +121,9 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                 });
             }
         }
+        if let Some((field, message)) = frame_problem(&mech, spec) {
+            return Err(TranscriptionError::Invalid { field, message });
+        }
         let equal_steps = matches!(spec.time_steps, TimeSteps::FreeEqual { .. });
         let dims = Dims {
             n,
@@ -137,6 +141,7 @@ impl<M: MechanicsDerivatives> Transcription<M> {
             spec.constraints
                 .iter()
                 .flat_map(|c| c.rows().into_iter().map(|row| row.label))
+                .chain(frame_row_labels(spec))
                 .collect(),
             VectorKind::interval_rows(&dims, spec.slack_mode),
         );
@@ -267,4 +272,36 @@ impl<M: MechanicsDerivatives> Transcription<M> {
     pub fn context(&self) -> &Context {
         &self.ctx
     }
+}
+
+/// The labels of the frame terms' rows, in row order (after the problem file's constraints).
+fn frame_row_labels(spec: &ProblemSpec) -> impl Iterator<Item = String> + '_ {
+    spec.frames
+        .iter()
+        .filter(|f| f.has_rows())
+        .flat_map(|f| f.knots.iter().map(|&k| f.row_label(k)))
+}
+
+/// Why the frame terms of a spec built in code cannot be placed (validation checks these for
+/// problem files): a knot outside the horizon, a velocity at knot 0, or a link point on
+/// mechanics without link poses.
+fn frame_problem<M: Mechanics>(mech: &M, spec: &ProblemSpec) -> Option<(String, String)> {
+    let q = vec![0.0; mech.nq()];
+    spec.frames.iter().enumerate().find_map(|(t, f)| {
+        let field = format!("frames[{t}]");
+        let reads_interval = f.quantity.reads() == FrameReads::IntervalEndingAt;
+        if let Some(&k) = f
+            .knots
+            .iter()
+            .find(|&&k| k >= spec.knots || (reads_interval && k == 0))
+        {
+            return Some((field, format!("knot {k} has no {}", f.quantity.name())));
+        }
+        (f.quantity.point().needs_link_poses() && mech.link_pose(0, &q).is_none()).then(|| {
+            (
+                field,
+                "a link's point needs a robot with link poses (a URDF model)".to_string(),
+            )
+        })
+    })
 }

@@ -93,6 +93,12 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                 }
             }
         }
+        // Flight windows: no normal impulse on the intervals ending at their knots.
+        for &(i, j) in &spec.zero_impulse {
+            if i < l.nc && j < l.intervals() {
+                hi[l.c(j, i)] = 0.0;
+            }
+        }
         for i in l.slacks() {
             lo[i] = 0.0;
         }
@@ -123,9 +129,15 @@ impl<M: MechanicsDerivatives> Transcription<M> {
             .map(|r| if l.is_equality(r) { 0.0 } else { f64::INFINITY })
             .collect();
         let rows = spec.constraints.iter().flat_map(|c| c.rows());
-        for (r, row) in rows.enumerate() {
-            g_lower[l.constraint_row(r)] = row.lower;
-            g_upper[l.constraint_row(r)] = row.upper;
+        let frame_rows = spec
+            .frames
+            .iter()
+            .filter(|f| f.has_rows())
+            .flat_map(|f| f.knots.iter().map(|_| (f.lower, f.upper)));
+        let bounds = rows.map(|row| (row.lower, row.upper)).chain(frame_rows);
+        for (r, (lower, upper)) in bounds.enumerate() {
+            g_lower[l.constraint_row(r)] = lower;
+            g_upper[l.constraint_row(r)] = upper;
         }
         self.x_lower = lo;
         self.x_upper = hi;

@@ -9,6 +9,7 @@ mod architecture;
 mod cli;
 mod constraints;
 mod discrete;
+mod frames;
 mod fuzz;
 mod galerkin;
 mod hamr;

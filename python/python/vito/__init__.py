@@ -49,6 +49,7 @@ _os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 from ._vito import (  # noqa: E402
     IPOPT_VERSION,
+    Kinematics,
     Problem,
     ProblemError,
     Simulation,
@@ -63,6 +64,7 @@ from . import _vito  # noqa: E402
 
 __all__ = [
     "IPOPT_VERSION",
+    "Kinematics",
     "Problem",
     "ProblemError",
     "Simulation",

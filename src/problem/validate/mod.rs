@@ -65,6 +65,12 @@ pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, Pr
     let mode_block = contacts::check_mode_block(ctx, &raw, knots)?;
     let slack_continuation = slack::check_slack_continuation(ctx, &raw)?;
     let constraints = crate::problem::constraints::check_constraints(ctx, &raw, &robot, knots)?;
+    let mut frames =
+        crate::problem::frames::check_frames(ctx, &raw, &robot, &contacts, knots, &time_steps)?;
+    let windows =
+        crate::problem::frames::check_windows(ctx, &raw, &robot, &contacts, knots, &time_steps)?;
+    frames.extend(windows.frames);
+    let zero_impulse = windows.zero_impulse;
     let initial_guess = initial_guess::check_initial_guess(ctx, &raw, &robot, &endpoints, knots)?;
     let metrics = metrics::check_metrics(ctx, &raw, &robot)?;
     let tracking_gains = tracking::check_tracking(ctx, &raw, &robot)?;
@@ -132,6 +138,8 @@ pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, Pr
         input_bounds,
         costs,
         constraints,
+        frames,
+        zero_impulse,
         initial_guess,
         hessian,
         scaling,

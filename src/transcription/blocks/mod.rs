@@ -33,6 +33,8 @@ pub(crate) mod cost;
 mod distance;
 mod equal_step;
 mod euler_knot;
+mod frame_cost;
+mod frame_row;
 mod friction_cone;
 mod galerkin_force;
 mod galerkin_segment;
@@ -56,6 +58,8 @@ pub(crate) use cost::Cost;
 pub(crate) use distance::Distance;
 pub(crate) use equal_step::EqualStep;
 pub(crate) use euler_knot::EulerKnot;
+pub(crate) use frame_cost::FrameCost;
+pub(crate) use frame_row::FrameRow;
 pub(crate) use friction_cone::FrictionCone;
 pub(crate) use galerkin_force::GalerkinForce;
 pub(crate) use galerkin_segment::GalerkinSegment;
@@ -84,6 +88,7 @@ use crate::autodiff::Scalar;
 use crate::autodiff::{ScalarFunction, SymmetricGroups, ThirdOrder, VectorFunction};
 use crate::contact::{ContactGeometry, ContactModel};
 use crate::discrete::{GalerkinRule, Mechanics, MechanicsDerivatives};
+use crate::problem::frames::FrameTerm;
 use crate::problem::{
     Constraint as ProblemConstraint, CostTerm, Integrator, ProblemSpec, SlackMode,
 };
@@ -106,6 +111,8 @@ pub struct Context {
     pub costs: Vec<CostTerm>,
     /// The problem file's constraints (blocks refer to them by index).
     pub constraints: Vec<ProblemConstraint>,
+    /// The problem's frame terms (blocks refer to them by index).
+    pub frames: Vec<FrameTerm>,
     /// The Galerkin member of `integrator` when it has interior points.
     pub galerkin: Option<GalerkinRule>,
     /// Intervals per contact-mode block ([`ProblemSpec::mode_block`]).
@@ -127,6 +134,7 @@ impl Context {
             integrator: spec.integrator,
             costs: spec.costs.clone(),
             constraints: spec.constraints.clone(),
+            frames: spec.frames.clone(),
             galerkin: spec.integrator.galerkin_rule(),
             mode_block: spec.mode_block,
             slack_weight: spec.slack_weight,
@@ -508,6 +516,7 @@ vector_kinds! {
     Complementarity in complementarity,
     EqualStep in equal_step,
     Constraint in constraint,
+    FrameRow in frame_row,
 }
 
 gradient_kinds! {
@@ -517,6 +526,7 @@ gradient_kinds! {
     LoopWork in loop_work,
     ComplementarityPenalty in complementarity_penalty,
     Cost in cost,
+    FrameCost in frame_cost,
 }
 
 /// Placement of one block: its variables and where its local outputs go.

@@ -439,3 +439,45 @@ fn inspect_prints_the_total_mass_in_kg() {
         run.stdout
     );
 }
+
+/// The starter's commented clearance term and gait load as they stand once uncommented, for
+/// the robot's own contacts.
+#[test]
+fn starter_steering_examples_check_once_uncommented() {
+    let t = TestDir::new("starter_steering_examples");
+    for (urdf, base, contact) in [
+        ("robots/hopper_2d.urdf", "fixed", "foot_contact"),
+        (
+            "robots/littledog/LittleDog.normalized.urdf",
+            "floating",
+            "front_left",
+        ),
+    ] {
+        let out = t.path().join(format!("{base}.toml"));
+        init(&t, &problems_dir().join(urdf), base, &out).assert_exit(0);
+        let text = std::fs::read_to_string(&out).unwrap();
+        let start = text.find("# [[frame]]").expect("a commented frame term");
+        let end = start + text[start..].find("# offsets").expect("commented offsets");
+        let end = end + text[end..].find('\n').unwrap();
+        let block = &text[start..end];
+        assert!(block.contains(contact), "{block}");
+        let uncommented: String = block
+            .lines()
+            .map(|line| {
+                let rest = line.strip_prefix("# ").unwrap_or("");
+                if rest.starts_with('[') || rest.split(" = ").count() > 1 {
+                    format!("{rest}\n")
+                } else {
+                    "\n".to_string()
+                }
+            })
+            .collect();
+        let edited = out.with_file_name(format!("{base}-steered.toml"));
+        std::fs::write(&edited, text.replace(block, &uncommented)).unwrap();
+        let run = t
+            .vito()
+            .args([std::ffi::OsStr::new("check"), edited.as_os_str()])
+            .assert_exit(0);
+        assert!(run.stdout.contains(": ok ("), "{}", run.stdout);
+    }
+}

@@ -5,6 +5,7 @@ pub mod util;
 mod bench;
 mod check;
 pub mod errors;
+mod gaits;
 mod hostile;
 mod init;
 mod inputs;
