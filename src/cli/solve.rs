@@ -6,7 +6,7 @@ use std::sync::atomic::AtomicBool;
 
 use vito::ipopt::OptionValue;
 use vito::pipeline;
-use vito::problem::{LoadedProblem, load};
+use vito::problem::LoadedProblem;
 use vito::report::{self, status_name};
 use vito::transcription::Solution;
 
@@ -45,9 +45,8 @@ pub(super) fn solve(
         return Ok(1);
     }
     let overrides = parse_overrides(set)?;
-    let problem = load(file, &overrides)?;
+    let problem = pipeline::load_checked(file, &overrides)?;
     print_model_warnings(&problem.robot);
-    pipeline::check_solver_options(&problem)?;
     let target =
         pipeline::output::checked_output_dir(&problem, out).map_err(report::ReportError::from)?;
     // With --ipopt-log, staged before solving so that Ipopt's log goes straight into the

@@ -7,7 +7,7 @@ use super::sys;
 /// [`Status::MaximumWallTimeExceeded`] only from 3.14).
 ///
 /// Each variant quotes the line Ipopt prints at the end of the solve (`print_level` ≥ 1).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 pub enum Status {
     /// "EXIT: Optimal Solution Found." The point satisfies the convergence tolerance `tol`.
     SolveSucceeded,

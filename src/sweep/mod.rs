@@ -10,6 +10,7 @@
 #![warn(missing_docs)]
 
 mod grid;
+mod jobs;
 mod plot;
 mod run;
 mod table;
@@ -17,6 +18,7 @@ mod table;
 use std::path::PathBuf;
 
 pub use grid::{Axis, Grid, Point, Shard};
+pub use jobs::{JobOutcome, JobSweep, PointJob};
 pub use plot::metric_svg;
 pub use run::{
     Event, LOGS, Outcome, PARENT_FLAG, Progress, SWEEP_MARKER, SweepOptions, WarmStart,

@@ -3,7 +3,7 @@
 use crate::ipopt::Status;
 
 /// Sizes of the NLP as Ipopt sees it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 pub struct NlpSize {
     pub n_variables: usize,
     pub n_constraints: usize,
@@ -12,7 +12,7 @@ pub struct NlpSize {
 }
 
 /// A solved (or stopped) trajectory. Knot k = 0..N−1, interval k = 0..N−2 (0-based).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Solution {
     pub status: Status,
     /// Total objective (problem cost + slack penalty).

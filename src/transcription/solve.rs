@@ -44,7 +44,7 @@ pub struct MultiStart {
 pub const PERTURBATION: f64 = 0.1;
 
 /// One start of a multi-start solve, as `summary.json` lists it.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct StartRecord {
     /// 0 for the problem's own guess, else the perturbation's seed.
     pub seed: Option<u64>,

@@ -20,7 +20,7 @@ pub const DEFAULT_SLACK_TOLERANCE: f64 = 1e-4;
 pub const RELAXED_CONTACT: &str = "relaxed_contact";
 
 /// How a solve ended, judged.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum SolveVerdict {
     /// Ipopt reached an optimum (its status) and every slack is within the tolerance.
     Solved(Status),
@@ -88,7 +88,7 @@ impl std::fmt::Display for SolveVerdict {
 }
 
 /// Where a solution relaxes its contact model most: the largest slack.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SlackPeak {
     /// The interval (0-based; row `interval` of `trajectory.csv`) holding the largest slack.
     pub interval: usize,
@@ -100,7 +100,7 @@ pub struct SlackPeak {
 }
 
 /// A constraint row by name (as `vito check --derivatives` names rows) with its violation.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RowViolation {
     /// The row, e.g. `DEL base_x, knot 19`.
     pub row: String,
