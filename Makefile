@@ -3,6 +3,7 @@
 #   make test       install missing Debian packages, run the test suite (optimised build), then
 #                   the Python package's (pytest, tests/python/) in .venv
 #   make python     the Python package (`import vito`) built into .venv (maturin), with pytest
+#   make test-wheel the Python wheel (`pip wheel ./python`) installed into a fresh venv, solving
 #   make test-slow  the slow tests (#[ignore]d by default)
 #   make lint       rustfmt and clippy, as CI checks them
 #   make test-slurm a sweep through `sbatch --array` on a private single-node Slurm (root, apt)
@@ -20,7 +21,7 @@ OUT ?= out/hopper_2d
 # solve lock already gives one solve per process); parallel work uses processes.
 export OPENBLAS_NUM_THREADS ?= 1
 
-.PHONY: deps build demo python test test-python test-slow test-slurm lint bench bench-casadi fuzz test-debian13
+.PHONY: deps build demo python test test-python test-wheel test-slow test-slurm lint bench bench-casadi fuzz test-debian13
 
 deps:
 	bash vendor-config/install-deps.sh
@@ -44,12 +45,17 @@ test: deps
 	$(MAKE) --no-print-directory test-python
 
 test-python: python
-	.venv/bin/python -m pytest -q tests/python; status=$$?; \
+	.venv/bin/python -m pytest -q -m "not wheel" tests/python; status=$$?; \
 	if [ $$status -eq 5 ]; then echo "test-python: pytest collected no test in tests/python" >&2; fi; \
 	exit $$status
 
 test-slow: deps
 	$(CARGO) test --release -- --ignored --skip cli::sweep_slurm
+
+# `pip wheel ./python`, installed into a fresh venv (numpy from PyPI), solving the hopper
+# (tests/python/test_wheel.py; a few minutes: a wheel build and a new environment).
+test-wheel: python
+	.venv/bin/python -m pytest -q -m wheel tests/python
 
 # Installs Slurm if missing (root, apt), starts it under /tmp/vito-slurm-ci, stops it after;
 # skips with a message where it cannot be installed. See tools/slurm-ci.sh.

@@ -84,6 +84,42 @@ pub fn check_solver_options(problem: &LoadedProblem) -> Result<(), ProblemError>
     Ok(())
 }
 
+/// Loads `file` with `overrides` and asks Ipopt about its options: what `vito check`,
+/// `vito solve` and `vito simulate` (and Python's `vito.Problem`) start with.
+pub fn load_checked(
+    file: &std::path::Path,
+    overrides: &[crate::problem::Override],
+) -> Result<LoadedProblem, ProblemError> {
+    let problem = crate::problem::load(file, overrides)?;
+    check_solver_options(&problem)?;
+    Ok(problem)
+}
+
+/// What `vito check` reports about the NLP `solve` builds.
+#[derive(Debug, Clone)]
+pub struct CheckReport {
+    /// Variables, constraints and nonzeros.
+    pub size: transcription::NlpSize,
+    /// Friction directions per contact.
+    pub friction_directions: usize,
+    /// Loop-closure rows per interval.
+    pub loop_rows: usize,
+    /// Each contact's distance to the terrain at the ends of the initial guess, and warnings.
+    pub feasibility: feasibility::Feasibility,
+}
+
+/// Builds the solver's NLP for `spec` and reports its size and the initial guess's contact
+/// clearances and warnings (`vito check`).
+pub fn check_report(spec: &ProblemSpec) -> Result<CheckReport, TranscriptionError> {
+    let nlp = build_nlp(spec)?;
+    Ok(CheckReport {
+        size: nlp.size(),
+        friction_directions: nlp.layout().nd,
+        loop_rows: nlp.layout().nl,
+        feasibility: feasibility::feasibility(spec, &nlp),
+    })
+}
+
 pub mod feasibility;
 pub mod gains;
 pub mod kinematics;

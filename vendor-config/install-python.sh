@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The Python package (python/, `import vito`) in the project's virtual environment .venv:
 # creates .venv with Debian's python3 (python3-venv comes from vendor-config/install-deps.sh),
-# installs maturin, numpy, pandas, matplotlib and pytest from PyPI when missing, builds the
+# installs maturin, numpy, pandas, matplotlib and pytest (and, for the tests, dask[distributed]
+# and tqdm) from PyPI when missing, builds the
 # extension module with maturin (release profile, into the workspace's target/) and installs
 # it into .venv; links .venv/bin/vito to target/release/vito (the command `vito.sweep` runs).
 #
@@ -23,6 +24,14 @@ if ! "$venv/bin/python" -c 'import maturin, numpy, pandas, pytest, matplotlib' 2
     echo "install-python: installing maturin, numpy, pandas, matplotlib, pytest into $venv"
     "$venv/bin/python" -m pip install --quiet --disable-pip-version-check \
         'maturin>=1.5,<2' numpy pandas matplotlib pytest
+fi
+# The executor tests' Dask (a LocalCluster) and the progress bar's tqdm; the tests that need
+# Dask skip with a message where it cannot be installed (no network).
+if ! "$venv/bin/python" -c 'import dask.distributed, tqdm' 2>/dev/null; then
+    echo "install-python: installing dask[distributed] and tqdm into $venv"
+    "$venv/bin/python" -m pip install --quiet --disable-pip-version-check \
+        'dask[distributed]' tqdm \
+        || echo "install-python: dask[distributed] or tqdm could not be installed; their tests skip" >&2
 fi
 echo "install-python: building the extension module (maturin develop --release)"
 (cd "$root/python" && VIRTUAL_ENV="$venv" PATH="$venv/bin:$PATH" \

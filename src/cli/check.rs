@@ -11,12 +11,11 @@ use super::output::print_model_warnings;
 
 pub(super) fn check(file: &Path, set: &[String]) -> Result<u8, CliError> {
     let overrides = parse_overrides(set)?;
-    let p = load(file, &overrides)?;
+    let p = pipeline::load_checked(file, &overrides)?;
     print_model_warnings(&p.robot);
-    pipeline::check_solver_options(&p)?;
     let s = &p.spec;
-    let nlp = pipeline::build_nlp(s)?;
-    let size = nlp.size();
+    let report = pipeline::check_report(s)?;
+    let size = report.size;
     let horizon = match s.time_steps {
         TimeSteps::Fixed(h) => format!(
             "{} knots, fixed h = {h} {t} (T = {} {t})",
@@ -75,10 +74,10 @@ pub(super) fn check(file: &Path, set: &[String]) -> Result<u8, CliError> {
         size.n_constraints,
         size.nnz_jacobian,
         size.nnz_hessian,
-        nlp.layout().nd,
-        nlp.layout().nl
+        report.friction_directions,
+        report.loop_rows
     );
-    let feasibility = pipeline::feasibility::feasibility(s, &nlp);
+    let feasibility = &report.feasibility;
     if !feasibility.clearances.is_empty() {
         out!(
             "  distance to the terrain [{}], first / last knot of the initial guess:",

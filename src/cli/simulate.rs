@@ -37,20 +37,15 @@ pub(super) fn simulate(
     ) {
         bar.set_style(style);
     }
-    let start = std::time::Instant::now();
-    let sim = pipeline::simulation::run_simulation(&prepared, |_| bar.inc(1));
+    let run = pipeline::simulation::simulate_prepared(&problem, &prepared, |_| bar.inc(1), None);
     bar.finish_and_clear();
-    let sim = sim?;
-    let wall = start.elapsed().as_secs_f64();
-    let energies = pipeline::simulation::conservative_energies(&prepared, &sim);
-    let summary = pipeline::simulation::simulation_summary(
-        &problem,
-        &prepared,
-        &sim,
-        energies.as_deref(),
-        wall,
-    );
-    let columns = report::SimulationColumns::new(&problem, &sim, prepared.contact.nd());
+    let pipeline::simulation::SimulationRun {
+        sim,
+        energies,
+        summary,
+        columns,
+        wall_time_s: wall,
+    } = run?;
     let staged = target.stage().map_err(report::ReportError::from)?;
     let written =
         report::write_trajectory_outputs(staged, &problem, &columns.trajectory(&sim), &summary)?;

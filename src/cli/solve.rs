@@ -6,7 +6,7 @@ use std::sync::atomic::AtomicBool;
 
 use vito::ipopt::OptionValue;
 use vito::pipeline;
-use vito::problem::{LoadedProblem, load};
+use vito::problem::LoadedProblem;
 use vito::report::{self, status_name};
 use vito::transcription::Solution;
 
@@ -55,8 +55,7 @@ pub(super) fn solve(
         return Ok(1);
     }
     let overrides = parse_overrides(set)?;
-    let problem = load(file, &overrides)?;
-    pipeline::check_solver_options(&problem)?;
+    let problem = pipeline::load_checked(file, &overrides)?;
     let multi_start = plan.multi;
     if let Some(result) = &plan.result {
         // One start of a parallel multi-start: its solution to the file, nothing else.

@@ -53,6 +53,8 @@ pub use options::{
     default_options, parse_option_file,
 };
 pub use scaling::{GradientRule, JacobianEntries, Scaling};
-pub use solver::{CallbackSplit, CallbackStat, Multipliers, SolveReport, Solver};
+pub use solver::{
+    CallbackSplit, CallbackStat, Multipliers, SolveReport, Solver, others_waiting_for_ipopt,
+};
 pub use status::Status;
 pub use threads::{BlasThreads, pin_one_thread};

@@ -2,7 +2,7 @@
 
 use std::cell::Cell;
 use std::panic::{AssertUnwindSafe, catch_unwind};
-use std::sync::atomic::AtomicBool;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 use std::time::Instant;
 
@@ -16,6 +16,16 @@ use super::{IpoptError, Nlp, OptionValue, Scaling, Status};
 /// crashes, or exits with status 0, when two solves run at once; 3.14 with the MPI build of
 /// MUMPS is no more re-entrant (see `tests/ipopt.rs`).
 static SOLVE_LOCK: Mutex<()> = Mutex::new(());
+
+/// Threads waiting for [`SOLVE_LOCK`].
+static WAITING: AtomicUsize = AtomicUsize::new(0);
+
+/// Whether a thread is waiting for this process's Ipopt lock (one solve at a time): a solve
+/// that waits on something else (e.g. a caller's progress display) should go on instead,
+/// since what it waits for may be that thread.
+pub fn others_waiting_for_ipopt() -> bool {
+    WAITING.load(Ordering::SeqCst) > 0
+}
 
 thread_local! {
     /// Whether this thread holds [`SOLVE_LOCK`] (a callback calling back into the solver
@@ -35,7 +45,9 @@ impl IpoptLock {
         if HOLDS_LOCK.get() {
             return Err(IpoptError::NestedSolve);
         }
+        WAITING.fetch_add(1, Ordering::SeqCst);
         let guard = SOLVE_LOCK.lock().unwrap_or_else(PoisonError::into_inner);
+        WAITING.fetch_sub(1, Ordering::SeqCst);
         HOLDS_LOCK.set(true);
         Ok(IpoptLock { _guard: guard })
     }

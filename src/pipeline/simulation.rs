@@ -170,9 +170,19 @@ pub fn run_simulation(
     prepared: &PreparedSimulation,
     progress: impl FnMut(usize),
 ) -> Result<crate::sim::Simulation, crate::sim::SimulationError> {
+    run_simulation_until(prepared, progress, None)
+}
+
+/// [`run_simulation`] that ends with [`crate::sim::SimulationError::Stopped`] before the
+/// next step once `stop` is set.
+pub fn run_simulation_until(
+    prepared: &PreparedSimulation,
+    progress: impl FnMut(usize),
+    stop: Option<&std::sync::atomic::AtomicBool>,
+) -> Result<crate::sim::Simulation, crate::sim::SimulationError> {
     let p = prepared;
     let (m, h) = (p.mech.nu(), p.options.h);
-    crate::sim::simulate(
+    crate::sim::simulate_until(
         &p.mech,
         &p.contact,
         &p.q0,
@@ -180,7 +190,47 @@ pub fn run_simulation(
         &p.options,
         |_, t, q, v| p.source.step_input(m, t, h, q, v),
         progress,
+        stop,
     )
+}
+
+/// A simulation run and summarised: what `vito simulate` writes and prints.
+#[derive(Debug)]
+pub struct SimulationRun {
+    /// The trajectory and the contact solver's record.
+    pub sim: crate::sim::Simulation,
+    /// The knot energies of a conservative run ([`conservative_energies`]).
+    pub energies: Option<Vec<f64>>,
+    /// `summary.json` ([`simulation_summary`]).
+    pub summary: serde_json::Value,
+    /// The columns of `trajectory.csv`.
+    pub columns: crate::report::SimulationColumns,
+    /// Wall time of the simulation [s].
+    pub wall_time_s: f64,
+}
+
+/// Runs a prepared simulation and summarises it (`vito simulate` between checking its output
+/// directory and writing): `progress(k)` after each step; once `stop` is set, it ends with
+/// [`crate::sim::SimulationError::Stopped`] before the next step.
+pub fn simulate_prepared(
+    problem: &LoadedProblem,
+    prepared: &PreparedSimulation,
+    progress: impl FnMut(usize),
+    stop: Option<&std::sync::atomic::AtomicBool>,
+) -> Result<SimulationRun, crate::sim::SimulationError> {
+    let start = std::time::Instant::now();
+    let sim = run_simulation_until(prepared, progress, stop)?;
+    let wall_time_s = start.elapsed().as_secs_f64();
+    let energies = conservative_energies(prepared, &sim);
+    let summary = simulation_summary(problem, prepared, &sim, energies.as_deref(), wall_time_s);
+    let columns = crate::report::SimulationColumns::new(problem, &sim, prepared.contact.nd());
+    Ok(SimulationRun {
+        sim,
+        energies,
+        summary,
+        columns,
+        wall_time_s,
+    })
 }
 
 /// The knot energies of a conservative run (no inputs, no damping, no contact impulse),

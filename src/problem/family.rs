@@ -422,6 +422,19 @@ impl Parser<'_> {
     }
 }
 
+/// The names of the `[parameters]` a problem file declares, in order (empty when it
+/// declares none or cannot be read): what an unknown override key may have meant.
+pub fn declared_parameters(file: &std::path::Path) -> Vec<String> {
+    crate::files::input::read_regular_text(file, crate::files::input::MAX_TEXT_BYTES)
+        .ok()
+        .and_then(|text| toml::from_str::<toml::Table>(&text).ok())
+        .and_then(|mut t| match t.remove(PARAMETERS) {
+            Some(toml::Value::Table(p)) => Some(p.keys().cloned().collect()),
+            _ => None,
+        })
+        .unwrap_or_default()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -63,6 +63,12 @@ pub enum SimulationError {
         /// The bound.
         bound: f64,
     },
+    /// A stop request arrived before step `step`.
+    #[error("stopped by a stop request before step {step}")]
+    Stopped {
+        /// The step not taken.
+        step: usize,
+    },
     /// The input policy's end-state feedback names an input or coordinate the robot lacks.
     #[error("step {step}: feedback on an input or coordinate the robot does not have")]
     FeedbackIndex {
@@ -72,7 +78,7 @@ pub enum SimulationError {
 }
 
 /// A simulated trajectory with the per-step record of the contact solver.
-#[derive(Debug, Clone, PartialEq, Default)]
+#[derive(Debug, Clone, PartialEq, Default, serde::Serialize, serde::Deserialize)]
 pub struct Simulation {
     /// Knot times t_k = k·h (N + 1).
     pub times: Vec<f64>,
@@ -120,8 +126,24 @@ pub fn simulate<M: MechanicsDerivatives, U: Into<StepInput>>(
     q0: &[f64],
     v0: &[f64],
     options: &SimulationOptions,
+    input: impl FnMut(usize, f64, &[f64], &[f64]) -> U,
+    progress: impl FnMut(usize),
+) -> Result<Simulation, SimulationError> {
+    simulate_until(mech, contact, q0, v0, options, input, progress, None)
+}
+
+/// [`simulate`] that ends with [`SimulationError::Stopped`] before the next step once
+/// `stop` is set (a stop request from another thread or a signal handler).
+#[allow(clippy::too_many_arguments)]
+pub fn simulate_until<M: MechanicsDerivatives, U: Into<StepInput>>(
+    mech: &M,
+    contact: &ContactModel,
+    q0: &[f64],
+    v0: &[f64],
+    options: &SimulationOptions,
     mut input: impl FnMut(usize, f64, &[f64], &[f64]) -> U,
     mut progress: impl FnMut(usize),
+    stop: Option<&std::sync::atomic::AtomicBool>,
 ) -> Result<Simulation, SimulationError> {
     let (n, m, h) = (mech.nq(), mech.nu(), options.h);
     let mut sim = Simulation {
@@ -137,6 +159,9 @@ pub fn simulate<M: MechanicsDerivatives, U: Into<StepInput>>(
     };
     let mut warm = Impulses::zeros(mech, contact);
     for k in 0..options.steps {
+        if stop.is_some_and(|s| s.load(std::sync::atomic::Ordering::SeqCst)) {
+            return Err(SimulationError::Stopped { step: k });
+        }
         let t = k as f64 * h;
         let u: StepInput = input(k, t, &sim.q[k], &sim.v[k]).into();
         let misplaced = u.feedback.iter().any(|g| g.input >= m || g.coordinate >= n);

@@ -24,21 +24,32 @@ impl Axis {
         let (key, list) = arg
             .split_once('=')
             .ok_or_else(|| bad("expected key=v1,v2,...".into()))?;
-        let key = key.trim();
-        if key.is_empty() {
-            return Err(bad("the key is empty".into()));
-        }
         let values: Vec<String> = list.split(',').map(|v| v.trim().to_owned()).collect();
         if values.iter().any(String::is_empty) {
             return Err(bad(
                 "a value is empty (values are separated by commas)".into()
             ));
         }
+        Axis::new(key, values).map_err(|e| bad(e.to_string()))
+    }
+
+    /// An axis from its key and values given one by one (each a `--set` value; a value may
+    /// hold a comma), checked as [`Axis::parse`] checks them.
+    pub fn new(key: &str, values: Vec<String>) -> Result<Axis, SweepError> {
+        let key = key.trim();
+        if key.is_empty() {
+            return Err(SweepError::Usage("the key is empty".into()));
+        }
+        if values.is_empty() {
+            return Err(SweepError::Usage(format!("{key}: no values")));
+        }
         for (i, v) in values.iter().enumerate() {
             if values[..i].contains(v) {
-                return Err(bad(format!("the value `{v}` is listed twice")));
+                return Err(SweepError::Usage(format!(
+                    "the value `{v}` is listed twice"
+                )));
             }
-            Override::parse(&format!("{key}={v}")).map_err(|e| bad(e.to_string()))?;
+            Override::parse(&format!("{key}={v}")).map_err(|e| SweepError::Usage(e.to_string()))?;
         }
         Ok(Axis {
             key: key.to_owned(),

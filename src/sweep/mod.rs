@@ -11,6 +11,7 @@
 
 mod grid;
 mod neighbours;
+mod jobs;
 mod plot;
 mod run;
 mod table;
@@ -19,6 +20,7 @@ use std::path::PathBuf;
 
 pub use grid::{Axis, Grid, Point, Shard};
 pub use neighbours::{ATTEMPTS, DEFAULT_ROUNDS, SETTLE_RATIO};
+pub use jobs::{JobOutcome, JobSweep, PointJob};
 pub use plot::metric_svg;
 pub use run::{
     Event, LOGS, Outcome, PARENT_FLAG, Progress, SWEEP_MARKER, SweepOptions, WarmStart,

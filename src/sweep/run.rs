@@ -171,7 +171,7 @@ pub fn prepare_dir(dir: &Path) -> Result<(), SweepError> {
 
 /// Makes `dir/sub` (one of the sweep's own subdirectories), or accepts it when it is a
 /// directory; a symbolic link there is refused, never followed.
-fn own_subdir(dir: &Path, sub: &str) -> Result<PathBuf, SweepError> {
+pub(crate) fn own_subdir(dir: &Path, sub: &str) -> Result<PathBuf, SweepError> {
     let path = dir.join(sub);
     match std::fs::symlink_metadata(&path) {
         Ok(m) if m.is_dir() => Ok(path),
@@ -594,7 +594,7 @@ fn table_rows(table: &Table) -> Vec<(usize, RunStatus)> {
 }
 
 /// The finished point nearest to `point` in the grid (ties: the lower index).
-fn nearest_finished(
+pub(crate) fn nearest_finished(
     point: &Point,
     points: &[Point],
     status: &[(usize, RunStatus)],

@@ -263,6 +263,18 @@ fn flatten_numbers(value: &Value, prefix: &str, out: &mut BTreeMap<String, f64>)
 }
 
 impl Table {
+    /// After a stop request: every point that did not run (still pending) says so in its
+    /// note (a rerun of the sweep runs it).
+    pub fn mark_not_run(&mut self) {
+        for row in self
+            .rows
+            .iter_mut()
+            .filter(|r| r.status == RunStatus::Pending)
+        {
+            row.note = "not run: the sweep was stopped; a rerun of the sweep runs it".to_owned();
+        }
+    }
+
     /// The metric names that appear in any row.
     pub fn metric_names(&self) -> Vec<String> {
         let names: BTreeSet<&String> = self.rows.iter().flat_map(|r| r.metrics.keys()).collect();

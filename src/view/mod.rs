@@ -500,15 +500,23 @@ pub fn write_animation(
     trajectory: &crate::files::trajectory_csv::Trajectory<'_>,
     summary: &Value,
 ) -> Result<Vec<String>, ViewError> {
+    let (page, warnings) = animation_page(problem, trajectory, summary)?;
+    write_atomically(&dir.join("animation.html"), &page)?;
+    Ok(warnings)
+}
+
+/// The self-contained page of one trajectory (what `animation.html` holds) and the
+/// drawing's warnings.
+pub fn animation_page(
+    problem: &crate::problem::LoadedProblem,
+    trajectory: &crate::files::trajectory_csv::Trajectory<'_>,
+    summary: &Value,
+) -> Result<(String, Vec<String>), ViewError> {
     let scene = scene(problem)?;
     let (detail, simulation) = detail_of(summary);
     let motions = [motion(trajectory, &problem.spec.name, &detail, simulation)];
     let drawing = drawing(&scene, &motions);
-    write_atomically(
-        &dir.join("animation.html"),
-        &page(&scene, &motions, &drawing),
-    )?;
-    Ok(drawing.body.warnings)
+    Ok((page(&scene, &motions, &drawing), drawing.body.warnings))
 }
 
 #[cfg(test)]

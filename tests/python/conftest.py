@@ -8,6 +8,12 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 HOPPER = ROOT / "problems" / "hopper_2d.toml"
 
 
+def pytest_configure(config):
+    config.addinivalue_line(
+        "markers", "wheel: builds the wheel and installs it into a fresh venv (make test-wheel)"
+    )
+
+
 @pytest.fixture(scope="session")
 def hopper():
     import vito

@@ -52,6 +52,7 @@ from ._vito import (  # noqa: E402
     Kinematics,
     Problem,
     ProblemError,
+    ProblemFileNotFoundError,
     Simulation,
     Solution,
     Trajectory,
@@ -61,19 +62,24 @@ from ._vito import (  # noqa: E402
     simulate,
 )
 from . import _vito  # noqa: E402
+from ._sweep import SweepJob, run_job  # noqa: E402
 
 __all__ = [
     "IPOPT_VERSION",
     "Kinematics",
     "Problem",
     "ProblemError",
+    "ProblemFileNotFoundError",
     "Simulation",
     "Solution",
+    "SweepJob",
     "Trajectory",
     "VitoError",
     "__version__",
     "find_executable",
+    "run_job",
     "simulate",
+    "solve",
     "sweep",
 ]
 
@@ -110,62 +116,81 @@ def find_executable():
     )
 
 
-def sweep(
-    problem,
-    grid,
-    out,
-    jobs=None,
-    time_limit=None,
-    warm_start=None,
-    exe=None,
-    starts=1,
-    seed=0,
-    neighbour_rounds=5,
-):
-    """Solve ``problem`` over a grid of values, each point in its own process, like ``vito sweep``.
+def solve(path, set=None, **options):
+    """Loads the problem file ``path`` with ``set`` (as :class:`Problem`) and solves it:
+    ``vito.solve("problems/hopper_2d.toml", set={"contacts.friction": 0.6}, out="out/h")``.
+    ``options`` are those of :meth:`Problem.solve` (out, starts, seed, warm_start, progress).
+    Returns the :class:`Solution`."""
+    return Problem(path, set=set).solve(**options)
 
-    ``problem``: a :class:`Problem` (its overrides apply to every run). ``grid``: a dict
-    ``{key: [values]}`` of swept keys (any ``set`` key or family parameter; the grid is the
+
+def sweep(problem, grid, out, jobs=None, time_limit=None, warm_start=None, exe=None,
+          executor=None, progress=None, starts=1, seed=0, neighbour_rounds=5):
+    """Solve ``problem`` over a grid of values, like ``vito sweep``; returns the table.
+
+    ``problem``: a :class:`Problem` (its overrides apply to every run) or a problem file.
+    ``grid``: a dict ``{key: [values]}`` of swept keys (any ``set`` key or family parameter;
+    values as for ``set``, a str as given, so ``'"a,b"'`` is one value; the grid is the
     product, the last key varying fastest). ``out``: the sweep directory (created, or a
-    sweep's, which resumes: finished points are not solved again). ``jobs``: runs at a time
-    (default: the number of cores). ``time_limit``: seconds per run. ``warm_start``: None, or
-    ``"neighbour"`` to start each run from its nearest finished point. ``exe``: the ``vito``
-    command (default :func:`find_executable`). ``starts``, ``seed``: each point solved from
-    that many seeded starts, the best kept (``vito solve --starts``). ``neighbour_rounds``:
-    rounds of the neighbour pass (each point solved again from its grid neighbours' plans
-    while that lowers its objective by more than 1 %; 0: none), as ``vito sweep``.
+    sweep's, which resumes: finished points are not solved again). ``time_limit``: seconds
+    per run (at most 1e9). ``warm_start``: None, or ``"neighbour"`` to start each run from
+    its nearest finished point.
+
+    Where the points run: without ``executor``, each in its own ``vito solve`` process on
+    this machine, ``jobs`` at a time (default: the number of cores; ``exe``: the ``vito``
+    command, default :func:`find_executable`). With ``executor`` (any
+    ``concurrent.futures.Executor``: a ``ProcessPoolExecutor``, Dask's
+    ``Client.get_executor()``, Ray's or submitit's), each point is a task running
+    :func:`run_job` in a worker, which solves through the library (no ``vito`` command
+    needed) into the point's run directory; ``jobs`` tasks at a time (default: the
+    executor's worker count). The workers must reach the problem file and ``out`` at the
+    same paths (a shared file system on a cluster).
+
+    ``starts``, ``seed``: each point solved from that many seeded starts, the best kept (as
+    ``vito solve --starts``). ``neighbour_rounds``: rounds of the neighbour pass (each point
+    solved again from its grid neighbours' plans while that lowers its objective by more
+    than 1 %; 0: none), as ``vito sweep --neighbour-rounds``. Both run on this machine's
+    processes; an ``executor`` sweep runs each point once from the problem's own start.
+
+    ``progress``: called with a dict (done, failed, interrupted, running, total, skipped)
+    whenever the counts change; when None, a tqdm bar if tqdm is installed; False: nothing.
+
+    Ctrl-C stops the sweep at once: no new point starts, the points running are asked to
+    stop (processes) or left (executor tasks), the table marks the points not finished as
+    not run, and ``KeyboardInterrupt`` is raised; the same call again resumes.
 
     Returns the sweep table (``sweep.csv``, one row per point) as a pandas DataFrame.
-    Releases the GIL while the runs go.
     """
     import pandas
 
+    if not isinstance(problem, Problem):
+        problem = Problem(problem)
     if warm_start not in (None, "none", "neighbour"):
-        raise VitoError(f"warm_start={warm_start!r}: give None or 'neighbour'")
-    axes = []
-    for key, values in grid.items():
-        if isinstance(values, (str, bytes)) or not hasattr(values, "__iter__"):
-            values = [values]
-        axes.append(f"{key}=" + ",".join(_value_text(v) for v in values))
-    table = _vito._sweep(
-        problem,
-        axes,
-        exe if exe is not None else find_executable(),
-        _os.fspath(out),
-        jobs if jobs is not None else (_os.cpu_count() or 1),
-        time_limit,
-        warm_start == "neighbour",
-        starts,
-        seed,
-        neighbour_rounds,
-    )
-    return pandas.read_csv(table)
+        raise ValueError(f"warm_start={warm_start!r}: give None or 'neighbour'")
+    neighbour = warm_start == "neighbour"
+    if executor is not None:
+        from ._sweep import run_on_executor
 
+        table = run_on_executor(problem, grid, out, executor, jobs, time_limit, neighbour,
+                                progress)
+    else:
+        from ._sweep import _Progress
 
-def _value_text(value):
-    """A grid value as the command line writes it (``repr`` keeps a float's digits)."""
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, float):
-        return repr(value)
-    return str(value)
+        show = _Progress(progress)
+        try:
+            table = _vito._sweep(
+                problem,
+                grid,
+                exe if exe is not None else find_executable(),
+                _os.fspath(out),
+                jobs if jobs is not None else (_os.cpu_count() or 1),
+                time_limit,
+                neighbour,
+                show,
+                starts,
+                seed,
+                neighbour_rounds,
+            )
+        finally:
+            show.close()
+    return pandas.read_csv(table, keep_default_na=False, na_values=[""])

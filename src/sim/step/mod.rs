@@ -82,7 +82,7 @@ pub enum Before<'a> {
 }
 
 /// Contact and loop impulses of one interval.
-#[derive(Debug, Clone, PartialEq, Default)]
+#[derive(Debug, Clone, PartialEq, Default, serde::Serialize, serde::Deserialize)]
 pub struct Impulses {
     /// Normal impulse c per contact.
     pub normal: Vec<f64>,
