@@ -449,6 +449,7 @@ impl Problem {
             cancel: Some(cancel),
             ipopt_options: Vec::new(),
             multi_start: Some(MultiStart { starts, seed }),
+            deadline: None,
         };
         let solved = py.detach(|| pipeline::solve(&problem.spec, &options));
         drop(options);

@@ -110,6 +110,14 @@ pub enum Command {
         /// Seed of the multi-start perturbations.
         #[arg(long, default_value_t = 0)]
         seed: u64,
+        /// Wall-time limit in seconds: the solve stops at the first iteration after it, as
+        /// Ctrl-C does, and writes its iterate (status `timeout`, exit 1).
+        #[arg(long, value_name = "S")]
+        time_limit: Option<f64>,
+        /// Progress lines on stderr: `full` (every iteration), `compact` (about one a second)
+        /// or `auto` (full on a terminal, compact otherwise: logs, sweeps, batch jobs).
+        #[arg(long, value_enum, default_value = "auto")]
+        progress: ProgressArg,
         /// Internal: the process id of the sweep that started this run (the run dies with it).
         #[arg(long, hide = true, value_name = "PID")]
         sweep_parent: Option<u32>,
@@ -426,6 +434,26 @@ pub struct SweepRunArgs {
     /// `neighbour`: start each run from the trajectory of its nearest finished grid point.
     #[arg(long, value_enum, default_value = "none")]
     pub(super) warm_start: WarmStartArg,
+}
+
+/// A `--time-limit` in seconds, checked (a positive number up to the largest span).
+pub(super) fn time_limit(seconds: Option<f64>) -> Result<Option<std::time::Duration>, CliError> {
+    seconds
+        .map(|t| vito::files::input::checked_span("--time-limit", t))
+        .transpose()
+        .map_err(CliError::Input)
+        .map(|t| t.map(std::time::Duration::from_secs_f64))
+}
+
+/// How often `vito solve` prints a progress line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ProgressArg {
+    /// Full on a terminal, compact otherwise.
+    Auto,
+    /// Every iteration.
+    Full,
+    /// The first iteration, then about one a second.
+    Compact,
 }
 
 /// `--warm-start` of a sweep.

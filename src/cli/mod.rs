@@ -78,21 +78,23 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
             ipopt_log,
             starts,
             seed,
+            time_limit,
+            progress,
             sweep_parent,
         } => {
             if starts == 0 {
                 return Err(CliError::Input("--starts 0: give at least 1".into()));
             }
-            let multi_start = vito::transcription::MultiStart { starts, seed };
-            solve::solve(
-                &file,
-                &set,
-                out.as_deref(),
+            let time_limit = args::time_limit(time_limit)?;
+            let run = solve::SolveRun {
                 quiet,
                 ipopt_log,
-                multi_start,
+                multi_start: vito::transcription::MultiStart { starts, seed },
+                time_limit,
+                progress: solve::ProgressMode::from_arg(progress),
                 sweep_parent,
-            )
+            };
+            solve::solve(&file, &set, out.as_deref(), &run)
         }
         Command::Check {
             file,

@@ -17,7 +17,7 @@ mod table;
 use std::path::PathBuf;
 
 pub use grid::{Axis, Grid, Point, Shard};
-pub use plot::metric_svg;
+pub use plot::{PointClass, metric_svg, metric_svg_text};
 pub use run::{
     Event, LOGS, Outcome, PARENT_FLAG, Progress, SWEEP_MARKER, SweepOptions, WarmStart,
     die_with_sweep, prepare_dir, run_sweep,

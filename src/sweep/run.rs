@@ -1,5 +1,5 @@
 //! Running a sweep: one `vito solve` process per grid point, at most `jobs` at a time, each
-//! killed at the per-run time limit; the table is rewritten (atomically) after every run.
+//! stopped at the per-run time limit; the table is rewritten (atomically) after every run.
 
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
@@ -20,6 +20,10 @@ pub const SWEEP_MARKER: &str = ".vito-sweep";
 /// run dies with the sweep. (An option, not an environment variable: a user's environment
 /// cannot turn it on by accident.)
 pub const PARENT_FLAG: &str = "--sweep-parent";
+
+/// How long after its time limit a run that has not stopped by itself (a long iteration, a
+/// simulated initial guess) is killed.
+pub const KILL_GRACE: Duration = Duration::from_secs(30);
 
 /// Where a run starts from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -45,7 +49,8 @@ pub struct SweepOptions {
     pub shard: Shard,
     /// Runs at a time (≥ 1).
     pub jobs: usize,
-    /// Per-run wall-time limit; a run still going then is killed.
+    /// Per-run wall-time limit, given to each run as `vito solve --time-limit` (it stops and
+    /// keeps its iterate); a run still going [`KILL_GRACE`] after it is killed.
     pub time_limit: Option<Duration>,
     /// The sweep directory.
     pub out: PathBuf,
@@ -276,6 +281,7 @@ pub fn run_sweep(
                 .iter_mut()
                 .find(|r| r.index == point.index)
                 .ok_or_else(|| SweepError::Internal("a point without a row".into()))?;
+            row.clear_result();
             row.note = warm
                 .as_ref()
                 .map(|n| format!("warm start from {}", n.run_name()))
@@ -295,7 +301,7 @@ pub fn run_sweep(
             let r = &mut running[i];
             let timed_out = options
                 .time_limit
-                .is_some_and(|limit| r.started.elapsed() > limit);
+                .is_some_and(|limit| r.started.elapsed() > limit + KILL_GRACE);
             let exit = match r.child.try_wait() {
                 Ok(Some(status)) => Some((status.code(), false)),
                 Ok(None) if timed_out => {
@@ -318,7 +324,7 @@ pub fn run_sweep(
             match record(options, &mut table, &r.point, code, killed, sha256)? {
                 OnDisk::Finished => counts.done += 1,
                 OnDisk::Interrupted => counts.interrupted += 1,
-                OnDisk::Nothing => counts.failed += 1,
+                OnDisk::TimedOut | OnDisk::Nothing => counts.failed += 1,
             }
             counts.running = running.len();
             table.write(out)?;
@@ -388,6 +394,9 @@ fn spawn(options: &SweepOptions, point: &Point, warm: Option<&Point>) -> Result<
     if std::env::var_os("OPENBLAS_NUM_THREADS").is_none() {
         cmd.env("OPENBLAS_NUM_THREADS", "1");
     }
+    if let Some(limit) = options.time_limit {
+        cmd.arg("--time-limit").arg(limit.as_secs_f64().to_string());
+    }
     cmd.arg("--out")
         .arg(out.join(RUNS).join(&name))
         .arg(PARENT_FLAG)
@@ -435,6 +444,13 @@ fn record(
                 );
                 return Ok(OnDisk::Interrupted);
             }
+            OnDisk::TimedOut => {
+                row.note = format!(
+                    "stopped at the time limit of {} s; its iterate is in {RUNS}/{name}; a rerun of the sweep runs it again",
+                    options.time_limit.map_or(0.0, |t| t.as_secs_f64())
+                );
+                return Ok(OnDisk::TimedOut);
+            }
             OnDisk::Nothing => {}
         }
     }
@@ -452,7 +468,8 @@ fn record(
     };
     row.note = if killed {
         format!(
-            "killed after the time limit of {} s",
+            "killed {} s after the time limit of {} s; nothing of it is kept",
+            KILL_GRACE.as_secs(),
             options.time_limit.map_or(0.0, |t| t.as_secs_f64())
         )
     } else {
