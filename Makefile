@@ -7,6 +7,7 @@
 #   make test-slow  the slow tests (#[ignore]d by default)
 #   make lint       rustfmt and clippy, as CI checks them
 #   make test-slurm a sweep through `sbatch --array` on a private single-node Slurm (root, apt)
+#   make pages      the pages and strips under results/ (results/pages.txt) redrawn by this build
 #   make bench      the timing harnesses in benches/ (print figures)
 #   make bench-casadi  `vito bench` beside the independent CasADi implementation (CasADi 3.8.2
 #                   from PyPI into .venv-casadi; nothing else needs it)
@@ -21,7 +22,7 @@ OUT ?= out/hopper_2d
 # solve lock already gives one solve per process); parallel work uses processes.
 export OPENBLAS_NUM_THREADS ?= 1
 
-.PHONY: deps build demo python test test-python test-wheel test-slow test-slurm lint bench bench-casadi fuzz test-debian13
+.PHONY: deps build demo python test test-python test-wheel test-slow test-slurm lint pages bench bench-casadi fuzz test-debian13
 
 deps:
 	bash vendor-config/install-deps.sh
@@ -65,6 +66,19 @@ test-slurm: deps
 lint:
 	$(CARGO) fmt --check
 	$(CARGO) clippy --all-targets -- -D warnings
+
+# Every page, strip and sweep plot results/pages.txt lists, redrawn from the committed
+# trajectories (`cargo test --release --test integration view::committed_pages` checks that
+# the committed files are what this build draws). `sweep report` exits 1 for a grid with
+# unsolved points; its plot is written all the same.
+pages: build
+	grep -v '^#' results/pages.txt | while read -r kind a b c d; do \
+		case "$$kind" in \
+		page) ./target/release/vito view "$$a" ;; \
+		strip) ./target/release/vito view "$$b" --strip "$$a" --svg "$$c" $${d:+--problem "$$d"} ;; \
+		report) ./target/release/vito sweep report "$$a" --metric "$$b" >/dev/null || test $$? -eq 1 ;; \
+		esac || exit 1; \
+	done
 
 bench: deps
 	$(CARGO) bench

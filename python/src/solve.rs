@@ -71,6 +71,7 @@ pub(crate) fn solve_loaded(
                 cancel: Some(cancel.clone()),
                 ipopt_options: Vec::new(),
                 multi_start: Some(multi_start),
+                deadline: None,
             };
             pipeline::solve(&problem.spec, &options)
         },

@@ -6,7 +6,6 @@ use clap::{Parser, Subcommand, ValueEnum};
 use vito::discrete::Integrator;
 use vito::model::BaseType;
 use vito::problem::Override;
-use vito::sim::Feedback;
 
 use super::error::{CliError, EXIT_CODE_TABLE};
 
@@ -66,12 +65,20 @@ fn integrator_parser() -> impl clap::builder::TypedValueParser<Value = Integrato
         .try_map(|name| name.parse::<Integrator>())
 }
 
-/// `--feedback`: the names of [`Feedback::name`], listed in the help, parsed by Feedback's
-/// own `FromStr`.
-fn feedback_parser() -> impl clap::builder::TypedValueParser<Value = Feedback> {
-    use clap::builder::TypedValueParser;
-    clap::builder::PossibleValuesParser::new(Feedback::ALL.map(Feedback::name))
-        .try_map(|name| name.parse::<Feedback>())
+/// PD feedback choice on the command line.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum FeedbackArg {
+    Explicit,
+    Implicit,
+}
+
+impl From<FeedbackArg> for vito::sim::Feedback {
+    fn from(f: FeedbackArg) -> Self {
+        match f {
+            FeedbackArg::Explicit => vito::sim::Feedback::Explicit,
+            FeedbackArg::Implicit => vito::sim::Feedback::Implicit,
+        }
+    }
 }
 
 /// The subcommands.
@@ -113,6 +120,14 @@ pub enum Command {
         /// Internal: write that start's solution (JSON) to this file, no output directory.
         #[arg(long, hide = true, value_name = "FILE", requires = "only_start")]
         start_result: Option<PathBuf>,
+        /// Wall-time limit in seconds: the solve stops at the first iteration after it, as
+        /// Ctrl-C does, and writes its iterate (status `timeout`, exit 1).
+        #[arg(long, value_name = "S")]
+        time_limit: Option<f64>,
+        /// Progress lines on stderr: `full` (every iteration), `compact` (about one a second)
+        /// or `auto` (full on a terminal, compact otherwise: logs, sweeps, batch jobs).
+        #[arg(long, value_enum, default_value = "auto")]
+        progress: ProgressArg,
         /// Internal: the process id of the sweep that started this run (the run dies with it).
         #[arg(long, hide = true, value_name = "PID")]
         sweep_parent: Option<u32>,
@@ -138,8 +153,8 @@ pub enum Command {
         /// Where the PD reads the state: the step's start (explicit) or end (implicit,
         /// solved with the step; stable at stiff gains) [default: the file's
         /// `[tracking] feedback`, else explicit].
-        #[arg(long, value_parser = feedback_parser(), requires = "track")]
-        feedback: Option<Feedback>,
+        #[arg(long, value_enum, requires = "track")]
+        feedback: Option<FeedbackArg>,
         /// Simulated time (default: the CSV's last time, else the problem's horizon).
         #[arg(long)]
         duration: Option<f64>,
@@ -363,8 +378,8 @@ pub enum StudyKind {
         gains: Vec<String>,
         /// Where the PD reads the state [default: the file's `[tracking] feedback`, else
         /// explicit]; see `vito simulate --feedback`.
-        #[arg(long, value_parser = feedback_parser())]
-        feedback: Option<Feedback>,
+        #[arg(long, value_enum)]
+        feedback: Option<FeedbackArg>,
         /// The methods and the reference simulation.
         #[command(flatten)]
         methods: StudyMethods,
@@ -441,6 +456,26 @@ pub struct SweepRunArgs {
     /// neighbour pass).
     #[arg(long, value_name = "N", default_value_t = vito::sweep::DEFAULT_ROUNDS)]
     pub(super) neighbour_rounds: usize,
+}
+
+/// A `--time-limit` in seconds, checked (a positive number up to the largest span).
+pub(super) fn time_limit(seconds: Option<f64>) -> Result<Option<std::time::Duration>, CliError> {
+    seconds
+        .map(|t| vito::files::input::checked_span("--time-limit", t))
+        .transpose()
+        .map_err(CliError::Input)
+        .map(|t| t.map(std::time::Duration::from_secs_f64))
+}
+
+/// How often `vito solve` prints a progress line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ProgressArg {
+    /// Full on a terminal, compact otherwise.
+    Auto,
+    /// Every iteration.
+    Full,
+    /// The first iteration, then about one a second.
+    Compact,
 }
 
 /// `--warm-start` of a sweep.

@@ -82,6 +82,8 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
             jobs,
             only_start,
             start_result,
+            time_limit,
+            progress,
             sweep_parent,
         } => {
             if starts == 0 {
@@ -96,8 +98,11 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
                     only_start.unwrap_or(0)
                 )));
             }
-            let plan = solve::StartsPlan {
-                multi: vito::transcription::MultiStart {
+            let time_limit = args::time_limit(time_limit)?;
+            let run = solve::SolveRun {
+                quiet,
+                ipopt_log,
+                multi_start: vito::transcription::MultiStart {
                     starts,
                     seed,
                     only: only_start,
@@ -105,17 +110,12 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
                 jobs: jobs.unwrap_or_else(|| {
                     std::thread::available_parallelism().map_or(1, std::num::NonZero::get)
                 }),
-                result: start_result,
-            };
-            solve::solve(
-                &file,
-                &set,
-                out.as_deref(),
-                quiet,
-                ipopt_log,
-                plan,
+                start_result,
+                time_limit,
+                progress: solve::ProgressMode::from_arg(progress),
                 sweep_parent,
-            )
+            };
+            solve::solve(&file, &set, out.as_deref(), &run)
         }
         Command::Check {
             file,
@@ -147,7 +147,7 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
                 inputs,
                 track,
                 gains,
-                feedback,
+                feedback: feedback.map(Into::into),
                 duration,
                 rate,
                 integrator,
@@ -196,7 +196,7 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
             let study = vito::study::tracking::Tracking {
                 knots,
                 gains,
-                feedback,
+                feedback: feedback.map(Into::into),
                 rate: methods.reference_rate,
                 methods: methods.study_methods(),
                 reference: methods.reference,

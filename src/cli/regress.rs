@@ -5,11 +5,13 @@ use std::path::{Path, PathBuf};
 use super::error::CliError;
 
 /// The record `vito regress` uses: `--record`, else the `golden.toml` beside the first
-/// problem named, else `problems/golden.toml`.
+/// problem named, else `golden.toml` in the working directory when there is one, else
+/// `problems/golden.toml` (the project's own).
 pub(super) fn record_path(record: Option<&Path>, files: &[PathBuf]) -> PathBuf {
     match (record, files.first()) {
         (Some(r), _) => r.to_owned(),
         (None, Some(f)) => f.with_file_name("golden.toml"),
+        (None, None) if Path::new("golden.toml").exists() => PathBuf::from("golden.toml"),
         (None, None) => PathBuf::from("problems/golden.toml"),
     }
 }
@@ -70,11 +72,12 @@ pub(super) fn regress(record_path: &Path, files: &[PathBuf], bless: bool) -> Res
                 fmt(r.recorded)
             );
             for (name, value) in &r.terms {
+                let recorded = e.and_then(|e| e.terms.get(name)).copied();
                 out!(
                     "  {:<24} {:>18} {:>18}",
                     format!("  {name}"),
                     format!("{value:.10e}"),
-                    "-"
+                    fmt(recorded)
                 );
             }
             out!(
@@ -98,7 +101,20 @@ pub(super) fn regress(record_path: &Path, files: &[PathBuf], bless: bool) -> Res
         }
     }
     if bless {
-        out!("blessed {}", record_path.display());
+        let blessed = rows.iter().filter(|r| r.blessed).count();
+        if blessed == 0 {
+            eprintln!(
+                "error: nothing blessed: none of the {} problem(s) solved; {} is unchanged",
+                rows.len(),
+                record_path.display()
+            );
+            return Ok(1);
+        }
+        out!(
+            "blessed {blessed} of {} problem(s) into {}",
+            rows.len(),
+            record_path.display()
+        );
         return Ok(if rows.iter().any(|r| r.verdict == Verdict::Fail) {
             1
         } else {

@@ -15,37 +15,88 @@ use super::error::CliError;
 use super::interrupt::on_stop_request;
 use super::output::print_model_warnings;
 
-/// Progress line printed on stderr at each Ipopt iteration.
-pub(super) fn progress_line(
-    iteration: usize,
-    objective: f64,
-    inf_pr: f64,
-    inf_du: f64,
-    max_slack: f64,
-) -> String {
-    format!("{iteration:>5}  {objective:>14.7e}  {inf_pr:>9.2e}  {inf_du:>9.2e}  {max_slack:>9.2e}")
+/// How often progress lines are printed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum ProgressMode {
+    /// Every iteration.
+    Full,
+    /// The first iteration, then the first one at least [`COMPACT_INTERVAL`] after the last
+    /// line printed.
+    Compact,
 }
 
-/// How `vito solve` runs its starts.
-pub(super) struct StartsPlan {
-    /// The starts (and, in a parallel multi-start's process, the one to solve).
-    pub(super) multi: vito::transcription::MultiStart,
+/// The spacing of compact progress lines.
+pub(super) const COMPACT_INTERVAL: std::time::Duration = std::time::Duration::from_secs(1);
+
+impl ProgressMode {
+    /// `--progress`: `auto` is full on a terminal, compact otherwise (a log, a sweep's run).
+    pub(super) fn from_arg(arg: super::args::ProgressArg) -> ProgressMode {
+        use std::io::IsTerminal;
+        match arg {
+            super::args::ProgressArg::Full => ProgressMode::Full,
+            super::args::ProgressArg::Compact => ProgressMode::Compact,
+            super::args::ProgressArg::Auto if std::io::stderr().is_terminal() => ProgressMode::Full,
+            super::args::ProgressArg::Auto => ProgressMode::Compact,
+        }
+    }
+}
+
+/// How `vito solve` runs besides its problem and output.
+pub(super) struct SolveRun {
+    /// No progress lines.
+    pub(super) quiet: bool,
+    /// Ipopt's own log into the output directory.
+    pub(super) ipopt_log: bool,
+    /// Starts (and, in a parallel multi-start's process, the one to solve).
+    pub(super) multi_start: vito::transcription::MultiStart,
     /// Starts at a time, each in its own process.
     pub(super) jobs: usize,
     /// In a parallel multi-start's process: where to write the start's solution.
-    pub(super) result: Option<std::path::PathBuf>,
+    pub(super) start_result: Option<std::path::PathBuf>,
+    /// Wall-time limit of the whole solve.
+    pub(super) time_limit: Option<std::time::Duration>,
+    /// How often progress lines are printed.
+    pub(super) progress: ProgressMode,
+    /// The sweep that started this run.
+    pub(super) sweep_parent: Option<u32>,
+}
+
+/// The header above the progress lines.
+pub(super) const PROGRESS_HEADER: &str =
+    " iter       objective     inf_pr     inf_du  max_slack    elapsed";
+
+/// Progress line printed on stderr at an Ipopt iteration (`elapsed`: seconds since the solve
+/// started).
+pub(super) fn progress_line(p: &vito::transcription::Progress, elapsed: f64) -> String {
+    format!(
+        "{:>5}  {:>14.7e}  {:>9.2e}  {:>9.2e}  {:>9.2e}  {elapsed:>8.1} s",
+        p.iteration, p.objective, p.inf_pr, p.inf_du, p.max_slack
+    )
+}
+
+/// The iteration limit a solve runs under: the problem's `max_iter`, else vito's default.
+fn max_iter(problem: &LoadedProblem) -> Option<i64> {
+    problem
+        .spec
+        .solver_options
+        .iter()
+        .chain(&vito::ipopt::default_options())
+        .find(|(name, _)| name == "max_iter")
+        .and_then(|(_, v)| match v {
+            OptionValue::Int(i) => Some(*i),
+            OptionValue::Num(x) => Some(*x as i64),
+            OptionValue::Str(_) => None,
+        })
 }
 
 pub(super) fn solve(
     file: &Path,
     set: &[String],
     out: Option<&Path>,
-    quiet: bool,
-    ipopt_log: bool,
-    plan: StartsPlan,
-    sweep_parent: Option<u32>,
+    run: &SolveRun,
 ) -> Result<u8, CliError> {
-    if let Some(parent) = sweep_parent
+    let quiet = run.quiet;
+    if let Some(parent) = run.sweep_parent
         && !vito::sweep::die_with_sweep(parent)
     {
         eprintln!(
@@ -56,18 +107,22 @@ pub(super) fn solve(
     }
     let overrides = parse_overrides(set)?;
     let problem = pipeline::load_checked(file, &overrides)?;
-    let multi_start = plan.multi;
-    if let Some(result) = &plan.result {
+    let multi_start = run.multi_start;
+    if let Some(result) = &run.start_result {
         // One start of a parallel multi-start: its solution to the file, nothing else.
         let cancel = on_stop_request(|| {}, || std::process::exit(1));
-        let solution = run_solver(&problem, cancel, true, Vec::new(), multi_start)?;
+        let solution = run_solver(&problem, cancel, run, Vec::new(), None)?;
         super::starts::write_start_result(result, &solution)?;
         return Ok(0);
     }
     print_model_warnings(&problem.robot);
-    // Parallel starts run in processes of their own; Ipopt's log is one solve's, so
-    // --ipopt-log keeps the starts in this process.
-    let parallel = multi_start.starts > 1 && plan.jobs > 1 && !ipopt_log;
+    // Parallel starts run in processes of their own; Ipopt's log is one solve's and a time
+    // limit is the whole solve's, so --ipopt-log and --time-limit keep the starts in this
+    // process.
+    let parallel = multi_start.starts > 1
+        && run.jobs > 1
+        && !run.ipopt_log
+        && run.time_limit.is_none();
     let target =
         pipeline::output::checked_output_dir(&problem, out).map_err(report::ReportError::from)?;
     // With --ipopt-log, staged before solving so that Ipopt's log goes straight into the
@@ -75,7 +130,7 @@ pub(super) fn solve(
     // something to write, so a run killed while solving leaves nothing behind.
     let mut staged = None;
     let mut ipopt_options = Vec::new();
-    if ipopt_log {
+    if run.ipopt_log {
         let dir = staged.insert(target.stage().map_err(report::ReportError::from)?);
         let log = dir.path().join("ipopt.log");
         let log = log.to_str().ok_or_else(|| {
@@ -107,27 +162,43 @@ pub(super) fn solve(
                 problem.spec.knots
             );
         }
+        let limit = run.time_limit.map_or(String::new(), |t| {
+            format!(", time limit {} s", t.as_secs_f64())
+        });
+        let iterations = max_iter(&problem).map_or(String::new(), |m| format!(", max_iter {m}"));
+        let compact = if run.progress == ProgressMode::Compact {
+            ", a line about every second"
+        } else {
+            ""
+        };
         note!(
-            "solving {} ({} knots)",
+            "solving {} ({} knots{iterations}{limit}{compact})",
             problem.spec.name,
             problem.spec.knots
         );
         if !parallel {
-            note!(" iter       objective     inf_pr     inf_du  max_slack");
+            note!("{PROGRESS_HEADER}");
         }
     }
+    let deadline = run.time_limit.map(|t| std::time::Instant::now() + t);
     let solution = if parallel {
         if !quiet {
             note!(
                 "{} starts, {} at a time, each in its own process",
                 multi_start.starts,
-                plan.jobs.min(multi_start.starts)
+                run.jobs.min(multi_start.starts)
             );
         }
-        super::starts::solve_in_parallel(file, set, multi_start, plan.jobs, &cancel, quiet)?
+        super::starts::solve_in_parallel(file, set, multi_start, run.jobs, &cancel, quiet)?
     } else {
-        run_solver(&problem, cancel.clone(), quiet, ipopt_options, multi_start)?
+        run_solver(&problem, cancel.clone(), run, ipopt_options, deadline)?
     };
+    if solution.status == vito::ipopt::Status::MaximumWallTimeExceeded && !quiet {
+        note!(
+            "time limit: stopped after {} iterations; writing the iterate",
+            solution.iterations
+        );
+    }
     let staged = match staged {
         Some(staged) => staged,
         None => target.stage().map_err(report::ReportError::from)?,
@@ -137,19 +208,33 @@ pub(super) fn solve(
     Ok(if solution.verdict().is_solved() { 0 } else { 1 })
 }
 
-/// Calls the transcription's solver with live progress (stderr) and the cancel flag.
-pub(super) fn run_solver(
+/// Calls the transcription's solver with live progress (stderr), the cancel flag and the
+/// deadline.
+fn run_solver(
     problem: &LoadedProblem,
     cancel: Arc<AtomicBool>,
-    quiet: bool,
+    run: &SolveRun,
     ipopt_options: Vec<(String, OptionValue)>,
-    multi_start: vito::transcription::MultiStart,
+    deadline: Option<std::time::Instant>,
 ) -> Result<Solution, CliError> {
+    let (quiet, mode) = (run.quiet, run.progress);
+    let started = std::time::Instant::now();
+    let last_line = std::sync::Mutex::new(None::<std::time::Instant>);
     let progress = move |p: &vito::transcription::Progress| {
-        if !quiet {
+        if quiet {
+            return;
+        }
+        let now = std::time::Instant::now();
+        let mut last = last_line.lock().unwrap_or_else(|e| e.into_inner());
+        let due = match (mode, *last) {
+            (ProgressMode::Full, _) | (ProgressMode::Compact, None) => true,
+            (ProgressMode::Compact, Some(t)) => now.duration_since(t) >= COMPACT_INTERVAL,
+        };
+        if due {
+            *last = Some(now);
             note!(
                 "{}",
-                progress_line(p.iteration, p.objective, p.inf_pr, p.inf_du, p.max_slack)
+                progress_line(p, now.duration_since(started).as_secs_f64())
             );
         }
     };
@@ -157,7 +242,8 @@ pub(super) fn run_solver(
         progress: Some(Box::new(progress)),
         cancel: Some(cancel),
         ipopt_options,
-        multi_start: Some(multi_start),
+        multi_start: Some(run.multi_start),
+        deadline,
     };
     pipeline::solve(&problem.spec, &options).map_err(CliError::Transcription)
 }
@@ -181,8 +267,13 @@ pub(super) fn print_summary(
         .iter()
         .map(|(name, _)| name.chars().count())
         .fold(22, usize::max);
+    // A robot without contacts has no slack: its (zero) slack penalty and slack lines are
+    // left out.
+    let contacts = !s.contact_names.is_empty();
     for (name, value) in &s.objective_terms {
-        out!("  {name:<width$} {value:.6e}");
+        if contacts || name != "slack_penalty" {
+            out!("  {name:<width$} {value:.6e}");
+        }
     }
     out!("iterations   {}", s.iterations);
     out!(
@@ -192,14 +283,14 @@ pub(super) fn print_summary(
         s.ipopt_time_s
     );
     out!("callbacks    {}", s.callback_split.describe());
-    if s.solves > 1 {
+    if contacts && s.solves > 1 {
         out!(
             "max slack    {:.3e} after {} solves (slack weight raised to {:e})",
             s.max_slack,
             s.solves,
             s.slack_weight
         );
-    } else {
+    } else if contacts {
         out!("max slack    {:.3e}", s.max_slack);
     }
     for (k, r) in s.starts.iter().enumerate() {
@@ -212,7 +303,9 @@ pub(super) fn print_summary(
             if k == s.best_start { "  (best)" } else { "" }
         );
     }
-    out!("max compl.   {:.3e}", s.max_complementarity);
+    if contacts {
+        out!("max compl.   {:.3e}", s.max_complementarity);
+    }
     out!("max viol.    {:.3e}", s.max_constraint_violation);
     out!(
         "size         {} variables, {} constraints, nnz J {}, nnz H {}",

@@ -25,12 +25,7 @@ pub(super) fn sweep(args: SweepRunArgs) -> Result<u8, CliError> {
         .map(Shard::parse)
         .transpose()?
         .unwrap_or(Shard::ALL);
-    let time_limit = args
-        .time_limit
-        .map(|t| vito::files::input::checked_span("--time-limit", t))
-        .transpose()
-        .map_err(CliError::Input)?
-        .map(std::time::Duration::from_secs_f64);
+    let time_limit = super::args::time_limit(args.time_limit)?;
     if args.jobs == Some(0) {
         return Err(CliError::Input("--jobs 0: give at least 1".into()));
     }
@@ -329,7 +324,30 @@ pub(super) fn sweep_report(dir: &Path, metric: &str) -> Result<u8, CliError> {
     let path = dir.join(format!("sweep-{file_name}.svg"));
     let plotted = vito::sweep::metric_svg(&table, metric, &path)?;
     out!("{metric} of {plotted} runs plotted in {}", path.display());
-    Ok(0)
+    // Exit 1 unless every point solved, as the sweep itself.
+    let unsolved: Vec<String> = table
+        .rows
+        .iter()
+        .filter(|r| vito::sweep::PointClass::of(r) != vito::sweep::PointClass::Solved)
+        .map(|r| {
+            format!(
+                "{} ({}: {})",
+                r.index,
+                r.point_label(),
+                vito::sweep::PointClass::of(r).name()
+            )
+        })
+        .collect();
+    if unsolved.is_empty() {
+        return Ok(0);
+    }
+    out!(
+        "not solved   {} of {} points: {}",
+        unsolved.len(),
+        table.rows.len(),
+        unsolved.join(", ")
+    );
+    Ok(1)
 }
 
 pub(super) fn sweep_collect(dirs: &[PathBuf], out: &Path, partial: bool) -> Result<u8, CliError> {

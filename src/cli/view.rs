@@ -117,15 +117,15 @@ fn motion_of(result: &Result_, problem: &LoadedProblem) -> Result<vito::view::Mo
             friction[k].push(betas.iter().map(|b| finite(b[k])).collect());
         }
     }
-    let (detail, simulation) = vito::view::detail_of(&result.summary);
+    let legend = vito::view::legend_of(&result.summary);
     Ok(vito::view::Motion {
         name: result.dir.display().to_string(),
-        detail,
+        detail: legend.detail,
+        standing: legend.standing,
         times: recorded.times,
         q: recorded.q,
         normal,
         friction,
-        simulation,
     })
 }
 
@@ -189,8 +189,11 @@ pub(super) fn view(
             return Err(CliError::Input("--strip 0: give at least 1 pose".into()));
         }
         replaceable(svg, vito::view::SVG_MARK)?;
-        vito::view::write_atomically(svg, &vito::view::strip_svg(&scene, &drawing, n))
-            .map_err(write_err)?;
+        vito::view::write_atomically(
+            svg,
+            &vito::view::strip_svg(&scene, &drawing, &motions[0], n),
+        )
+        .map_err(write_err)?;
         out!("strip        {} ({n} poses)", svg.display());
     }
     if out.is_some() || svg.is_none() {

@@ -43,6 +43,10 @@ pub(super) struct Context<'a, P: Nlp + ?Sized> {
     pub evaluation_errors: usize,
     /// Whether the cancel flag stopped the solve.
     pub cancelled: bool,
+    /// Stops the solve at the first iteration after this instant (a wall-time limit).
+    pub deadline: Option<std::time::Instant>,
+    /// Whether the deadline stopped the solve.
+    pub timed_out: bool,
     /// The first panic: the `Nlp` method's name and the message.
     pub panic: Option<(&'static str, String)>,
 }
@@ -63,6 +67,8 @@ impl<'a, P: Nlp + ?Sized> Context<'a, P> {
             iterations: 0,
             evaluation_errors: 0,
             cancelled: false,
+            deadline: None,
+            timed_out: false,
             panic: None,
         }
     }
@@ -331,7 +337,8 @@ pub(super) extern "C" fn eval_h<P: Nlp + ?Sized>(
     })
 }
 
-/// Ipopt's intermediate callback: counts iterations, honours the cancel flag, and calls
+/// Ipopt's intermediate callback: counts iterations, honours the cancel flag and the deadline,
+/// and calls
 /// the problem's `intermediate` (progress display, its own stop rule).
 pub(super) extern "C" fn intermediate<P: Nlp + ?Sized>(
     alg_mod: Index,
@@ -355,6 +362,10 @@ pub(super) extern "C" fn intermediate<P: Nlp + ?Sized>(
     }
     if ctx.cancel.is_some_and(|flag| flag.load(Ordering::Relaxed)) {
         ctx.cancelled = true;
+        return FALSE;
+    }
+    if ctx.deadline.is_some_and(|d| std::time::Instant::now() >= d) {
+        ctx.timed_out = true;
         return FALSE;
     }
     let info = IterationInfo {

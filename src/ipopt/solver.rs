@@ -168,6 +168,8 @@ pub struct Solver {
     /// Options in the order they are applied; one entry per name.
     options: Vec<(String, OptionValue)>,
     cancel: Option<Arc<AtomicBool>>,
+    /// The wall-clock instant after which the solve stops at its next iteration.
+    deadline: Option<Instant>,
     /// Starting multipliers, read by Ipopt under `warm_start_init_point yes`.
     start_multipliers: Option<Multipliers>,
 }
@@ -200,6 +202,7 @@ impl Solver {
         Solver {
             options: default_options(),
             cancel: None,
+            deadline: None,
             start_multipliers: None,
         }
     }
@@ -273,6 +276,13 @@ impl Solver {
         self.cancel = Some(flag);
     }
 
+    /// A wall-time limit: the first intermediate callback after `deadline` stops the solve,
+    /// which then ends with [`Status::MaximumWallTimeExceeded`] and reports the current
+    /// iterate (as a cancel does; Ipopt 3.11 has no `max_wall_time` of its own).
+    pub fn set_deadline(&mut self, deadline: Instant) {
+        self.deadline = Some(deadline);
+    }
+
     /// Solves `problem` from its initial point.
     ///
     /// Waits while another thread solves. Sizes, bounds, the starting point, the sparsity
@@ -342,6 +352,7 @@ impl Solver {
 
         let m = setup.g_lower.len();
         let mut ctx = Context::new(problem, self.cancel.as_deref());
+        ctx.deadline = self.deadline;
         ctx.jacobian_rows = setup.jacobian_rows;
         ctx.jacobian_cols = setup.jacobian_cols;
         ctx.hessian_rows = setup.hessian_rows;
@@ -362,6 +373,11 @@ impl Solver {
         }
         let status =
             Status::from_code(out.code).ok_or(IpoptError::UnknownStatus { code: out.code })?;
+        let status = if ctx.timed_out && status == Status::UserRequestedStop {
+            Status::MaximumWallTimeExceeded
+        } else {
+            status
+        };
         let callback_time = (ctx.callback_time + setup_time).min(wall_time);
         Ok(SolveReport {
             status,

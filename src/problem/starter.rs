@@ -266,12 +266,22 @@ pub fn starter_problem(
     ));
     t.push_str("[slack]\nweight = 100.0   # α on Σ s (complementarity relaxation)\nmode = \"per_interval\"\n\n");
     t.push_str("[initial_guess]\nto = \"final\"   # q linear from q_1 to the goal; or warm_start = \"out/x/trajectory.csv\"\n\n");
-    t.push_str(SOLVER);
+    t.push_str(&solver_section());
     Ok(t)
 }
 
 /// The `[solver]` sections of every starter.
-const SOLVER: &str = "[solver]\nintegrator = \"midpoint\"   # midpoint | euler\nhessian = \"exact\"   # exact | lbfgs\n[solver.ipopt]\ntol = 1e-6\nmax_iter = 3000\nmu_strategy = \"adaptive\"\nlinear_solver = \"mumps\"\n";
+/// The starter's `[solver]` section; its integrator comment lists every integrator.
+fn solver_section() -> String {
+    let integrators: Vec<&str> = crate::discrete::Integrator::ALL
+        .iter()
+        .map(|i| i.name())
+        .collect();
+    format!(
+        "[solver]\nintegrator = \"midpoint\"   # {}\nhessian = \"exact\"   # exact | lbfgs\n[solver.ipopt]\ntol = 1e-6\nmax_iter = 3000\nmu_strategy = \"adaptive\"\nlinear_solver = \"mumps\"\n",
+        integrators.join(" | ")
+    )
+}
 
 /// The header and `[robot]` section of every starter.
 fn robot_section(base: BaseType, urdf: &str) -> String {
@@ -361,7 +371,7 @@ fn standing_problem(model: &Model, robot: &RobotInfo, base: BaseType, urdf: &str
     t.push_str(&steering_examples(feet.iter().map(|f| f.name.as_str())));
     t.push_str("[slack]\nweight = 1000.0   # α on Σ s (complementarity relaxation)\nmode = \"per_interval\"\n\n");
     t.push_str("[initial_guess]\nto = \"initial\"   # every q_k = q_1; or warm_start = \"out/x/trajectory.csv\"\n\n");
-    t.push_str(SOLVER);
+    t.push_str(&solver_section());
     t
 }
 

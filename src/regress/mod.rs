@@ -60,6 +60,8 @@ pub struct RegressRow {
     pub notes: Vec<String>,
     /// Where the new solution was kept (a difference or a failure).
     pub kept: Option<PathBuf>,
+    /// Whether `--bless` recorded this result.
+    pub blessed: bool,
     /// The comparison.
     pub verdict: Verdict,
 }
@@ -114,10 +116,12 @@ pub enum RegressError {
     },
 }
 
-/// Solves the record's problems plus `files` (relative to the working directory) with
-/// `vito_exe solve`, one process each, into a fresh private temporary directory, and compares
-/// them with the record. A problem that differs or fails keeps its solution (the row's
-/// `kept`). With `bless`, the record is rewritten (atomically) with every solved result.
+/// Solves `files` (relative to the working directory), or the record's problems when none
+/// is named, with `vito_exe solve`, one process each, into a fresh private temporary
+/// directory, and compares them with the record. A problem that differs or fails keeps its
+/// solution (the row's `kept`). With `bless`, the record is rewritten (atomically) with
+/// every solved result, its other entries kept; a bless that solves nothing leaves it as it
+/// was (no row is `blessed`).
 pub fn regress(
     vito_exe: &Path,
     record_path: &Path,
@@ -129,12 +133,15 @@ pub fn regress(
         Some(p) if !p.as_os_str().is_empty() => p.to_owned(),
         _ => PathBuf::from("."),
     };
-    let mut names: Vec<String> = record.problem.iter().map(|e| e.file.clone()).collect();
+    let mut names: Vec<String> = Vec::new();
     for f in files {
         let name = relative_path(f, &base);
         if !names.contains(&name) {
             names.push(name);
         }
+    }
+    if files.is_empty() {
+        names = record.problem.iter().map(|e| e.file.clone()).collect();
     }
     if names.is_empty() {
         return Err(RegressError::NoProblems {
@@ -164,7 +171,7 @@ pub fn regress(
     if rows.iter().any(|r| r.kept.is_some()) {
         let _ = scratch.keep();
     }
-    if bless {
+    if bless && rows.iter().any(|r| r.blessed) {
         record.write(record_path)?;
     }
     Ok(rows)
@@ -228,6 +235,7 @@ fn solve_and_compare(
         entry: recorded.clone(),
         notes: Vec::new(),
         kept: None,
+        blessed: false,
         verdict: Verdict::Fail,
     };
     let Some(summary) = summary else {
@@ -269,7 +277,17 @@ fn solve_and_compare(
             ));
         }
     }
+    let terms: Vec<(String, f64)> = summary["objective_terms"]
+        .as_object()
+        .map(|terms| {
+            terms
+                .iter()
+                .filter_map(|(k, v)| v.as_f64().map(|x| (k.clone(), x)))
+                .collect()
+        })
+        .unwrap_or_default();
     if bless && solved {
+        row.blessed = true;
         record.upsert(GoldenEntry {
             file: name.to_owned(),
             objective,
@@ -280,17 +298,13 @@ fn solve_and_compare(
             source: Some(format!("vito {}", env!("CARGO_PKG_VERSION"))),
             problem_sha256: sha256,
             platform: Some(platform),
+            terms: terms.iter().cloned().collect(),
         });
     }
     row.status = status_text;
     row.objective = Some(objective);
     row.max_slack = Some(max_slack);
     row.iterations = summary["iterations"].as_u64();
-    if let Some(terms) = summary["objective_terms"].as_object() {
-        row.terms = terms
-            .iter()
-            .filter_map(|(k, v)| v.as_f64().map(|x| (k.clone(), x)))
-            .collect();
-    }
+    row.terms = terms;
     Ok(row)
 }

@@ -30,6 +30,9 @@ pub struct GoldenEntry {
     /// reach another optimum, and `regress` says so beside a difference.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub platform: Option<String>,
+    /// The objective's terms when recorded (name → value; empty in older records).
+    #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    pub terms: std::collections::BTreeMap<String, f64>,
 }
 
 /// The whole record.
@@ -224,6 +227,11 @@ mod tests {
             source: None,
             problem_sha256: None,
             platform: None,
+            terms: [
+                ("input".to_owned(), 2.25),
+                ("slack_penalty".to_owned(), 0.25),
+            ]
+            .into(),
         };
         record.upsert(entry.clone());
         record.upsert(GoldenEntry {

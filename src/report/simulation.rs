@@ -82,6 +82,7 @@ pub fn simulation_summary_json(
         })
     });
     json!({
+        "kind": "simulation",
         "problem": problem.spec.name,
         "problem_file": problem.file.display().to_string(),
         "problem_sha256": problem.sha256,

@@ -5,28 +5,16 @@ use serde_json::{Map, Value, json};
 use crate::ipopt::Status;
 use crate::problem::LoadedProblem;
 use crate::report::modes::{FLIGHT_RELATIVE, SLIDE_CONE_FRACTION};
-use crate::transcription::{DEFAULT_SLACK_TOLERANCE, Solution, SolveVerdict};
+use crate::transcription::{Solution, SolveVerdict};
 
 /// Ipopt's return status in snake case, e.g. `solve_succeeded`.
 pub fn status_name(status: Status) -> &'static str {
     status.as_snake_case()
 }
 
-/// The verdict a `summary.json` records ([`SolveVerdict`]): its `status` where it records
-/// `ipopt_status` beside it; in a summary written before vito judged the slack, from
-/// `status`, `max_slack` and [`DEFAULT_SLACK_TOLERANCE`]. None when the status is not one vito
-/// writes.
+/// The verdict a `summary.json` records ([`SolveVerdict::of_summary`]).
 pub fn summary_verdict(summary: &Value) -> Option<SolveVerdict> {
-    let status = summary["status"].as_str()?;
-    if summary["ipopt_status"].is_string() {
-        return SolveVerdict::from_name(status);
-    }
-    let max_slack = summary["max_slack"].as_f64().unwrap_or(f64::NAN);
-    Some(SolveVerdict::new(
-        Status::from_snake_case(status)?,
-        max_slack,
-        DEFAULT_SLACK_TOLERANCE,
-    ))
+    SolveVerdict::of_summary(summary)
 }
 
 /// The threads a solve's arithmetic ran on: the linear algebra's (one, set before every
@@ -84,6 +72,7 @@ pub fn summary_json(problem: &LoadedProblem, solution: &Solution) -> Value {
         .map(|r| json!({"row": r.row, "violation": num(r.violation)}))
         .collect();
     let mut summary = json!({
+        "kind": "plan",
         "status": verdict.name(),
         "solved": verdict.is_solved(),
         "ipopt_status": status_name(s.status),

@@ -19,9 +19,9 @@ mod table;
 use std::path::PathBuf;
 
 pub use grid::{Axis, Grid, Point, Shard};
-pub use neighbours::{ATTEMPTS, DEFAULT_ROUNDS, SETTLE_RATIO};
 pub use jobs::{JobOutcome, JobSweep, PointJob};
-pub use plot::metric_svg;
+pub use neighbours::{ATTEMPTS, DEFAULT_ROUNDS, SETTLE_RATIO};
+pub use plot::{PointClass, metric_svg, metric_svg_text};
 pub use run::{
     Event, LOGS, Outcome, PARENT_FLAG, Progress, SWEEP_MARKER, SweepOptions, WarmStart,
     die_with_sweep, prepare_dir, run_sweep,

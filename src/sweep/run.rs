@@ -1,5 +1,5 @@
 //! Running a sweep: one `vito solve` process per grid point, at most `jobs` at a time, each
-//! killed at the per-run time limit; the table is rewritten (atomically) after every run.
+//! stopped at the per-run time limit; the table is rewritten (atomically) after every run.
 
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
@@ -23,6 +23,10 @@ pub const SWEEP_MARKER: &str = ".vito-sweep";
 /// run dies with the sweep. (An option, not an environment variable: a user's environment
 /// cannot turn it on by accident.)
 pub const PARENT_FLAG: &str = "--sweep-parent";
+
+/// How long after its time limit a run that has not stopped by itself (a long iteration, a
+/// simulated initial guess) is killed.
+pub const KILL_GRACE: Duration = Duration::from_secs(30);
 
 /// Where a run starts from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -48,7 +52,8 @@ pub struct SweepOptions {
     pub shard: Shard,
     /// Runs at a time (≥ 1).
     pub jobs: usize,
-    /// Per-run wall-time limit; a run still going then is killed.
+    /// Per-run wall-time limit, given to each run as `vito solve --time-limit` (it stops and
+    /// keeps its iterate); a run still going [`KILL_GRACE`] after it is killed.
     pub time_limit: Option<Duration>,
     /// The sweep directory.
     pub out: PathBuf,
@@ -378,7 +383,9 @@ impl<F: FnMut(Event)> SweepRun<'_, F> {
                             format!("warm start from {name}")
                         })
                         .unwrap_or_default();
-                    self.row_mut(job.point.index)?.note = note;
+                    let row = self.row_mut(job.point.index)?;
+                    row.clear_result();
+                    row.note = note;
                 }
                 let child = spawn(options, &job)?;
                 running.push(Running {
@@ -395,7 +402,7 @@ impl<F: FnMut(Event)> SweepRun<'_, F> {
                 let r = &mut running[i];
                 let timed_out = options
                     .time_limit
-                    .is_some_and(|limit| r.started.elapsed() > limit);
+                    .is_some_and(|limit| r.started.elapsed() > limit + KILL_GRACE);
                 let exit = match r.child.try_wait() {
                     Ok(Some(status)) => Some((status.code(), false)),
                     Ok(None) if timed_out => {
@@ -424,7 +431,7 @@ impl<F: FnMut(Event)> SweepRun<'_, F> {
                 match record(options, &mut self.table, &r.job, code, killed, self.sha256)? {
                     OnDisk::Finished => self.counts.done += 1,
                     OnDisk::Interrupted => self.counts.interrupted += 1,
-                    OnDisk::Nothing => self.counts.failed += 1,
+                    OnDisk::TimedOut | OnDisk::Nothing => self.counts.failed += 1,
                 }
                 if let Some(w) = &r.job.warm {
                     let label = self.label_of_dir(w);
@@ -649,6 +656,9 @@ fn spawn(options: &SweepOptions, job: &Job) -> Result<Child, SweepError> {
     if std::env::var_os("OPENBLAS_NUM_THREADS").is_none() {
         cmd.env("OPENBLAS_NUM_THREADS", "1");
     }
+    if let Some(limit) = options.time_limit {
+        cmd.arg("--time-limit").arg(limit.as_secs_f64().to_string());
+    }
     cmd.arg("--out")
         .arg(out.join(&job.dir))
         .arg(PARENT_FLAG)
@@ -697,6 +707,13 @@ fn record(
                 );
                 return Ok(OnDisk::Interrupted);
             }
+            OnDisk::TimedOut => {
+                row.note = format!(
+                    "stopped at the time limit of {} s; its iterate is in {RUNS}/{name}; a rerun of the sweep runs it again",
+                    options.time_limit.map_or(0.0, |t| t.as_secs_f64())
+                );
+                return Ok(OnDisk::TimedOut);
+            }
             OnDisk::Nothing => {}
         }
     }
@@ -714,7 +731,8 @@ fn record(
     };
     row.note = if killed {
         format!(
-            "killed after the time limit of {} s",
+            "killed {} s after the time limit of {} s; nothing of it is kept",
+            KILL_GRACE.as_secs(),
             options.time_limit.map_or(0.0, |t| t.as_secs_f64())
         )
     } else {

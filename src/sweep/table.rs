@@ -28,7 +28,8 @@ pub enum RunStatus {
     Finished,
     /// The process ended without a summary (an input error, a crash, exit 0 without one).
     Failed,
-    /// Killed at the per-run time limit.
+    /// Stopped at the per-run time limit (its iterate kept, status `timeout`), or killed
+    /// when it did not stop soon after it.
     Timeout,
     /// Stopped by a signal (its iterate is in its directory); run again on resume.
     Interrupted,
@@ -90,11 +91,20 @@ pub struct Row {
 }
 
 impl Row {
-    /// A row with no result yet.
-    pub fn pending(point: &Point, dir: String) -> Row {
+    /// Forgets the row's result (before its point runs again, so that nothing of an earlier
+    /// attempt shows); keeps its point and directory.
+    pub fn clear_result(&mut self) {
+        *self = Row {
+            values: std::mem::take(&mut self.values),
+            dir: std::mem::take(&mut self.dir),
+            ..Row::pending_at(self.index)
+        };
+    }
+
+    fn pending_at(index: usize) -> Row {
         Row {
-            index: point.index,
-            values: point.values.clone(),
+            index,
+            values: Vec::new(),
             status: RunStatus::Pending,
             solver_status: None,
             objective: None,
@@ -102,11 +112,20 @@ impl Row {
             wall_time_s: None,
             max_slack: None,
             metrics: BTreeMap::new(),
-            dir,
+            dir: String::new(),
             note: String::new(),
             start: String::new(),
             settled: None,
             start_objectives: Vec::new(),
+        }
+    }
+
+    /// A row with no result yet.
+    pub fn pending(point: &Point, dir: String) -> Row {
+        Row {
+            values: point.values.clone(),
+            dir,
+            ..Row::pending_at(point.index)
         }
     }
 
@@ -174,6 +193,8 @@ pub enum OnDisk {
     Finished,
     /// A complete `summary.json` of this problem and point, stopped by a signal.
     Interrupted,
+    /// A complete `summary.json` of this problem and point, stopped at its time limit.
+    TimedOut,
     /// No result of this problem and point.
     Nothing,
 }
@@ -207,8 +228,11 @@ pub fn read_result(
         return OnDisk::Nothing;
     }
     let interrupted = status.as_deref().is_some_and(|s| INTERRUPTED.contains(&s));
+    let timed_out = status.as_deref() == Some(crate::transcription::TIMEOUT);
     row.status = if interrupted {
         RunStatus::Interrupted
+    } else if timed_out {
+        RunStatus::Timeout
     } else {
         RunStatus::Finished
     };
@@ -236,6 +260,8 @@ pub fn read_result(
         .unwrap_or_default();
     if interrupted {
         OnDisk::Interrupted
+    } else if timed_out {
+        OnDisk::TimedOut
     } else {
         OnDisk::Finished
     }
@@ -485,6 +511,19 @@ pub fn collect(dirs: &[PathBuf], out: &Path) -> Result<Table, SweepError> {
     })
 }
 
+/// A table of `rows` over `grid` for tests: the whole grid of a problem `p.toml`.
+#[cfg(test)]
+pub(crate) fn test_table(grid: Grid, rows: Vec<Row>) -> Table {
+    Table {
+        problem: "p.toml".into(),
+        problem_sha256: "00".into(),
+        sets: vec![],
+        grid,
+        shard: Shard::ALL,
+        rows,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -501,14 +540,7 @@ mod tests {
         rows[0].objective = Some(2.5);
         rows[0].metrics.insert("slip".into(), 0.25);
         rows[1].note = "error: a, \"b\"".into();
-        let t = Table {
-            problem: "p.toml".into(),
-            problem_sha256: "00".into(),
-            sets: vec![],
-            grid,
-            shard: Shard::ALL,
-            rows,
-        };
+        let t = test_table(grid, rows);
         let csv = t.to_csv();
         let lines: Vec<&str> = csv.lines().collect();
         assert_eq!(

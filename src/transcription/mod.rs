@@ -48,7 +48,7 @@ pub use solve::{
 };
 pub(crate) use solve::{bench_with, solve_with};
 pub use verdict::{
-    DEFAULT_SLACK_TOLERANCE, RELAXED_CONTACT, RowViolation, SlackPeak, SolveVerdict,
+    DEFAULT_SLACK_TOLERANCE, RELAXED_CONTACT, RowViolation, SlackPeak, SolveVerdict, TIMEOUT,
 };
 
 #[allow(unused_imports)]

@@ -26,6 +26,21 @@ pub struct SolveOptions {
     pub ipopt_options: Vec<(String, OptionValue)>,
     /// Solve from several starts and keep the best (None: one start, the problem's guess).
     pub multi_start: Option<MultiStart>,
+    /// A wall-time limit: the first iteration after this instant stops the solve (and any
+    /// further start or continuation solve), which returns status
+    /// `MaximumWallTimeExceeded` (verdict `timeout`) with the current iterate.
+    pub deadline: Option<Instant>,
+}
+
+impl SolveOptions {
+    /// Whether the caller asked to stop (the cancel flag) or the deadline has passed: no
+    /// further solve starts.
+    fn stopped(&self) -> bool {
+        self.cancel
+            .as_ref()
+            .is_some_and(|c| c.load(std::sync::atomic::Ordering::Relaxed))
+            || self.deadline.is_some_and(|d| Instant::now() >= d)
+    }
 }
 
 /// Multi-start: start 0 is the problem's initial guess; start k ≥ 1 perturbs every knot's
@@ -122,6 +137,9 @@ fn configure(spec: &ProblemSpec, options: &SolveOptions) -> Result<Solver, Trans
     if let Some(flag) = &options.cancel {
         solver.set_cancel_flag(flag.clone());
     }
+    if let Some(deadline) = options.deadline {
+        solver.set_deadline(deadline);
+    }
     Ok(solver)
 }
 
@@ -166,12 +184,6 @@ pub(crate) fn solve_with<M: MechanicsDerivatives>(
         solution.best_start = k;
         return Ok(solution);
     }
-    let cancelled = || {
-        options
-            .cancel
-            .as_ref()
-            .is_some_and(|c| c.load(std::sync::atomic::Ordering::Relaxed))
-    };
     let mut records = Vec::new();
     let mut best = solve_from(
         &mut transcription,
@@ -183,7 +195,7 @@ pub(crate) fn solve_with<M: MechanicsDerivatives>(
     )?;
     let mut best_index = 0;
     for k in 1..multi.starts {
-        if cancelled() {
+        if options.stopped() {
             break;
         }
         let seed = multi.seed.wrapping_add(k as u64);
@@ -319,10 +331,7 @@ fn solve_transcription<M: MechanicsDerivatives>(
     for _ in 0..continuation.rounds {
         if solution.max_slack <= continuation.target
             || !restartable(solution.status)
-            || options
-                .cancel
-                .as_ref()
-                .is_some_and(|c| c.load(std::sync::atomic::Ordering::Relaxed))
+            || options.stopped()
         {
             break;
         }

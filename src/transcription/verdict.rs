@@ -18,6 +18,11 @@ pub use crate::problem::DEFAULT_SLACK_TOLERANCE;
 /// The status name of a plan whose slack exceeds its tolerance.
 pub const RELAXED_CONTACT: &str = "relaxed_contact";
 
+/// The status name of a solve stopped at its wall-time limit (`vito solve --time-limit`, a
+/// sweep's `--time-limit`, or Ipopt's own `max_wall_time`): Ipopt's
+/// [`Status::MaximumWallTimeExceeded`], its iterate kept.
+pub const TIMEOUT: &str = "timeout";
+
 /// How a solve ended, judged.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum SolveVerdict {
@@ -52,6 +57,7 @@ impl SolveVerdict {
     /// [`RELAXED_CONTACT`].
     pub fn name(self) -> &'static str {
         match self {
+            SolveVerdict::NotSolved(Status::MaximumWallTimeExceeded) => TIMEOUT,
             SolveVerdict::Solved(s) | SolveVerdict::NotSolved(s) => s.as_snake_case(),
             SolveVerdict::RelaxedContact => RELAXED_CONTACT,
         }
@@ -62,12 +68,32 @@ impl SolveVerdict {
         if name == RELAXED_CONTACT {
             return Some(SolveVerdict::RelaxedContact);
         }
+        if name == TIMEOUT {
+            return Some(SolveVerdict::NotSolved(Status::MaximumWallTimeExceeded));
+        }
         let status = Status::from_snake_case(name)?;
         Some(if status.is_success() {
             SolveVerdict::Solved(status)
         } else {
             SolveVerdict::NotSolved(status)
         })
+    }
+
+    /// The verdict a `summary.json` of a solve records: its `status` where it records
+    /// `ipopt_status` beside it; in a summary written before vito judged the slack, from
+    /// `status`, `max_slack` and [`DEFAULT_SLACK_TOLERANCE`]. None when the status is not one
+    /// vito writes (or the summary is a simulation's, which has no status).
+    pub fn of_summary(summary: &serde_json::Value) -> Option<SolveVerdict> {
+        let status = summary["status"].as_str()?;
+        if summary["ipopt_status"].is_string() {
+            return SolveVerdict::from_name(status);
+        }
+        let max_slack = summary["max_slack"].as_f64().unwrap_or(f64::NAN);
+        Some(SolveVerdict::new(
+            Status::from_snake_case(status)?,
+            max_slack,
+            DEFAULT_SLACK_TOLERANCE,
+        ))
     }
 
     /// The order in which multi-start prefers solves: solved, then relaxed, then the rest.

@@ -59,13 +59,52 @@ pub enum ViewError {
     Input(String),
 }
 
+/// What a motion is and whether it can be used: the legend's colour and word.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Standing {
+    /// A plan vito calls solved.
+    Solved,
+    /// A plan at Ipopt's optimum whose slack breaks the contact model (`relaxed_contact`).
+    Relaxed,
+    /// A plan that is not solved otherwise (a failure, a stop, a time limit, an unknown
+    /// status).
+    Unsolved,
+    /// A forward simulation.
+    Simulation,
+}
+
+impl Standing {
+    /// The name the page's data and the strip use (`solved`, `relaxed`, `unsolved`,
+    /// `simulation`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Standing::Solved => "solved",
+            Standing::Relaxed => "relaxed",
+            Standing::Unsolved => "unsolved",
+            Standing::Simulation => "simulation",
+        }
+    }
+
+    /// The legend's text colour: amber for a relaxed plan, red for another unsolved one.
+    pub fn colour(self) -> Option<&'static str> {
+        match self {
+            Standing::Relaxed => Some("#b35c00"),
+            Standing::Unsolved => Some("#c0392b"),
+            Standing::Solved | Standing::Simulation => None,
+        }
+    }
+}
+
 /// One motion to draw: a plan or a simulation, by knot.
 #[derive(Debug, Clone)]
 pub struct Motion {
     /// Legend name (the result directory, or the problem's name).
     pub name: String,
-    /// Legend detail: status and objective, or the integrator of a simulation.
+    /// Legend detail ([`legend_of`]): a plan's verdict and objective, a simulation's
+    /// integrator and duration.
     pub detail: String,
+    /// What the motion is and whether it can be used.
+    pub standing: Standing,
     /// Knot times (problem units).
     pub times: Vec<f64>,
     /// Configurations per knot.
@@ -74,8 +113,14 @@ pub struct Motion {
     pub normal: Vec<Vec<f64>>,
     /// Friction impulses per interval, contact and direction ([+x, −x] or [+x, +y, −x, −y]).
     pub friction: Vec<Vec<Vec<f64>>>,
-    /// A simulation (thinned to at most [`FRAMES_PER_SECOND`]) rather than a plan (every knot).
-    pub simulation: bool,
+}
+
+impl Motion {
+    /// A simulation (thinned to at most [`FRAMES_PER_SECOND`]) rather than a plan (every
+    /// knot).
+    pub fn is_simulation(&self) -> bool {
+        self.standing == Standing::Simulation
+    }
 }
 
 /// The robot, its terrain and its contacts: what every motion of a page shares.
@@ -216,7 +261,7 @@ pub fn frames(scene: &Scene, motion: &Motion) -> Vec<Frame> {
     let nc = scene.mechanics.num_contacts();
     frame_indices(
         &motion.times,
-        motion.simulation,
+        motion.is_simulation(),
         seconds_per(&scene.time_unit),
     )
     .into_iter()
@@ -373,8 +418,9 @@ pub fn page_data(scene: &Scene, motions: &[Motion], drawing: &Drawing) -> Value 
             json!({
                 "name": m.name,
                 "detail": m.detail,
+                "standing": m.standing.name(),
                 "knots": m.times.iter().map(|&t| round(t, 9)).collect::<Vec<_>>(),
-                "simulation": m.simulation,
+                "simulation": m.is_simulation(),
                 "t": frames.iter().map(|f| round(f.time, 9)).collect::<Vec<_>>(),
                 "k": frames.iter().map(|f| f.knot).collect::<Vec<_>>(),
                 "poses": frames.iter().map(|f| f.links.iter().flat_map(|(p, q)| {
@@ -458,38 +504,89 @@ pub fn scene(problem: &crate::problem::LoadedProblem) -> Result<Scene, ViewError
     })
 }
 
-/// A motion from a trajectory file's view of a solution or simulation.
+/// A motion from a trajectory file's view of a solution or simulation, with its legend.
 pub fn motion(
     trajectory: &crate::files::trajectory_csv::Trajectory<'_>,
     name: &str,
-    detail: &str,
-    simulation: bool,
+    legend: Legend,
 ) -> Motion {
     Motion {
         name: name.to_owned(),
-        detail: detail.to_owned(),
+        detail: legend.detail,
+        standing: legend.standing,
         times: trajectory.times.to_vec(),
         q: trajectory.q.to_vec(),
         normal: trajectory.normal_impulse.to_vec(),
         friction: trajectory.friction_impulse.to_vec(),
-        simulation,
     }
 }
 
-/// The legend's detail of a result from its `summary.json`: status and objective of a
-/// solve, the integrator of a simulation.
-pub fn detail_of(summary: &Value) -> (String, bool) {
-    if let Some(integrator) = summary.get("integrator").and_then(Value::as_str) {
-        return (format!("simulation ({integrator})"), true);
+/// A motion's legend: its detail text and standing.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Legend {
+    /// The text after the motion's name.
+    pub detail: String,
+    /// What the motion is and whether it can be used.
+    pub standing: Standing,
+}
+
+/// Whether a `summary.json` is a simulation's (`vito simulate`): it says so in `kind`, or,
+/// written without one, it has steps and no status. A solve's summary also names its
+/// integrator, so `integrator` alone does not tell.
+fn is_simulation_summary(summary: &Value) -> bool {
+    match summary.get("kind").and_then(Value::as_str) {
+        Some(kind) => kind == "simulation",
+        None => summary.get("status").is_none() && summary.get("steps").is_some(),
     }
-    let status = summary
-        .get("status")
-        .and_then(Value::as_str)
-        .unwrap_or("unknown status");
-    match summary.get("objective").and_then(Value::as_f64) {
-        Some(o) => (format!("{status}, objective {o:.6e}"), false),
-        None => (status.to_owned(), false),
+}
+
+/// The legend of a result from its `summary.json`. A plan: `plan`, its verdict (a relaxed or
+/// otherwise unsolved one says `not solved` and why) and objective. A simulation: its
+/// integrator, duration and steps.
+pub fn legend_of(summary: &Value) -> Legend {
+    let number = |key: &str| summary.get(key).and_then(Value::as_f64);
+    if is_simulation_summary(summary) {
+        let integrator = summary
+            .get("integrator")
+            .and_then(Value::as_str)
+            .unwrap_or("unknown integrator");
+        let unit = summary["units"]["time"].as_str().unwrap_or("s");
+        let mut detail = format!("simulation ({integrator})");
+        if let Some(d) = number("duration") {
+            detail.push_str(&format!(", {d} {unit}"));
+        }
+        if let Some(steps) = summary.get("steps").and_then(Value::as_u64) {
+            detail.push_str(&format!(", {steps} steps"));
+        }
+        return Legend {
+            detail,
+            standing: Standing::Simulation,
+        };
     }
+    use crate::transcription::SolveVerdict;
+    let verdict = SolveVerdict::of_summary(summary);
+    let (standing, word) = match verdict {
+        Some(SolveVerdict::Solved(_)) => (Standing::Solved, verdict.map(SolveVerdict::name)),
+        Some(SolveVerdict::RelaxedContact) => (Standing::Relaxed, verdict.map(SolveVerdict::name)),
+        Some(SolveVerdict::NotSolved(_)) => (Standing::Unsolved, verdict.map(SolveVerdict::name)),
+        None => (Standing::Unsolved, None),
+    };
+    // Only vito's own words: a status it does not know is not repeated.
+    let word = word.unwrap_or("unknown status");
+    let mut detail = match standing {
+        Standing::Solved => format!("plan, {word}"),
+        Standing::Relaxed => match (number("max_slack"), number("slack_tolerance")) {
+            (Some(s), Some(t)) => format!(
+                "plan, NOT SOLVED: {word} (slack {s:.2e} above tolerance {t:e}: the contact model is broken)"
+            ),
+            _ => format!("plan, NOT SOLVED: {word} (the contact model is broken)"),
+        },
+        _ => format!("plan, NOT SOLVED: {word}"),
+    };
+    if let Some(o) = number("objective") {
+        detail.push_str(&format!(", objective {o:.6e}"));
+    }
+    Legend { detail, standing }
 }
 
 /// Writes `animation.html` into `dir` for one trajectory (what `vito solve`, `vito simulate`
@@ -513,8 +610,7 @@ pub fn animation_page(
     summary: &Value,
 ) -> Result<(String, Vec<String>), ViewError> {
     let scene = scene(problem)?;
-    let (detail, simulation) = detail_of(summary);
-    let motions = [motion(trajectory, &problem.spec.name, &detail, simulation)];
+    let motions = [motion(trajectory, &problem.spec.name, legend_of(summary))];
     let drawing = drawing(&scene, &motions);
     Ok((page(&scene, &motions, &drawing), drawing.body.warnings))
 }

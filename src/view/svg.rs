@@ -3,7 +3,10 @@
 
 use std::fmt::Write;
 
-use super::{Drawing, Frame, Scene, rotation_of};
+use super::{Drawing, Frame, Motion, Scene, rotation_of};
+
+/// Height of the caption band naming the motion's verdict, pixels.
+const CAPTION_H: f64 = 20.0;
 
 /// The frame nearest each of `n` evenly spaced times of `frames` (first and last included).
 pub fn strip_frames(frames: &[Frame], n: usize) -> Vec<&Frame> {
@@ -96,8 +99,10 @@ fn colour(c: [f32; 3], shade: f32) -> String {
     format!("#{:02x}{:02x}{:02x}", to(c[0]), to(c[1]), to(c[2]))
 }
 
-/// The strip of `n` poses of the first motion of `drawing` as an SVG document.
-pub fn strip_svg(scene: &Scene, drawing: &Drawing, n: usize) -> String {
+/// The strip of `n` poses of the first motion of `drawing` (`motion`, whose legend the caption
+/// above the poses gives: a plan's verdict, in amber or red when it is not solved) as an SVG
+/// document.
+pub fn strip_svg(scene: &Scene, drawing: &Drawing, motion: &Motion, n: usize) -> String {
     let frames = drawing.frames.first().map_or(&[][..], Vec::as_slice);
     let poses = strip_frames(frames, n.max(1));
     // Each pose's x–z box, and one panel width for all.
@@ -151,8 +156,8 @@ pub fn strip_svg(scene: &Scene, drawing: &Drawing, n: usize) -> String {
         svg,
         r#"<svg xmlns="http://www.w3.org/2000/svg" width="{:.0}" height="{:.0}" viewBox="0 0 {total_w:.1} {:.1}" font-family="sans-serif" font-size="13">"#,
         total_w,
-        panel_h + label_h,
-        panel_h + label_h
+        panel_h + label_h + CAPTION_H,
+        panel_h + label_h + CAPTION_H
     );
     let _ = writeln!(
         svg,
@@ -160,6 +165,13 @@ pub fn strip_svg(scene: &Scene, drawing: &Drawing, n: usize) -> String {
         super::SVG_MARK,
         scene.title,
         poses.len()
+    );
+    let _ = writeln!(
+        svg,
+        r#"<text class="verdict" data-standing="{}" x="6" y="15" fill="{}">{}</text><g transform="translate(0 {CAPTION_H})">"#,
+        motion.standing.name(),
+        motion.standing.colour().unwrap_or("#333"),
+        motion.detail
     );
     for (i, (frame, b)) in poses.iter().zip(&boxes).enumerate() {
         let centre = (b[0] + b[2]) / 2.0;
@@ -215,7 +227,7 @@ pub fn strip_svg(scene: &Scene, drawing: &Drawing, n: usize) -> String {
             );
         }
     }
-    svg.push_str("</svg>\n");
+    svg.push_str("</g></svg>\n");
     svg
 }
 

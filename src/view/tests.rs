@@ -29,11 +29,15 @@ fn motion_of(
     Motion {
         name: "m".into(),
         detail: "d".into(),
+        standing: if simulation {
+            Standing::Simulation
+        } else {
+            Standing::Solved
+        },
         times: (0..n).map(|k| k as f64 * h).collect(),
         q,
         normal: vec![vec![1.0]; n - 1],
         friction: vec![vec![vec![0.5, 0.25]]; n - 1],
-        simulation,
     }
 }
 
@@ -142,7 +146,7 @@ fn the_page_is_self_contained_and_its_strip_draws_n_poses() {
     for remote in ["http://", "https://", "//cdn", "src=\"", "import "] {
         assert!(!html.contains(remote), "the page names `{remote}`");
     }
-    let svg = strip_svg(&scene, &drawing, 5);
+    let svg = strip_svg(&scene, &drawing, &motion, 5);
     assert_eq!(svg.matches("<g class=\"pose\"").count(), 5);
     assert!(!svg.contains("NaN"));
 }
@@ -219,4 +223,87 @@ fn the_hopper_is_drawn_as_a_body_and_a_leg_reaching_its_foot() {
         assert!((lo + radius).abs() < 1e-9, "r = {r}: near end at {lo}");
         assert!((hi - r - radius).abs() < 1e-9, "r = {r}: far end at {hi}");
     }
+}
+
+/// The legend says what each kind of result is: a solve's summary names its integrator too,
+/// and is still a plan; a relaxed plan and a failed one say NOT SOLVED with the verdict's word
+/// (amber and red); a simulation gives its integrator and duration.
+#[test]
+fn the_legend_names_a_plans_verdict_and_a_simulations_integrator() {
+    let solved = serde_json::json!({
+        "kind": "plan", "status": "solve_succeeded", "ipopt_status": "solve_succeeded",
+        "objective": 6.948567253213889, "integrator": "midpoint", "max_slack": 0.0,
+        "slack_tolerance": 1e-4,
+    });
+    let legend = legend_of(&solved);
+    assert_eq!(legend.standing, Standing::Solved);
+    assert_eq!(legend.detail, "plan, solve_succeeded, objective 6.948567e0");
+    assert_eq!(legend.standing.colour(), None);
+
+    let relaxed = serde_json::json!({
+        "kind": "plan", "status": "relaxed_contact", "ipopt_status": "solve_succeeded",
+        "objective": 130.25, "integrator": "midpoint", "max_slack": 0.31,
+        "slack_tolerance": 1e-4,
+    });
+    let legend = legend_of(&relaxed);
+    assert_eq!(legend.standing, Standing::Relaxed);
+    assert_eq!(
+        legend.detail,
+        "plan, NOT SOLVED: relaxed_contact (slack 3.10e-1 above tolerance 1e-4: the contact \
+         model is broken), objective 1.302500e2"
+    );
+    assert_eq!(legend.standing.colour(), Some("#b35c00"));
+
+    let infeasible = serde_json::json!({
+        "status": "infeasible_problem_detected", "ipopt_status": "infeasible_problem_detected",
+        "objective": 2.0, "integrator": "galerkin",
+    });
+    let legend = legend_of(&infeasible);
+    assert_eq!(legend.standing, Standing::Unsolved);
+    assert_eq!(
+        legend.detail,
+        "plan, NOT SOLVED: infeasible_problem_detected, objective 2.000000e0"
+    );
+    assert_eq!(legend.standing.colour(), Some("#c0392b"));
+
+    let timeout = serde_json::json!({
+        "status": "timeout", "ipopt_status": "maximum_wall_time_exceeded", "objective": 1.0,
+    });
+    assert_eq!(legend_of(&timeout).standing, Standing::Unsolved);
+    assert!(legend_of(&timeout).detail.contains("NOT SOLVED: timeout"));
+    // A status vito never writes is not repeated.
+    let odd = serde_json::json!({"status": "<b>fine</b>", "ipopt_status": "x"});
+    assert_eq!(legend_of(&odd).detail, "plan, NOT SOLVED: unknown status");
+
+    // Simulations, with `kind` and (older summaries) without.
+    for kind in [Some("simulation"), None] {
+        let mut sim = serde_json::json!({
+            "integrator": "midpoint", "steps": 2000, "duration": 1.0,
+            "units": {"length": "m", "time": "s"},
+        });
+        if let Some(k) = kind {
+            sim["kind"] = k.into();
+        }
+        let legend = legend_of(&sim);
+        assert_eq!(legend.standing, Standing::Simulation);
+        assert_eq!(legend.detail, "simulation (midpoint), 1 s, 2000 steps");
+    }
+}
+
+/// The strip's caption names the verdict of the motion it draws, in the legend's colour.
+#[test]
+fn the_strip_names_the_verdict() {
+    let (problem, scene) = hopper_scene();
+    let mut motion = motion_of(&problem, 20, 0.05, false);
+    motion.standing = Standing::Relaxed;
+    motion.detail = "plan, NOT SOLVED: relaxed_contact".into();
+    let drawing = drawing(&scene, std::slice::from_ref(&motion));
+    let svg = strip_svg(&scene, &drawing, &motion, 4);
+    assert!(
+        svg.contains(
+            r##"<text class="verdict" data-standing="relaxed" x="6" y="15" fill="#b35c00">plan, NOT SOLVED: relaxed_contact</text>"##
+        ),
+        "{svg}"
+    );
+    assert_eq!(svg.matches("<g").count(), svg.matches("</g>").count());
 }

@@ -369,6 +369,7 @@ fn progress_is_reported_and_cancel_stops() {
         cancel: Some(cancel.clone()),
         ipopt_options: vec![("print_level".into(), OptionValue::Int(0))],
         multi_start: None,
+        deadline: None,
     };
     let s = solve_with(Hopper, &hopper_2d(), &options).unwrap();
     println!(
@@ -379,6 +380,24 @@ fn progress_is_reported_and_cancel_stops() {
     assert_eq!(s.status, Status::UserRequestedStop);
     assert!(calls.load(Ordering::SeqCst) <= 6);
     assert_eq!(s.q.len(), 21);
+}
+
+/// A deadline stops the solve the way the cancel flag does: at the first iteration after it,
+/// with the iterate kept, Ipopt's wall-time status and the verdict `timeout`; a deadline
+/// already passed stops it at the starting point (iteration 0), so nothing depends on timing.
+#[test]
+fn a_passed_deadline_stops_with_the_iterate_and_status_timeout() {
+    let options = SolveOptions {
+        deadline: Some(std::time::Instant::now()),
+        ..quiet()
+    };
+    let s = solve_with(Hopper, &hopper_2d(), &options).unwrap();
+    assert_eq!(s.status, Status::MaximumWallTimeExceeded);
+    assert_eq!(s.verdict().name(), "timeout");
+    assert!(!s.verdict().is_solved());
+    assert_eq!(s.iterations, 0);
+    assert_eq!(s.q.len(), 21);
+    assert!(s.q.iter().flatten().all(|v| v.is_finite()));
 }
 
 /// The exact-penalty continuation: with a weak penalty the hopper ends at a relaxed point;

@@ -69,6 +69,13 @@ fn status(dom: &str) -> serde_json::Value {
     serde_json::from_str(&text).unwrap_or_else(|e| panic!("status {text}: {e}"))
 }
 
+/// The scene data a page written by vito embeds (the JSON its script starts from).
+pub fn page_data_of(html: &str) -> serde_json::Value {
+    let start = html.find("const D = ").expect("the page's data") + "const D = ".len();
+    let end = start + html[start..].find(";\n").expect("the data's end");
+    serde_json::from_str(&html[start..end]).expect("the page's data is JSON")
+}
+
 /// RGB pixels of a PNG.
 struct Image {
     width: usize,
@@ -361,4 +368,79 @@ fn pages_load_move_and_strip_in_headless_chromium() {
             s.spawn(move || check(browser, dir, knots, keep));
         }
     });
+}
+
+/// The pages, strips and sweep plots committed under results/ (listed in results/pages.txt,
+/// redrawn by `make pages`) are byte for byte what this build's viewer draws from the
+/// committed trajectories: they cannot drift from the viewer.
+#[test]
+fn committed_pages_are_what_the_viewer_draws() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let list = std::fs::read_to_string(root.join("results/pages.txt")).unwrap();
+    let tmp = tempfile::tempdir().unwrap();
+    let vito = |args: &[&str], codes: &[i32]| {
+        let run = Command::new(env!("CARGO_BIN_EXE_vito"))
+            .current_dir(root)
+            .args(args)
+            .output()
+            .unwrap();
+        assert!(
+            run.status.code().is_some_and(|c| codes.contains(&c)),
+            "vito {args:?}: {}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+    };
+    let mut checked = 0;
+    for (i, line) in list
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
+        .enumerate()
+    {
+        let words: Vec<&str> = line.split_whitespace().collect();
+        let fresh = tmp.path().join(format!("{i}"));
+        let (drawn, committed) = match words[..] {
+            ["page", dir] => {
+                let out = fresh.with_extension("html");
+                vito(&["view", dir, "--out", out.to_str().unwrap()], &[0]);
+                (out, root.join(dir).join("animation.html"))
+            }
+            ["strip", n, dir, svg, ref problem @ ..] => {
+                let out = fresh.with_extension("svg");
+                let mut args = vec!["view", dir, "--strip", n, "--svg", out.to_str().unwrap()];
+                if let [problem] = problem {
+                    args.extend(["--problem", problem]);
+                }
+                vito(&args, &[0]);
+                (out, root.join(svg))
+            }
+            ["report", dir, metric] => {
+                std::fs::create_dir(&fresh).unwrap();
+                std::fs::copy(root.join(dir).join("sweep.json"), fresh.join("sweep.json")).unwrap();
+                vito(
+                    &[
+                        "sweep",
+                        "report",
+                        fresh.to_str().unwrap(),
+                        "--metric",
+                        metric,
+                    ],
+                    &[0, 1],
+                );
+                let name = format!("sweep-{metric}.svg");
+                (fresh.join(&name), root.join(dir).join(&name))
+            }
+            _ => panic!("results/pages.txt: cannot read `{line}`"),
+        };
+        let (drawn_text, committed_text) = (
+            std::fs::read_to_string(&drawn).unwrap(),
+            std::fs::read_to_string(&committed).unwrap(),
+        );
+        assert!(
+            drawn_text == committed_text,
+            "{} is not what this build draws; run `make pages`",
+            committed.display()
+        );
+        checked += 1;
+    }
+    assert_eq!(checked, 13);
 }

@@ -35,6 +35,12 @@ fn starter_problem_checks() {
             .args([std::ffi::OsStr::new("check"), out.as_os_str()])
             .assert_exit(0);
         assert!(run.stdout.contains(": ok ("), "{}", run.stdout);
+        // The integrator's comment offers every integrator the file accepts.
+        let text = std::fs::read_to_string(&out).unwrap();
+        assert!(
+            text.contains("integrator = \"midpoint\"   # midpoint | euler | galerkin4 | galerkin6"),
+            "{text}"
+        );
         // The base as the file writes it, not the enum's debug name.
         assert!(
             run.stdout.contains(&format!("({base} base)")),

@@ -60,7 +60,12 @@ fn regress_blesses_and_checks_a_users_own_problem() {
         .vito()
         .args(["regress", "--bless", "hop_up.toml"])
         .assert_exit(0);
-    assert!(run.stdout.contains("blessed golden.toml"), "{}", run.stdout);
+    assert!(
+        run.stdout
+            .contains("blessed 1 of 1 problem(s) into golden.toml"),
+        "{}",
+        run.stdout
+    );
     let text = std::fs::read_to_string(t.path().join("golden.toml")).unwrap();
     let record: toml::Table = toml::from_str(&text).unwrap();
     let e = &record["problem"].as_array().unwrap()[0];
@@ -98,6 +103,26 @@ fn regress_blesses_and_checks_a_users_own_problem() {
     for shown in ["hop_up.toml (DIFF):", "input", "iterations", "max slack"] {
         assert!(run.stdout.contains(shown), "{shown}: {}", run.stdout);
     }
+    // Each term now and as recorded: the bless recorded them, so no `-`.
+    let recorded_terms = record_terms(&text);
+    assert!(recorded_terms.contains_key("input"), "{text}");
+    for (name, value) in &recorded_terms {
+        let line = run
+            .stdout
+            .lines()
+            .find(|l| l.trim_start().starts_with(&format!("{name} ")))
+            .unwrap_or_else(|| panic!("a line for `{name}` in {}", run.stdout));
+        let numbers: Vec<f64> = line
+            .split_whitespace()
+            .skip(1)
+            .map(|v| v.parse().unwrap())
+            .collect();
+        assert_eq!(numbers.len(), 2, "{line}");
+        assert!(
+            (numbers[1] - value).abs() <= 1e-9 * value.abs().max(1.0),
+            "{line}"
+        );
+    }
     let kept = run
         .stdout
         .lines()
@@ -119,6 +144,54 @@ fn regress_blesses_and_checks_a_users_own_problem() {
         blessed.contains(&format!("objective = {objective:?}")),
         "{blessed}"
     );
+
+    // A plain `vito regress` in the directory checks its golden.toml.
+    let run = t.vito().args(["regress"]).assert_exit(0);
+    assert!(
+        run.stdout
+            .lines()
+            .any(|l| l.starts_with("hop_up.toml") && l.ends_with("ok")),
+        "{}",
+        run.stdout
+    );
+    // Naming a file checks that file only; blessing a problem that does not solve (the hop
+    // onto the platform ends relaxed_contact) records nothing, says so and exits 1.
+    let relaxed = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/problems/hop_up.toml"),
+    )
+    .unwrap()
+    .replace("../../../problems/robots/", "robots/");
+    t.write("relaxed.toml", &relaxed);
+    let run = t
+        .vito()
+        .args(["regress", "--bless", "relaxed.toml"])
+        .assert_exit(1);
+    assert!(!run.stdout.contains("hop_up.toml"), "{}", run.stdout);
+    assert!(run.stdout.contains("relaxed_contact"), "{}", run.stdout);
+    assert!(
+        run.stderr
+            .contains("nothing blessed: none of the 1 problem(s) solved; golden.toml is unchanged"),
+        "{}",
+        run.stderr
+    );
+    assert_eq!(
+        std::fs::read_to_string(t.path().join("golden.toml")).unwrap(),
+        blessed
+    );
+}
+
+/// The objective terms of a record's first entry.
+fn record_terms(text: &str) -> std::collections::BTreeMap<String, f64> {
+    let record: toml::Table = toml::from_str(text).unwrap();
+    record["problem"].as_array().unwrap()[0]
+        .get("terms")
+        .and_then(|t| t.as_table())
+        .map(|t| {
+            t.iter()
+                .map(|(k, v)| (k.clone(), v.as_float().unwrap()))
+                .collect()
+        })
+        .unwrap_or_default()
 }
 
 /// The solves' scratch directory is a fresh private one: a directory planted at the old

@@ -328,6 +328,33 @@ fn galerkin4_plan_replays_in_simulate() {
     assert_eq!(plan["solved"], true, "{plan}");
     assert_eq!(plan["integrator"], "galerkin4");
     assert_eq!(summary(&t.path().join("sim"))["integrator"], "galerkin4");
+    // Their overlay's legend: the plan is a plan (its summary names an integrator too), the
+    // simulation a simulation, with its integrator and duration.
+    t.vito()
+        .args(["view", "plan", "sim", "--out", "both.html"])
+        .assert_exit(0);
+    let page = std::fs::read_to_string(t.path().join("both.html")).unwrap();
+    let data = crate::view::page_data_of(&page);
+    let legend = |i: usize| {
+        let track = &data["tracks"][i];
+        (
+            track["standing"].as_str().unwrap().to_owned(),
+            track["detail"].as_str().unwrap().to_owned(),
+        )
+    };
+    let (standing, detail) = legend(0);
+    assert_eq!(standing, "solved");
+    assert!(
+        detail.starts_with("plan, solve_succeeded, objective "),
+        "{detail}"
+    );
+    assert_eq!(
+        legend(1),
+        (
+            "simulation".to_owned(),
+            "simulation (galerkin4), 1 s, 20 steps".to_owned()
+        )
+    );
     let read = |dir: &str| -> Vec<Vec<f64>> {
         let text = std::fs::read_to_string(t.path().join(dir).join("trajectory.csv")).unwrap();
         text.lines()

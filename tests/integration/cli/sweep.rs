@@ -108,6 +108,43 @@ fn sweep_isolates_failures_and_resumes_after_a_kill() {
             .unwrap()
             .contains("time limit of 8 s")
     );
+    // The run at the time limit stopped itself as Ctrl-C stops it: its iterate is on disk
+    // with status `timeout`, and the row holds that run's own numbers.
+    let timed = crate::cli::util::summary(&sw.join(rows[3]["dir"].as_str().unwrap()));
+    assert_eq!(timed["status"], "timeout");
+    assert_eq!(timed["ipopt_status"], "maximum_wall_time_exceeded");
+    assert_eq!(timed["knots"], 2000);
+    assert_eq!(rows[3]["solver_status"], "timeout");
+    assert_eq!(rows[3]["iterations"], timed["iterations"]);
+    assert_eq!(rows[3]["wall_time_s"], timed["wall_time_s"]);
+
+    // The report joins nothing: no point solved (5 and 6 knots relax contact), so no line;
+    // each point is a marker of its class, and the exit code says so.
+    let run = t.vito().args(["sweep", "report", "sw"]).assert_exit(1);
+    assert!(
+        run.stdout.contains("not solved   4 of 4 points: 0 (n=5: relaxed), 1 (n=7: failed), 2 (n=6: relaxed), 3 (n=2000: timeout)"),
+        "{}",
+        run.stdout
+    );
+    let svg = std::fs::read_to_string(sw.join("sweep-objective.svg")).unwrap();
+    let doc = roxmltree::Document::parse(&svg).expect("the report's SVG parses");
+    let count = |class: &str| {
+        doc.descendants()
+            .filter(|n| n.attribute("class") == Some(class))
+            .count()
+    };
+    assert_eq!(
+        [
+            "marker solved",
+            "marker relaxed",
+            "marker failed",
+            "marker timeout",
+            "line"
+        ]
+        .map(count),
+        [0, 2, 1, 1, 0],
+        "{svg}"
+    );
     for (row, n) in [(&rows[0], 5), (&rows[2], 6)] {
         let summary = crate::cli::util::summary(&sw.join(row["dir"].as_str().unwrap()));
         assert_eq!(summary["knots"], n);

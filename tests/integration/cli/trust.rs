@@ -53,6 +53,17 @@ fn platform_hop_with_open_slack_is_relaxed_contact_not_solved() {
     assert!(s["max_slack"].as_f64().unwrap() > 0.1, "{}", s["max_slack"]);
     assert_eq!(s["max_slack_at"]["contact"], "foot_contact");
     assert_eq!(s["max_slack_at"]["interval"], 2);
+    // The page says so too: a plan, not solved, the verdict's word, in amber.
+    let page = std::fs::read_to_string(out.join("animation.html")).unwrap();
+    let data = crate::view::page_data_of(&page);
+    let track = &data["tracks"][0];
+    assert_eq!(track["standing"], "relaxed");
+    assert_eq!(track["simulation"], false);
+    let detail = track["detail"].as_str().unwrap();
+    assert!(
+        detail.starts_with("plan, NOT SOLVED: relaxed_contact (slack 3."),
+        "{detail}"
+    );
     // The tolerance is the problem's: raised above the slack, the same optimum is solved.
     let t = TestDir::new("relaxed-contact-tolerance");
     let (out, _) = solve(
