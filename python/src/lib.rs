@@ -17,6 +17,7 @@ use pyo3::prelude::*;
 mod convert;
 mod errors;
 mod html;
+mod kinematics;
 mod problem;
 mod simulation;
 mod solution;
@@ -35,6 +36,7 @@ fn pinned_coretype() -> Option<&'static str> {
 #[pymodule]
 fn _vito(m: &Bound<'_, PyModule>) -> PyResult<()> {
     errors::register(m)?;
+    kinematics::register(m)?;
     m.add_class::<problem::Problem>()?;
     m.add_class::<solution::Trajectory>()?;
     m.add_class::<solution::Solution>()?;
