@@ -69,14 +69,13 @@ pub(crate) fn _restore_problem(
     path: PathBuf,
     sets: Vec<String>,
 ) -> PyResult<Problem> {
-    Problem::open(py, path.clone(), sets).map_err(|e| {
+    Problem::open(py, path.clone(), sets).inspect_err(|e| {
         let note = format!(
             "while unpickling a vito object: its problem file {} is read again from where it \
              was when pickled (the file must be reachable at that path from this process)",
             path.display()
         );
         let _ = e.value(py).call_method1("add_note", (note,));
-        e
     })
 }
 

@@ -90,6 +90,8 @@ fn counts_dict<'py>(py: Python<'py>, c: &Progress) -> PyResult<Bound<'py, PyDict
 
 /// _sweep(problem, grid, exe, out, jobs, time_limit=None, neighbour=False, progress=None) -> str
 ///
+/// `exe`: the `vito` command, or None for `vito.find_executable()`.
+///
 /// Runs the library's sweep runner (one `exe solve` process per point) and returns the path
 /// of the table (`sweep.csv`); `progress(counts)` whenever the counts change. Ctrl-C asks
 /// the runs to stop after their current iteration, starts no new run, and raises
@@ -104,7 +106,7 @@ pub(crate) fn _sweep(
     py: Python<'_>,
     problem: &Problem,
     grid: &Bound<'_, PyDict>,
-    exe: PathBuf,
+    exe: Option<PathBuf>,
     out: PathBuf,
     jobs: usize,
     time_limit: Option<f64>,
@@ -122,6 +124,15 @@ pub(crate) fn _sweep(
     }
     let time_limit = time_limit_of(time_limit)?.map(Duration::from_secs_f64);
     let grid = grid_of(py, problem, grid)?;
+    // Looked up once the arguments are known to be good.
+    let exe = match exe {
+        Some(exe) => exe,
+        None => py
+            .import("vito")?
+            .getattr("find_executable")?
+            .call0()?
+            .extract()?,
+    };
     let stop = Arc::new(AtomicBool::new(false));
     let options = SweepOptions {
         exe,
@@ -171,7 +182,7 @@ pub(crate) fn _sweep(
     Ok(out.join(vito::sweep::TABLE_CSV))
 }
 
-/// SweepJobs(problem, grid, out, neighbour=False)
+/// SweepJobs(problem, grid, out, neighbour=False, time_limit=None)
 ///
 /// A sweep whose points run as jobs elsewhere (what `vito.sweep(..., executor=...)`
 /// drives): opens or resumes the sweep directory `out` (its table rebuilt from the run
@@ -182,6 +193,8 @@ pub(crate) struct SweepJobs {
     sweep: Mutex<JobSweep>,
     problem: PathBuf,
     out: PathBuf,
+    /// The per-run time limit [s], checked (each job carries it).
+    time_limit: Option<f64>,
 }
 
 impl SweepJobs {
@@ -194,14 +207,16 @@ impl SweepJobs {
 #[pymethods]
 impl SweepJobs {
     #[new]
-    #[pyo3(signature = (problem, grid, out, neighbour = false))]
+    #[pyo3(signature = (problem, grid, out, neighbour = false, time_limit = None))]
     fn new(
         py: Python<'_>,
         problem: &Problem,
         grid: &Bound<'_, PyDict>,
         out: PathBuf,
         neighbour: bool,
+        time_limit: Option<f64>,
     ) -> PyResult<SweepJobs> {
+        let time_limit = time_limit_of(time_limit)?;
         let grid = grid_of(py, problem, grid)?;
         let path = problem.absolute_path()?;
         let warm = if neighbour {
@@ -225,6 +240,7 @@ impl SweepJobs {
             sweep: Mutex::new(sweep),
             problem: path,
             out,
+            time_limit,
         })
     }
 
@@ -288,6 +304,12 @@ impl SweepJobs {
     fn counts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let counts = self.with(|s| Ok(s.counts()))?;
         counts_dict(py, &counts)
+    }
+
+    /// The per-run time limit [s], or None.
+    #[getter]
+    fn time_limit(&self) -> Option<f64> {
+        self.time_limit
     }
 
     /// The table file (`sweep.csv`).

@@ -47,9 +47,12 @@ impl Ack {
     }
 }
 
+/// A message and, when the work waits for it to be handled, the handler's word.
+type Message<M> = (M, Option<Arc<Ack>>);
+
 /// The work's end of the channel.
 pub(crate) struct Messages<M> {
-    tx: Sender<(M, Option<Arc<Ack>>)>,
+    tx: Sender<Message<M>>,
 }
 
 impl<M> Messages<M> {
@@ -76,7 +79,7 @@ pub(crate) fn run_watched<T: Send, M: Send>(
     work: impl FnOnce(Messages<M>) -> T + Send,
     mut on_message: impl FnMut(Python<'_>, M) -> PyResult<()> + Send,
 ) -> (T, Option<PyErr>) {
-    let (tx, rx): (Sender<(M, Option<Arc<Ack>>)>, Receiver<_>) = channel();
+    let (tx, rx): (Sender<Message<M>>, Receiver<Message<M>>) = channel();
     py.detach(move || {
         let mut error: Option<PyErr> = None;
         let result = std::thread::scope(|s| {

@@ -181,7 +181,7 @@ def sweep(problem, grid, out, jobs=None, time_limit=None, warm_start=None, exe=N
             table = _vito._sweep(
                 problem,
                 grid,
-                exe if exe is not None else find_executable(),
+                exe,
                 _os.fspath(out),
                 jobs if jobs is not None else (_os.cpu_count() or 1),
                 time_limit,

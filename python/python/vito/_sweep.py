@@ -87,7 +87,8 @@ def run_on_executor(problem, grid, out, executor, jobs, time_limit, neighbour, p
     """Runs the sweep's points as tasks on ``executor``, at most ``jobs`` at a time (no new
     point starts once a Ctrl-C arrives: the points not finished stay not run, and a rerun
     resumes). Returns the path of the table."""
-    sweep = _vito.SweepJobs(problem, grid, _os.fspath(out), neighbour)
+    sweep = _vito.SweepJobs(problem, grid, _os.fspath(out), neighbour, time_limit)
+    time_limit = sweep.time_limit
     width = jobs if jobs is not None else _executor_width(executor)
     if width < 1:
         raise ValueError(f"jobs={jobs}: give at least 1")
