@@ -64,9 +64,10 @@ impl Kinematics {
     /// The robot of the problem file `path` (its URDF, base and contacts).
     #[new]
     fn new(py: Python<'_>, path: PathBuf) -> PyResult<Kinematics> {
-        let loaded = vito::problem::load(&path, &[]).map_err(|e| crate::errors::problem_error(py, &e))?;
-        let robot =
-            Robot::new(&loaded.spec).map_err(|e| crate::errors::VitoError::new_err(e.to_string()))?;
+        let loaded =
+            vito::problem::load(&path, &[]).map_err(|e| crate::errors::problem_error(py, &e))?;
+        let robot = Robot::new(&loaded.spec)
+            .map_err(|e| crate::errors::VitoError::new_err(e.to_string()))?;
         Ok(Kinematics { robot })
     }
 

@@ -227,11 +227,17 @@ impl Problem {
             ),
             None => None,
         };
-        let solved = solve_loaded(py, &problem, MultiStart {
+        let solved = solve_loaded(
+            py,
+            &problem,
+            MultiStart {
                 starts,
                 seed,
                 only: None,
-            }, progress, None)?;
+            },
+            progress,
+            None,
+        )?;
         let solution = Solution {
             source: (self.path.clone(), self.sets.clone()),
             problem: problem.clone(),

@@ -344,11 +344,17 @@ pub(crate) fn _solve_point(
     let target = pipeline::output::checked_output_dir(&loaded, Some(&run_dir))
         .map_err(|e| vito_error(&report::ReportError::from(e)))?;
     let deadline = time_limit.map(|t| Instant::now() + Duration::from_secs_f64(t));
-    let solved = solve_loaded(py, &loaded, MultiStart {
-        starts,
-        seed,
-        only: None,
-    }, None, deadline)?;
+    let solved = solve_loaded(
+        py,
+        &loaded,
+        MultiStart {
+            starts,
+            seed,
+            only: None,
+        },
+        None,
+        deadline,
+    )?;
     let solution = Solution {
         source: (problem, sets),
         problem: loaded,

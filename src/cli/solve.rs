@@ -119,10 +119,8 @@ pub(super) fn solve(
     // Parallel starts run in processes of their own; Ipopt's log is one solve's and a time
     // limit is the whole solve's, so --ipopt-log and --time-limit keep the starts in this
     // process.
-    let parallel = multi_start.starts > 1
-        && run.jobs > 1
-        && !run.ipopt_log
-        && run.time_limit.is_none();
+    let parallel =
+        multi_start.starts > 1 && run.jobs > 1 && !run.ipopt_log && run.time_limit.is_none();
     let target =
         pipeline::output::checked_output_dir(&problem, out).map_err(report::ReportError::from)?;
     // With --ipopt-log, staged before solving so that Ipopt's log goes straight into the

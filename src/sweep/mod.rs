@@ -10,8 +10,8 @@
 #![warn(missing_docs)]
 
 mod grid;
-mod neighbours;
 mod jobs;
+mod neighbours;
 mod plot;
 mod run;
 mod table;
