@@ -474,6 +474,7 @@ impl<F: FnMut(Event)> SweepRun<'_, F> {
                 break;
             }
             let mut queue = Vec::new();
+            let parent = own_subdir(&options.out, neighbours::ATTEMPTS)?;
             for a in &plan {
                 let Some(point) = self.points.iter().find(|p| p.index == a.target).cloned() else {
                     continue;
@@ -481,8 +482,6 @@ impl<F: FnMut(Event)> SweepRun<'_, F> {
                 if self.attempt_result(&point, a)?.is_some() {
                     continue;
                 }
-                let parent = options.out.join(neighbours::ATTEMPTS);
-                own_subdir(&options.out, neighbours::ATTEMPTS)?;
                 own_subdir(&parent, &point.run_name())?;
                 queue.push(Job {
                     point,
