@@ -1,13 +1,16 @@
 //! `vito simulate`: a forward simulation of a problem file.
 
+use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::Ordering;
 
 use vito::pipeline;
 use vito::problem::load;
 use vito::report;
 
 use super::args::parse_overrides;
-use super::error::CliError;
+use super::error::{CliError, EXIT_NOT_SOLVED};
+use super::interrupt::on_stop_request;
 
 pub(super) fn simulate(
     file: &Path,
@@ -37,26 +40,54 @@ pub(super) fn simulate(
     ) {
         bar.set_style(style);
     }
+    // SIGINT, SIGTERM, SIGHUP: the simulation stops after its current step and writes the
+    // steps it has made (exit 1); a later request quits at once.
+    let stop = on_stop_request(
+        || eprintln!("interrupted: stopping after the current step and writing the steps made"),
+        || {
+            eprintln!("interrupted again: exiting without writing");
+            std::process::exit(1);
+        },
+    );
     let start = std::time::Instant::now();
-    let sim = pipeline::simulation::run_simulation(&prepared, |_| bar.inc(1));
+    let sim = pipeline::simulation::run_simulation_until(&prepared, |_| {
+        bar.inc(1);
+        if stop.load(Ordering::SeqCst) {
+            ControlFlow::Break(())
+        } else {
+            ControlFlow::Continue(())
+        }
+    });
     bar.finish_and_clear();
     let sim = sim?;
+    let made = sim.iterations.len();
+    let stopped = stop.load(Ordering::SeqCst) && made < steps;
+    if stopped && made == 0 {
+        eprintln!("interrupted before the first step: nothing written");
+        return Ok(EXIT_NOT_SOLVED);
+    }
     let wall = start.elapsed().as_secs_f64();
     let energies = pipeline::simulation::conservative_energies(&prepared, &sim);
-    let summary = pipeline::simulation::simulation_summary(
+    let mut summary = pipeline::simulation::simulation_summary(
         &problem,
         &prepared,
         &sim,
         energies.as_deref(),
         wall,
     );
+    if stopped {
+        summary["stopped_by_signal"] = serde_json::json!({ "steps_requested": steps });
+    }
     let columns = report::SimulationColumns::new(&problem, &sim, prepared.contact.nd());
     let staged = target.stage().map_err(report::ReportError::from)?;
     let written =
         report::write_trajectory_outputs(staged, &problem, &columns.trajectory(&sim), &summary)?;
     out!("problem        {}", problem.spec.name);
+    if stopped {
+        out!("status         stopped by a signal after {made} of {steps} steps");
+    }
     out!(
-        "steps          {steps} of h = {} {} ({:?})",
+        "steps          {made} of h = {} {} ({:?})",
         prepared.options.h,
         problem.units.time,
         prepared.options.integrator
@@ -92,5 +123,5 @@ pub(super) fn simulate(
     {
         out!("plots          {line}");
     }
-    Ok(0)
+    Ok(if stopped { EXIT_NOT_SOLVED } else { 0 })
 }

@@ -149,7 +149,8 @@ pub(super) fn print_summary(
         .map(|(name, _)| name.chars().count())
         .fold(22, usize::max);
     for (name, value) in &s.objective_terms {
-        out!("  {name:<width$} {value:.6e}");
+        let pad = " ".repeat(width - name.chars().count());
+        out!("  {name}{pad} {value:.6e}");
     }
     out!("iterations   {}", s.iterations);
     out!(

@@ -168,11 +168,23 @@ pub fn prepare_simulation(
 /// Runs a prepared simulation; `progress(k)` after each step.
 pub fn run_simulation(
     prepared: &PreparedSimulation,
-    progress: impl FnMut(usize),
+    mut progress: impl FnMut(usize),
+) -> Result<crate::sim::Simulation, crate::sim::SimulationError> {
+    run_simulation_until(prepared, |k| {
+        progress(k);
+        std::ops::ControlFlow::Continue(())
+    })
+}
+
+/// [`run_simulation`] that stops early, keeping the steps made, when `progress(k)` breaks
+/// (`vito simulate` on a stop request).
+pub fn run_simulation_until(
+    prepared: &PreparedSimulation,
+    progress: impl FnMut(usize) -> std::ops::ControlFlow<()>,
 ) -> Result<crate::sim::Simulation, crate::sim::SimulationError> {
     let p = prepared;
     let (m, h) = (p.mech.nu(), p.options.h);
-    crate::sim::simulate(
+    crate::sim::simulate_until(
         &p.mech,
         &p.contact,
         &p.q0,

@@ -15,7 +15,9 @@ mod run;
 mod step;
 
 pub use inputs::{Feedback, Gain, InputSource};
-pub use run::{Simulation, SimulationError, SimulationOptions, knot_energies, simulate};
+pub use run::{
+    Simulation, SimulationError, SimulationOptions, knot_energies, simulate, simulate_until,
+};
 pub use step::{
     Before, ContactStep, EndStateGain, Impulses, StepFailure, StepInput, StepOptions, StepOutcome,
 };

@@ -3,6 +3,7 @@
 //! started from the previous one.
 
 use nalgebra::{DMatrix, DVector};
+use std::ops::ControlFlow;
 
 use super::step::{Before, ContactStep, Impulses, StepFailure, StepInput, StepOptions};
 use crate::contact::ContactModel;
@@ -120,8 +121,25 @@ pub fn simulate<M: MechanicsDerivatives, U: Into<StepInput>>(
     q0: &[f64],
     v0: &[f64],
     options: &SimulationOptions,
-    mut input: impl FnMut(usize, f64, &[f64], &[f64]) -> U,
+    input: impl FnMut(usize, f64, &[f64], &[f64]) -> U,
     mut progress: impl FnMut(usize),
+) -> Result<Simulation, SimulationError> {
+    simulate_until(mech, contact, q0, v0, options, input, |k| {
+        progress(k);
+        ControlFlow::Continue(())
+    })
+}
+
+/// [`simulate`] that stops early, keeping the steps made, when `progress(k)` (called after
+/// each step) breaks: a stop request ends a simulation with what it has simulated.
+pub fn simulate_until<M: MechanicsDerivatives, U: Into<StepInput>>(
+    mech: &M,
+    contact: &ContactModel,
+    q0: &[f64],
+    v0: &[f64],
+    options: &SimulationOptions,
+    mut input: impl FnMut(usize, f64, &[f64], &[f64]) -> U,
+    mut progress: impl FnMut(usize) -> ControlFlow<()>,
 ) -> Result<Simulation, SimulationError> {
     let (n, m, h) = (mech.nq(), mech.nu(), options.h);
     let mut sim = Simulation {
@@ -245,7 +263,9 @@ pub fn simulate<M: MechanicsDerivatives, U: Into<StepInput>>(
         if outcome.residual > outcome.tolerance {
             sim.relaxed_steps.push(k);
         }
-        progress(k);
+        if progress(k).is_break() {
+            break;
+        }
     }
     Ok(sim)
 }

@@ -16,7 +16,7 @@ mod table;
 
 use std::path::PathBuf;
 
-pub use grid::{Axis, Grid, Point, Shard};
+pub use grid::{Axis, Grid, MAX_GRID_POINTS, Point, Shard};
 pub use plot::metric_svg;
 pub use run::{
     Event, LOGS, Outcome, PARENT_FLAG, Progress, SWEEP_MARKER, SweepOptions, WarmStart,

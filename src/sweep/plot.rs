@@ -46,21 +46,18 @@ pub fn metric_svg(table: &Table, metric: &str, path: &Path) -> Result<usize, Swe
     } else {
         format!("{} (position in the list)", first.key)
     };
-    let staging = path.with_extension("svg.tmp");
-    line_plot(
-        &staging,
-        &format!("{metric} over the sweep of {}", table.problem),
-        &x_label,
-        metric,
-        &series,
-    )
+    crate::files::output::write_atomic_with(path, |staged| {
+        line_plot(
+            staged,
+            &format!("{metric} over the sweep of {}", table.problem),
+            &x_label,
+            metric,
+            &series,
+        )
+    })
     .map_err(|message| SweepError::Plot {
         path: path.to_owned(),
         message,
-    })?;
-    std::fs::rename(&staging, path).map_err(|source| SweepError::Io {
-        path: path.to_owned(),
-        source,
     })?;
     Ok(plotted)
 }

@@ -3,7 +3,7 @@
 
 use std::fmt::Write;
 
-use super::{Drawing, Frame, Scene, rotation_of};
+use super::{Drawing, Frame, Scene, rotation_of, xml_escape};
 
 /// The frame nearest each of `n` evenly spaced times of `frames` (first and last included).
 pub fn strip_frames(frames: &[Frame], n: usize) -> Vec<&Frame> {
@@ -146,7 +146,7 @@ pub fn strip_svg(scene: &Scene, drawing: &Drawing, n: usize) -> String {
     let (panel_w, panel_h) = (width * px, (z_hi - z_lo) * px);
     let total_w = panel_w * poses.len() as f64;
     let label_h = 22.0;
-    let mut svg = String::new();
+    let mut svg = format!("{}\n", super::SVG_MARK);
     let _ = writeln!(
         svg,
         r#"<svg xmlns="http://www.w3.org/2000/svg" width="{:.0}" height="{:.0}" viewBox="0 0 {total_w:.1} {:.1}" font-family="sans-serif" font-size="13">"#,
@@ -156,9 +156,8 @@ pub fn strip_svg(scene: &Scene, drawing: &Drawing, n: usize) -> String {
     );
     let _ = writeln!(
         svg,
-        r##"{}<rect width="100%" height="100%" fill="#ffffff"/><title>{}: {} poses</title>"##,
-        super::SVG_MARK,
-        scene.title,
+        r##"<rect width="100%" height="100%" fill="#ffffff"/><title>{}: {} poses</title>"##,
+        xml_escape(&scene.title),
         poses.len()
     );
     for (i, (frame, b)) in poses.iter().zip(&boxes).enumerate() {
@@ -206,7 +205,7 @@ pub fn strip_svg(scene: &Scene, drawing: &Drawing, n: usize) -> String {
             ox + panel_w / 2.0,
             panel_h + 16.0,
             frame.time,
-            scene.time_unit
+            xml_escape(&scene.time_unit)
         );
         if i > 0 {
             let _ = writeln!(

@@ -19,3 +19,4 @@ mod study;
 pub mod sweep;
 mod sweep_slurm;
 mod trust;
+mod view_files;
