@@ -372,10 +372,11 @@ fn pages_load_move_and_strip_in_headless_chromium() {
 #[test]
 fn markup_in_names_neither_stops_the_page_nor_runs() {
     // One payload per place: an HTML comment opening a script (the "double escaped" state),
-    // a closing tag, an injected script that would log, an entity, CDATA, U+2028/2029.
+    // a closing tag, an injected script that would log, an entity, CDATA (U+2028/2029, which
+    // problem and URDF names refuse as invisible, in the summary's integrator).
     let payload = |tag: &str| {
         format!(
-            "{tag}<!--<script></script><script>console.log('INJECTED {tag}')</script>&amp;<![CDATA[x]]>\u{2028}\u{2029}'\""
+            "{tag}<!--<script></script><script>console.log('INJECTED {tag}')</script>&amp;<![CDATA[x]]>'\""
         )
     };
     let xml = |s: &str| {
@@ -414,7 +415,7 @@ fn markup_in_names_neither_stops_the_page_nor_runs() {
         let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
         assert_eq!(out.status.code(), Some(0), "{args:?}: {stderr}");
     };
-    let dir = payload("dir").replace(['/', '\u{2028}', '\u{2029}'], "");
+    let dir = payload("dir").replace('/', "");
     vito(&[
         "simulate",
         "p.toml",
@@ -432,7 +433,7 @@ fn markup_in_names_neither_stops_the_page_nor_runs() {
     let summary_path = t.path().join(&dir).join("summary.json");
     let mut summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&summary_path).unwrap()).unwrap();
-    summary["integrator"] = payload("integrator").into();
+    summary["integrator"] = format!("{}\u{2028}\u{2029}", payload("integrator")).into();
     std::fs::write(&summary_path, summary.to_string()).unwrap();
     vito(&[
         "view",

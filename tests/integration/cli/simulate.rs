@@ -395,7 +395,7 @@ fn signals_keep_the_simulated_part_and_exit_1() {
     for (signal, bit) in [("-TERM", 15), ("-INT", 2), ("-HUP", 1)] {
         // The brick at rest on the ground: 10^6 steps of 1 ms, far more than a second.
         let t = TestDir::new("signals_keep_the_simulated_part_and_exit_1");
-        let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_vito"))
+        let child = std::process::Command::new(env!("CARGO_BIN_EXE_vito"))
             .current_dir(t.path())
             .arg("simulate")
             .arg(problems_dir().join("brick_3d.toml"))
