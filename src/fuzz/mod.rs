@@ -449,7 +449,7 @@ fn names_once(name: &str) -> bool {
     );
     assert!(doc.descendants().all(|n| !n.has_tag_name("script")));
     assert_eq!(
-        text.attribute("data-name").map(|a| a.len() > 0),
+        text.attribute("data-name").map(|a| !a.is_empty()),
         Some(!name.is_empty())
     );
     // A trajectory CSV with a coordinate and a contact so named.
