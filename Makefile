@@ -11,7 +11,7 @@
 #   make bench      the timing harnesses in benches/ (print figures)
 #   make bench-casadi  `vito bench` beside the independent CasADi implementation (CasADi 3.8.2
 #                   from PyPI into .venv-casadi; nothing else needs it)
-#   make fuzz       1,000,000 generated and mutated inputs (problems, URDFs, expressions, chains, attributes, trajectory CSVs) through loading and the CSV readers (FUZZ_COUNT, FUZZ_SEED)
+#   make fuzz       1,000,000 generated and mutated inputs (problems, URDFs, expressions, chains, attributes, trajectory CSVs, names) through loading, the CSV readers and the writers of names (FUZZ_COUNT, FUZZ_SEED)
 #   make test-debian13  `make demo` and `make test` in a fresh Debian 13 chroot (Ipopt 3.14; root)
 
 CARGO ?= cargo

@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
-use std::sync::atomic::AtomicBool;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -351,7 +351,13 @@ pub(crate) fn simulate(
         py,
         &stop,
         |_messages: crate::watch::Messages<()>| {
-            pipeline::simulation::simulate_prepared(&loaded, &prepared, |_| {}, Some(stop.as_ref()))
+            pipeline::simulation::simulate_prepared(&loaded, &prepared, |_| {
+                if stop.load(Ordering::SeqCst) {
+                    std::ops::ControlFlow::Break(())
+                } else {
+                    std::ops::ControlFlow::Continue(())
+                }
+            })
         },
         |_, ()| Ok(()),
     );

@@ -1,13 +1,16 @@
 //! `vito simulate`: a forward simulation of a problem file.
 
+use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::Ordering;
 
 use vito::pipeline;
 use vito::problem::load;
 use vito::report;
 
 use super::args::parse_overrides;
-use super::error::CliError;
+use super::error::{CliError, EXIT_NOT_SOLVED};
+use super::interrupt::on_stop_request;
 
 pub(super) fn simulate(
     file: &Path,
@@ -37,21 +40,49 @@ pub(super) fn simulate(
     ) {
         bar.set_style(style);
     }
-    let run = pipeline::simulation::simulate_prepared(&problem, &prepared, |_| bar.inc(1), None);
+    // SIGINT, SIGTERM, SIGHUP: the simulation stops after its current step and writes the
+    // steps it has made (exit 1); a later request quits at once.
+    let stop = on_stop_request(
+        || eprintln!("interrupted: stopping after the current step and writing the steps made"),
+        || {
+            eprintln!("interrupted again: exiting without writing");
+            std::process::exit(1);
+        },
+    );
+    let run = pipeline::simulation::simulate_prepared(&problem, &prepared, |_| {
+        bar.inc(1);
+        if stop.load(Ordering::SeqCst) {
+            ControlFlow::Break(())
+        } else {
+            ControlFlow::Continue(())
+        }
+    });
     bar.finish_and_clear();
     let pipeline::simulation::SimulationRun {
         sim,
         energies,
-        summary,
+        mut summary,
         columns,
         wall_time_s: wall,
     } = run?;
+    let made = sim.iterations.len();
+    let stopped = stop.load(Ordering::SeqCst) && made < steps;
+    if stopped && made == 0 {
+        eprintln!("interrupted before the first step: nothing written");
+        return Ok(EXIT_NOT_SOLVED);
+    }
+    if stopped {
+        summary["stopped_by_signal"] = serde_json::json!({ "steps_requested": steps });
+    }
     let staged = target.stage().map_err(report::ReportError::from)?;
     let written =
         report::write_trajectory_outputs(staged, &problem, &columns.trajectory(&sim), &summary)?;
     out!("problem        {}", problem.spec.name);
+    if stopped {
+        out!("status         stopped by a signal after {made} of {steps} steps");
+    }
     out!(
-        "steps          {steps} of h = {} {} ({:?})",
+        "steps          {made} of h = {} {} ({:?})",
         prepared.options.h,
         problem.units.time,
         prepared.options.integrator
@@ -78,7 +109,7 @@ pub(super) fn simulate(
     }
     out!(
         "time           {wall:.3} s wall ({:.1} µs per step, {:.2} Newton iterations per step)",
-        1e6 * wall / steps as f64,
+        1e6 * wall / made.max(1) as f64,
         summary["newton_iterations"]["mean"]
     );
     out!("written to     {}", written.display());
@@ -87,5 +118,5 @@ pub(super) fn simulate(
     {
         out!("plots          {line}");
     }
-    Ok(0)
+    Ok(if stopped { EXIT_NOT_SOLVED } else { 0 })
 }

@@ -270,7 +270,8 @@ pub(super) fn print_summary(
     let contacts = !s.contact_names.is_empty();
     for (name, value) in &s.objective_terms {
         if contacts || name != "slack_penalty" {
-            out!("  {name:<width$} {value:.6e}");
+            let pad = " ".repeat(width.saturating_sub(name.chars().count()));
+            out!("  {name}{pad} {value:.6e}");
         }
     }
     out!("iterations   {}", s.iterations);

@@ -20,7 +20,7 @@ pub(super) const START_RESULT_FLAG: &str = "--start-result";
 /// Writes the solution of one start for the process that runs the starts in parallel.
 pub(super) fn write_start_result(path: &Path, solution: &Solution) -> Result<(), CliError> {
     let text = serde_json::to_string(solution).map_err(|e| CliError::Internal(e.to_string()))?;
-    vito::report::write_file_atomic(path, text.as_bytes())
+    vito::files::output::write_atomic(path, text.as_bytes())
         .map_err(|e| CliError::Internal(format!("{}: {e}", path.display())))
 }
 

@@ -109,14 +109,14 @@ pub(super) fn tracking(
     let table = &result.table;
     let staged = target.stage().map_err(report::ReportError::from)?;
     let plans_csv = staged.path().join("tracking_plans.csv");
-    report::write_file_atomic(&plans_csv, result.plans_csv().as_bytes())
+    vito::files::output::write_atomic(&plans_csv, result.plans_csv().as_bytes())
         .map_err(|e| CliError::Internal(format!("{}: {e}", plans_csv.display())))?;
     let plans_dir = staged.path().join("plans");
     std::fs::create_dir_all(&plans_dir)
         .map_err(|e| CliError::Internal(format!("{}: {e}", plans_dir.display())))?;
     for p in &result.plans {
         let path = plans_dir.join(vito::study::tracking::TrackingResult::plan_file_name(p));
-        report::write_file_atomic(&path, p.trajectory_csv.as_bytes())
+        vito::files::output::write_atomic(&path, p.trajectory_csv.as_bytes())
             .map_err(|e| CliError::Internal(format!("{}: {e}", path.display())))?;
     }
     for (measure, table) in result.tables() {
@@ -182,7 +182,7 @@ pub(super) fn tracking_collect(
     let staged = target.stage().map_err(report::ReportError::from)?;
     let write = |name: &str, text: &str| {
         let path = staged.path().join(name);
-        report::write_file_atomic(&path, text.as_bytes())
+        vito::files::output::write_atomic(&path, text.as_bytes())
             .map_err(|e| CliError::Internal(format!("{}: {e}", path.display())))
     };
     write("tracking_plans.csv", &set.plans_csv())?;

@@ -277,10 +277,11 @@ pub(super) fn print_sweep_table(table: &vito::sweep::Table) -> Result<(), CliErr
                 .unwrap_or(0)
         })
         .collect();
+    // Padded by hand: a format width is limited to 65,535 characters, a cell is not.
     let line = |row: &[String]| {
         row.iter()
             .zip(&widths)
-            .map(|(c, w)| format!("{c:<w$}"))
+            .map(|(c, w)| format!("{c}{}", " ".repeat(w.saturating_sub(c.chars().count()))))
             .collect::<Vec<_>>()
             .join("  ")
             .trim_end()

@@ -9,6 +9,9 @@ use super::args::parse_overrides;
 use super::error::CliError;
 use super::output::print_model_warnings;
 
+/// Most poses in a strip (`--strip`).
+const MAX_STRIP_POSES: usize = 1000;
+
 /// A result directory read back: its summary and trajectory file.
 struct Result_ {
     dir: PathBuf,
@@ -17,16 +20,17 @@ struct Result_ {
 }
 
 fn read_result(dir: &Path) -> Result<Result_, CliError> {
-    let read = |name: &str| {
+    use vito::files::input::{MAX_TEXT_BYTES, MAX_TRAJECTORY_BYTES, read_regular_text};
+    let read = |name: &str, max_bytes: u64| {
         let path = dir.join(name);
-        std::fs::read_to_string(&path).map_err(|e| {
+        read_regular_text(&path, max_bytes).map_err(|e| {
             CliError::Input(format!(
                 "{}: {e}; give a directory `vito solve`, `vito simulate` or a sweep run wrote",
                 path.display()
             ))
         })
     };
-    let summary = read("summary.json")?;
+    let summary = read("summary.json", MAX_TEXT_BYTES)?;
     let summary = serde_json::from_str(&summary).map_err(|e| {
         CliError::Input(format!(
             "{}: not JSON ({e})",
@@ -36,7 +40,7 @@ fn read_result(dir: &Path) -> Result<Result_, CliError> {
     Ok(Result_ {
         dir: dir.to_owned(),
         summary,
-        csv: read("trajectory.csv")?,
+        csv: read("trajectory.csv", MAX_TRAJECTORY_BYTES)?,
     })
 }
 
@@ -129,16 +133,38 @@ fn motion_of(result: &Result_, problem: &LoadedProblem) -> Result<vito::view::Mo
     })
 }
 
-/// Refuses to replace a file vito did not write (one without `marker`).
-fn replaceable(path: &Path, marker: &str) -> Result<(), CliError> {
-    match std::fs::read_to_string(path) {
-        Ok(text) if !text.contains(marker) => Err(CliError::Input(format!(
-            "{} exists and vito did not write it; choose another file",
+/// Refuses to write `path` unless it is new or a regular file vito wrote (`ours` tells from
+/// its first bytes), and unless its directory exists; `option` names it in messages. Never
+/// blocks: a FIFO or device there is refused from its metadata.
+fn replaceable(path: &Path, option: &str, ours: fn(&[u8]) -> bool) -> Result<(), CliError> {
+    let dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    if !dir.is_dir() {
+        return Err(CliError::Input(format!(
+            "{option} {}: the directory {} does not exist; create it first or choose another file",
+            path.display(),
+            dir.display()
+        )));
+    }
+    if std::fs::symlink_metadata(path).is_err() {
+        return Ok(());
+    }
+    let head = vito::files::input::read_regular_head(path, vito::view::MARK_WINDOW as u64)
+        .map_err(|e| {
+            CliError::Input(format!(
+                "{option} {}: {e}; choose another file",
+                path.display()
+            ))
+        })?;
+    if ours(&head) {
+        Ok(())
+    } else {
+        Err(CliError::Input(format!(
+            "{option} {}: the file exists and vito did not write it; choose another file",
             path.display()
-        ))),
-        Ok(_) => Ok(()),
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
-        Err(e) => Err(CliError::Input(format!("{}: {e}", path.display()))),
+        )))
     }
 }
 
@@ -149,6 +175,18 @@ pub(super) fn view(
     strip: Option<usize>,
     svg: Option<&Path>,
 ) -> Result<u8, CliError> {
+    // Checked before anything is read or drawn.
+    if let Some(n) = strip.filter(|&n| n == 0 || n > MAX_STRIP_POSES) {
+        return Err(CliError::Input(format!(
+            "--strip {n}: give 1 to {MAX_STRIP_POSES} poses"
+        )));
+    }
+    if let Some(svg) = svg {
+        replaceable(svg, "--svg", vito::view::is_vito_strip)?;
+    }
+    if let Some(out) = out {
+        replaceable(out, "--out", vito::view::is_vito_page)?;
+    }
     let results: Vec<Result_> = dirs
         .iter()
         .map(|d| read_result(d))
@@ -185,10 +223,6 @@ pub(super) fn view(
     }
     let write_err = |e: vito::view::ViewError| CliError::Report(report::ReportError::View(e));
     if let (Some(n), Some(svg)) = (strip, svg) {
-        if n == 0 {
-            return Err(CliError::Input("--strip 0: give at least 1 pose".into()));
-        }
-        replaceable(svg, vito::view::SVG_MARK)?;
         vito::view::write_atomically(
             svg,
             &vito::view::strip_svg(&scene, &drawing, &motions[0], n),
@@ -206,7 +240,11 @@ pub(super) fn view(
                 ));
             }
         };
-        replaceable(&path, vito::view::PAGE_MARK)?;
+        replaceable(
+            &path,
+            if out.is_some() { "--out" } else { "page" },
+            vito::view::is_vito_page,
+        )?;
         let html = vito::view::page(&scene, &motions, &drawing);
         vito::view::write_atomically(&path, &html).map_err(write_err)?;
         out!(

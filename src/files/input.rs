@@ -13,6 +13,9 @@ pub const MAX_TEXT_BYTES: u64 = 16 << 20;
 /// Largest URDF read (bytes).
 pub const MAX_URDF_BYTES: u64 = 64 << 20;
 
+/// Largest trajectory file `vito view` reads (bytes): a long simulation's CSV.
+pub const MAX_TRAJECTORY_BYTES: u64 = 256 << 20;
+
 /// What a non-regular file type is called in messages.
 fn kind_name(file_type: std::fs::FileType) -> &'static str {
     if file_type.is_dir() {
@@ -40,11 +43,10 @@ fn not_regular(file_type: std::fs::FileType) -> io::Error {
     )
 }
 
-/// The bytes of the regular file at `path` (symbolic links followed), at most `max_bytes`.
-///
-/// The type is checked from the metadata before opening, and again on the open file (which
-/// is opened non-blocking, so a FIFO swapped in between cannot block).
-pub fn read_regular_file(path: &Path, max_bytes: u64) -> io::Result<Vec<u8>> {
+/// The regular file at `path` opened for reading, and its metadata. The type is checked from
+/// the metadata before opening, and again on the open file (which is opened non-blocking, so
+/// a FIFO swapped in between cannot block).
+fn open_regular(path: &Path) -> io::Result<(std::fs::File, std::fs::Metadata)> {
     let metadata = std::fs::metadata(path)?;
     if !metadata.is_file() {
         return Err(not_regular(metadata.file_type()));
@@ -57,6 +59,12 @@ pub fn read_regular_file(path: &Path, max_bytes: u64) -> io::Result<Vec<u8>> {
     if !metadata.is_file() {
         return Err(not_regular(metadata.file_type()));
     }
+    Ok((file, metadata))
+}
+
+/// The bytes of the regular file at `path` (symbolic links followed), at most `max_bytes`.
+pub fn read_regular_file(path: &Path, max_bytes: u64) -> io::Result<Vec<u8>> {
+    let (file, metadata) = open_regular(path)?;
     let too_big = || {
         io::Error::new(
             io::ErrorKind::InvalidInput,
@@ -74,6 +82,15 @@ pub fn read_regular_file(path: &Path, max_bytes: u64) -> io::Result<Vec<u8>> {
     if bytes.len() as u64 > max_bytes {
         return Err(too_big());
     }
+    Ok(bytes)
+}
+
+/// Up to the first `max_bytes` of the regular file at `path` (symbolic links followed), with
+/// the checks of [`read_regular_file`]: enough to recognise a file vito wrote.
+pub fn read_regular_head(path: &Path, max_bytes: u64) -> io::Result<Vec<u8>> {
+    let (file, _) = open_regular(path)?;
+    let mut bytes = Vec::new();
+    file.take(max_bytes).read_to_end(&mut bytes)?;
     Ok(bytes)
 }
 

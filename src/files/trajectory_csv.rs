@@ -125,6 +125,64 @@ pub fn knot_time(k: usize, h: f64) -> f64 {
     format!("{product}e{exponent}").parse().unwrap_or(fallback)
 }
 
+/// `cell` as one CSV field (RFC 4180): in double quotes, its quotes doubled, when it holds
+/// a comma, a quote, a line break or leading or trailing space; as it is otherwise.
+pub fn csv_field(cell: &str) -> String {
+    if cell.contains([',', '"', '\n', '\r']) || cell.trim() != cell {
+        format!("\"{}\"", cell.replace('"', "\"\""))
+    } else {
+        cell.to_owned()
+    }
+}
+
+/// The fields of one CSV line as [`csv_field`] writes them: quoted fields unquoted (`""` a
+/// quote), others as they are. A quote inside an unquoted field, or text after a quoted
+/// field's closing quote, is an error.
+pub fn split_csv_line(line: &str) -> Result<Vec<String>, String> {
+    let mut fields = Vec::new();
+    let mut chars = line.chars().peekable();
+    loop {
+        let mut field = String::new();
+        if chars.peek() == Some(&'"') {
+            chars.next();
+            loop {
+                match chars.next() {
+                    Some('"') if chars.peek() == Some(&'"') => {
+                        chars.next();
+                        field.push('"');
+                    }
+                    Some('"') => break,
+                    Some(c) => field.push(c),
+                    None => return Err("a quoted field has no closing quote".into()),
+                }
+            }
+            match chars.next() {
+                None => {
+                    fields.push(field);
+                    return Ok(fields);
+                }
+                Some(',') => fields.push(field),
+                Some(_) => return Err("text follows a quoted field's closing quote".into()),
+            }
+        } else {
+            loop {
+                match chars.next() {
+                    None => {
+                        fields.push(field);
+                        return Ok(fields);
+                    }
+                    Some(',') => {
+                        fields.push(field);
+                        break;
+                    }
+                    Some('"') => return Err("a quote inside an unquoted field".into()),
+                    Some(c) => field.push(c),
+                }
+            }
+        }
+    }
+}
+
 /// Renders the trajectory CSV.
 pub fn write_trajectory(trajectory: &Trajectory<'_>, units: &ColumnUnits) -> String {
     let s = trajectory;
@@ -158,7 +216,11 @@ pub fn write_trajectory(trajectory: &Trajectory<'_>, units: &ColumnUnits) -> Str
     } else {
         names.extend((0..slacks).map(|j| format!("slack_{j}")));
     }
-    let mut out = names.join(",");
+    let mut out = names
+        .iter()
+        .map(|n| csv_field(n))
+        .collect::<Vec<_>>()
+        .join(",");
     out.push('\n');
     let knots = s.times.len();
     for k in 0..knots {
@@ -258,24 +320,26 @@ fn quote_cell(cell: &str) -> String {
 pub fn read_csv(text: &str) -> Result<CsvTable, String> {
     let mut lines = text.lines().filter(|l| !l.trim().is_empty());
     let header = lines.next().ok_or("the file is empty")?;
-    let names: Vec<String> = header
-        .split(',')
-        .map(|h| match h.find(" [") {
-            Some(i) => h[..i].trim().to_owned(),
-            None => h.trim().to_owned(),
+    let not_header = || format!("its first line is not {EXPECTED_HEADER}; nothing of it was read");
+    // A name may itself hold ` [` (a contact `a [b]`): the unit is the last bracket.
+    let names: Vec<String> = split_csv_line(header)
+        .map_err(|_| not_header())?
+        .iter()
+        .map(|h| {
+            let h = h.trim();
+            match h.rfind(" [") {
+                Some(i) if h.ends_with(']') => h[..i].trim_end().to_owned(),
+                _ => h.to_owned(),
+            }
         })
         .collect();
     let plain = |n: &String| {
         !n.is_empty()
             && n.len() <= MAX_COLUMN_NAME
-            && !n
-                .chars()
-                .any(|c| crate::files::names::is_hidden_char(c) || c == '"')
+            && !n.chars().any(crate::files::names::is_hidden_char)
     };
     if names.first().map(String::as_str) != Some("time") || !names.iter().all(plain) {
-        return Err(format!(
-            "its first line is not {EXPECTED_HEADER}; nothing of it was read"
-        ));
+        return Err(not_header());
     }
     for (c, name) in names.iter().enumerate() {
         if let Some(first) = names[..c].iter().position(|n| n == name) {
@@ -392,6 +456,35 @@ pub fn read_trajectory(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Names with commas, quotes and brackets are quoted in the header and read back as the
+    /// same names; a hand-written header with a stray quote is refused.
+    #[test]
+    fn names_with_commas_and_quotes_survive_the_header() {
+        assert_eq!(csv_field("left,foot [N·s]"), "\"left,foot [N·s]\"");
+        assert_eq!(csv_field("a\"b"), "\"a\"\"b\"");
+        assert_eq!(csv_field("plain [m]"), "plain [m]");
+        assert_eq!(
+            split_csv_line("time [s],\"left,foot_normal [N·s]\",\"a\"\"b [m]\",x").unwrap(),
+            ["time [s]", "left,foot_normal [N·s]", "a\"b [m]", "x"]
+        );
+        for bad in ["a\"b,c", "\"a\"b,c", "\"open,c"] {
+            assert!(split_csv_line(bad).is_err(), "{bad}");
+        }
+        let names = ["left,foot", "a\"b", "c [d]"].map(String::from);
+        let header = names
+            .iter()
+            .map(|n| csv_field(&format!("{n}_normal [N·s]")))
+            .collect::<Vec<_>>()
+            .join(",");
+        let table = read_csv(&format!("time [s],{header}\n0,1,2,3\n")).unwrap();
+        assert_eq!(
+            table.names,
+            ["time", "left,foot_normal", "a\"b_normal", "c [d]_normal"]
+        );
+        assert_eq!(table.column("left,foot_normal").unwrap(), [1.0]);
+        assert!(read_csv("time [s],a\"b\n0,1\n").is_err());
+    }
 
     #[test]
     fn numbers_are_shortest_round_trip_and_times_decimal() {

@@ -365,6 +365,73 @@ fn mutate_csv(csv: &str, sizes: Sizes, rng: &mut SeededRng) -> String {
 }
 
 /// Draws input number `index` from `rng`.
+/// Pieces a hostile name is made of: markup and its escapes, comment and CDATA openers,
+/// quotes, commas, brackets, separators, controls, noncharacters, a byte-order mark.
+const NAME_PIECES: &[&str] = &[
+    "<!--",
+    "-->",
+    "<script>",
+    "</script>",
+    "</text>",
+    "<![CDATA[",
+    "]]>",
+    "&amp;",
+    "&",
+    "&#0;",
+    "<",
+    ">",
+    "\"",
+    "'",
+    ",",
+    "\"\"",
+    " [",
+    "]",
+    " [m]",
+    "\u{2028}",
+    "\u{2029}",
+    "\\",
+    "/",
+    "\u{0}",
+    "\u{1b}",
+    "\t",
+    "\n",
+    "\r",
+    "\u{feff}",
+    "\u{fffe}",
+    "\u{ffff}",
+    "\u{202e}",
+    "é",
+    "😀",
+    " ",
+    "a",
+    "foot",
+    "left,foot",
+    "time",
+];
+
+/// A generated name: pieces and random code points, up to 40 pieces (with `Full` sizes,
+/// rarely, one piece repeated to 70,000 characters).
+fn hostile_name(sizes: Sizes, rng: &mut SeededRng) -> String {
+    let mut name = String::new();
+    if sizes == Sizes::Full && rng.index(200) == 0 {
+        let piece = NAME_PIECES[rng.index(NAME_PIECES.len())];
+        return piece.repeat(70_000 / piece.chars().count().max(1));
+    }
+    for _ in 0..1 + rng.index(40) {
+        if rng.index(4) == 0 {
+            let code = match rng.index(3) {
+                0 => rng.index(0x80) as u32,
+                1 => rng.index(0x1_0000) as u32,
+                _ => rng.index(0x11_0000) as u32,
+            };
+            name.extend(char::from_u32(code));
+        } else {
+            name.push_str(NAME_PIECES[rng.index(NAME_PIECES.len())]);
+        }
+    }
+    name
+}
+
 pub(super) fn generate(
     seeds: &[Seed],
     targets: &[CsvTarget],
@@ -385,6 +452,7 @@ pub(super) fn generate(
         set: Vec::new(),
         base,
         csv: None,
+        name: None,
     };
     let problem_seeds: Vec<&Seed> = seeds.iter().filter(|s| s.problem.is_some()).collect();
     match roll {
@@ -425,9 +493,15 @@ pub(super) fn generate(
                 input.urdf = mutate(&input.urdf, rng);
             }
         }
-        58..=63 => {
+        58..=61 => {
             input.kind = Kind::Attributes;
             input.urdf = attributes_urdf(&s.urdf, sizes, rng);
+        }
+        62..=67 => {
+            input.kind = Kind::Names;
+            let name = hostile_name(sizes, rng);
+            input.seed = format!("generated name of {} characters", name.chars().count());
+            input.name = Some(name);
         }
         _ if !targets.is_empty() => {
             let t = rng.index(targets.len());

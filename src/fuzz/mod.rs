@@ -21,7 +21,15 @@
 //!   repeated, ragged rows, rows repeated up to 100,000 times, times scaled, other files'
 //!   text), through the readers of a warm start (`initial_guess.warm_start`), of
 //!   `vito simulate --inputs`/`--track` (and the input policy they make) and of
-//!   `vito check --at`.
+//!   `vito check --at`;
+//! - `names`: generated names (markup, comment and CDATA openers, entities, quotes, commas,
+//!   brackets, U+2028/U+2029, controls, noncharacters, random code points; up to 70,000
+//!   characters) through what writes names into files: the page's script JSON
+//!   ([`crate::view::script_json`]: no `<`, `>`, `&`, U+2028, U+2029 left, the same value read
+//!   back), a strip's XML text and attributes ([`crate::files::names::xml_escape`]: the document
+//!   parses and holds the name), and a trajectory CSV's header (a coordinate and a contact so
+//!   named, written by [`crate::files::trajectory_csv::write_trajectory`] and read back by
+//!   name). A broken property is a panic.
 //!
 //! An input must end in `Ok` or an error: a panic is caught and counted, an input taking
 //! more than [`HANG`] of the process's CPU time is counted as a hang (CPU time, so that a
@@ -130,17 +138,20 @@ pub enum Kind {
     Attributes,
     /// A mutated trajectory CSV, through a command's CSV reader.
     Csv,
+    /// A generated name, through the page's JSON, a strip's XML and a CSV header.
+    Names,
 }
 
 impl Kind {
     /// Every kind, in the order reports list them.
-    pub const ALL: [Kind; 6] = [
+    pub const ALL: [Kind; 7] = [
         Kind::Problem,
         Kind::Urdf,
         Kind::Expression,
         Kind::Chain,
         Kind::Attributes,
         Kind::Csv,
+        Kind::Names,
     ];
 
     /// The kind's name in reports.
@@ -152,6 +163,7 @@ impl Kind {
             Kind::Chain => "chain",
             Kind::Attributes => "attributes",
             Kind::Csv => "csv",
+            Kind::Names => "names",
         }
     }
 }
@@ -188,6 +200,8 @@ pub struct Input {
     pub base: BaseType,
     /// A trajectory CSV, the reader it goes through and the CSV target (problem) it is for.
     pub csv: Option<(CsvReader, usize, String)>,
+    /// A name, for `names`.
+    pub name: Option<String>,
 }
 
 impl Input {
@@ -205,6 +219,9 @@ impl Input {
         }
         if let Some((reader, _, text)) = &self.csv {
             out.push((format!("{reader:?}.csv"), text.clone()));
+        }
+        if let Some(name) = &self.name {
+            out.push(("name.txt".to_owned(), name.clone()));
         }
         out
     }
@@ -366,6 +383,9 @@ fn load_once(input: &Input, targets: &[CsvTarget]) -> bool {
     {
         return false;
     }
+    if let Some(name) = &input.name {
+        return names_once(name);
+    }
     match (input.kind, &input.problem, &input.csv) {
         (_, _, Some((reader, t, text))) => read_csv_once(*reader, &targets[*t], text),
         (_, Some(problem), _) => {
@@ -382,6 +402,99 @@ fn load_once(input: &Input, targets: &[CsvTarget]) -> bool {
         }
         _ => Model::from_urdf_str(&input.urdf, input.base).is_ok(),
     }
+}
+
+/// A name through the writers that put names into files; panics when a property breaks
+/// (counted as a panic); `true` when the CSV reads the name back.
+fn names_once(name: &str) -> bool {
+    use crate::files::trajectory_csv::{ColumnUnits, Trajectory, read_csv, write_trajectory};
+    // The page's script JSON.
+    let value = serde_json::json!({ "title": name, "tracks": [{ "name": name }] });
+    let script = crate::view::script_json(&value);
+    assert!(
+        !script.contains(['<', '>', '&', '\u{2028}', '\u{2029}']),
+        "script JSON left markup"
+    );
+    assert_eq!(
+        serde_json::from_str::<serde_json::Value>(&script)
+            .ok()
+            .as_ref(),
+        Some(&value),
+        "script JSON changed the value"
+    );
+    // A strip's title, label and attribute.
+    let escaped = crate::files::names::xml_escape(name);
+    let svg = format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\"><title>{escaped}</title><text data-name=\"{escaped}\">{escaped}</text></svg>"
+    );
+    let doc = roxmltree::Document::parse(&svg).expect("the strip's XML parses");
+    let text = doc
+        .descendants()
+        .find(|n| n.has_tag_name("text"))
+        .expect("the text element");
+    // XML 1.0 keeps every character but the controls other than tab, newline and carriage
+    // return, and U+FFFE, U+FFFF (those become U+FFFD).
+    let kept: String = name
+        .chars()
+        .map(|c| match c {
+            '\t' | '\n' | '\r' => c,
+            c if c < ' ' || c == '\u{fffe}' || c == '\u{ffff}' => '\u{fffd}',
+            c => c,
+        })
+        .collect();
+    assert_eq!(
+        text.text().unwrap_or(""),
+        kept,
+        "the strip's text changed the name"
+    );
+    assert!(doc.descendants().all(|n| !n.has_tag_name("script")));
+    assert_eq!(
+        text.attribute("data-name").map(|a| !a.is_empty()),
+        Some(!name.is_empty())
+    );
+    // A trajectory CSV with a coordinate and a contact so named.
+    let names = [name.to_owned()];
+    let (times, q, v) = ([0.0, 0.1], [vec![0.0], vec![0.5]], [vec![0.0], vec![5.0]]);
+    let impulses = [vec![1.0]];
+    let trajectory = Trajectory {
+        times: &times,
+        coordinate_names: &names,
+        q: &q,
+        v: &v,
+        input_names: &[],
+        u: &[],
+        contact_names: &names,
+        friction_directions: 2,
+        normal_impulse: &impulses,
+        friction_impulse: &[vec![vec![0.0, 0.0]]],
+        signed_distance: &[vec![0.0], vec![0.0]],
+        slack: &[vec![0.0]],
+        contact_positions: &[vec![[0.0, 0.0, 0.0]], vec![[0.0, 0.0, 0.5]]],
+    };
+    let units = ColumnUnits {
+        time: "s".into(),
+        length: "m".into(),
+        coordinates: vec!["m".into()],
+        inputs: Vec::new(),
+        impulse: "N·s".into(),
+    };
+    let csv = write_trajectory(&trajectory, &units);
+    let table = read_csv(&csv);
+    // A name a problem file can give (no hidden characters, not padded, short) reads back.
+    let plain = !name.is_empty()
+        && name.trim() == name
+        && name.len() <= 150
+        && !name.chars().any(crate::files::names::is_hidden_char);
+    if plain {
+        let table = table.expect("vito's own CSV reads back");
+        assert_eq!(table.column(name), Some(vec![0.0, 0.5]), "the coordinate");
+        assert_eq!(
+            table.column(&format!("{name}_normal")).map(|c| c[0]),
+            Some(1.0),
+            "the contact's impulse"
+        );
+    }
+    plain
 }
 
 /// A CSV through `reader` for `target`, as the command does; for `simulate`, the input

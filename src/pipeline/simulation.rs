@@ -168,17 +168,19 @@ pub fn prepare_simulation(
 /// Runs a prepared simulation; `progress(k)` after each step.
 pub fn run_simulation(
     prepared: &PreparedSimulation,
-    progress: impl FnMut(usize),
+    mut progress: impl FnMut(usize),
 ) -> Result<crate::sim::Simulation, crate::sim::SimulationError> {
-    run_simulation_until(prepared, progress, None)
+    run_simulation_until(prepared, |k| {
+        progress(k);
+        std::ops::ControlFlow::Continue(())
+    })
 }
 
-/// [`run_simulation`] that ends with [`crate::sim::SimulationError::Stopped`] before the
-/// next step once `stop` is set.
+/// [`run_simulation`] that stops early, keeping the steps made, when `progress(k)` breaks
+/// (`vito simulate` on a stop request).
 pub fn run_simulation_until(
     prepared: &PreparedSimulation,
-    progress: impl FnMut(usize),
-    stop: Option<&std::sync::atomic::AtomicBool>,
+    progress: impl FnMut(usize) -> std::ops::ControlFlow<()>,
 ) -> Result<crate::sim::Simulation, crate::sim::SimulationError> {
     let p = prepared;
     let (m, h) = (p.mech.nu(), p.options.h);
@@ -190,7 +192,6 @@ pub fn run_simulation_until(
         &p.options,
         |_, t, q, v| p.source.step_input(m, t, h, q, v),
         progress,
-        stop,
     )
 }
 
@@ -210,16 +211,15 @@ pub struct SimulationRun {
 }
 
 /// Runs a prepared simulation and summarises it (`vito simulate` between checking its output
-/// directory and writing): `progress(k)` after each step; once `stop` is set, it ends with
-/// [`crate::sim::SimulationError::Stopped`] before the next step.
+/// directory and writing): `progress(k)` after each step; when it breaks, the run ends with
+/// the steps made (a stop request).
 pub fn simulate_prepared(
     problem: &LoadedProblem,
     prepared: &PreparedSimulation,
-    progress: impl FnMut(usize),
-    stop: Option<&std::sync::atomic::AtomicBool>,
+    progress: impl FnMut(usize) -> std::ops::ControlFlow<()>,
 ) -> Result<SimulationRun, crate::sim::SimulationError> {
     let start = std::time::Instant::now();
-    let sim = run_simulation_until(prepared, progress, stop)?;
+    let sim = run_simulation_until(prepared, progress)?;
     let wall_time_s = start.elapsed().as_secs_f64();
     let energies = conservative_energies(prepared, &sim);
     let summary = simulation_summary(problem, prepared, &sim, energies.as_deref(), wall_time_s);

@@ -16,7 +16,7 @@ mod source;
 mod spec;
 mod starter;
 pub mod tracking;
-mod units;
+pub mod units;
 mod validate;
 
 pub use crate::model::CoordinateKind;

@@ -27,6 +27,28 @@ impl Units {
     }
 }
 
+/// Length unit names `robot.units` accepts.
+pub const LENGTH_UNITS: &[&str] = &["km", "m", "dm", "cm", "mm", "um", "µm", "nm", "in", "ft"];
+/// Mass unit names `robot.units` accepts.
+pub const MASS_UNITS: &[&str] = &["t", "kg", "g", "mg", "ug", "µg", "lb"];
+/// Time unit names `robot.units` accepts, with seconds per unit.
+pub const TIME_UNITS: &[(&str, f64)] = &[
+    ("h", 3600.0),
+    ("min", 60.0),
+    ("s", 1.0),
+    ("ms", 1e-3),
+    ("us", 1e-6),
+    ("µs", 1e-6),
+];
+
+/// Seconds per time unit `name` (1 for a name not in [`TIME_UNITS`]).
+pub fn seconds_per(name: &str) -> f64 {
+    TIME_UNITS
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map_or(1.0, |(_, s)| *s)
+}
+
 /// SI: m, kg, s.
 pub(crate) fn si_units() -> Units {
     Units {

@@ -107,7 +107,10 @@ pub enum RegressError {
         message: String,
     },
     /// The scratch directory for the solves' outputs could not be made.
-    #[error("cannot create {dir}: {source}")]
+    #[error(
+        "cannot create a scratch directory in {dir} ({source}); set TMPDIR to an existing, \
+         writable directory"
+    )]
     Scratch {
         /// The directory.
         dir: PathBuf,
@@ -128,6 +131,9 @@ pub fn regress(
     files: &[PathBuf],
     bless: bool,
 ) -> Result<Vec<RegressRow>, RegressError> {
+    if bless {
+        GoldenRecord::check_writable(record_path)?;
+    }
     let mut record = GoldenRecord::read(record_path)?;
     let base = match record_path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p.to_owned(),

@@ -136,35 +136,37 @@ impl GoldenRecord {
         Ok(())
     }
 
-    /// Writes the record atomically. A record named through a symbolic link is written to
-    /// the link's target (the record the user named), atomically beside it; a link that
-    /// leads nowhere is refused.
+    /// Writes the record atomically (a temporary file created exclusively beside it, then
+    /// renamed over it). A record named through a symbolic link is refused: vito never writes
+    /// through a link, and replacing the link would leave the record it names behind.
     pub fn write(&self, path: &Path) -> Result<(), GoldenError> {
         let body = toml::to_string(self).map_err(|e| GoldenError::Parse {
             path: path.to_owned(),
             message: e.to_string(),
         })?;
-        let target = match std::fs::symlink_metadata(path) {
-            Ok(m) if m.is_symlink() => {
-                std::fs::canonicalize(path).map_err(|source| GoldenError::Io {
-                    path: path.to_owned(),
-                    source: std::io::Error::new(
-                        source.kind(),
-                        format!(
-                            "the record is a symbolic link whose target cannot be resolved \
-                             ({source}); name the record itself with --record"
-                        ),
-                    ),
-                })?
-            }
-            _ => path.to_owned(),
-        };
-        crate::report::write_file_atomic(&target, format!("{HEADER}{body}").as_bytes()).map_err(
+        Self::check_writable(path)?;
+        crate::files::output::write_atomic(path, format!("{HEADER}{body}").as_bytes()).map_err(
             |source| GoldenError::Io {
-                path: target.clone(),
+                path: path.to_owned(),
                 source,
             },
         )
+    }
+
+    /// Refuses a record path that is a symbolic link (what [`GoldenRecord::write`] refuses),
+    /// so that `--bless` can say so before solving anything.
+    pub fn check_writable(path: &Path) -> Result<(), GoldenError> {
+        if std::fs::symlink_metadata(path).is_ok_and(|m| m.is_symlink()) {
+            return Err(GoldenError::Io {
+                path: path.to_owned(),
+                source: std::io::Error::new(
+                    std::io::ErrorKind::InvalidInput,
+                    "the record is a symbolic link and vito never writes through one; \
+                     name the record file itself with --record",
+                ),
+            });
+        }
+        Ok(())
     }
 
     /// The entry for a problem file name.

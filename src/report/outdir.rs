@@ -354,7 +354,7 @@ fn write_manifest(dir: &Path) -> Result<(), OutputDirError> {
     text.push_str(MANIFEST_END);
     text.push('\n');
     let marker = dir.join(MARKER);
-    write_file_atomic(&marker, text.as_bytes()).map_err(io_error(&marker))
+    crate::files::output::write_atomic(&marker, text.as_bytes()).map_err(io_error(&marker))
 }
 
 fn name_of(target: &Path) -> String {
@@ -475,24 +475,6 @@ pub fn create_new_file(path: &Path) -> io::Result<std::fs::File> {
         .create_new(true)
         .custom_flags(rustix::fs::OFlags::NOFOLLOW.bits() as i32)
         .open(path)
-}
-
-/// Writes `contents` to `path` atomically (a new temp file in the same directory, then rename).
-pub fn write_file_atomic(path: &Path, contents: &[u8]) -> io::Result<()> {
-    let tmp = sibling(path, "tmp");
-    let written = create_new_file(&tmp).and_then(|mut file| {
-        io::Write::write_all(&mut file, contents)?;
-        file.sync_all()
-    });
-    if let Err(e) = written {
-        if e.kind() != io::ErrorKind::AlreadyExists {
-            let _ = std::fs::remove_file(&tmp);
-        }
-        return Err(e);
-    }
-    std::fs::rename(&tmp, path).inspect_err(|_| {
-        let _ = std::fs::remove_file(&tmp);
-    })
 }
 
 #[cfg(test)]

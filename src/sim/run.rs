@@ -3,6 +3,7 @@
 //! started from the previous one.
 
 use nalgebra::{DMatrix, DVector};
+use std::ops::ControlFlow;
 
 use super::step::{Before, ContactStep, Impulses, StepFailure, StepInput, StepOptions};
 use crate::contact::ContactModel;
@@ -63,12 +64,6 @@ pub enum SimulationError {
         /// The bound.
         bound: f64,
     },
-    /// A stop request arrived before step `step`.
-    #[error("stopped by a stop request before step {step}")]
-    Stopped {
-        /// The step not taken.
-        step: usize,
-    },
     /// The input policy's end-state feedback names an input or coordinate the robot lacks.
     #[error("step {step}: feedback on an input or coordinate the robot does not have")]
     FeedbackIndex {
@@ -127,14 +122,16 @@ pub fn simulate<M: MechanicsDerivatives, U: Into<StepInput>>(
     v0: &[f64],
     options: &SimulationOptions,
     input: impl FnMut(usize, f64, &[f64], &[f64]) -> U,
-    progress: impl FnMut(usize),
+    mut progress: impl FnMut(usize),
 ) -> Result<Simulation, SimulationError> {
-    simulate_until(mech, contact, q0, v0, options, input, progress, None)
+    simulate_until(mech, contact, q0, v0, options, input, |k| {
+        progress(k);
+        ControlFlow::Continue(())
+    })
 }
 
-/// [`simulate`] that ends with [`SimulationError::Stopped`] before the next step once
-/// `stop` is set (a stop request from another thread or a signal handler).
-#[allow(clippy::too_many_arguments)]
+/// [`simulate`] that stops early, keeping the steps made, when `progress(k)` (called after
+/// each step) breaks: a stop request ends a simulation with what it has simulated.
 pub fn simulate_until<M: MechanicsDerivatives, U: Into<StepInput>>(
     mech: &M,
     contact: &ContactModel,
@@ -142,8 +139,7 @@ pub fn simulate_until<M: MechanicsDerivatives, U: Into<StepInput>>(
     v0: &[f64],
     options: &SimulationOptions,
     mut input: impl FnMut(usize, f64, &[f64], &[f64]) -> U,
-    mut progress: impl FnMut(usize),
-    stop: Option<&std::sync::atomic::AtomicBool>,
+    mut progress: impl FnMut(usize) -> ControlFlow<()>,
 ) -> Result<Simulation, SimulationError> {
     let (n, m, h) = (mech.nq(), mech.nu(), options.h);
     let mut sim = Simulation {
@@ -159,9 +155,6 @@ pub fn simulate_until<M: MechanicsDerivatives, U: Into<StepInput>>(
     };
     let mut warm = Impulses::zeros(mech, contact);
     for k in 0..options.steps {
-        if stop.is_some_and(|s| s.load(std::sync::atomic::Ordering::SeqCst)) {
-            return Err(SimulationError::Stopped { step: k });
-        }
         let t = k as f64 * h;
         let u: StepInput = input(k, t, &sim.q[k], &sim.v[k]).into();
         let misplaced = u.feedback.iter().any(|g| g.input >= m || g.coordinate >= n);
@@ -270,7 +263,9 @@ pub fn simulate_until<M: MechanicsDerivatives, U: Into<StepInput>>(
         if outcome.residual > outcome.tolerance {
             sim.relaxed_steps.push(k);
         }
-        progress(k);
+        if progress(k).is_break() {
+            break;
+        }
     }
     Ok(sim)
 }

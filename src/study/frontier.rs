@@ -47,7 +47,7 @@ pub fn write_frontier(dir: &Path, plans: &[PlanRecord], title: &str) -> Result<(
         message: e.to_string(),
     };
     let csv = dir.join("tracking_frontier.csv");
-    crate::report::write_file_atomic(&csv, frontier_csv(plans).as_bytes())
+    crate::files::output::write_atomic(&csv, frontier_csv(plans).as_bytes())
         .map_err(|e| fail(&csv, &e))?;
     let axes: [(&str, &str, PlanMeasure); 2] = [
         ("time", "solve wall time (s)", |p| p.wall_time_s),
@@ -55,9 +55,10 @@ pub fn write_frontier(dir: &Path, plans: &[PlanRecord], title: &str) -> Result<(
     ];
     for (stem, x_label, x) in axes {
         let svg = dir.join(format!("tracking_frontier_{stem}.svg"));
-        let staging = dir.join(format!("tracking_frontier_{stem}.svg.tmp"));
-        frontier_svg(&staging, plans, title, x_label, x).map_err(|e| fail(&svg, &e))?;
-        std::fs::rename(&staging, &svg).map_err(|e| fail(&svg, &e))?;
+        crate::files::output::write_atomic_with(&svg, |staged| {
+            frontier_svg(staged, plans, title, x_label, x)
+        })
+        .map_err(|e| fail(&svg, &e))?;
     }
     Ok(())
 }

@@ -202,7 +202,7 @@ impl StudyTable {
             message: e.to_string(),
         };
         let csv = dir.join(format!("{stem}.csv"));
-        crate::report::write_file_atomic(&csv, self.csv().as_bytes())
+        crate::files::output::write_atomic(&csv, self.csv().as_bytes())
             .map_err(|e| fail(&csv, &e))?;
         let mut runs = String::from("knots,method,run,rms\n");
         for r in &self.rows {
@@ -211,13 +211,11 @@ impl StudyTable {
             }
         }
         let runs_path = dir.join(format!("{stem}_runs.csv"));
-        crate::report::write_file_atomic(&runs_path, runs.as_bytes())
+        crate::files::output::write_atomic(&runs_path, runs.as_bytes())
             .map_err(|e| fail(&runs_path, &e))?;
         let svg = dir.join(format!("{stem}.svg"));
-        let staging = dir.join(format!("{stem}.svg.tmp"));
-        self.svg(&staging, title, y_label)
+        crate::files::output::write_atomic_with(&svg, |staged| self.svg(staged, title, y_label))
             .map_err(|e| fail(&svg, &e))?;
-        std::fs::rename(&staging, &svg).map_err(|e| fail(&svg, &e))?;
         Ok(())
     }
 

@@ -24,6 +24,12 @@ impl Axis {
         let (key, list) = arg
             .split_once('=')
             .ok_or_else(|| bad("expected key=v1,v2,...".into()))?;
+        let count = list.split(',').count();
+        if count > MAX_GRID_POINTS {
+            return Err(bad(format!(
+                "{count} values; a sweep has at most {MAX_GRID_POINTS} points"
+            )));
+        }
         let values: Vec<String> = list.split(',').map(|v| v.trim().to_owned()).collect();
         if values.iter().any(String::is_empty) {
             return Err(bad(
@@ -43,8 +49,15 @@ impl Axis {
         if values.is_empty() {
             return Err(SweepError::Usage(format!("{key}: no values")));
         }
-        for (i, v) in values.iter().enumerate() {
-            if values[..i].contains(v) {
+        if values.len() > MAX_GRID_POINTS {
+            return Err(SweepError::Usage(format!(
+                "{} values; a sweep has at most {MAX_GRID_POINTS} points",
+                values.len()
+            )));
+        }
+        let mut seen = std::collections::HashSet::new();
+        for v in &values {
+            if !seen.insert(v.as_str()) {
                 return Err(SweepError::Usage(format!(
                     "the value `{v}` is listed twice"
                 )));
@@ -57,6 +70,10 @@ impl Axis {
         })
     }
 }
+
+/// Most points a grid may have (the product of its axes' lengths), checked before anything
+/// runs: each point is a solve and a row of the tables rewritten after every run.
+pub const MAX_GRID_POINTS: usize = 100_000;
 
 /// The swept axes; their product is the grid, the last axis varying fastest.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -131,12 +148,47 @@ impl Grid {
                 )));
             }
         }
-        Ok(Grid { axes })
+        let grid = Grid { axes };
+        grid.check_size()?;
+        Ok(grid)
     }
 
-    /// Number of points.
+    /// Refuses a grid with no point or more than [`MAX_GRID_POINTS`] (the product counted
+    /// without overflow), naming the axes' lengths.
+    pub fn check_size(&self) -> Result<(), SweepError> {
+        let count = self
+            .axes
+            .iter()
+            .try_fold(1usize, |n, a| n.checked_mul(a.values.len()));
+        match count {
+            Some(n) if n > 0 && n <= MAX_GRID_POINTS => Ok(()),
+            _ => {
+                let lengths: Vec<String> = self
+                    .axes
+                    .iter()
+                    .map(|a| a.values.len().to_string())
+                    .collect();
+                let points = match count {
+                    Some(n) => n.to_string(),
+                    None => "more than 2^64".into(),
+                };
+                Err(SweepError::Usage(format!(
+                    "the grid has {points} points ({} values per axis); a sweep has 1 to \
+                     {MAX_GRID_POINTS} points: sweep fewer values, or split the sweep by a \
+                     key into several sweeps",
+                    lengths.join(" × ")
+                )))
+            }
+        }
+    }
+
+    /// Number of points (saturating; a grid from [`Grid::new`] has at most
+    /// [`MAX_GRID_POINTS`]).
     pub fn len(&self) -> usize {
-        self.axes.iter().map(|a| a.values.len()).product()
+        self.axes
+            .iter()
+            .try_fold(1usize, |n, a| n.checked_mul(a.values.len()))
+            .unwrap_or(usize::MAX)
     }
 
     /// Whether the grid has no points (never, for a grid made by [`Grid::new`]).
@@ -264,6 +316,37 @@ mod tests {
         assert_eq!(p.distance(&g.point(0)), 2);
         let names: std::collections::BTreeSet<_> = g.points().map(|p| p.run_name()).collect();
         assert_eq!(names.len(), 6);
+    }
+
+    /// Grids of 2^64 points (which a product wraps to 0) and of 10^6 points are refused
+    /// when made, before any point is enumerated; an axis longer than the limit is refused
+    /// before its values are checked.
+    #[test]
+    fn oversized_grids_are_refused_up_front() {
+        let two: Vec<Axis> = (0..64)
+            .map(|i| Axis::parse(&format!("k{i}=1,2")).unwrap())
+            .collect();
+        let err = Grid::new(two).unwrap_err().to_string();
+        assert!(err.contains("more than 2^64"), "{err}");
+        let ten = |i: usize| {
+            Axis::parse(&format!(
+                "k{i}={}",
+                (0..10).map(|v| v.to_string()).collect::<Vec<_>>().join(",")
+            ))
+            .unwrap()
+        };
+        let err = Grid::new((0..6).map(ten).collect())
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("1000000 points"), "{err}");
+        assert_eq!(Grid::new((0..5).map(ten).collect()).unwrap().len(), 100_000);
+        let long = format!("k={}", vec!["1"; MAX_GRID_POINTS + 1].join(","));
+        assert!(
+            Axis::parse(&long)
+                .unwrap_err()
+                .to_string()
+                .contains("at most")
+        );
     }
 
     #[test]

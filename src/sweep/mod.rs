@@ -18,7 +18,7 @@ mod table;
 
 use std::path::PathBuf;
 
-pub use grid::{Axis, Grid, Point, Shard};
+pub use grid::{Axis, Grid, MAX_GRID_POINTS, Point, Shard};
 pub use jobs::{JobOutcome, JobSweep, PointJob};
 pub use neighbours::{ATTEMPTS, DEFAULT_ROUNDS, SETTLE_RATIO};
 pub use plot::{PointClass, metric_svg, metric_svg_text};

@@ -250,7 +250,7 @@ fn padded(values: impl Iterator<Item = f64>) -> (f64, f64) {
 /// The SVG text of `metric` over the grid of `table`.
 pub fn metric_svg_text(table: &Table, metric: &str) -> (String, usize) {
     let data = plot_data(table, metric);
-    let metric_label = xml_text(metric);
+    let metric_label = crate::files::names::xml_escape(metric);
     let (width, plot_w, left, top) = (900.0, 560.0, 80.0, 40.0);
     let plot_h = 300.0;
     // The strip for points without a value, below the plotting area.
@@ -291,7 +291,7 @@ pub fn metric_svg_text(table: &Table, metric: &str) -> (String, usize) {
         svg,
         r##"<rect width="100%" height="100%" fill="#ffffff"/><text x="{:.1}" y="22" text-anchor="middle" font-size="15">{metric_label} over the sweep of {}</text>"##,
         left + plot_w / 2.0,
-        xml_text(&table.problem)
+        crate::files::names::xml_escape(&table.problem)
     );
     // Axes, grid and ticks.
     let _ = writeln!(
@@ -330,7 +330,7 @@ pub fn metric_svg_text(table: &Table, metric: &str) -> (String, usize) {
         r##"<text x="{:.1}" y="{:.1}" text-anchor="middle">{}</text><text transform="translate(18 {:.1}) rotate(-90)" text-anchor="middle">{metric_label}</text>"##,
         left + plot_w / 2.0,
         strip_y + 44.0,
-        xml_text(&data.x_label),
+        crate::files::names::xml_escape(&data.x_label),
         top + plot_h / 2.0
     );
     let _ = writeln!(
@@ -376,7 +376,7 @@ pub fn metric_svg_text(table: &Table, metric: &str) -> (String, usize) {
             lx + 22.0,
             lx + 28.0,
             ly + 4.0,
-            xml_text(&s.label)
+            crate::files::names::xml_escape(&s.label)
         );
         ly += 20.0;
     }
@@ -399,13 +399,6 @@ pub fn metric_svg_text(table: &Table, metric: &str) -> (String, usize) {
     (svg, data.plotted)
 }
 
-/// Text for an SVG element (the problem's path and the grid's values are the user's).
-fn xml_text(text: &str) -> String {
-    text.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-}
-
 /// A tick label: as few decimals as the step needs.
 fn format_tick(v: f64, step: f64) -> String {
     let v = if v.abs() < step * 1e-9 { 0.0 } else { v };
@@ -421,7 +414,7 @@ fn format_tick(v: f64, step: f64) -> String {
 /// rows that had a value.
 pub fn metric_svg(table: &Table, metric: &str, path: &Path) -> Result<usize, SweepError> {
     let (svg, plotted) = metric_svg_text(table, metric);
-    crate::report::write_file_atomic(path, svg.as_bytes()).map_err(|source| SweepError::Io {
+    crate::files::output::write_atomic(path, svg.as_bytes()).map_err(|source| SweepError::Io {
         path: path.to_owned(),
         source,
     })?;

@@ -7,8 +7,8 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
+use crate::files::output::write_atomic;
 use crate::problem::Override;
-use crate::report::write_file_atomic;
 use crate::sweep::{Grid, Point, Shard, SweepError};
 
 /// The table's JSON file.
@@ -402,7 +402,7 @@ impl Table {
         let line = |cells: &[String]| {
             cells
                 .iter()
-                .map(|c| csv_cell(c))
+                .map(|c| crate::files::trajectory_csv::csv_field(c))
                 .collect::<Vec<_>>()
                 .join(",")
                 + "\n"
@@ -420,7 +420,7 @@ impl Table {
             serde_json::to_string_pretty(self).map_err(|e| SweepError::Internal(e.to_string()))?;
         for (name, text) in [(TABLE_JSON, json + "\n"), (TABLE_CSV, self.to_csv())] {
             let path = dir.join(name);
-            write_file_atomic(&path, text.as_bytes())
+            write_atomic(&path, text.as_bytes())
                 .map_err(|source| SweepError::Io { path, source })?;
         }
         Ok(())
@@ -441,18 +441,15 @@ impl Table {
                         source,
                     },
                 })?;
-        serde_json::from_str(&text).map_err(|e| SweepError::Table {
+        let table: Table = serde_json::from_str(&text).map_err(|e| SweepError::Table {
+            path: path.clone(),
+            message: e.to_string(),
+        })?;
+        table.grid.check_size().map_err(|e| SweepError::Table {
             path,
             message: e.to_string(),
-        })
-    }
-}
-
-fn csv_cell(c: &str) -> String {
-    if c.contains([',', '"', '\n', '\r']) {
-        format!("\"{}\"", c.replace('"', "\"\""))
-    } else {
-        c.to_owned()
+        })?;
+        Ok(table)
     }
 }
 

@@ -23,16 +23,18 @@ use serde_json::{Value, json};
 
 use crate::contact::Terrain;
 use crate::discrete::Mechanics;
+use crate::files::names::xml_escape;
 use crate::model::{LinkId, link_pose};
 use crate::transcription::ModelMechanics;
 
 /// The page's script and styles, into which the scene's data is put.
 pub const PAGE_TEMPLATE: &str = include_str!("page.html");
 
-/// Text every page vito writes holds (so that `vito view` replaces only its own pages).
-pub const PAGE_MARK: &str = "id=\"vito-status\"";
-/// Text every strip vito writes holds.
-pub const SVG_MARK: &str = "<!-- vito strip -->";
+/// Text the head of every page vito writes holds (so that `vito view` replaces only its own
+/// pages, see [`is_vito_page`]).
+pub const PAGE_MARK: &str = "<meta name=\"generator\" content=\"vito animation page\">";
+/// Text every strip vito writes begins with.
+pub const SVG_MARK: &str = "<!-- vito strip: written by vito view -->";
 
 /// The placeholder in [`PAGE_TEMPLATE`] that the scene's JSON replaces.
 const DATA_MARK: &str = "/*VITO_DATA*/null";
@@ -139,16 +141,6 @@ pub struct Scene {
     pub time_unit: String,
     /// Title (the problem's name).
     pub title: String,
-}
-
-/// Seconds per time unit for the few units robot files use (1 for unknown names).
-fn seconds_per(unit: &str) -> f64 {
-    match unit {
-        "ms" => 1e-3,
-        "us" | "µs" => 1e-6,
-        "min" => 60.0,
-        _ => 1.0,
-    }
 }
 
 /// The knots a page keeps of `times` (a simulation's steps, `seconds` per unit): every one for
@@ -262,7 +254,7 @@ pub fn frames(scene: &Scene, motion: &Motion) -> Vec<Frame> {
     frame_indices(
         &motion.times,
         motion.is_simulation(),
-        seconds_per(&scene.time_unit),
+        crate::problem::units::seconds_per(&scene.time_unit),
     )
     .into_iter()
     .map(|k| {
@@ -439,7 +431,7 @@ pub fn page_data(scene: &Scene, motions: &[Motion], drawing: &Drawing) -> Value 
         "title": scene.title,
         "length_unit": scene.length_unit,
         "time_unit": scene.time_unit,
-        "seconds_per_unit": seconds_per(&scene.time_unit),
+        "seconds_per_unit": crate::problem::units::seconds_per(&scene.time_unit),
         "size": drawing.size,
         "links": scene.mechanics.model().link_names(),
         "base": base_link(scene.mechanics.model()),
@@ -456,31 +448,78 @@ pub fn page_data(scene: &Scene, motions: &[Motion], drawing: &Drawing) -> Value 
     })
 }
 
+/// `value` as JSON that can stand inside an HTML `<script>` element whatever its strings
+/// hold: `<`, `>` and `&` are written `\u003c`, `\u003e`, `\u0026` (so no `</script>`, `<!--`
+/// or `<script` can change the HTML parser's state), U+2028 and U+2029 as `\u2028`, `\u2029`
+/// (line terminators in older JavaScript). The JSON means the same: these characters occur
+/// only inside strings, where the escapes stand for them.
+pub fn script_json(value: &Value) -> String {
+    let text = value.to_string();
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '<' => out.push_str("\\u003c"),
+            '>' => out.push_str("\\u003e"),
+            '&' => out.push_str("\\u0026"),
+            '\u{2028}' => out.push_str("\\u2028"),
+            '\u{2029}' => out.push_str("\\u2029"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
 /// The whole page of `motions`.
 pub fn page(scene: &Scene, motions: &[Motion], drawing: &Drawing) -> String {
-    // `</` cannot close the script element inside a JSON string written this way.
-    let data = page_data(scene, motions, drawing)
-        .to_string()
-        .replace("</", "<\\/");
+    let data = script_json(&page_data(scene, motions, drawing));
     PAGE_TEMPLATE.replacen(DATA_MARK, &data, 1)
 }
 
-/// Writes `path` atomically: a sibling temporary file renamed over it.
+/// How many bytes of an existing file [`is_vito_page`] and [`is_vito_strip`] look at.
+pub const MARK_WINDOW: usize = 1024;
+
+/// The head of pages written before [`PAGE_MARK`] existed: their first lines, exactly.
+const LEGACY_PAGE_HEAD: &str = "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
+     <meta http-equiv=\"Content-Security-Policy\" content=\"default-src 'none'; script-src \
+     'unsafe-inline'; style-src 'unsafe-inline'; img-src data:\">\n<title>vito animation</title>\n";
+/// The start of strips written before [`SVG_MARK`] led them, and their second line's start.
+const LEGACY_STRIP: (&str, &str) = (
+    "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"",
+    "\n<!-- vito strip --><rect ",
+);
+
+fn contains(haystack: &[u8], needle: &str) -> bool {
+    haystack
+        .windows(needle.len())
+        .any(|w| w == needle.as_bytes())
+}
+
+/// Whether `head`, the start of an existing file, shows a page vito wrote: `<!DOCTYPE html>`
+/// and [`PAGE_MARK`] within the first [`MARK_WINDOW`] bytes (or the exact head of an older
+/// vito page). A user's file that merely mentions vito's markers elsewhere is not one.
+pub fn is_vito_page(head: &[u8]) -> bool {
+    let window = &head[..head.len().min(MARK_WINDOW)];
+    (window.starts_with(b"<!DOCTYPE html>\n") && contains(window, PAGE_MARK))
+        || window.starts_with(LEGACY_PAGE_HEAD.as_bytes())
+}
+
+/// Whether `head`, the start of an existing file, shows a strip vito wrote: it begins with
+/// [`SVG_MARK`] (or has an older vito strip's first two lines).
+pub fn is_vito_strip(head: &[u8]) -> bool {
+    let window = &head[..head.len().min(MARK_WINDOW)];
+    window.starts_with(SVG_MARK.as_bytes())
+        || (window.starts_with(LEGACY_STRIP.0.as_bytes()) && {
+            let line_end = window.iter().position(|&b| b == b'\n').unwrap_or(0);
+            window[line_end..].starts_with(LEGACY_STRIP.1.as_bytes())
+        })
+}
+
+/// Writes `path` atomically ([`crate::files::output::write_atomic`]: a temporary file created
+/// exclusively beside it, never through a link, renamed over it).
 pub fn write_atomically(path: &Path, text: &str) -> Result<(), ViewError> {
-    let io = |source| ViewError::Io {
+    crate::files::output::write_atomic(path, text.as_bytes()).map_err(|source| ViewError::Io {
         path: path.to_owned(),
         source,
-    };
-    let dir = path.parent().unwrap_or(Path::new("."));
-    let name = path.file_name().map_or_else(
-        || "animation.html".into(),
-        |n| n.to_string_lossy().into_owned(),
-    );
-    let tmp = dir.join(format!(".{name}.tmp-{}", std::process::id()));
-    std::fs::write(&tmp, text).map_err(io)?;
-    std::fs::rename(&tmp, path).map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        io(e)
     })
 }
 

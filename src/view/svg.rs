@@ -3,7 +3,7 @@
 
 use std::fmt::Write;
 
-use super::{Drawing, Frame, Motion, Scene, rotation_of};
+use super::{Drawing, Frame, Motion, Scene, rotation_of, xml_escape};
 
 /// Height of the caption band naming the motion's verdict, pixels.
 const CAPTION_H: f64 = 20.0;
@@ -151,7 +151,7 @@ pub fn strip_svg(scene: &Scene, drawing: &Drawing, motion: &Motion, n: usize) ->
     let (panel_w, panel_h) = (width * px, (z_hi - z_lo) * px);
     let total_w = panel_w * poses.len() as f64;
     let label_h = 22.0;
-    let mut svg = String::new();
+    let mut svg = format!("{}\n", super::SVG_MARK);
     let _ = writeln!(
         svg,
         r#"<svg xmlns="http://www.w3.org/2000/svg" width="{:.0}" height="{:.0}" viewBox="0 0 {total_w:.1} {:.1}" font-family="sans-serif" font-size="13">"#,
@@ -161,9 +161,8 @@ pub fn strip_svg(scene: &Scene, drawing: &Drawing, motion: &Motion, n: usize) ->
     );
     let _ = writeln!(
         svg,
-        r##"{}<rect width="100%" height="100%" fill="#ffffff"/><title>{}: {} poses</title>"##,
-        super::SVG_MARK,
-        scene.title,
+        r##"<rect width="100%" height="100%" fill="#ffffff"/><title>{}: {} poses</title>"##,
+        xml_escape(&scene.title),
         poses.len()
     );
     let _ = writeln!(
@@ -171,7 +170,7 @@ pub fn strip_svg(scene: &Scene, drawing: &Drawing, motion: &Motion, n: usize) ->
         r#"<text class="verdict" data-standing="{}" x="6" y="15" fill="{}">{}</text><g transform="translate(0 {CAPTION_H})">"#,
         motion.standing.name(),
         motion.standing.colour().unwrap_or("#333"),
-        motion.detail
+        xml_escape(&motion.detail)
     );
     for (i, (frame, b)) in poses.iter().zip(&boxes).enumerate() {
         let centre = (b[0] + b[2]) / 2.0;
@@ -218,7 +217,7 @@ pub fn strip_svg(scene: &Scene, drawing: &Drawing, motion: &Motion, n: usize) ->
             ox + panel_w / 2.0,
             panel_h + 16.0,
             frame.time,
-            scene.time_unit
+            xml_escape(&scene.time_unit)
         );
         if i > 0 {
             let _ = writeln!(

@@ -101,7 +101,7 @@ fn a_decimated_simulation_keeps_its_first_and_last_step() {
     assert_eq!(kept.last(), Some(&3998));
     // 100 ms in milliseconds (HAMR): about MIN_FRAMES (the steps' grid rounds the spacing up).
     let times: Vec<f64> = (0..2001).map(|k| k as f64 * 0.05).collect();
-    let kept = frame_indices(&times, true, seconds_per("ms"));
+    let kept = frame_indices(&times, true, crate::problem::units::seconds_per("ms"));
     assert!(
         kept.len() >= MIN_FRAMES * 9 / 10 && kept.len() <= MIN_FRAMES + 1,
         "{}",
@@ -306,4 +306,81 @@ fn the_strip_names_the_verdict() {
         "{svg}"
     );
     assert_eq!(svg.matches("<g").count(), svg.matches("</g>").count());
+}
+
+/// The page's JSON holds no character that could change the HTML parser's state inside the
+/// script element, and parses back to the same value.
+#[test]
+fn script_json_escapes_markup_and_line_separators() {
+    let hostile = "<!--<script></script>&amp;\u{2028}\u{2029}]]>\\<";
+    let value = json!({ "name": hostile, "list": [hostile, "plain"] });
+    let text = script_json(&value);
+    for c in ['<', '>', '&', '\u{2028}', '\u{2029}'] {
+        assert!(!text.contains(c), "{c:?} in {text}");
+    }
+    assert_eq!(serde_json::from_str::<Value>(&text).unwrap(), value);
+}
+
+/// Every character XML cares about becomes an entity, forbidden controls U+FFFD.
+#[test]
+fn xml_escape_keeps_any_name_well_formed() {
+    assert_eq!(
+        xml_escape("a<b>&\"c'\u{1}\u{ffff}]]>"),
+        "a&lt;b&gt;&amp;&quot;c&apos;\u{fffd}\u{fffd}]]&gt;"
+    );
+}
+
+/// Only files vito wrote count as its pages and strips: by the mark at their start (or an
+/// older vito page's exact head), not by a mark quoted further on.
+#[test]
+fn vito_pages_and_strips_are_recognised_by_their_heads() {
+    assert!(PAGE_TEMPLATE.starts_with("<!DOCTYPE html>\n"));
+    assert!(is_vito_page(PAGE_TEMPLATE.as_bytes()));
+    let older = format!(
+        "{LEGACY_PAGE_HEAD}<style></style></head><body><pre id=\"vito-status\"></pre></body>"
+    );
+    assert!(is_vito_page(older.as_bytes()));
+    let notes = format!(
+        "<!DOCTYPE html>\n<html><body><p>my notes</p>{}<pre id=\"vito-status\"></pre>{PAGE_MARK}</body></html>",
+        "x".repeat(MARK_WINDOW)
+    );
+    assert!(!is_vito_page(notes.as_bytes()));
+    assert!(!is_vito_page(b"<p>id=\"vito-status\"</p>"));
+    let (problem, scene) = hopper_scene();
+    let motion = motion_of(&problem, 5, 0.05, false);
+    let drawing = drawing(&scene, std::slice::from_ref(&motion));
+    let strip = strip_svg(&scene, &drawing, &motion, 3);
+    assert!(is_vito_strip(strip.as_bytes()));
+    assert!(is_vito_strip(
+        b"<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"1\">\n<!-- vito strip --><rect />"
+    ));
+    assert!(!is_vito_strip(b"<svg>\n<!-- mine --><!-- vito strip -->"));
+}
+
+/// A hostile title and time unit reach the strip escaped: it parses as XML and holds them as
+/// text, with no element they could have opened.
+#[test]
+fn strip_svg_parses_with_markup_in_names() {
+    let (problem, mut scene) = hopper_scene();
+    let hostile = "</text><script>alert(1)</script><text>&<![CDATA[x]]>\"'";
+    scene.title = hostile.to_owned();
+    scene.time_unit = hostile.to_owned();
+    let motion = motion_of(&problem, 5, 0.05, false);
+    let drawing = drawing(&scene, std::slice::from_ref(&motion));
+    let svg = strip_svg(&scene, &drawing, &motion, 3);
+    let doc = roxmltree::Document::parse(&svg).expect("the strip is XML");
+    assert!(doc.descendants().all(|n| n.tag_name().name() != "script"));
+    let title = doc
+        .descendants()
+        .find(|n| n.has_tag_name("title"))
+        .and_then(|n| n.text())
+        .unwrap();
+    assert_eq!(title, format!("{hostile}: 3 poses"));
+    let labels: Vec<&str> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("text"))
+        .filter_map(|n| n.text())
+        .collect();
+    assert_eq!(labels.len(), 3);
+    assert!(labels.iter().all(|l| l.ends_with(hostile)), "{labels:?}");
 }

@@ -251,3 +251,35 @@ fn mutated_documents_never_panic() {
         }
     }
 }
+
+/// A transmission's `mechanicalReduction` of 0, NaN or ±inf is refused by name; 2 loads
+/// (with a warning that vito uses 1).
+#[test]
+fn degenerate_mechanical_reductions_are_refused() {
+    let body = |reduction: &str| {
+        robot(
+            &(link("a")
+                + &link("b")
+                + &joint("hinge", "revolute", "a", "b")
+                + &format!(
+                    r#"<transmission name="drive"><joint name="hinge"/><mechanicalReduction>{reduction}</mechanicalReduction></transmission>"#
+                )),
+        )
+    };
+    for bad in ["0", "-0", "NaN", "inf", "-inf"] {
+        let (_, msg) = reject(&body(bad));
+        assert!(
+            msg.contains("drive") && msg.contains("mechanicalReduction"),
+            "{bad}: {msg}"
+        );
+    }
+    let model = Model::from_urdf_str(&body("2"), BaseType::Fixed).unwrap();
+    assert!(
+        model
+            .warnings()
+            .iter()
+            .any(|w| w.contains("mechanicalReduction 2 ignored")),
+        "{:?}",
+        model.warnings()
+    );
+}

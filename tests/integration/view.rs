@@ -444,3 +444,139 @@ fn committed_pages_are_what_the_viewer_draws() {
     }
     assert_eq!(checked, 13);
 }
+
+/// Markup in every name that reaches a page or a strip: the problem's name, a URDF link, a
+/// joint (a coordinate and input), the collision (the contact, with a comma), the result
+/// directory and the summary's `integrator`. `vito simulate` writes the result, `vito view`
+/// a page and a strip of it, `vito check --at` reads its CSV back. In headless Chromium the
+/// page starts (status ready, no error) and no injected script runs (it would log to the
+/// console); the strip parses as XML with no `script` element and loads with no console line.
+#[test]
+fn markup_in_names_neither_stops_the_page_nor_runs() {
+    // One payload per place: an HTML comment opening a script (the "double escaped" state),
+    // a closing tag, an injected script that would log, an entity, CDATA (U+2028/2029, which
+    // problem and URDF names refuse as invisible, in the summary's integrator).
+    let payload = |tag: &str| {
+        format!(
+            "{tag}<!--<script></script><script>console.log('INJECTED {tag}')</script>&amp;<![CDATA[x]]>'\""
+        )
+    };
+    let xml = |s: &str| {
+        s.replace('&', "&amp;")
+            .replace('<', "&lt;")
+            .replace('>', "&gt;")
+            .replace('"', "&quot;")
+    };
+    let toml_str = |s: &str| serde_json::to_string(s).unwrap();
+    let t = tempfile::tempdir().unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    std::fs::create_dir(t.path().join("robots")).unwrap();
+    let (link, joint, contact) = (payload("link"), payload("joint,j"), payload("left,foot"));
+    let urdf = std::fs::read_to_string(root.join("problems/robots/hopper_2d.urdf"))
+        .unwrap()
+        .replace("\"body\"", &format!("\"{}\"", xml(&link)))
+        .replace("\"theta\"", &format!("\"{}\"", xml(&joint)))
+        .replace("\"foot_contact\"", &format!("\"{}\"", xml(&contact)));
+    std::fs::write(t.path().join("robots/hopper_2d.urdf"), urdf).unwrap();
+    let problem = std::fs::read_to_string(root.join("problems/hopper_2d.toml"))
+        .unwrap()
+        .replace(
+            "name = \"hopper-2d\"",
+            &format!("name = {}", toml_str(&payload("problem"))),
+        )
+        .replace("theta = 0.0,", &format!("{} = 0.0,", toml_str(&joint)))
+        .replace("theta = [-10.0", &format!("{} = [-10.0", toml_str(&joint)))
+        .replace("theta = 0.1,", &format!("{} = 0.1,", toml_str(&joint)));
+    std::fs::write(t.path().join("p.toml"), problem).unwrap();
+    let vito = |args: &[&str]| {
+        let out = Command::new(env!("CARGO_BIN_EXE_vito"))
+            .current_dir(t.path())
+            .args(args)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+        assert_eq!(out.status.code(), Some(0), "{args:?}: {stderr}");
+    };
+    let dir = payload("dir").replace('/', "");
+    vito(&[
+        "simulate",
+        "p.toml",
+        "--duration",
+        "0.2",
+        "--out",
+        &dir,
+        "--quiet",
+    ]);
+    // vito's own CSV, its contact holding a comma, reads back.
+    let csv = std::fs::read_to_string(t.path().join(&dir).join("trajectory.csv")).unwrap();
+    assert!(csv.contains("left,foot"), "{}", &csv[..200.min(csv.len())]);
+    vito(&["check", "p.toml", "--at", &format!("{dir}/trajectory.csv")]);
+    // A hostile integrator name in the summary.
+    let summary_path = t.path().join(&dir).join("summary.json");
+    let mut summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&summary_path).unwrap()).unwrap();
+    summary["integrator"] = format!("{}\u{2028}\u{2029}", payload("integrator")).into();
+    std::fs::write(&summary_path, summary.to_string()).unwrap();
+    vito(&[
+        "view",
+        &dir,
+        "--out",
+        "page.html",
+        "--strip",
+        "3",
+        "--svg",
+        "strip.svg",
+    ]);
+
+    let svg = std::fs::read_to_string(t.path().join("strip.svg")).unwrap();
+    let doc = roxmltree::Document::parse(&svg).expect("the strip parses as XML");
+    assert!(doc.descendants().all(|n| !n.has_tag_name("script")));
+    let title = doc.descendants().find(|n| n.has_tag_name("title")).unwrap();
+    assert_eq!(
+        title.text(),
+        Some(format!("{}: 3 poses", payload("problem")).as_str())
+    );
+
+    let Some(browser) = chromium() else {
+        assert!(
+            std::env::var_os("CI").is_none(),
+            "chromium is missing under CI"
+        );
+        eprintln!("skipped the browser half: chromium is not installed");
+        return;
+    };
+    let profile = t.path().join("profile");
+    let page = t.path().join("page.html");
+    let (dom, stderr) = browse(
+        &browser,
+        &profile,
+        &format!("file://{}#size={WIDTH}x{HEIGHT}", page.display()),
+        &["--dump-dom".into()],
+    );
+    assert!(
+        console_lines(&stderr).is_empty(),
+        "{:?}",
+        console_lines(&stderr)
+    );
+    assert!(!stderr.contains("INJECTED"), "{stderr}");
+    let s = status(&dom);
+    assert_eq!(s["errors"], serde_json::json!([]));
+    assert_eq!(s["ready"], true);
+    // The legend shows the names as text.
+    assert!(
+        dom.contains("INJECTED dir"),
+        "the directory's name is not shown"
+    );
+    let (_, stderr) = browse(
+        &browser,
+        &profile,
+        &format!("file://{}", t.path().join("strip.svg").display()),
+        &["--dump-dom".into()],
+    );
+    assert!(
+        console_lines(&stderr).is_empty(),
+        "{:?}",
+        console_lines(&stderr)
+    );
+    assert!(!stderr.contains("INJECTED"), "{stderr}");
+}

@@ -175,6 +175,16 @@ pub(super) fn read_extensions(
                     })?,
                     None => 1.0,
                 };
+                if !reduction.is_finite() || reduction == 0.0 {
+                    return Err(bad(
+                        "transmission",
+                        &name,
+                        format!(
+                            "mechanicalReduction {reduction}: give a finite, nonzero ratio \
+                             (vito uses 1 and warns about others)"
+                        ),
+                    ));
+                }
                 ext.transmissions.push((name, joint.to_string(), reduction));
             }
             _ if KNOWN_TOP_LEVEL.contains(&tag) => {}

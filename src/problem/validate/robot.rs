@@ -128,6 +128,24 @@ fn parse_units(ctx: &Context, units: Option<&str>) -> Result<Units, ProblemError
                     format!("expected \"SI\" or three unit names \"length mass time\" (e.g. \"mm g ms\"), got \"{text}\""),
                 ));
             }
+            use crate::problem::units::{LENGTH_UNITS, MASS_UNITS, TIME_UNITS};
+            let times: Vec<&str> = TIME_UNITS.iter().map(|(n, _)| *n).collect();
+            for (part, kind, known) in [
+                (parts[0], "length", LENGTH_UNITS),
+                (parts[1], "mass", MASS_UNITS),
+                (parts[2], "time", &times[..]),
+            ] {
+                if !known.contains(&part) {
+                    return Err(ctx.invalid(
+                        "robot.units",
+                        format!(
+                            "`{}` is not a {kind} unit vito knows; give one of {}",
+                            crate::files::names::escape_controls(part),
+                            known.join(", ")
+                        ),
+                    ));
+                }
+            }
             Ok(Units {
                 length: parts[0].into(),
                 mass: parts[1].into(),

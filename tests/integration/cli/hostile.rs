@@ -1182,3 +1182,33 @@ fn a_ten_thousand_link_star_is_read_with_its_lines() {
         run.stdout
     );
 }
+
+/// `robot.units` takes only known unit names: markup or a comma in a token is refused by
+/// field, naming the units vito knows; known names load.
+#[test]
+fn robot_units_are_known_names_only() {
+    for units in [
+        "m kg s</text><script>alert(1)</script>",
+        "m,x kg s",
+        "m kg fortnight",
+    ] {
+        let text = hopper_text().replace(
+            "gravity = [0.0, 0.0, -9.81]",
+            &format!("gravity = [0.0, 0.0, -9.81]\nunits = {units:?}"),
+        );
+        let err = check_fails("robot_units_are_known_names_only", &text, &[]);
+        assert!(
+            err.contains("robot.units") && err.contains("give one of"),
+            "{err}"
+        );
+    }
+    let t = TestDir::with_hopper("robot_units_known_names_load");
+    t.write(
+        "ok.toml",
+        &hopper_text().replace(
+            "gravity = [0.0, 0.0, -9.81]",
+            "gravity = [0.0, 0.0, -9.81e-3]\nunits = \"mm g ms\"",
+        ),
+    );
+    t.vito().args(["check", "ok.toml"]).assert_exit(0);
+}

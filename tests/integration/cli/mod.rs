@@ -20,3 +20,4 @@ mod study;
 pub mod sweep;
 mod sweep_slurm;
 mod trust;
+mod view_files;

@@ -51,7 +51,7 @@ fn regress_setup_error_is_an_input_error_not_a_failure() {
 /// A user's own problem, in their own directory: `--bless FILE` makes the record beside it
 /// (with the file's hash and the platform); a difference shows the terms, iterations and
 /// slack beside the record and keeps the new solution; blessing through a symbolic link
-/// writes the record the link names.
+/// is refused and writes nothing.
 #[test]
 fn regress_blesses_and_checks_a_users_own_problem() {
     let t = TestDir::with_hopper("regress_blesses_and_checks_a_users_own_problem");
@@ -87,7 +87,7 @@ fn regress_blesses_and_checks_a_users_own_problem() {
     );
     let objective = e["objective"].as_float().unwrap();
 
-    // The record named through a link: --bless rewrites its target, the link stays.
+    // The record named through a link: read and compared.
     std::os::unix::fs::symlink("golden.toml", t.path().join("link.toml")).unwrap();
     let shifted = text.replace(
         &format!("objective = {objective:?}"),
@@ -131,14 +131,25 @@ fn regress_blesses_and_checks_a_users_own_problem() {
     let kept = std::path::Path::new(kept);
     assert!(kept.join("summary.json").is_file() && kept.join("trajectory.csv").is_file());
     std::fs::remove_dir_all(kept.parent().unwrap()).unwrap();
-    t.vito()
+    // Blessing through the link is refused before any solve: neither the link nor the
+    // record it names is written.
+    let run = t
+        .vito()
         .args(["regress", "--bless", "--record", "link.toml"])
-        .assert_exit(0);
+        .assert_exit(2);
+    assert!(run.stderr.contains("symbolic link"), "{}", run.stderr);
     assert!(
         std::fs::symlink_metadata(t.path().join("link.toml"))
             .unwrap()
             .is_symlink()
     );
+    assert_eq!(
+        std::fs::read_to_string(t.path().join("golden.toml")).unwrap(),
+        shifted
+    );
+    t.vito()
+        .args(["regress", "--bless", "--record", "golden.toml"])
+        .assert_exit(0);
     let blessed = std::fs::read_to_string(t.path().join("golden.toml")).unwrap();
     assert!(
         blessed.contains(&format!("objective = {objective:?}")),
@@ -249,4 +260,18 @@ fn regress_without_problems_is_an_input_error() {
         "{}",
         run.stderr
     );
+}
+
+/// `TMPDIR` naming a missing directory: a clear input error (exit 2) before any solve.
+#[test]
+fn regress_with_a_missing_tmpdir_is_an_input_error() {
+    let t = TestDir::with_hopper("regress_with_a_missing_tmpdir_is_an_input_error");
+    t.write("hop_up.toml", &hopper_text());
+    let run = t
+        .vito()
+        .args(["regress", "--bless", "hop_up.toml"])
+        .env("TMPDIR", &t.path().join("no-such-dir").to_string_lossy())
+        .assert_exit(2);
+    assert!(run.stderr.contains("TMPDIR"), "{}", run.stderr);
+    assert!(!t.path().join("golden.toml").exists());
 }

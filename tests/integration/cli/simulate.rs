@@ -411,3 +411,64 @@ fn galerkin_steps_converge_at_the_round_off_floor() {
         assert!(residual < 1e-8, "{name}: residual {residual}");
     }
 }
+
+/// SIGTERM, SIGINT or SIGHUP stops a simulation after its current step: the steps made are
+/// written (`stopped_by_signal` in the summary, the CSV's rows those knots) and the exit code
+/// is 1, as `--help` says. The signal is sent once the process has installed its handler
+/// (its `SigCgt` mask in /proc shows it), so no timing decides the outcome.
+#[test]
+#[cfg(target_os = "linux")]
+fn signals_keep_the_simulated_part_and_exit_1() {
+    for (signal, bit) in [("-TERM", 15), ("-INT", 2), ("-HUP", 1)] {
+        // The brick at rest on the ground: 10^6 steps of 1 ms, far more than a second.
+        let t = TestDir::new("signals_keep_the_simulated_part_and_exit_1");
+        let child = std::process::Command::new(env!("CARGO_BIN_EXE_vito"))
+            .current_dir(t.path())
+            .arg("simulate")
+            .arg(problems_dir().join("brick_3d.toml"))
+            .args(["--duration", "1000", "--rate", "1000"])
+            .args(["--out", "r", "--quiet"])
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        let status_file = format!("/proc/{}/status", child.id());
+        let start = std::time::Instant::now();
+        loop {
+            let caught = std::fs::read_to_string(&status_file)
+                .ok()
+                .and_then(|s| {
+                    let line = s.lines().find(|l| l.starts_with("SigCgt:"))?.to_owned();
+                    u64::from_str_radix(line["SigCgt:".len()..].trim(), 16).ok()
+                })
+                .is_some_and(|mask| mask & (1 << (bit - 1)) != 0);
+            if caught {
+                break;
+            }
+            assert!(start.elapsed().as_secs() < 120, "no handler installed");
+            std::thread::sleep(std::time::Duration::from_millis(20));
+        }
+        // Let a few steps happen, then ask it to stop.
+        std::thread::sleep(std::time::Duration::from_millis(1000));
+        let pid = child.id().to_string();
+        assert!(
+            std::process::Command::new("kill")
+                .args([signal, &pid])
+                .status()
+                .unwrap()
+                .success()
+        );
+        let output = child.wait_with_output().unwrap();
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(1), "{signal}: {stderr}");
+        let s = summary(&t.path().join("r"));
+        assert_eq!(
+            s["stopped_by_signal"]["steps_requested"], 1_000_000,
+            "{signal}"
+        );
+        let steps = s["steps"].as_u64().unwrap();
+        assert!(steps > 0 && steps < 1_000_000, "{signal}: {steps}");
+        let csv = std::fs::read_to_string(t.path().join("r/trajectory.csv")).unwrap();
+        assert_eq!(csv.lines().count() as u64, steps + 2, "{signal}");
+    }
+}

@@ -381,9 +381,12 @@ fn sweep_refuses_foreign_directories_and_bad_grids() {
 
 /// A 10⁶-point grid is checked axis by axis (the problem loaded once per value, not once per
 /// point): a bad value on the last axis is found before anything runs, also with --shard.
+/// Grids of 10^6 and 2^64 points (a product that wraps to 0) are refused before anything is
+/// loaded, run or written (exit 2, naming the limit); a bad value in a grid within the limit
+/// is found axis by axis.
 #[test]
-fn sweep_checks_a_million_point_grid_by_axis() {
-    let t = TestDir::with_hopper("sweep_checks_a_million_point_grid_by_axis");
+fn sweep_refuses_oversized_grids_up_front() {
+    let t = TestDir::with_hopper("sweep_refuses_oversized_grids_up_front");
     t.write("fam.toml", &hopper_family());
     let values = |n: usize| {
         (0..n)
@@ -397,6 +400,25 @@ fn sweep_checks_a_million_point_grid_by_axis() {
         .vito()
         .args(["sweep", "fam.toml", "--out", "big", "--shard", "3/7"])
         .args(["--grid", &friction, "--grid", &weight])
+        .assert_exit(2);
+    assert!(run.stderr.contains("1000000 points"), "{}", run.stderr);
+    assert!(run.stderr.contains("100000"), "{}", run.stderr);
+    let mut args: Vec<String> = ["sweep", "fam.toml", "--out", "big"]
+        .map(String::from)
+        .to_vec();
+    for i in 0..64 {
+        args.push("--grid".into());
+        args.push(format!("k{i}=1,2"));
+    }
+    let run = t.vito().args(&args).assert_exit(2);
+    assert!(run.stderr.contains("more than 2^64"), "{}", run.stderr);
+    assert!(!t.path().join("big").exists());
+    let weight = format!("slack.weight={},-1", values(99));
+    let run = t
+        .vito()
+        .args(["sweep", "fam.toml", "--out", "big"])
+        .args(["--grid", &format!("contacts.friction={}", values(100))])
+        .args(["--grid", &weight])
         .assert_exit(2);
     assert!(
         run.stderr.contains("the value `-1` is not valid here"),
@@ -675,4 +697,52 @@ fn sweep_neighbour_pass_improves_points_from_their_neighbours_plans_until_settle
         again.stderr
     );
     assert_eq!(table(&sw)["rows"].as_array().unwrap(), &rows);
+}
+
+/// A table cell longer than a format width may be (65,535 characters) prints in full,
+/// padded, from `sweep report` (and the same printer ends `vito sweep`).
+#[test]
+fn sweep_report_prints_a_cell_of_70000_characters() {
+    use vito::sweep::{Axis, Grid, Row, Shard, Table};
+    let t = TestDir::new("sweep_report_prints_a_cell_of_70000_characters");
+    let long = "d".repeat(70_000);
+    let grid = Grid::new(vec![
+        Axis::parse(&format!("description={long},short")).unwrap(),
+    ])
+    .unwrap();
+    let mut rows: Vec<Row> = grid
+        .points()
+        .map(|p| Row::pending(&p, "x".into()))
+        .collect();
+    rows[1].note = "n".repeat(70_000);
+    let table = Table {
+        problem: "p.toml".into(),
+        problem_sha256: "00".into(),
+        sets: Vec::new(),
+        grid,
+        shard: Shard::ALL,
+        rows,
+    };
+    let dir = t.path().join("sw");
+    std::fs::create_dir(&dir).unwrap();
+    table.write(&dir).unwrap();
+    let run = t
+        .vito()
+        .args(["sweep", "report", "sw", "--metric", "objective"])
+        .run();
+    assert_ne!(run.code, 3, "{}", run.stderr);
+    assert!(!run.stderr.contains("panicked"), "{}", run.stderr);
+    let lines: Vec<&str> = run
+        .stdout
+        .lines()
+        .filter(|l| l.contains("pending"))
+        .collect();
+    assert_eq!(
+        lines.len(),
+        2,
+        "{}",
+        &run.stdout[..run.stdout.len().min(300)]
+    );
+    assert!(lines[0].contains(&long));
+    assert!(lines[1].contains(&"n".repeat(70_000)));
 }
