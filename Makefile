@@ -22,7 +22,7 @@ OUT ?= out/hopper_2d
 # solve lock already gives one solve per process); parallel work uses processes.
 export OPENBLAS_NUM_THREADS ?= 1
 
-.PHONY: deps build demo python test test-python test-wheel test-slow test-slurm lint pages bench bench-casadi fuzz test-debian13
+.PHONY: deps build demo python test test-python test-wheel test-slow test-slurm lint pages bench bench-casadi robustness fuzz test-debian13
 
 deps:
 	bash vendor-config/install-deps.sh
@@ -91,6 +91,12 @@ bench-casadi: build
 	$(CASADI_VENV)/bin/python -c 'import casadi, numpy' 2>/dev/null || \
 		$(CASADI_VENV)/bin/pip install --quiet casadi==3.8.2 numpy
 	VITO_PYTHON=$(CASADI_VENV)/bin/python ./target/release/vito bench
+
+# The nonconvex reference problems from ROBUSTNESS_STARTS seeded starts under each solve
+# strategy: min/median/max objective, iterations and time per start (BENCHMARKS.md).
+ROBUSTNESS_STARTS ?= 10
+robustness: build
+	python3 tools/robustness.py --starts $(ROBUSTNESS_STARTS)
 
 FUZZ_COUNT ?= 1000000
 FUZZ_SEED ?= 1

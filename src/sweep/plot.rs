@@ -152,6 +152,9 @@ struct Series {
     line: Vec<(f64, f64)>,
     /// (x, value if any, class) of every other point.
     others: Vec<(f64, Option<f64>, PointClass)>,
+    /// `(x, lowest, highest)` objective of the starts that solved, at solved points with
+    /// several (`--starts K`; only when the metric is the objective).
+    band: Vec<(f64, f64, f64)>,
 }
 
 /// Line colours, one per series.
@@ -195,11 +198,21 @@ fn plot_data(table: &Table, metric: &str) -> PlotData {
                     label,
                     line: Vec::new(),
                     others: Vec::new(),
+                    band: Vec::new(),
                 });
                 series.len() - 1
             }
         };
         let x = x_of(&row.values[0].1);
+        let starts = &row.start_objectives;
+        if metric == "objective" && starts.len() > 1 && PointClass::of(row) == PointClass::Solved {
+            let (lo, hi) = starts
+                .iter()
+                .fold((f64::MAX, f64::MIN), |(a, b), &v| (a.min(v), b.max(v)));
+            if lo.is_finite() && hi.is_finite() {
+                series[index].band.push((x, lo, hi));
+            }
+        }
         match (PointClass::of(row), y) {
             (PointClass::Solved, Some(y)) => series[index].line.push((x, y)),
             // A solved run without this metric has nothing to draw.
@@ -209,6 +222,7 @@ fn plot_data(table: &Table, metric: &str) -> PlotData {
     }
     for s in &mut series {
         s.line.sort_by(|a, b| a.0.total_cmp(&b.0));
+        s.band.sort_by(|a, b| a.0.total_cmp(&b.0));
     }
     let x_label = if numeric.is_some() {
         first.key.clone()
@@ -267,6 +281,7 @@ pub fn metric_svg_text(table: &Table, metric: &str) -> (String, usize) {
             .iter()
             .map(|p| p.1)
             .chain(s.others.iter().filter_map(|p| p.1))
+            .chain(s.band.iter().flat_map(|b| [b.1, b.2]))
     });
     let (y0, y1) = padded(ys);
     let sx = |x: f64| left + (x - x0) / (x1 - x0) * plot_w;
@@ -280,7 +295,8 @@ pub fn metric_svg_text(table: &Table, metric: &str) -> (String, usize) {
             })
         })
         .collect();
-    let legend_rows = data.series.len() + classes.len() + 1;
+    let banded = data.series.iter().any(|s| !s.band.is_empty());
+    let legend_rows = data.series.len() + classes.len() + 1 + usize::from(banded);
     let height = (strip_y + 60.0).max(top + 20.0 * legend_rows as f64 + 20.0);
     let mut svg = String::new();
     let _ = writeln!(
@@ -340,8 +356,33 @@ pub fn metric_svg_text(table: &Table, metric: &str) -> (String, usize) {
         strip_y + 4.0,
         left + plot_w
     );
-    // Bands (a range per x under a line, e.g. the objectives of a point's multi-start
-    // solves) belong here, drawn before the lines so that lines and markers stay on top.
+    // The starts' objectives: a shaded band between the lowest and highest at each solved
+    // point, and a whisker per point, under the lines and markers.
+    for (i, s) in data.series.iter().enumerate() {
+        let colour = PALETTE[i % PALETTE.len()];
+        if s.band.len() > 1 {
+            let upper = s.band.iter().map(|&(x, _, hi)| (x, hi));
+            let lower = s.band.iter().rev().map(|&(x, lo, _)| (x, lo));
+            let points: Vec<String> = upper
+                .chain(lower)
+                .map(|(x, y)| format!("{:.1},{:.1}", sx(x), sy(y)))
+                .collect();
+            let _ = writeln!(
+                svg,
+                r#"<polygon class="band" points="{}" fill="{colour}" fill-opacity="0.15" stroke="none"/>"#,
+                points.join(" ")
+            );
+        }
+        for &(x, lo, hi) in &s.band {
+            let _ = writeln!(
+                svg,
+                r#"<line class="whisker" x1="{0:.1}" y1="{1:.1}" x2="{0:.1}" y2="{2:.1}" stroke="{colour}" stroke-width="1" stroke-opacity="0.7"/>"#,
+                sx(x),
+                sy(lo),
+                sy(hi)
+            );
+        }
+    }
     for (i, s) in data.series.iter().enumerate() {
         let colour = PALETTE[i % PALETTE.len()];
         if s.line.len() > 1 {
@@ -377,6 +418,16 @@ pub fn metric_svg_text(table: &Table, metric: &str) -> (String, usize) {
             lx + 28.0,
             ly + 4.0,
             crate::files::names::xml_escape(&s.label)
+        );
+        ly += 20.0;
+    }
+    if banded {
+        let _ = writeln!(
+            svg,
+            r##"<g class="legend band"><rect x="{lx:.1}" y="{:.1}" width="22" height="10" fill="#555" fill-opacity="0.15"/><text x="{:.1}" y="{:.1}">objectives of the starts that solved</text></g>"##,
+            ly - 5.0,
+            lx + 28.0,
+            ly + 4.0
         );
         ly += 20.0;
     }
@@ -522,5 +573,56 @@ mod tests {
         assert!(y_of("relaxed")[0] < solved.iter().cloned().fold(f64::MAX, f64::min));
         let failed = y_of("failed")[0] - 1.0; // the cross's first corner is 5 px up
         assert!(failed > solved.iter().cloned().fold(f64::MIN, f64::max));
+    }
+
+    /// With several starts per point, the objective plot shades the band between each solved
+    /// point's lowest and highest start objective and draws its whisker; a relaxed point's
+    /// starts are not banded, and a metric other than the objective has no band.
+    #[test]
+    fn starts_draw_their_band_under_the_line() {
+        let grid = Grid::new(vec![Axis::parse("mu=0.2,0.5,0.8").unwrap()]).unwrap();
+        let mut rows: Vec<Row> = grid
+            .points()
+            .map(|p| Row::pending(&p, String::new()))
+            .collect();
+        let data = [
+            ("solve_succeeded", 6.0, vec![6.0, 7.5, 9.0]),
+            ("solve_succeeded", 6.5, vec![6.5, 6.6]),
+            ("relaxed_contact", 100.0, vec![120.0, 140.0]),
+        ];
+        for (row, (verdict, objective, starts)) in rows.iter_mut().zip(data) {
+            row.status = RunStatus::Finished;
+            row.solver_status = Some(verdict.to_owned());
+            row.objective = Some(objective);
+            row.start_objectives = starts;
+        }
+        let table = crate::sweep::table::test_table(grid, rows);
+        let (svg, _) = metric_svg_text(&table, "objective");
+        let doc = roxmltree::Document::parse(&svg).unwrap();
+        let of_class = |c: &str| {
+            doc.descendants()
+                .filter(|n| n.attribute("class") == Some(c))
+                .collect::<Vec<_>>()
+        };
+        let whiskers: Vec<(f64, f64)> = of_class("whisker")
+            .iter()
+            .map(|n| {
+                let y = |a: &str| n.attribute(a).unwrap().parse::<f64>().unwrap();
+                (y("y1"), y("y2"))
+            })
+            .collect();
+        assert_eq!(whiskers.len(), 2, "{svg}");
+        // 6.0..9.0 spans more of the plot than 6.5..6.6, and both hang below the relaxed marker.
+        let length = |w: (f64, f64)| (w.0 - w.1).abs();
+        assert!(
+            length(whiskers[0]) > 10.0 * length(whiskers[1]),
+            "{whiskers:?}"
+        );
+        let band = of_class("band");
+        assert_eq!(band.len(), 1);
+        assert_eq!(band[0].attribute("points").unwrap().split(' ').count(), 4);
+        assert_eq!(of_class("legend band").len(), 1);
+        let (iterations, _) = metric_svg_text(&table, "iterations");
+        assert!(!iterations.contains("whisker") && !iterations.contains("class=\"band\""));
     }
 }

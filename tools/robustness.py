@@ -1,0 +1,132 @@
+#!/usr/bin/env python3
+"""How accidental is each optimum? Solves problems from K seeded starts under each solve
+strategy and prints one Markdown table row per (problem, strategy): the objectives' min,
+median and max over the starts that solved, how many solved, the iterations' median and the
+wall time per answer.
+
+    tools/robustness.py [--vito PATH] [--starts K] [--jobs J] [--seed S]
+                        [--strategy NAME ...] [--out DIR] [FILE ...]
+
+Every start is `vito solve FILE --starts K --seed S --jobs J` (the file's guess, then K−1
+seeded perturbations of it), one BLAS thread per start; the strategies are `--set` overrides
+(STRATEGIES below). Results stay in DIR/<problem>-<strategy>/ (summary.json lists every start
+under `starts`). `make robustness` runs it on the nonconvex reference problems.
+"""
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import time
+import tomllib
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+
+DEFAULT_FILES = [
+    "problems/spring_flamingo_walk.toml",
+    "problems/littledog_step.toml",
+    "problems/hamr_trot.toml",
+    "problems/hamr_jump.toml",
+]
+
+
+def shipped(_spec):
+    """The file as shipped."""
+    return []
+
+
+def homotopy(spec):
+    """A relaxation shrunk over warm-started rounds: the slack weight starts 1000 times below
+    the file's and grows tenfold per round (from the last point and its multipliers) until the
+    largest slack is under a tenth of the tolerance, at most six rounds more."""
+    slack = spec.get("slack", {})
+    weight = float(slack.get("weight", 1e3))
+    tolerance = float(slack.get("tolerance", 1e-4))
+    return [
+        f"slack.weight={weight / 1000:g}",
+        f"slack.target={tolerance / 10:g}",
+        "slack.growth=10",
+        "slack.rounds=6",
+        'slack.restart="primal_dual"',
+    ]
+
+
+STRATEGIES = {"shipped": shipped, "homotopy": homotopy}
+
+
+def median(values):
+    return statistics.median(values) if values else float("nan")
+
+
+def run(vito, file, strategy, args, out):
+    spec = tomllib.loads(Path(file).read_text())
+    sets = STRATEGIES[strategy](spec)
+    name = Path(file).stem
+    target = out / f"{name}-{strategy}"
+    cmd = [vito, "solve", str(file), "--quiet", "--starts", str(args.starts), "--seed",
+           str(args.seed), "--jobs", str(args.jobs), "--out", str(target)]
+    for s in sets:
+        cmd += ["--set", s]
+    env = dict(os.environ, OPENBLAS_NUM_THREADS="1")
+    start = time.monotonic()
+    done = subprocess.run(cmd, env=env, capture_output=True, text=True)
+    wall = time.monotonic() - start
+    if done.returncode not in (0, 1):
+        sys.stderr.write(f"{' '.join(cmd)}: exit {done.returncode}\n{done.stderr}\n")
+        return None
+    summary = json.loads((target / "summary.json").read_text())
+    starts = summary.get("starts") or [summary]
+    solved = [s for s in starts if s["status"] in ("solve_succeeded", "solved_to_acceptable_level")]
+    objectives = sorted(s["objective"] for s in solved)
+    iterations = [s["iterations"] for s in starts]
+    cpu = sum(s["wall_time_s"] for s in starts)
+    return {
+        "problem": summary["problem"],
+        "strategy": strategy,
+        "solved": len(solved),
+        "starts": len(starts),
+        "min": objectives[0] if objectives else float("nan"),
+        "median": median(objectives),
+        "max": objectives[-1] if objectives else float("nan"),
+        "iterations": median(iterations),
+        "per_start_s": cpu / len(starts),
+        "wall_s": wall,
+        "objectives": [s["objective"] if s in solved else None for s in starts],
+    }
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("files", nargs="*", default=DEFAULT_FILES)
+    p.add_argument("--vito", default=str(ROOT / "target/release/vito"))
+    p.add_argument("--starts", type=int, default=10)
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
+    p.add_argument("--strategy", action="append", choices=sorted(STRATEGIES))
+    p.add_argument("--out", default="out/robustness")
+    args = p.parse_args()
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    strategies = args.strategy or list(STRATEGIES)
+    print("| problem | strategy | solved | min | median | max | max/min | iterations (median) "
+          "| time per start [s] |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- |")
+    rows = []
+    for file in args.files:
+        for strategy in strategies:
+            row = run(args.vito, file, strategy, args, out)
+            if row is None:
+                continue
+            rows.append(row)
+            ratio = row["max"] / row["min"] if row["solved"] else float("nan")
+            print(f"| {row['problem']} | {strategy} | {row['solved']}/{row['starts']} "
+                  f"| {row['min']:.4g} | {row['median']:.4g} | {row['max']:.4g} | {ratio:.2f} "
+                  f"| {row['iterations']:.0f} | {row['per_start_s']:.1f} |", flush=True)
+    (out / "robustness.json").write_text(json.dumps(rows, indent=1) + "\n")
+
+
+if __name__ == "__main__":
+    main()
