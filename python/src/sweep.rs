@@ -85,6 +85,8 @@ fn counts_dict<'py>(py: Python<'py>, c: &Progress) -> PyResult<Bound<'py, PyDict
     d.set_item("running", c.running)?;
     d.set_item("total", c.total)?;
     d.set_item("skipped", c.skipped)?;
+    d.set_item("attempts_done", c.attempts_done)?;
+    d.set_item("attempts_total", c.attempts_total)?;
     Ok(d)
 }
 
@@ -207,7 +209,8 @@ impl SweepJobs {
 #[pymethods]
 impl SweepJobs {
     #[new]
-    #[pyo3(signature = (problem, grid, out, neighbour = false, time_limit = None))]
+    #[pyo3(signature = (problem, grid, out, neighbour = false, time_limit = None,
+                        neighbour_rounds = 0))]
     fn new(
         py: Python<'_>,
         problem: &Problem,
@@ -215,7 +218,13 @@ impl SweepJobs {
         out: PathBuf,
         neighbour: bool,
         time_limit: Option<f64>,
+        neighbour_rounds: usize,
     ) -> PyResult<SweepJobs> {
+        if neighbour_rounds > 1000 {
+            return Err(PyValueError::new_err(format!(
+                "neighbour_rounds={neighbour_rounds}: give 0 to 1000"
+            )));
+        }
         let time_limit = time_limit_of(time_limit)?;
         let grid = grid_of(py, problem, grid)?;
         let path = problem.absolute_path()?;
@@ -233,6 +242,7 @@ impl SweepJobs {
                     &grid,
                     &out,
                     warm,
+                    neighbour_rounds,
                 )
             })
             .map_err(usage)?;
@@ -248,7 +258,9 @@ impl SweepJobs {
     ///
     /// The next point as a job: `index`, `problem` (the file, absolute), `sets` (the
     /// overrides to load it with), `run_dir` (absolute), `warm_start` (the trajectory it
-    /// starts from, or None); None when every point is handed out.
+    /// starts from, or None), `attempt` (a neighbour-pass attempt's directory, given back
+    /// to `record`, or None for a point's own run); None when no job is ready (the jobs
+    /// handed out must come back first) or the sweep is done.
     fn next_job<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
         let Some(job) = self.with(|s| s.next_job())? else {
             return Ok(None);
@@ -259,19 +271,22 @@ impl SweepJobs {
         d.set_item("sets", job.sets)?;
         d.set_item("run_dir", job.run_dir)?;
         d.set_item("warm_start", job.warm_start)?;
+        d.set_item("attempt", job.attempt)?;
         Ok(Some(d))
     }
 
-    /// record(index, timed_out=None, error=None) -> dict
+    /// record(index, attempt=None, timed_out=None, error=None) -> dict
     ///
-    /// Records point `index` from its run directory: `timed_out` (the time limit in s) when
-    /// its job stopped at the limit, `error` (a message) when the job raised. Returns the
-    /// row (`index`, `point`, `status`, `solver_status`, `objective`, `note`).
-    #[pyo3(signature = (index, timed_out = None, error = None))]
+    /// Records point `index` from its run directory (or the neighbour-pass `attempt` the
+    /// job was, folded in when its round is): `timed_out` (the time limit in s) when its
+    /// job stopped at the limit, `error` (a message) when the job raised. Returns the row
+    /// (`index`, `point`, `status`, `solver_status`, `objective`, `note`).
+    #[pyo3(signature = (index, attempt = None, timed_out = None, error = None))]
     fn record<'py>(
         &self,
         py: Python<'py>,
         index: usize,
+        attempt: Option<String>,
         timed_out: Option<f64>,
         error: Option<String>,
     ) -> PyResult<Bound<'py, PyDict>> {
@@ -280,7 +295,8 @@ impl SweepJobs {
             (Some(limit_s), None) => JobOutcome::TimedOut { limit_s },
             (None, None) => JobOutcome::Returned,
         };
-        let row = py.detach(|| self.with(|s| s.record(index, outcome).cloned()))?;
+        let row =
+            py.detach(|| self.with(|s| s.record(index, attempt.as_deref(), outcome).cloned()))?;
         let d = PyDict::new(py);
         d.set_item("index", row.index)?;
         d.set_item("point", row.point_label())?;

@@ -10,10 +10,11 @@
 //! the sweep finds the attempts already made and replays the rounds to the same answers.
 
 use std::collections::BTreeSet;
+use std::path::Path;
 
-use crate::sweep::Point;
 use crate::sweep::grid::fnv1a;
-use crate::sweep::table::{Row, RunStatus};
+use crate::sweep::table::{OnDisk, Row, RunStatus, expected_parameters, read_result};
+use crate::sweep::{Point, SweepError};
 use crate::transcription::SolveVerdict;
 
 /// Where the attempts live, under the sweep directory.
@@ -129,6 +130,87 @@ pub fn settled(point: &Point, points: &[Point], rows: &[Row], tried: &BTreeSet<S
             rank(source) != 0 || tried.contains(&attempt_dir(point, n.index, &source.dir))
         })
     })
+}
+
+/// The point label of the point whose run directory `dir` is (`runs/<name>` or
+/// `attempts/<name>/…`), or `dir` itself.
+pub fn label_of_dir(points: &[Point], dir: &str) -> String {
+    let name = dir.split('/').nth(1).unwrap_or(dir);
+    points
+        .iter()
+        .find(|p| p.run_name() == name)
+        .map_or_else(|| dir.to_owned(), |p| p.label())
+}
+
+/// The attempt's result when its run directory under the sweep directory `out` holds a
+/// finished summary of this problem (`sha256`, fixed overrides `sets`) and point.
+pub fn attempt_result(
+    out: &Path,
+    sets: &[String],
+    sha256: &str,
+    point: &Point,
+    attempt: &Attempt,
+) -> Result<Option<Row>, SweepError> {
+    let mut row = Row::pending(point, attempt.dir.clone());
+    let parameters = expected_parameters(sets, point)?;
+    let dir = out.join(&attempt.dir);
+    Ok((read_result(&mut row, &dir, sha256, &parameters) == OnDisk::Finished).then_some(row))
+}
+
+/// Folds a round's attempts into `rows` in the plan's order, adding each to `tried`: an
+/// attempt whose result (`result`) improves its point's answer ([`improves`]) replaces it,
+/// its `start` naming the neighbour. Returns the points improved, then marks every row
+/// settled or not.
+pub fn fold_round(
+    plan: &[Attempt],
+    points: &[Point],
+    rows: &mut [Row],
+    tried: &mut BTreeSet<String>,
+    mut result: impl FnMut(&Point, &Attempt) -> Result<Option<Row>, SweepError>,
+) -> Result<Vec<usize>, SweepError> {
+    let mut improved = Vec::new();
+    for a in plan {
+        tried.insert(a.dir.clone());
+        let Some(point) = points.iter().find(|p| p.index == a.target) else {
+            continue;
+        };
+        let Some(candidate) = result(point, a)? else {
+            continue;
+        };
+        let source_label = label_of_dir(points, &a.source_dir);
+        let Some(row) = rows.iter_mut().find(|r| r.index == a.target) else {
+            continue;
+        };
+        if improves(&candidate, row) {
+            let note = std::mem::take(&mut row.note);
+            *row = Row {
+                start: format!("neighbour {source_label}"),
+                note,
+                ..candidate
+            };
+            if !improved.contains(&a.target) {
+                improved.push(a.target);
+            }
+        }
+    }
+    mark_settled(points, rows, tried);
+    Ok(improved)
+}
+
+/// Sets every row's `settled` ([`settled`]).
+pub fn mark_settled(points: &[Point], rows: &mut [Row], tried: &BTreeSet<String>) {
+    let settled: Vec<bool> = rows
+        .iter()
+        .map(|r| {
+            points
+                .iter()
+                .find(|p| p.index == r.index)
+                .is_some_and(|p| settled(p, points, rows, tried))
+        })
+        .collect();
+    for (row, s) in rows.iter_mut().zip(settled) {
+        row.settled = Some(s);
+    }
 }
 
 #[cfg(test)]

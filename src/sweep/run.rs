@@ -452,14 +452,8 @@ impl<F: FnMut(Event)> SweepRun<'_, F> {
         Ok(())
     }
 
-    /// The point label of the point whose run directory `dir` is (`runs/<name>` or
-    /// `attempts/<name>/…`), or `dir` itself.
     fn label_of_dir(&self, dir: &str) -> String {
-        let name = dir.split('/').nth(1).unwrap_or(dir);
-        self.points
-            .iter()
-            .find(|p| p.run_name() == name)
-            .map_or_else(|| dir.to_owned(), |p| p.label())
+        neighbours::label_of_dir(&self.points, dir)
     }
 
     /// Rounds of re-solves from the neighbours' plans (see [`neighbours`]): each round plans
@@ -479,7 +473,9 @@ impl<F: FnMut(Event)> SweepRun<'_, F> {
                 let Some(point) = self.points.iter().find(|p| p.index == a.target).cloned() else {
                     continue;
                 };
-                if self.attempt_result(&point, a)?.is_some() {
+                if neighbours::attempt_result(&options.out, &options.sets, self.sha256, &point, a)?
+                    .is_some()
+                {
                     continue;
                 }
                 own_subdir(&parent, &point.run_name())?;
@@ -502,30 +498,14 @@ impl<F: FnMut(Event)> SweepRun<'_, F> {
             if self.stopping {
                 return Ok(());
             }
-            let mut improved = Vec::new();
-            for a in &plan {
-                tried.insert(a.dir.clone());
-                let Some(point) = self.points.iter().find(|p| p.index == a.target).cloned() else {
-                    continue;
-                };
-                let Some(candidate) = self.attempt_result(&point, a)? else {
-                    continue;
-                };
-                let source_label = self.label_of_dir(&a.source_dir);
-                let row = self.row_mut(a.target)?;
-                if neighbours::improves(&candidate, row) {
-                    let note = std::mem::take(&mut row.note);
-                    *row = Row {
-                        start: format!("neighbour {source_label}"),
-                        note,
-                        ..candidate
-                    };
-                    if !improved.contains(&a.target) {
-                        improved.push(a.target);
-                    }
-                }
-            }
-            self.mark_settled(&tried);
+            let (out, sets, sha256) = (&options.out, &options.sets, self.sha256);
+            let improved = neighbours::fold_round(
+                &plan,
+                &self.points,
+                &mut self.table.rows,
+                &mut tried,
+                |point, a| neighbours::attempt_result(out, sets, sha256, point, a),
+            )?;
             self.table.write(&options.out)?;
             (self.on_event)(Event::RoundEnded {
                 round,
@@ -536,47 +516,14 @@ impl<F: FnMut(Event)> SweepRun<'_, F> {
                 break;
             }
         }
-        self.mark_settled(&tried);
+        neighbours::mark_settled(&self.points, &mut self.table.rows, &tried);
         self.table.write(&options.out)
-    }
-
-    fn mark_settled(&mut self, tried: &BTreeSet<String>) {
-        let settled: Vec<bool> = self
-            .table
-            .rows
-            .iter()
-            .map(|r| {
-                self.points
-                    .iter()
-                    .find(|p| p.index == r.index)
-                    .is_some_and(|p| neighbours::settled(p, &self.points, &self.table.rows, tried))
-            })
-            .collect();
-        for (row, s) in self.table.rows.iter_mut().zip(settled) {
-            row.settled = Some(s);
-        }
-    }
-
-    /// The attempt's result when its run directory holds a finished summary of this problem
-    /// and point.
-    fn attempt_result(
-        &self,
-        point: &Point,
-        attempt: &neighbours::Attempt,
-    ) -> Result<Option<Row>, SweepError> {
-        let mut row = Row::pending(point, attempt.dir.clone());
-        let parameters = expected_parameters(&self.options.sets, point)?;
-        let dir = self.options.out.join(&attempt.dir);
-        Ok(
-            (read_result(&mut row, &dir, self.sha256, &parameters) == OnDisk::Finished)
-                .then_some(row),
-        )
     }
 }
 
 /// `start` of a first-pass run found on disk: `warm <point>` when its summary says it was
 /// warm-started from a run of this sweep, else `guess`.
-fn first_pass_start(run_dir: &Path, points: &[Point]) -> String {
+pub(crate) fn first_pass_start(run_dir: &Path, points: &[Point]) -> String {
     let warm = std::fs::read_to_string(run_dir.join("summary.json"))
         .ok()
         .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())

@@ -14,15 +14,15 @@ from conftest import HOPPER
 GRID = {"contacts.friction": [0.5, 0.8], "slack.weight": [100, 1000]}
 # What must agree between two runs of the same point (wall time and notes may differ).
 SAME = ["index", "contacts.friction", "slack.weight", "status", "solver_status", "objective",
-        "iterations", "max_slack"]
+        "iterations", "max_slack", "start", "settled", "dir"]
 
 
 @pytest.fixture(scope="module")
 def reference(tmp_path_factory, hopper):
     out = tmp_path_factory.mktemp("reference") / "sweep"
-    # The executor path runs each point once from the problem's own start: the reference is
-    # the command's first pass (no neighbour pass).
-    table = vito.sweep(hopper, grid=GRID, out=out, jobs=1, progress=False, neighbour_rounds=0)
+    # `vito solve` processes, first pass and neighbour pass: an executor sweep gives the same
+    # table, answers taken from the same attempts.
+    table = vito.sweep(hopper, grid=GRID, out=out, jobs=1, progress=False)
     assert table["status"].tolist() == ["finished"] * 4
     return table
 
@@ -38,6 +38,10 @@ def test_a_process_pool_gives_the_table_of_vito_solve_processes(tmp_path, hopper
     for d in table["dir"]:
         assert (tmp_path / "s" / d / "trajectory.csv").is_file()
     assert seen[-1]["done"] == 4 and seen[-1]["running"] == 0 and seen[-1]["total"] == 4
+    # The neighbour pass ran as tasks of their own, every one back.
+    assert seen[-1]["attempts_total"] > 0
+    assert seen[-1]["attempts_done"] == seen[-1]["attempts_total"]
+    assert (tmp_path / "s" / "attempts").is_dir()
     # A rerun resumes: nothing left to solve, the same table.
     with concurrent.futures.ProcessPoolExecutor(1, mp_context=ctx) as pool:
         again = vito.sweep(hopper, grid=GRID, out=tmp_path / "s", executor=pool,
@@ -52,8 +56,8 @@ def test_neighbour_warm_starts_on_an_executor_match_the_processes(tmp_path, hopp
                               warm_start="neighbour", progress=False, neighbour_rounds=0)
     with concurrent.futures.ThreadPoolExecutor(1) as pool:
         by_executor = vito.sweep(hopper, grid=grid, out=tmp_path / "e", executor=pool,
-                                 warm_start="neighbour", progress=False)
-    cols = ["index", "contacts.friction", "status", "objective", "iterations", "note"]
+                                 warm_start="neighbour", progress=False, neighbour_rounds=0)
+    cols = ["index", "contacts.friction", "status", "objective", "iterations", "note", "start"]
     assert by_executor[cols].equals(by_processes[cols])
     notes = by_executor["note"].tolist()
     assert notes[0] != notes[0]  # blank: NaN in the DataFrame

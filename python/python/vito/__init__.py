@@ -149,11 +149,14 @@ def sweep(problem, grid, out, jobs=None, time_limit=None, warm_start=None, exe=N
     ``starts``, ``seed``: each point solved from that many seeded starts, the best kept (as
     ``vito solve --starts``). ``neighbour_rounds``: rounds of the neighbour pass (each point
     solved again from its grid neighbours' plans while that lowers its objective by more
-    than 1 %; 0: none), as ``vito sweep --neighbour-rounds``. Both run on this machine's
-    processes; an ``executor`` sweep runs each point once from the problem's own start.
+    than 1 %; 0: none), as ``vito sweep --neighbour-rounds``. With an ``executor`` every
+    start runs inside the point's task, and each re-solve of the neighbour pass is a task
+    of its own (:class:`SweepJob` with ``attempt`` set), the rounds folded in as the
+    command folds them: the table is the one ``vito sweep`` writes.
 
-    ``progress``: called with a dict (done, failed, interrupted, running, total, skipped)
-    whenever the counts change; when None, a tqdm bar if tqdm is installed; False: nothing.
+    ``progress``: called with a dict (done, failed, interrupted, running, total, skipped,
+    attempts_done, attempts_total: the neighbour pass's re-solves) whenever the counts
+    change; when None, a tqdm bar if tqdm is installed; False: nothing.
 
     Ctrl-C stops the sweep at once: no new point starts, the points running are asked to
     stop (processes) or left (executor tasks), the table marks the points not finished as
@@ -172,7 +175,8 @@ def sweep(problem, grid, out, jobs=None, time_limit=None, warm_start=None, exe=N
         from ._sweep import run_on_executor
 
         table = run_on_executor(problem, grid, out, executor, jobs, time_limit, neighbour,
-                                progress)
+                                progress, starts=starts, seed=seed,
+                                neighbour_rounds=neighbour_rounds)
     else:
         from ._sweep import _Progress
 

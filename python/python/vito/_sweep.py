@@ -18,7 +18,8 @@ class SweepJob:
     warm start's ``initial_guess.warm_start`` when it starts from a finished neighbour);
     ``run_dir``: the point's run directory (absolute); ``warm_start``: that neighbour's
     trajectory, or None; ``time_limit``: seconds, or None; ``starts``/``seed``: as for
-    :meth:`Problem.solve`.
+    :meth:`Problem.solve`; ``attempt``: for a re-solve of the neighbour pass, its directory
+    in the sweep (None for the point's own run).
     """
 
     index: int
@@ -29,6 +30,7 @@ class SweepJob:
     time_limit: float = None
     starts: int = 1
     seed: int = 0
+    attempt: str = None
 
 
 def run_job(job):
@@ -41,7 +43,10 @@ def run_job(job):
 
 
 def _counts_text(c):
-    return f"{c['done']} done, {c['failed']} failed, {c['running']} running of {c['total']}"
+    text = f"{c['done']} done, {c['failed']} failed, {c['running']} running of {c['total']}"
+    if c.get("attempts_total"):
+        text += f"; neighbour re-solves {c['attempts_done']} of {c['attempts_total']}"
+    return text
 
 
 class _Progress:
@@ -83,11 +88,13 @@ def _executor_width(executor):
 
 
 def run_on_executor(problem, grid, out, executor, jobs, time_limit, neighbour, progress,
-                    starts=1, seed=0):
-    """Runs the sweep's points as tasks on ``executor``, at most ``jobs`` at a time (no new
-    point starts once a Ctrl-C arrives: the points not finished stay not run, and a rerun
-    resumes). Returns the path of the table."""
-    sweep = _vito.SweepJobs(problem, grid, _os.fspath(out), neighbour, time_limit)
+                    starts=1, seed=0, neighbour_rounds=0):
+    """Runs the sweep's points as tasks on ``executor``, at most ``jobs`` at a time, then
+    the rounds of the neighbour pass the same way (no new task starts once a Ctrl-C
+    arrives: the points not finished stay not run, and a rerun resumes). Returns the path
+    of the table."""
+    sweep = _vito.SweepJobs(problem, grid, _os.fspath(out), neighbour, time_limit,
+                            neighbour_rounds)
     time_limit = sweep.time_limit
     width = jobs if jobs is not None else _executor_width(executor)
     if width < 1:
@@ -105,7 +112,7 @@ def run_on_executor(problem, grid, out, executor, jobs, time_limit, neighbour, p
                     index=job["index"], problem=_os.fspath(job["problem"]),
                     sets=tuple(job["sets"]), run_dir=_os.fspath(job["run_dir"]),
                     warm_start=None if job["warm_start"] is None else _os.fspath(job["warm_start"]),
-                    time_limit=time_limit, starts=starts, seed=seed,
+                    time_limit=time_limit, starts=starts, seed=seed, attempt=job["attempt"],
                 )
                 pending[executor.submit(run_job, task)] = task
                 show(sweep.counts)
@@ -120,9 +127,10 @@ def run_on_executor(problem, grid, out, executor, jobs, time_limit, neighbour, p
                 task = pending.pop(future)
                 try:
                     limit = future.result()
-                    sweep.record(task.index, timed_out=limit)
+                    sweep.record(task.index, attempt=task.attempt, timed_out=limit)
                 except Exception as e:  # the job's own error, recorded in its row
-                    sweep.record(task.index, error=f"{type(e).__name__}: {e}")
+                    sweep.record(task.index, attempt=task.attempt,
+                                 error=f"{type(e).__name__}: {e}")
                 show(sweep.counts)
     except BaseException:
         for future in pending:
