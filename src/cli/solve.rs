@@ -271,7 +271,14 @@ pub(super) fn print_summary(
     for (name, value) in &s.objective_terms {
         if contacts || name != "slack_penalty" {
             let pad = " ".repeat(width.saturating_sub(name.chars().count()));
-            out!("  {name}{pad} {value:.6e}");
+            // Ipopt relaxes the slacks' lower bound 0 by 1e-8, so slacks that are zero can
+            // sum to a slightly negative penalty: say so rather than print a bare negative.
+            let why = if name == "slack_penalty" && *value < 0.0 {
+                " (slacks at Ipopt's relaxed bound −1e-8: zero within its tolerance)"
+            } else {
+                ""
+            };
+            out!("  {name}{pad} {value:.6e}{why}");
         }
     }
     out!("iterations   {}", s.iterations);

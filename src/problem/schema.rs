@@ -451,6 +451,10 @@ pub struct SlackSection {
     /// Where a raised-weight solve starts after an optimum: `"primal"` (default: its x),
     /// `"primal_dual"` (its x and multipliers) or `"initial_guess"`.
     pub restart: Option<String>,
+    /// A relaxation homotopy: the first solve's weight is `weight` / 1000, raised by
+    /// `growth` per warm-started solve until the largest slack is below `target` (default:
+    /// a tenth of `tolerance`; `rounds` default 6, `restart` default `"primal_dual"`).
+    pub homotopy: Option<bool>,
 }
 
 /// `[initial_guess]`: where Ipopt starts.

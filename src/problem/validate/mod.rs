@@ -63,7 +63,7 @@ pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, Pr
     let (slack_weight, slack_mode, slack_tolerance) = slack::check_slack_penalty(ctx, &raw)?;
     let max_slip_speed = contacts::check_max_slip_speed(ctx, &raw)?;
     let mode_block = contacts::check_mode_block(ctx, &raw, knots)?;
-    let slack_continuation = slack::check_slack_continuation(ctx, &raw)?;
+    let slack_continuation = slack::check_slack_continuation(ctx, &raw, slack_tolerance)?;
     let constraints = crate::problem::constraints::check_constraints(ctx, &raw, &robot, knots)?;
     let mut frames =
         crate::problem::frames::check_frames(ctx, &raw, &robot, &contacts, knots, &time_steps)?;

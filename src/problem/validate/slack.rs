@@ -6,12 +6,22 @@ use crate::ipopt::OptionValue;
 use crate::problem::schema::ProblemFile;
 use crate::problem::{ProblemError, SlackContinuation, SlackMode, SlackRestart};
 
-/// (weight α, mode, tolerance).
+/// How far below `slack.weight` a homotopy's first solve starts (`slack.homotopy`).
+pub const HOMOTOPY_SPAN: f64 = 1000.0;
+
+/// A homotopy's extra solves unless `slack.rounds` is given: three to climb back to
+/// `slack.weight` at growth 10, three more above it.
+const HOMOTOPY_ROUNDS: usize = 6;
+
+/// (weight α of the first solve, mode, tolerance).
 pub(super) fn check_slack_penalty(
     ctx: &Context,
     raw: &ProblemFile,
 ) -> Result<(f64, SlackMode, f64), ProblemError> {
-    let slack_weight = positive(ctx, "slack.weight", raw.slack.weight)?;
+    let mut slack_weight = positive(ctx, "slack.weight", raw.slack.weight)?;
+    if raw.slack.homotopy == Some(true) {
+        slack_weight /= HOMOTOPY_SPAN;
+    }
     let slack_tolerance = match raw.slack.tolerance {
         None => crate::problem::DEFAULT_SLACK_TOLERANCE,
         Some(t) => positive(ctx, "slack.tolerance", t)?,
@@ -28,12 +38,16 @@ pub(super) fn check_slack_penalty(
     Ok((slack_weight, slack_mode, slack_tolerance))
 }
 
-/// `slack.target`, `growth` and `rounds`, if a target is given.
+/// `slack.target`, `growth` and `rounds`, if a target is given (or `slack.homotopy` asks
+/// for one: `target` a tenth of `tolerance`).
 pub(super) fn check_slack_continuation(
     ctx: &Context,
     raw: &ProblemFile,
+    tolerance: f64,
 ) -> Result<Option<SlackContinuation>, ProblemError> {
-    let slack_continuation = match raw.slack.target {
+    let homotopy = raw.slack.homotopy == Some(true);
+    let target = raw.slack.target.or(homotopy.then_some(tolerance / 10.0));
+    let slack_continuation = match target {
         None => {
             for (field, given) in [
                 ("slack.growth", raw.slack.growth.is_some()),
@@ -60,6 +74,7 @@ pub(super) fn check_slack_continuation(
                 ));
             }
             let restart = match raw.slack.restart.as_deref() {
+                None if homotopy => SlackRestart::PrimalDual,
                 None | Some("primal") => SlackRestart::Primal,
                 Some("primal_dual") => SlackRestart::PrimalDual,
                 Some("initial_guess") => SlackRestart::InitialGuess,
@@ -76,7 +91,10 @@ pub(super) fn check_slack_continuation(
                 restart,
                 target: positive(ctx, "slack.target", target)?,
                 growth,
-                rounds: raw.slack.rounds.unwrap_or(3),
+                rounds: raw
+                    .slack
+                    .rounds
+                    .unwrap_or(if homotopy { HOMOTOPY_ROUNDS } else { 3 }),
             })
         }
     };

@@ -468,3 +468,42 @@ fn solve_reports_the_problems_metrics_with_units() {
     assert_eq!(s["metric_units"]["jump_height"], "m");
     assert_eq!(s["metric_units"]["slip"], "1");
 }
+
+/// `[slack] homotopy = true` on the hopper (weight 100): the first solve at a thousandth of
+/// the weight, then tenfold per warm-started solve until the largest slack is below a tenth
+/// of the tolerance; the summary's final weight is the first times 10^(solves − 1). A
+/// negative slack penalty (zero slacks at Ipopt's relaxed bound) is printed with its reason.
+#[test]
+fn slack_homotopy_climbs_from_a_thousandth_of_the_weight() {
+    let t = TestDir::with_hopper("slack_homotopy_climbs_from_a_thousandth_of_the_weight");
+    t.write("p.toml", &crate::cli::util::hopper_text());
+    let run = t
+        .vito()
+        .args([
+            "solve",
+            "p.toml",
+            "--set",
+            "slack.homotopy=true",
+            "--out",
+            "out",
+        ])
+        .env("OPENBLAS_NUM_THREADS", "1")
+        .assert_exit(0);
+    let s = summary(&t.path().join("out"));
+    let solves = s["solves"].as_u64().unwrap();
+    assert!((2..=7).contains(&solves), "{solves} solves");
+    let weight = s["slack_weight"].as_f64().unwrap();
+    let expected = 100.0 / 1000.0 * 10f64.powi(solves as i32 - 1);
+    assert!(
+        (weight - expected).abs() <= 1e-9 * expected,
+        "{weight} against {expected}"
+    );
+    assert!(s["max_slack"].as_f64().unwrap() <= 1e-5, "{s}");
+    let line = run
+        .stdout
+        .lines()
+        .find(|l| l.trim_start().starts_with("slack_penalty"))
+        .expect("a slack_penalty line");
+    let value: f64 = line.split_whitespace().nth(1).unwrap().parse().unwrap();
+    assert_eq!(value < 0.0, line.contains("relaxed bound −1e-8"), "{line}");
+}
