@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 
 use crate::sweep::neighbours::{self, Attempt};
 use crate::sweep::run::{first_pass_start, nearest_finished, own_subdir};
-use crate::sweep::table::{OnDisk, WARM_START_KEY, expected_parameters, read_result};
+use crate::sweep::table::{OnDisk, TableWrites, WARM_START_KEY, expected_parameters, read_result};
 use crate::sweep::{
     Grid, Point, Progress, RUNS, Row, RunStatus, Shard, SweepError, Table, WarmStart, prepare_dir,
 };
@@ -62,6 +62,7 @@ pub struct JobSweep {
     /// Points handed out and not recorded.
     running: Vec<usize>,
     table: Table,
+    writes: TableWrites,
     counts: Progress,
     /// Rounds of the neighbour pass still allowed.
     rounds_left: usize,
@@ -139,6 +140,7 @@ impl JobSweep {
             queue,
             running: Vec::new(),
             table,
+            writes: TableWrites::default(),
             rounds_left: neighbour_rounds,
             plan: Vec::new(),
             attempts: Vec::new(),
@@ -336,7 +338,9 @@ impl JobSweep {
                 self.counts.failed += 1;
             }
         }
-        self.table.write(&self.out)?;
+        // Every point back: the first pass's table in full; before, when due.
+        let last = self.running.is_empty() && self.queue.is_empty();
+        self.writes.write(&self.table, &self.out, last)?;
         self.row_mut(index).map(|r| &*r)
     }
 

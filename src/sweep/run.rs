@@ -11,7 +11,8 @@ use std::collections::BTreeSet;
 
 use crate::sweep::neighbours;
 use crate::sweep::table::{
-    OnDisk, RUNS, Row, RunStatus, Table, WARM_START_KEY, expected_parameters, read_result,
+    OnDisk, RUNS, Row, RunStatus, Table, TableWrites, WARM_START_KEY, expected_parameters,
+    read_result,
 };
 use crate::sweep::{Grid, Point, Shard, SweepError};
 
@@ -250,6 +251,7 @@ struct SweepRun<'a, F: FnMut(Event)> {
     sha256: &'a str,
     points: Vec<Point>,
     table: Table,
+    writes: TableWrites,
     counts: Progress,
     stopping: bool,
     on_event: F,
@@ -313,6 +315,7 @@ pub fn run_sweep(
         points,
         table,
         counts,
+        writes: TableWrites::default(),
         stopping: false,
         on_event,
     };
@@ -439,7 +442,7 @@ impl<F: FnMut(Event)> SweepRun<'_, F> {
                 } else {
                     self.row_mut(r.job.point.index)?.start = "guess".into();
                 }
-                self.table.write(&options.out)?;
+                self.writes.write(&self.table, &options.out, false)?;
                 let row = self
                     .table
                     .rows
@@ -449,6 +452,7 @@ impl<F: FnMut(Event)> SweepRun<'_, F> {
                 (self.on_event)(Event::Ended(row, &self.counts));
             }
         }
+        self.writes.write(&self.table, &options.out, true)?;
         Ok(())
     }
 

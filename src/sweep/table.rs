@@ -288,6 +288,35 @@ fn flatten_numbers(value: &Value, prefix: &str, out: &mut BTreeMap<String, f64>)
     }
 }
 
+/// The table's rewrites while a sweep runs: after each run the table is rewritten only once
+/// [`REWRITE_SPACING`] times the last rewrite's duration has passed since it, so that
+/// rewriting a large grid's table (100,000 rows) stays a small, fixed share of the sweep's
+/// time whatever the grid's size; a small grid's table (milliseconds) is still rewritten
+/// after every run. The end of a pass, a stop and a round always rewrite it.
+#[derive(Debug, Default)]
+pub struct TableWrites {
+    last: Option<(std::time::Instant, std::time::Duration)>,
+}
+
+/// See [`TableWrites`].
+pub const REWRITE_SPACING: u32 = 10;
+
+impl TableWrites {
+    /// Writes `table` into `dir` when due, or always with `force`; whether it wrote.
+    pub fn write(&mut self, table: &Table, dir: &Path, force: bool) -> Result<bool, SweepError> {
+        let due = self
+            .last
+            .is_none_or(|(at, took)| at.elapsed() >= took * REWRITE_SPACING);
+        if !(force || due) {
+            return Ok(false);
+        }
+        let start = std::time::Instant::now();
+        table.write(dir)?;
+        self.last = Some((std::time::Instant::now(), start.elapsed()));
+        Ok(true)
+    }
+}
+
 impl Table {
     /// After a stop request: every point that did not run (still pending) says so in its
     /// note (a rerun of the sweep runs it).
@@ -548,5 +577,34 @@ mod tests {
         assert_eq!(lines[2], "1,2,pending,,,,,,,,,x,\"error: a, \"\"b\"\"\"");
         assert_eq!(t.rows[0].metric("metrics.slip"), Some(0.25));
         assert_eq!(t.rows[0].metric("objective"), Some(2.5));
+    }
+
+    /// A rewrite is due once ten times the last one's duration has passed; forced always.
+    #[test]
+    fn table_rewrites_are_spaced_by_their_own_cost() {
+        let dir = tempfile::tempdir().unwrap();
+        let grid = Grid::new(vec![Axis::parse("k=1,2").unwrap()]).unwrap();
+        let rows = grid
+            .points()
+            .map(|p| Row::pending(&p, String::new()))
+            .collect();
+        let table = test_table(grid, rows);
+        let json = dir.path().join(TABLE_JSON);
+        let mut writes = TableWrites::default();
+        assert!(writes.write(&table, dir.path(), false).unwrap());
+        assert!(json.is_file());
+        std::fs::remove_file(&json).unwrap();
+        // The last rewrite "took" a minute: not due for ten.
+        writes.last = Some((
+            std::time::Instant::now(),
+            std::time::Duration::from_secs(60),
+        ));
+        assert!(!writes.write(&table, dir.path(), false).unwrap());
+        assert!(!json.exists());
+        assert!(writes.write(&table, dir.path(), true).unwrap());
+        assert!(json.is_file());
+        // One that took nothing is due at once.
+        writes.last = Some((std::time::Instant::now(), std::time::Duration::ZERO));
+        assert!(writes.write(&table, dir.path(), false).unwrap());
     }
 }
