@@ -12,7 +12,7 @@ use super::output::print_model_warnings;
 pub(super) fn check(file: &Path, set: &[String]) -> Result<u8, CliError> {
     let overrides = parse_overrides(set)?;
     let p = pipeline::load_checked(file, &overrides)?;
-    print_model_warnings(&p.robot);
+    print_model_warnings(&p.robot, !p.spec.contacts.is_empty());
     let s = &p.spec;
     let report = pipeline::check_report(s)?;
     let size = report.size;

@@ -43,8 +43,14 @@ pub(super) fn write_stdout(line: &str) -> Result<(), CliError> {
 }
 
 /// The URDF reader's warnings (repairs, ignored elements), on stderr.
-pub(super) fn print_model_warnings(robot: &RobotInfo) {
+/// The URDF's warnings; with `has_contacts` (the problem gives its contacts) without the
+/// advice to add sphere collisions.
+pub(super) fn print_model_warnings(robot: &RobotInfo, has_contacts: bool) {
     for w in &robot.warnings {
+        let w = match w.strip_suffix(vito::model::SPHERE_HINT) {
+            Some(fact) if has_contacts => fact,
+            _ => w,
+        };
         note!("warning: {}: {w}", robot.urdf.display());
     }
 }

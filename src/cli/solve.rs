@@ -115,7 +115,7 @@ pub(super) fn solve(
         super::starts::write_start_result(result, &solution)?;
         return Ok(0);
     }
-    print_model_warnings(&problem.robot);
+    print_model_warnings(&problem.robot, !problem.spec.contacts.is_empty());
     // Parallel starts run in processes of their own; Ipopt's log is one solve's and a time
     // limit is the whole solve's, so --ipopt-log and --time-limit keep the starts in this
     // process.

@@ -195,7 +195,7 @@ pub(super) fn view(
         .first()
         .ok_or_else(|| CliError::Input("give a result directory".into()))?;
     let loaded = problem_of(first, problem)?;
-    print_model_warnings(&loaded.robot);
+    print_model_warnings(&loaded.robot, !loaded.spec.contacts.is_empty());
     let mut motions = Vec::new();
     for result in &results {
         // Each result with its own problem (overrides differ between sweep runs), drawn with

@@ -25,9 +25,24 @@ pub fn relative_path(target: &Path, dir: &Path) -> String {
 
 /// How a file written to `out` names `target`: relative to `out`'s directory, or as given
 /// when the file goes to stdout or to the working directory.
+/// A path that would meet `out`'s directory only at the root (`../../../usr/share/…`) is
+/// written absolute instead.
 pub fn reference_from(target: &Path, out: Option<&Path>) -> String {
     match out.and_then(Path::parent) {
-        Some(dir) if !dir.as_os_str().is_empty() => relative_path(target, dir),
+        Some(dir) if !dir.as_os_str().is_empty() => {
+            let abs = |p: &Path| std::path::absolute(p).unwrap_or_else(|_| p.to_owned());
+            let (t, d) = (abs(target), abs(dir));
+            let common = t
+                .components()
+                .zip(d.components())
+                .take_while(|(a, b)| a == b)
+                .count();
+            if common <= 1 {
+                t.display().to_string()
+            } else {
+                relative_path(target, dir)
+            }
+        }
         _ => target.display().to_string(),
     }
 }
@@ -57,6 +72,25 @@ mod tests {
         assert_eq!(
             reference_from(Path::new("robots/r.urdf"), None),
             "robots/r.urdf"
+        );
+    }
+
+    /// Only the root in common: the absolute path, not `../../..` up to the root.
+    #[test]
+    fn a_path_meeting_only_at_the_root_stays_absolute() {
+        assert_eq!(
+            reference_from(
+                Path::new("/usr/share/robots/a.urdf"),
+                Some(Path::new("/tmp/project/p.toml"))
+            ),
+            "/usr/share/robots/a.urdf"
+        );
+        assert_eq!(
+            reference_from(
+                Path::new("/tmp/robots/a.urdf"),
+                Some(Path::new("/tmp/project/p.toml"))
+            ),
+            "../robots/a.urdf"
         );
     }
 }

@@ -42,6 +42,7 @@ pub use shape::{
 };
 
 pub use tree::{ContactPoint, IgnoredCollision, LinkId, LoopClosure, Model, Spring, SpringKind};
+pub use urdf::SPHERE_HINT;
 
 /// How the robot's root link is attached to the world.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

@@ -221,14 +221,17 @@ pub(super) fn contact_points(
     }
     if !ignored.is_empty() {
         warnings.push(format!(
-            "collision shapes other than spheres are ignored (no contact from them): {}; \
-             add a <sphere> collision or a [[contacts.point]] with a radius for each foot",
+            "collision shapes other than spheres are ignored (no contact from them): {}{SPHERE_HINT}",
             ignored.join(", ")
         ));
     }
     (contact_points, ignored_collisions)
 }
 
+/// The advice ending the warning about ignored collision shapes; a problem that gives its
+/// contacts itself (`[[contacts.point]]`) has no use for it, and the commands leave it out.
+pub const SPHERE_HINT: &str =
+    "; add a <sphere> collision or a [[contacts.point]] with a radius for each foot";
 /// Appends `frame` with no pieces and no links yet; the placement of a link at its origin.
 fn push_frame<P, L>(
     frames: &mut Vec<Frame>,

@@ -25,6 +25,8 @@
 //! (reported as a warning), collision groups.
 
 mod bodies;
+
+pub use bodies::SPHERE_HINT;
 mod build;
 mod extensions;
 mod geometry;

@@ -267,3 +267,19 @@ impl crate::cli::util::VitoCmd {
         self.args([std::ffi::OsStr::new(command), path.as_os_str()])
     }
 }
+
+/// LittleDog gives its feet as `[[contacts.point]]`: the URDF's ignored capsules are still
+/// named, without the advice to add sphere collisions.
+#[test]
+fn the_sphere_advice_is_left_out_when_the_problem_gives_its_contacts() {
+    let t = TestDir::new("the_sphere_advice_is_left_out_when_the_problem_gives_its_contacts");
+    let problem = problems_dir().join("littledog_step.toml");
+    let run = t.vito().args(["check".as_ref(), problem.as_os_str()]).run();
+    assert!(
+        run.stderr
+            .contains("collision shapes other than spheres are ignored"),
+        "{}",
+        run.stderr
+    );
+    assert!(!run.stderr.contains("add a <sphere>"), "{}", run.stderr);
+}
