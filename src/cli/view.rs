@@ -59,14 +59,6 @@ fn problem_of(result: &Result_, problem: Option<&Path>) -> Result<LoadedProblem,
             PathBuf::from(named)
         }
     };
-    if !file.is_file() {
-        return Err(CliError::Input(format!(
-            "{}: the problem file {} is not found from here; run from the directory the result \
-             was made in, or name it with --problem",
-            result.dir.display(),
-            file.display()
-        )));
-    }
     let mut set = Vec::new();
     if let Some(parameters) = result.summary["parameters"].as_object() {
         for (path, value) in parameters {
@@ -75,7 +67,65 @@ fn problem_of(result: &Result_, problem: Option<&Path>) -> Result<LoadedProblem,
             set.push(format!("{path}={value}"));
         }
     }
-    Ok(load(&file, &parse_overrides(&set)?)?)
+    if file.is_file() {
+        return Ok(load(&file, &parse_overrides(&set)?)?);
+    }
+    // Not found from here (the folder was copied elsewhere): the copies the result carries,
+    // the URDF named by its copy and a warm start (read when the problem loads) by the
+    // result's own trajectory.
+    let copy = &result.summary["problem_copy"];
+    let (Some(copy_file), Some(copy_urdf)) = (copy["file"].as_str(), copy["urdf"].as_str()) else {
+        return Err(CliError::Input(format!(
+            "{}: the problem file {} is not found from here and the result carries no copy of \
+             it; run from the directory the result was made in, or name it with --problem",
+            result.dir.display(),
+            file.display()
+        )));
+    };
+    let inside = |relative: &str| -> Result<PathBuf, CliError> {
+        let path = Path::new(relative);
+        if path
+            .components()
+            .all(|c| matches!(c, std::path::Component::Normal(_)))
+        {
+            Ok(result.dir.join(path))
+        } else {
+            Err(CliError::Input(format!(
+                "{}: `problem_copy` names {relative}, outside the result folder",
+                result.dir.join("summary.json").display()
+            )))
+        }
+    };
+    let (copy_file, copy_urdf) = (inside(copy_file)?, inside(copy_urdf)?);
+    let absolute = |p: &Path| std::path::absolute(p).unwrap_or_else(|_| p.to_owned());
+    let quoted = |p: &Path| toml::Value::String(absolute(p).display().to_string());
+    let warm_override = set
+        .iter()
+        .any(|s| s.starts_with("initial_guess.warm_start="));
+    set.retain(|s| !s.starts_with("robot.urdf=") && !s.starts_with("initial_guess.warm_start="));
+    set.push(format!("robot.urdf={}", quoted(&copy_urdf)));
+    let warm_in_file =
+        vito::files::input::read_regular_text(&copy_file, vito::files::input::MAX_TEXT_BYTES)
+            .ok()
+            .and_then(|text| text.parse::<toml::Table>().ok())
+            .is_some_and(|t| {
+                t.get("initial_guess")
+                    .and_then(|g| g.get("warm_start"))
+                    .is_some()
+            });
+    if warm_override || warm_in_file {
+        set.push(format!(
+            "initial_guess.warm_start={}",
+            quoted(&result.dir.join("trajectory.csv"))
+        ));
+    }
+    note!(
+        "{}: the problem file {} is not found from here; drawn from the copy in {}",
+        result.dir.display(),
+        file.display(),
+        copy_file.display()
+    );
+    Ok(load(&copy_file, &parse_overrides(&set)?)?)
 }
 
 /// The motion of a result, its columns read by the problem's names.
@@ -197,10 +247,14 @@ pub(super) fn view(
     let loaded = problem_of(first, problem)?;
     print_model_warnings(&loaded.robot, !loaded.spec.contacts.is_empty());
     let mut motions = Vec::new();
-    for result in &results {
+    for (i, result) in results.iter().enumerate() {
         // Each result with its own problem (overrides differ between sweep runs), drawn with
         // the first's robot: the coordinates must agree.
-        let own = problem_of(result, problem)?;
+        let own = if i == 0 {
+            loaded.clone()
+        } else {
+            problem_of(result, problem)?
+        };
         if own.robot.coordinates != loaded.robot.coordinates {
             return Err(CliError::Input(format!(
                 "{} has another robot than {} ({} against {} coordinates); overlay results of one robot",

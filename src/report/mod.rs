@@ -152,6 +152,11 @@ pub fn write_trajectory_outputs(
         crate::files::trajectory_csv::write_trajectory(trajectory, &units),
     )
     .map_err(io(&csv_path))?;
+    let mut summary = summary.clone();
+    if let Some(copy) = copy_problem(&dir, problem).map_err(io(&dir.join(PROBLEM_COPY)))? {
+        summary["problem_copy"] = copy;
+    }
+    let summary = &summary;
     let json_path = dir.join("summary.json");
     let text = serde_json::to_string_pretty(summary).unwrap_or_default();
     std::fs::write(&json_path, text + "\n").map_err(io(&json_path))?;
@@ -191,6 +196,36 @@ pub fn write_trajectory_outputs(
     }
     crate::view::write_animation(&dir, problem, trajectory, summary)?;
     Ok(staged.commit()?)
+}
+
+/// The folder of a result that holds copies of its problem file and robot URDF, so that
+/// `vito view` can draw the result wherever the folder is copied.
+pub const PROBLEM_COPY: &str = "problem";
+
+/// Copies the problem file and its URDF into `dir/problem/` and returns the summary's
+/// `problem_copy` (`file`, `urdf`: paths relative to the result folder); None when the
+/// problem has no file on disk (nothing to copy).
+fn copy_problem(dir: &Path, problem: &LoadedProblem) -> std::io::Result<Option<serde_json::Value>> {
+    let (Some(file_name), Some(urdf_name)) =
+        (problem.file.file_name(), problem.robot.urdf.file_name())
+    else {
+        return Ok(None);
+    };
+    if file_name == urdf_name || !problem.file.is_file() || !problem.robot.urdf.is_file() {
+        return Ok(None);
+    }
+    let copy = dir.join(PROBLEM_COPY);
+    std::fs::create_dir(&copy)?;
+    let limit = crate::files::input::MAX_TEXT_BYTES;
+    for (from, name) in [(&problem.file, file_name), (&problem.robot.urdf, urdf_name)] {
+        let text = crate::files::input::read_regular_text(from, limit)?;
+        std::fs::write(copy.join(name), text)?;
+    }
+    let relative = |name: &std::ffi::OsStr| format!("{PROBLEM_COPY}/{}", name.to_string_lossy());
+    Ok(Some(serde_json::json!({
+        "file": relative(file_name),
+        "urdf": relative(urdf_name),
+    })))
 }
 
 #[cfg(test)]

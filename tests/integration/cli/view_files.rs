@@ -154,3 +154,51 @@ fn view_writes_never_follow_links_nor_replace_users_files() {
     }
     assert!(!t.path().join("big.svg").exists());
 }
+
+/// A result folder carries copies of its problem file and URDF (`problem/`, named in
+/// `summary.json`'s `problem_copy`): moved to a folder where its problem file is not found,
+/// `vito view` draws it from them, with the summary's overrides, and says so; the page
+/// holds the hopper's links.
+#[test]
+fn a_result_folder_moved_elsewhere_is_viewed_from_its_copies() {
+    let t = TestDir::with_hopper("a_result_folder_moved_elsewhere_is_viewed_from_its_copies");
+    t.write("p.toml", &hopper_text());
+    t.vito()
+        .args([
+            "solve",
+            "p.toml",
+            "--set",
+            "contacts.friction=0.6",
+            "--quiet",
+            "--out",
+            "res",
+        ])
+        .assert_exit(0);
+    let summary = crate::cli::util::summary(&t.path().join("res"));
+    assert_eq!(summary["problem_copy"]["file"], "problem/p.toml");
+    assert_eq!(summary["problem_copy"]["urdf"], "problem/hopper_2d.urdf");
+    assert_eq!(
+        std::fs::read_to_string(t.path().join("res/problem/p.toml")).unwrap(),
+        hopper_text()
+    );
+    let elsewhere = tempfile::tempdir().unwrap();
+    let moved = elsewhere.path().join("res");
+    std::fs::rename(t.path().join("res"), &moved).unwrap();
+    std::fs::remove_file(t.path().join("p.toml")).unwrap();
+    let out = elsewhere.path().join("view.html");
+    let run = t
+        .vito()
+        .args([
+            "view".as_ref(),
+            moved.as_os_str(),
+            "--out".as_ref(),
+            out.as_os_str(),
+        ])
+        .assert_exit(0);
+    assert!(run.stderr.contains("drawn from the copy"), "{}", run.stderr);
+    let page = std::fs::read_to_string(&out).unwrap();
+    assert!(
+        page.contains("foot_contact"),
+        "the hopper's contact on the page"
+    );
+}
