@@ -36,7 +36,14 @@ def test_solve_equals_the_command_bit_for_bit(tmp_path, hopper_solution):
     assert hopper_solution.objective == summary["objective"]
     assert hopper_solution.iterations == summary["iterations"]
     assert hopper_solution.summary["openblas_coretype"] == summary["openblas_coretype"]
-    assert sorted(hopper_solution.summary) == sorted(summary)
+    # The written folder's summary also names the problem copies it carries; the same keys
+    # otherwise. Written from Python, the folder carries them too.
+    assert summary["problem_copy"] == {"file": "problem/hopper_2d.toml",
+                                       "urdf": "problem/hopper_2d.urdf"}
+    assert sorted(hopper_solution.summary) == sorted(k for k in summary if k != "problem_copy")
+    written = json.loads((tmp_path / "py" / "summary.json").read_text())
+    assert written["problem_copy"] == summary["problem_copy"]
+    assert (tmp_path / "py" / "problem" / "hopper_2d.urdf").is_file()
 
 
 def test_solve_with_out_writes_what_the_command_writes(tmp_path, hopper):
