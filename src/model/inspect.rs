@@ -4,7 +4,15 @@ use std::fmt;
 
 use serde::Serialize;
 
-use super::{Model, loop_residual};
+use super::{CoordinateKind, Model, loop_residual};
+
+/// The SI unit of a coordinate of this kind and of the effort on it.
+fn si_units(kind: CoordinateKind) -> (&'static str, &'static str) {
+    match kind {
+        CoordinateKind::Linear => ("m", "N"),
+        CoordinateKind::Angular => ("rad", "N·m"),
+    }
+}
 
 /// One coordinate with its limits and damping (`None` = unbounded).
 #[derive(Debug, Clone, Serialize)]
@@ -17,6 +25,8 @@ pub struct CoordinateInfo {
     pub upper: Option<f64>,
     /// Viscous damping (0 if none).
     pub damping: f64,
+    /// The unit of the coordinate and its limits in the URDF's SI: `m` or `rad`.
+    pub unit: &'static str,
 }
 
 /// One spring.
@@ -75,6 +85,8 @@ pub struct Inspection {
     pub inputs: Vec<String>,
     /// The rule that chose them (e.g. "the URDF's transmissions").
     pub actuation: String,
+    /// The unit of each input's effort limit in SI: `N` or `N·m`.
+    pub effort_units: Vec<&'static str>,
     /// Effort limit per input (`None` = unbounded).
     pub effort_limits: Vec<Option<f64>>,
     /// Total mass.
@@ -105,16 +117,21 @@ pub struct Inspection {
 pub fn inspect(model: &Model) -> Inspection {
     let finite = |x: f64| x.is_finite().then_some(x);
     let names = model.coordinate_names();
+    let kinds = model.coordinate_kinds();
     let coordinate_details = names
         .iter()
         .zip(model.coordinate_limits())
         .zip(model.damping())
-        .map(|((name, &(lower, upper)), &damping)| CoordinateInfo {
-            name: name.clone(),
-            lower: finite(lower),
-            upper: finite(upper),
-            damping,
-        })
+        .zip(&kinds)
+        .map(
+            |(((name, &(lower, upper)), &damping), &kind)| CoordinateInfo {
+                name: name.clone(),
+                lower: finite(lower),
+                upper: finite(upper),
+                damping,
+                unit: si_units(kind).0,
+            },
+        )
         .collect();
     let springs = model
         .springs()
@@ -148,6 +165,11 @@ pub fn inspect(model: &Model) -> Inspection {
         inputs: model.input_names().to_vec(),
         actuation: model.actuation().to_string(),
         effort_limits: model.effort_limits().iter().map(|&e| finite(e)).collect(),
+        effort_units: model
+            .input_coordinates()
+            .iter()
+            .map(|&c| si_units(kinds[c]).1)
+            .collect(),
         total_mass: model.total_mass(),
         n_springs: model.springs().len(),
         springs,
@@ -199,13 +221,19 @@ impl fmt::Display for Inspection {
         for (i, c) in self.coordinate_details.iter().enumerate() {
             write!(
                 f,
-                "  {i:>3} {:<24} [{}, {}]",
+                "  {i:>3} {:<24} [{}, {}] {}",
                 c.name,
                 bound(c.lower, "-inf"),
-                bound(c.upper, "inf")
+                bound(c.upper, "inf"),
+                c.unit
             )?;
             if c.damping != 0.0 {
-                write!(f, "  damping {}", c.damping)?;
+                let unit = if c.unit == "m" {
+                    "N·s/m"
+                } else {
+                    "N·m·s/rad"
+                };
+                write!(f, "  damping {} {unit}", c.damping)?;
             }
             writeln!(f)?;
         }
@@ -215,8 +243,13 @@ impl fmt::Display for Inspection {
             self.inputs.len(),
             self.actuation
         )?;
-        for (name, effort) in self.inputs.iter().zip(&self.effort_limits) {
-            writeln!(f, "  {name:<28} |u| <= {}", bound(*effort, "inf"))?;
+        for ((name, effort), unit) in self
+            .inputs
+            .iter()
+            .zip(&self.effort_limits)
+            .zip(&self.effort_units)
+        {
+            writeln!(f, "  {name:<28} |u| <= {} {unit}", bound(*effort, "inf"))?;
         }
         writeln!(f, "springs ({}):", self.n_springs)?;
         for s in &self.springs {

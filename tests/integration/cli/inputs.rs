@@ -132,3 +132,42 @@ fn a_joint_with_a_negative_effort_limit_is_never_actuated() {
     let run = t.vito().args(["check", "p.toml"]).assert_exit(2);
     assert!(run.stderr.contains("inputs.actuated"), "{}", run.stderr);
 }
+
+/// `vito inspect` states the units of limits and efforts: the hopper's leg length `r` is
+/// prismatic (metres, newtons), its hip `theta` revolute (radians, newton-metres).
+#[test]
+fn inspect_states_the_units_of_limits_and_efforts() {
+    let t = TestDir::with_hopper("inspect_states_the_units_of_limits_and_efforts");
+    let run = t
+        .vito()
+        .args(["inspect", "robots/hopper_2d.urdf"])
+        .assert_exit(0);
+    let line = |name: &str, from: &str| {
+        run.stdout
+            .lines()
+            .skip_while(|l| !l.starts_with(from))
+            .find(|l| l.split_whitespace().any(|w| w == name))
+            .unwrap_or_else(|| panic!("{name}: {}", run.stdout))
+            .to_owned()
+    };
+    assert!(
+        line("r", "coordinates").ends_with("[0.3, 0.7] m"),
+        "{}",
+        run.stdout
+    );
+    assert!(
+        line("theta", "coordinates").ends_with("[-inf, inf] rad"),
+        "{}",
+        run.stdout
+    );
+    assert!(
+        line("r", "inputs").ends_with("|u| <= 100 N"),
+        "{}",
+        run.stdout
+    );
+    assert!(
+        line("theta", "inputs").ends_with("|u| <= 10 N·m"),
+        "{}",
+        run.stdout
+    );
+}
