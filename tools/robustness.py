@@ -63,7 +63,7 @@ def run(vito, file, strategy, args, out):
     solved = [s for s in starts if s["status"] in ("solve_succeeded", "solved_to_acceptable_level")]
     objectives = sorted(s["objective"] for s in solved)
     iterations = [s["iterations"] for s in starts]
-    cpu = sum(s["wall_time_s"] for s in starts)
+    solve_s = sum(s["wall_time_s"] for s in starts)
     return {
         "problem": summary["problem"],
         "strategy": strategy,
@@ -73,7 +73,7 @@ def run(vito, file, strategy, args, out):
         "median": median(objectives),
         "max": objectives[-1] if objectives else float("nan"),
         "iterations": median(iterations),
-        "per_start_s": cpu / len(starts),
+        "per_start_s": solve_s / len(starts),
         "wall_s": wall,
         "objectives": [s["objective"] if s in solved else None for s in starts],
     }

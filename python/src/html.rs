@@ -3,24 +3,9 @@
 
 use serde_json::Value;
 
+use vito::files::names::xml_escape as escape;
 use vito::files::trajectory_csv::Trajectory;
 use vito::problem::LoadedProblem;
-
-/// Escapes text for HTML content and attribute values.
-pub(crate) fn escape(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    for c in text.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&#39;"),
-            c => out.push(c),
-        }
-    }
-    out
-}
 
 /// The summary table (`rows`: label, value) and the motion page of `trajectory` below it;
 /// when the page cannot be drawn, the reason in its place.

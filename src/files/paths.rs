@@ -3,7 +3,8 @@
 
 use std::path::{Path, PathBuf};
 
-/// `target` relative to `dir` when both are relative or share a prefix; else absolute.
+/// `target` relative to `dir` when both are relative or share a prefix below the root; else
+/// absolute (not `../../../usr/share/…` up to the root).
 pub fn relative_path(target: &Path, dir: &Path) -> String {
     let abs = |p: &Path| std::path::absolute(p).unwrap_or_else(|_| p.to_owned());
     let (t, d) = (abs(target), abs(dir));
@@ -12,6 +13,9 @@ pub fn relative_path(target: &Path, dir: &Path) -> String {
         .zip(d.components())
         .take_while(|(a, b)| a == b)
         .count();
+    if common <= 1 {
+        return t.display().to_string();
+    }
     let ups = d.components().count() - common;
     let mut rel = PathBuf::new();
     for _ in 0..ups {
@@ -24,25 +28,10 @@ pub fn relative_path(target: &Path, dir: &Path) -> String {
 }
 
 /// How a file written to `out` names `target`: relative to `out`'s directory, or as given
-/// when the file goes to stdout or to the working directory.
-/// A path that would meet `out`'s directory only at the root (`../../../usr/share/…`) is
-/// written absolute instead.
+/// when the file goes to stdout or to the working directory ([`relative_path`]).
 pub fn reference_from(target: &Path, out: Option<&Path>) -> String {
     match out.and_then(Path::parent) {
-        Some(dir) if !dir.as_os_str().is_empty() => {
-            let abs = |p: &Path| std::path::absolute(p).unwrap_or_else(|_| p.to_owned());
-            let (t, d) = (abs(target), abs(dir));
-            let common = t
-                .components()
-                .zip(d.components())
-                .take_while(|(a, b)| a == b)
-                .count();
-            if common <= 1 {
-                t.display().to_string()
-            } else {
-                relative_path(target, dir)
-            }
-        }
+        Some(dir) if !dir.as_os_str().is_empty() => relative_path(target, dir),
         _ => target.display().to_string(),
     }
 }

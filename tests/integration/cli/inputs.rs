@@ -150,24 +150,12 @@ fn inspect_states_the_units_of_limits_and_efforts() {
             .unwrap_or_else(|| panic!("{name}: {}", run.stdout))
             .to_owned()
     };
-    assert!(
-        line("r", "coordinates").ends_with("[0.3, 0.7] m"),
-        "{}",
-        run.stdout
-    );
-    assert!(
-        line("theta", "coordinates").ends_with("[-inf, inf] rad"),
-        "{}",
-        run.stdout
-    );
-    assert!(
-        line("r", "inputs").ends_with("|u| <= 100 N"),
-        "{}",
-        run.stdout
-    );
-    assert!(
-        line("theta", "inputs").ends_with("|u| <= 10 N·m"),
-        "{}",
-        run.stdout
-    );
+    for (name, section, ending) in [
+        ("r", "coordinates", "[0.3, 0.7] m"),
+        ("theta", "coordinates", "[-inf, inf] rad"),
+        ("r", "inputs", "|u| <= 100 N"),
+        ("theta", "inputs", "|u| <= 10 N·m"),
+    ] {
+        assert!(line(name, section).ends_with(ending), "{}", run.stdout);
+    }
 }
