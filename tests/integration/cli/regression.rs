@@ -262,15 +262,18 @@ fn regress_without_problems_is_an_input_error() {
     );
 }
 
-/// `TMPDIR` naming a missing directory: a clear input error (exit 2) before any solve.
+/// `TMPDIR` naming a directory that cannot exist (its parent is a regular file): a clear input
+/// error (exit 2) before any solve. A merely missing directory is no test: on Debian 13 a
+/// library that libipopt loads (OpenMPI, under MUMPS) creates `$TMPDIR` before `main` runs.
 #[test]
-fn regress_with_a_missing_tmpdir_is_an_input_error() {
-    let t = TestDir::with_hopper("regress_with_a_missing_tmpdir_is_an_input_error");
+fn regress_with_an_unusable_tmpdir_is_an_input_error() {
+    let t = TestDir::with_hopper("regress_with_an_unusable_tmpdir_is_an_input_error");
     t.write("hop_up.toml", &hopper_text());
+    let file = t.write("a-file", "not a directory");
     let run = t
         .vito()
         .args(["regress", "--bless", "hop_up.toml"])
-        .env("TMPDIR", &t.path().join("no-such-dir").to_string_lossy())
+        .env("TMPDIR", &file.join("tmp").to_string_lossy())
         .assert_exit(2);
     assert!(run.stderr.contains("TMPDIR"), "{}", run.stderr);
     assert!(!t.path().join("golden.toml").exists());
