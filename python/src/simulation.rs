@@ -312,16 +312,10 @@ pub(crate) fn simulate(
             })
             .collect::<PyResult<_>>()?,
     };
-    let feedback = match feedback.as_deref() {
-        None => None,
-        Some("explicit") => Some(vito::sim::Feedback::Explicit),
-        Some("implicit") => Some(vito::sim::Feedback::Implicit),
-        Some(other) => {
-            return Err(PyValueError::new_err(format!(
-                "feedback={other:?}: give \"explicit\" or \"implicit\""
-            )));
-        }
-    };
+    let feedback = feedback
+        .map(|name| name.parse::<vito::sim::Feedback>())
+        .transpose()
+        .map_err(|e| PyValueError::new_err(format!("feedback={e}")))?;
     let integrator = match integrator.as_deref() {
         None => None,
         Some(name) => Some(

@@ -6,6 +6,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 use vito::discrete::Integrator;
 use vito::model::BaseType;
 use vito::problem::Override;
+use vito::sim::Feedback;
 
 use super::error::{CliError, EXIT_CODE_TABLE};
 
@@ -65,20 +66,12 @@ fn integrator_parser() -> impl clap::builder::TypedValueParser<Value = Integrato
         .try_map(|name| name.parse::<Integrator>())
 }
 
-/// PD feedback choice on the command line.
-#[derive(Debug, Clone, Copy, ValueEnum)]
-pub enum FeedbackArg {
-    Explicit,
-    Implicit,
-}
-
-impl From<FeedbackArg> for vito::sim::Feedback {
-    fn from(f: FeedbackArg) -> Self {
-        match f {
-            FeedbackArg::Explicit => vito::sim::Feedback::Explicit,
-            FeedbackArg::Implicit => vito::sim::Feedback::Implicit,
-        }
-    }
+/// `--feedback`: the names of [`Feedback::name`], listed in the help, parsed by Feedback's own
+/// `FromStr` (the names the problem file and the Python package accept too).
+fn feedback_parser() -> impl clap::builder::TypedValueParser<Value = Feedback> {
+    use clap::builder::TypedValueParser;
+    clap::builder::PossibleValuesParser::new(Feedback::ALL.map(Feedback::name))
+        .try_map(|name| name.parse::<Feedback>())
 }
 
 /// The subcommands.
@@ -153,8 +146,8 @@ pub enum Command {
         /// Where the PD reads the state: the step's start (explicit) or end (implicit,
         /// solved with the step; stable at stiff gains) [default: the file's
         /// `[tracking] feedback`, else explicit].
-        #[arg(long, value_enum, requires = "track")]
-        feedback: Option<FeedbackArg>,
+        #[arg(long, value_parser = feedback_parser(), requires = "track")]
+        feedback: Option<Feedback>,
         /// Simulated time (default: the CSV's last time, else the problem's horizon).
         #[arg(long)]
         duration: Option<f64>,
@@ -303,17 +296,6 @@ pub struct StudyMethods {
     pub reference_rate: f64,
 }
 
-impl StudyMethods {
-    /// The methods as the studies name them.
-    pub fn study_methods(&self) -> Vec<vito::study::Method> {
-        self.methods
-            .iter()
-            .copied()
-            .map(vito::study::Method::of)
-            .collect()
-    }
-}
-
 /// `vito study ...`.
 #[derive(Debug, Subcommand)]
 pub enum StudyKind {
@@ -378,8 +360,8 @@ pub enum StudyKind {
         gains: Vec<String>,
         /// Where the PD reads the state [default: the file's `[tracking] feedback`, else
         /// explicit]; see `vito simulate --feedback`.
-        #[arg(long, value_enum)]
-        feedback: Option<FeedbackArg>,
+        #[arg(long, value_parser = feedback_parser())]
+        feedback: Option<Feedback>,
         /// The methods and the reference simulation.
         #[command(flatten)]
         methods: StudyMethods,

@@ -46,8 +46,8 @@ mod view;
 
 pub use args::Args;
 use args::{Command, StudyKind, SweepAction};
-use error::{CliError, EXIT_OUTPUT, print_error};
-use output::OUTPUT_FAILED;
+use error::{CliError, EXIT_OUTPUT};
+use output::{OUTPUT_FAILED, print_error};
 
 /// Runs a parsed command; prints the error (once, with its chain) and returns the exit code.
 pub fn run(args: Args) -> ExitCode {
@@ -147,7 +147,7 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
                 inputs,
                 track,
                 gains,
-                feedback: feedback.map(Into::into),
+                feedback,
                 duration,
                 rate,
                 integrator,
@@ -174,8 +174,8 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
                 horizon,
                 spin,
                 tilt,
-                methods: methods.study_methods(),
-                reference: vito::study::Method::of(methods.reference),
+                methods: methods.methods.clone(),
+                reference: methods.reference,
                 reference_rate: methods.reference_rate,
             };
             study::brick_accuracy(&problem, &study, &out, quiet)
@@ -196,9 +196,9 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
             let study = vito::study::tracking::Tracking {
                 knots,
                 gains,
-                feedback: feedback.map(Into::into),
+                feedback,
                 rate: methods.reference_rate,
-                methods: methods.study_methods(),
+                methods: methods.methods.clone(),
                 reference: methods.reference,
             };
             study::tracking(&problem, &set, &study, &out, quiet)

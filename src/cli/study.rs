@@ -4,6 +4,7 @@ use std::path::{Path, PathBuf};
 
 use vito::problem::load;
 use vito::report;
+use vito::study::StudyMethod;
 
 use super::args::parse_overrides;
 use super::error::CliError;
@@ -29,7 +30,7 @@ pub(super) fn print_study(table: &vito::study::StudyTable) -> Result<(), CliErro
     let methods = table.methods();
     let mut header = String::from("knots");
     for m in &methods {
-        header += &format!("  {:<26}", format!("{} mean ± std", m.name()));
+        header += &format!("  {:<26}", format!("{} mean ± std", m.study_name()));
     }
     out!("{}", header.trim_end());
     let mut knots: Vec<usize> = table.rows.iter().map(|r| r.knots).collect();
@@ -46,7 +47,7 @@ pub(super) fn print_study(table: &vito::study::StudyTable) -> Result<(), CliErro
     }
     for m in methods {
         if let Some(slope) = log_log_slope(&table.means(m)) {
-            out!("{:<12} log-log slope {slope:.3}", m.name());
+            out!("{:<12} log-log slope {slope:.3}", m.study_name());
         }
     }
     Ok(())
@@ -72,7 +73,7 @@ pub(super) fn brick_accuracy(
     let staged = target.stage().map_err(report::ReportError::from)?;
     let title = format!(
         "Tumbling brick: RMS configuration error against the {} reference at {} steps/s",
-        study.reference.label(),
+        study.reference.study_label(),
         study.reference_rate
     );
     table.write(
@@ -148,7 +149,7 @@ pub(super) fn tracking(
         out!(
             "plan {:>3} knots {:<12} objective {:.6e}, max slack {:.2e}, {} iterations, {} variables, {:.2} s, from {}: {}{at_knots}",
             p.knots,
-            p.method.name(),
+            p.method.study_name(),
             p.objective,
             p.max_slack,
             p.iterations,
@@ -222,7 +223,7 @@ pub(super) fn tracking_collect(
         out!(
             "{:>5}  {:<12} {} of {}{unrecorded}",
             f.knots,
-            f.method.name(),
+            f.method.study_name(),
             f.fell,
             f.tracked
         );

@@ -4,9 +4,9 @@
 //! the RMS over its knots of ‖q_k − q_ref(t_k)‖ (configuration in the problem's units: m and
 //! rad for the brick), q_ref linear between the reference's knots.
 
-use super::{Method, StudyError, StudyRow, StudyTable};
+use super::{PAPER_METHODS, StudyError, StudyMethod, StudyRow, StudyTable};
 use crate::contact::ContactModel;
-use crate::discrete::{Mechanics, ModelMechanics};
+use crate::discrete::{Integrator, Mechanics, ModelMechanics};
 use crate::problem::ProblemSpec;
 use crate::random::SeededRng;
 use crate::sim::{Simulation, SimulationOptions, StepOptions, simulate};
@@ -23,13 +23,13 @@ pub struct BrickAccuracy {
     /// Steps per time unit of the reference.
     pub reference_rate: f64,
     /// The reference's method (the paper's: first order).
-    pub reference: Method,
+    pub reference: Integrator,
     /// Largest initial angular rate per roll–pitch–yaw coordinate (rad per time unit).
     pub spin: f64,
     /// Largest initial roll and pitch (rad).
     pub tilt: f64,
     /// The methods compared (the paper's: first order and midpoint).
-    pub methods: Vec<Method>,
+    pub methods: Vec<Integrator>,
 }
 
 impl Default for BrickAccuracy {
@@ -39,10 +39,10 @@ impl Default for BrickAccuracy {
             knots: (3..=16).collect(),
             horizon: 0.5,
             reference_rate: 2000.0,
-            reference: Method::FirstOrder,
+            reference: Integrator::Euler,
             spin: 0.5,
             tilt: 0.2,
-            methods: Method::BOTH.to_vec(),
+            methods: PAPER_METHODS.to_vec(),
         }
     }
 }
@@ -188,7 +188,7 @@ impl BrickAccuracy {
                 .map_err(|source| StudyError::Simulation {
                     what: format!(
                         "seed {seed}, {} with {} knots",
-                        row.method.name(),
+                        row.method.study_name(),
                         row.knots
                     ),
                     source,
@@ -208,13 +208,13 @@ fn run_method(
     contact: &ContactModel,
     q0: &[f64],
     v0: &[f64],
-    method: Method,
+    method: Integrator,
     h: f64,
     steps: usize,
     gravity: f64,
 ) -> Result<Simulation, crate::sim::SimulationError> {
     let options = SimulationOptions {
-        integrator: method.integrator(),
+        integrator: method,
         h,
         steps,
         step: StepOptions {

@@ -14,7 +14,8 @@
 use std::path::{Path, PathBuf};
 
 use super::tracking::{PLANS_CSV_HEADER, PlanRecord, TRACKING_MEASURES, TrackingMeasure};
-use super::{Method, StudyError, StudyTable, table_order};
+use super::{METHODS, StudyError, StudyMethod, StudyTable, table_order};
+use crate::discrete::Integrator;
 
 /// Largest file read from a study's directory (bytes).
 const MAX_STUDY_FILE: u64 = 64 << 20;
@@ -121,7 +122,7 @@ pub fn falls_csv(falls: &[FallCount]) -> String {
         s += &format!(
             "{},{},{},{},{}\n",
             f.knots,
-            f.method.name(),
+            f.method.study_name(),
             f.tracked,
             f.fell,
             f.unknown
@@ -135,8 +136,8 @@ pub fn falls_csv(falls: &[FallCount]) -> String {
 pub struct FallCount {
     /// Knot count.
     pub knots: usize,
-    /// Method.
-    pub method: Method,
+    /// Integrator.
+    pub method: Integrator,
     /// Plans tracked (with an error row).
     pub tracked: usize,
     /// Those whose largest deviation exceeded the threshold.
@@ -221,12 +222,12 @@ fn bad_line(path: &Path, line: usize, message: &str) -> StudyError {
     }
 }
 
-fn method_named(name: &str) -> Option<Method> {
-    Method::ALL.into_iter().find(|m| m.name() == name)
+fn method_named(name: &str) -> Option<Integrator> {
+    METHODS.into_iter().find(|m| m.study_name() == name)
 }
 
 /// `knots,method,run,rms` rows of a one-gait study (its single run per row).
-fn read_runs(path: &Path) -> Result<Vec<(usize, Method, f64)>, StudyError> {
+fn read_runs(path: &Path) -> Result<Vec<(usize, Integrator, f64)>, StudyError> {
     let text = read(path)?;
     let mut lines = text.lines();
     if lines.next() != Some("knots,method,run,rms") {
@@ -257,7 +258,7 @@ fn read_runs(path: &Path) -> Result<Vec<(usize, Method, f64)>, StudyError> {
         };
         if rows
             .iter()
-            .any(|r: &(usize, Method, f64)| r.0 == knots && r.1 == method)
+            .any(|r: &(usize, Integrator, f64)| r.0 == knots && r.1 == method)
         {
             return Err(bad_line(
                 path,
@@ -360,22 +361,22 @@ mod tests {
         assert_eq!(set.plans[1].rms, None);
         assert_eq!(set.plans[3].plan.max_deviation, Some(0.9));
         let state = set.table("tracking").unwrap();
-        assert_eq!(state.row(10, Method::FirstOrder).unwrap().runs, [1.0, 3.0]);
-        assert_eq!(state.row(10, Method::Variational).unwrap().runs, [5.0]);
+        assert_eq!(state.row(10, Integrator::Euler).unwrap().runs, [1.0, 3.0]);
+        assert_eq!(state.row(10, Integrator::Midpoint).unwrap().runs, [5.0]);
         let falls = set.falls(0.5);
         assert_eq!(
             falls,
             [
                 FallCount {
                     knots: 10,
-                    method: Method::FirstOrder,
+                    method: Integrator::Euler,
                     tracked: 2,
                     fell: 0,
                     unknown: 1
                 },
                 FallCount {
                     knots: 10,
-                    method: Method::Variational,
+                    method: Integrator::Midpoint,
                     tracked: 1,
                     fell: 1,
                     unknown: 0

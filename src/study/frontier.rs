@@ -9,6 +9,7 @@ use std::path::Path;
 use plotters::prelude::*;
 
 use super::StudyError;
+use super::StudyMethod;
 use super::tracking::PlanRecord;
 
 /// What a frontier plot puts on its x axis.
@@ -28,7 +29,7 @@ pub fn frontier_csv(plans: &[PlanRecord]) -> String {
             s,
             "{},{},{},{},{:.4},{:.6e},{:.10e}",
             p.knots,
-            p.method.name(),
+            p.method.study_name(),
             p.variables,
             p.iterations,
             p.wall_time_s,
@@ -112,7 +113,7 @@ fn frontier_svg(
     methods.sort_by_key(|&m| super::table_order(0, m));
     methods.dedup();
     for method in methods {
-        let colour = method.colour();
+        let colour = method.study_colour();
         let mut line: Vec<(usize, f64, f64)> = points
             .iter()
             .filter(|p| p.0.method == method)
@@ -123,7 +124,7 @@ fn frontier_svg(
         chart
             .draw_series(LineSeries::new(xy.clone(), colour.stroke_width(2)))
             .map_err(|x| e(&x))?
-            .label(method.label())
+            .label(method.study_label())
             .legend(move |(x, y)| {
                 PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(2))
             });
@@ -141,9 +142,9 @@ fn frontier_svg(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::study::Method;
+    use crate::discrete::Integrator;
 
-    fn plan(knots: usize, method: Method, error: Option<f64>) -> PlanRecord {
+    fn plan(knots: usize, method: Integrator, error: Option<f64>) -> PlanRecord {
         PlanRecord {
             knots,
             method,
@@ -164,9 +165,9 @@ mod tests {
     #[test]
     fn frontier_csv_has_a_line_per_tracked_plan() {
         let plans = [
-            plan(10, Method::Variational, Some(2e-3)),
-            plan(10, Method::Galerkin4, None),
-            plan(20, Method::Galerkin4, Some(1e-5)),
+            plan(10, Integrator::Midpoint, Some(2e-3)),
+            plan(10, Integrator::Galerkin4, None),
+            plan(20, Integrator::Galerkin4, Some(1e-5)),
         ];
         assert_eq!(
             frontier_csv(&plans),

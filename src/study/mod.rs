@@ -14,7 +14,9 @@ pub mod frontier;
 pub mod table;
 pub mod tracking;
 
-pub use table::{Method, StudyRow, StudyTable, log_log_slope, table_order};
+pub use table::{
+    METHODS, PAPER_METHODS, StudyMethod, StudyRow, StudyTable, log_log_slope, table_order,
+};
 
 /// Why a study stopped.
 #[derive(Debug, thiserror::Error)]

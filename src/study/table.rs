@@ -10,86 +10,62 @@ use plotters::prelude::*;
 use super::StudyError;
 use crate::discrete::Integrator;
 
-/// The methods a study compares: the paper's two, and the higher-order Galerkin members.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Method {
-    /// Semi-implicit Euler time stepping (Posa et al.; Stewart and Trinkle).
-    FirstOrder,
-    /// The midpoint variational method of the paper.
-    Variational,
-    /// The fourth-order Galerkin variational integrator.
-    Galerkin4,
-    /// The sixth-order Galerkin variational integrator.
-    Galerkin6,
+/// The methods a study compares, in table order: the paper's two (first order first), then
+/// the higher-order Galerkin members. A method is the [`Integrator`] that implements it.
+pub const METHODS: [Integrator; 4] = [
+    Integrator::Euler,
+    Integrator::Midpoint,
+    Integrator::Galerkin4,
+    Integrator::Galerkin6,
+];
+
+/// The paper's two methods, first order first.
+pub const PAPER_METHODS: [Integrator; 2] = [Integrator::Euler, Integrator::Midpoint];
+
+/// How a study names and draws an integrator.
+pub trait StudyMethod {
+    /// The CSV's name of the method: the paper's two by the paper's names (`first_order`,
+    /// `variational`), the others by their integrator's.
+    fn study_name(self) -> &'static str;
+    /// Its label in plots.
+    fn study_label(self) -> &'static str;
+    /// Its plot colour.
+    fn study_colour(self) -> RGBColor;
 }
 
-impl Method {
-    /// The paper's two, first order first.
-    pub const BOTH: [Method; 2] = [Method::FirstOrder, Method::Variational];
-    /// Every method, in table order.
-    pub const ALL: [Method; 4] = [
-        Method::FirstOrder,
-        Method::Variational,
-        Method::Galerkin4,
-        Method::Galerkin6,
-    ];
-
-    /// The integrator that implements the method.
-    pub fn integrator(self) -> Integrator {
+impl StudyMethod for Integrator {
+    fn study_name(self) -> &'static str {
         match self {
-            Method::FirstOrder => Integrator::Euler,
-            Method::Variational => Integrator::Midpoint,
-            Method::Galerkin4 => Integrator::Galerkin4,
-            Method::Galerkin6 => Integrator::Galerkin6,
+            Integrator::Euler => "first_order",
+            Integrator::Midpoint => "variational",
+            Integrator::Galerkin4 => "galerkin4",
+            Integrator::Galerkin6 => "galerkin6",
         }
     }
 
-    /// The method an integrator implements.
-    pub fn of(integrator: Integrator) -> Method {
-        match integrator {
-            Integrator::Euler => Method::FirstOrder,
-            Integrator::Midpoint => Method::Variational,
-            Integrator::Galerkin4 => Method::Galerkin4,
-            Integrator::Galerkin6 => Method::Galerkin6,
+    fn study_label(self) -> &'static str {
+        match self {
+            Integrator::Euler => "first order",
+            Integrator::Midpoint => "variational (midpoint)",
+            Integrator::Galerkin4 => "galerkin4",
+            Integrator::Galerkin6 => "galerkin6",
         }
     }
 
-    /// The CSV's name of the method (the paper's two by the paper's names, the others by
-    /// their integrator's).
-    pub fn name(self) -> &'static str {
+    fn study_colour(self) -> RGBColor {
         match self {
-            Method::FirstOrder => "first_order",
-            Method::Variational => "variational",
-            Method::Galerkin4 => "galerkin4",
-            Method::Galerkin6 => "galerkin6",
-        }
-    }
-
-    /// Its label in plots.
-    pub fn label(self) -> &'static str {
-        match self {
-            Method::FirstOrder => "first order",
-            Method::Variational => "variational (midpoint)",
-            Method::Galerkin4 => "galerkin4",
-            Method::Galerkin6 => "galerkin6",
-        }
-    }
-
-    /// Its plot colour.
-    pub(crate) fn colour(self) -> RGBColor {
-        match self {
-            Method::FirstOrder => RGBColor(200, 60, 40),
-            Method::Variational => RGBColor(40, 90, 200),
-            Method::Galerkin4 => RGBColor(30, 150, 70),
-            Method::Galerkin6 => RGBColor(140, 60, 170),
+            Integrator::Euler => RGBColor(200, 60, 40),
+            Integrator::Midpoint => RGBColor(40, 90, 200),
+            Integrator::Galerkin4 => RGBColor(30, 150, 70),
+            Integrator::Galerkin6 => RGBColor(140, 60, 170),
         }
     }
 }
 
 /// The sort key of a study's rows and records: knot counts ascending, then the methods in
-/// [`Method::ALL`]'s order (first order first).
-pub fn table_order(knots: usize, method: Method) -> (usize, usize) {
-    let index = Method::ALL.iter().position(|&m| m == method).unwrap_or(0);
+/// [`METHODS`] order (first order first).
+pub fn table_order(knots: usize, method: Integrator) -> (usize, usize) {
+    let index = METHODS.iter().position(|&m| m == method).unwrap_or(0);
     (knots, index)
 }
 
@@ -99,7 +75,7 @@ pub struct StudyRow {
     /// Knot count K (K − 1 steps over the horizon).
     pub knots: usize,
     /// The method.
-    pub method: Method,
+    pub method: Integrator,
     /// RMS error per run (seed or plan), in the order run.
     pub runs: Vec<f64>,
 }
@@ -128,7 +104,7 @@ pub struct StudyTable {
 
 impl StudyTable {
     /// Adds one run's error to the row of (knots, method), which it creates if missing.
-    pub fn add_run(&mut self, knots: usize, method: Method, rms: f64) {
+    pub fn add_run(&mut self, knots: usize, method: Integrator, rms: f64) {
         match self
             .rows
             .iter_mut()
@@ -143,9 +119,9 @@ impl StudyTable {
         }
     }
 
-    /// The methods in the table, in [`Method::ALL`]'s order.
-    pub fn methods(&self) -> Vec<Method> {
-        Method::ALL
+    /// The methods in the table, in [`METHODS`] order.
+    pub fn methods(&self) -> Vec<Integrator> {
+        METHODS
             .into_iter()
             .filter(|&m| self.rows.iter().any(|r| r.method == m))
             .collect()
@@ -157,14 +133,14 @@ impl StudyTable {
     }
 
     /// The row of (knots, method).
-    pub fn row(&self, knots: usize, method: Method) -> Option<&StudyRow> {
+    pub fn row(&self, knots: usize, method: Integrator) -> Option<&StudyRow> {
         self.rows
             .iter()
             .find(|r| r.knots == knots && r.method == method)
     }
 
     /// (knots, mean) of one method, knot counts ascending.
-    pub fn means(&self, method: Method) -> Vec<(f64, f64)> {
+    pub fn means(&self, method: Integrator) -> Vec<(f64, f64)> {
         self.rows
             .iter()
             .filter(|r| r.method == method)
@@ -181,7 +157,7 @@ impl StudyTable {
                 s,
                 "{},{},{:.6e},{:.6e}",
                 r.knots,
-                r.method.name(),
+                r.method.study_name(),
                 r.mean(),
                 r.std()
             );
@@ -207,7 +183,7 @@ impl StudyTable {
         let mut runs = String::from("knots,method,run,rms\n");
         for r in &self.rows {
             for (i, x) in r.runs.iter().enumerate() {
-                let _ = writeln!(runs, "{},{},{i},{x:.6e}", r.knots, r.method.name());
+                let _ = writeln!(runs, "{},{},{i},{x:.6e}", r.knots, r.method.study_name());
             }
         }
         let runs_path = dir.join(format!("{stem}_runs.csv"));
@@ -252,14 +228,14 @@ impl StudyTable {
         for (index, &method) in methods.iter().enumerate() {
             // Bars side by side at each knot count, 0.16 apart.
             let offset = 0.16 * (index as f64 - (methods.len() as f64 - 1.0) / 2.0);
-            let colour = method.colour();
+            let colour = method.study_colour();
             let rows: Vec<&StudyRow> = self.rows.iter().filter(|r| r.method == method).collect();
             let points: Vec<(f64, f64)> = rows
                 .iter()
                 .map(|r| (r.knots as f64 + offset, r.mean()))
                 .filter(|p| p.1.is_finite())
                 .collect();
-            let label = method.label();
+            let label = method.study_label();
             chart
                 .draw_series(LineSeries::new(points.clone(), colour.stroke_width(2)))
                 .map_err(|x| e(&x))?
@@ -320,7 +296,7 @@ mod tests {
         let table = StudyTable {
             rows: vec![StudyRow {
                 knots: 3,
-                method: Method::Variational,
+                method: Integrator::Midpoint,
                 runs: vec![1.0, 3.0],
             }],
         };

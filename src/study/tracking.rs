@@ -17,8 +17,8 @@
 
 use std::path::{Path, PathBuf};
 
-use super::{Method, StudyError, StudyTable, table_order};
-use crate::discrete::Mechanics;
+use super::{StudyError, StudyMethod, StudyTable, table_order};
+use crate::discrete::{Integrator, Mechanics};
 use crate::files::trajectory_csv::RecordedTrajectory;
 use crate::problem::{InitialGuess, Override, TimeSteps, WarmStart, load};
 use crate::sim::{InputSource, Simulation, SimulationOptions, StepOptions, simulate};
@@ -33,8 +33,8 @@ pub const PLANS_CSV_HEADER: &str =
 pub struct PlanRecord {
     /// Knot count.
     pub knots: usize,
-    /// Method.
-    pub method: Method,
+    /// Integrator.
+    pub method: Integrator,
     /// Objective (with the slack penalty).
     pub objective: f64,
     /// Largest complementarity slack: a plan with slack above the solver's tolerance relaxes
@@ -76,7 +76,7 @@ impl PlanRecord {
         format!(
             "{},{},{:.10e},{:.3e},{},{},{},\"{}\"",
             self.knots,
-            self.method.name(),
+            self.method.study_name(),
             self.objective,
             self.max_slack,
             self.iterations,
@@ -159,7 +159,7 @@ impl TrackingResult {
 
     /// The file name of a plan's trajectory in the study's output (`plans/K10_variational.csv`).
     pub fn plan_file_name(plan: &PlanRecord) -> String {
-        format!("K{}_{}.csv", plan.knots, plan.method.name())
+        format!("K{}_{}.csv", plan.knots, plan.method.study_name())
     }
 }
 
@@ -176,7 +176,7 @@ pub struct Tracking {
     /// Steps per time unit of the tracking simulation.
     pub rate: f64,
     /// The methods planned (the paper's: first order and variational).
-    pub methods: Vec<Method>,
+    pub methods: Vec<Integrator>,
     /// The tracking simulation's integrator (the paper's: first order).
     pub reference: crate::discrete::Integrator,
 }
@@ -244,7 +244,7 @@ impl Tracking {
         knots.dedup();
         // The variational plan first at each K: the others start from it.
         let mut methods = self.methods.clone();
-        methods.sort_by_key(|&m| (m != Method::Variational, table_order(0, m)));
+        methods.sort_by_key(|&m| (m != Integrator::Midpoint, table_order(0, m)));
         methods.dedup();
         let total = methods.len() * knots.len();
         // The last solved variational plan: the start of the next K's variational plan and of
@@ -252,12 +252,12 @@ impl Tracking {
         let mut previous: Option<(String, WarmStart)> = None;
         for &knots in &knots {
             for &method in &methods {
-                let what = format!("{} with {knots} knots", method.name());
+                let what = format!("{} with {knots} knots", method.study_name());
                 let start = previous.clone();
                 let mut set = overrides.to_vec();
                 let mut texts = vec![
                     format!("horizon.knots={knots}"),
-                    format!("solver.integrator=\"{}\"", method.integrator().name()),
+                    format!("solver.integrator=\"{}\"", method.name()),
                 ];
                 if let Some(t) = horizon {
                     texts.push(format!("horizon.time_step={:e}", t / (knots - 1) as f64));
@@ -315,8 +315,8 @@ impl Tracking {
                 }
                 // A relaxed plan still warm starts the chain (the next K's solve may close
                 // its slack), but is not tracked.
-                if method == Method::Variational {
-                    let name = format!("{} K={knots}", method.name());
+                if method == Integrator::Midpoint {
+                    let name = format!("{} K={knots}", method.study_name());
                     let warm = plan.warm_start(PathBuf::from(&name));
                     previous = Some((name, warm));
                 }

@@ -1,7 +1,8 @@
 //! The accuracy studies (figures 5 and 6 of the paper), short versions.
 
+use vito::discrete::Integrator;
 use vito::study::brick::BrickAccuracy;
-use vito::study::{Method, StudyTable, log_log_slope};
+use vito::study::{PAPER_METHODS, StudyMethod, StudyTable, log_log_slope};
 
 use crate::common::reference;
 
@@ -10,21 +11,25 @@ fn print(table: &StudyTable) {
         println!(
             "K = {:>2} {:<12} {:.4e} ± {:.2e}",
             r.knots,
-            r.method.name(),
+            r.method.study_name(),
             r.mean(),
             r.std()
         );
     }
     for m in table.methods() {
-        println!("{} slope {:?}", m.name(), log_log_slope(&table.means(m)));
+        println!(
+            "{} slope {:?}",
+            m.study_name(),
+            log_log_slope(&table.means(m))
+        );
     }
 }
 
 /// The variational mean error is below the first-order one at each of `knots`.
 fn assert_variational_below(table: &StudyTable, knots: &[usize]) {
     for k in knots {
-        let first = table.row(*k, Method::FirstOrder).unwrap().mean();
-        let variational = table.row(*k, Method::Variational).unwrap().mean();
+        let first = table.row(*k, Integrator::Euler).unwrap().mean();
+        let variational = table.row(*k, Integrator::Midpoint).unwrap().mean();
         assert!(variational < first, "K = {k}: {variational} vs {first}");
     }
 }
@@ -45,7 +50,7 @@ fn brick_study_variational_error_is_below_first_order_at_every_knot_count() {
         .expect("study runs");
     print(&table);
     assert_variational_below(&table, &study.knots);
-    let first = log_log_slope(&table.means(Method::FirstOrder)).unwrap();
+    let first = log_log_slope(&table.means(Integrator::Euler)).unwrap();
     assert!(
         first < -0.5,
         "first-order error does not fall: slope {first}"
@@ -71,8 +76,8 @@ fn brick_study_in_flight_variational_error_falls_faster() {
     let table = study.run(&spec, |_, _| {}).expect("study runs");
     print(&table);
     assert_variational_below(&table, &study.knots);
-    let first = log_log_slope(&table.means(Method::FirstOrder)).unwrap();
-    let variational = log_log_slope(&table.means(Method::Variational)).unwrap();
+    let first = log_log_slope(&table.means(Integrator::Euler)).unwrap();
+    let variational = log_log_slope(&table.means(Integrator::Midpoint)).unwrap();
     assert!(
         variational < first - 0.5,
         "slopes: variational {variational}, first order {first}"
@@ -97,7 +102,7 @@ fn tracking_study_pd_feedback_lowers_every_plans_error() {
             gains: gains.iter().map(|g| (*g).to_owned()).collect(),
             feedback: None,
             rate: 2000.0,
-            methods: vito::study::Method::BOTH.to_vec(),
+            methods: vito::study::PAPER_METHODS.to_vec(),
             reference: vito::discrete::Integrator::Euler,
         }
         .run(
@@ -124,13 +129,13 @@ fn tracking_study_pd_feedback_lowers_every_plans_error() {
     );
     assert_variational_below(&tracked.table, &[10, 20]);
     for k in [10, 20] {
-        for m in Method::BOTH {
+        for m in PAPER_METHODS {
             let with_pd = tracked.table.row(k, m).unwrap().mean();
             let without = open_loop.table.row(k, m).unwrap().mean();
             assert!(
                 with_pd.is_finite() && with_pd < without,
                 "K = {k} {}: {with_pd} vs open loop {without}",
-                m.name()
+                m.study_name()
             );
         }
     }
@@ -160,7 +165,7 @@ fn tracking_study_variational_error_is_below_and_falls_faster_on_a_smooth_swing(
         gains: vec!["all=20,2".into()],
         feedback: None,
         rate: 2000.0,
-        methods: vito::study::Method::BOTH.to_vec(),
+        methods: vito::study::PAPER_METHODS.to_vec(),
         reference: vito::discrete::Integrator::Euler,
     }
     .run(&file, &[], |_, _| {})
@@ -185,11 +190,11 @@ fn tracking_study_variational_error_is_below_and_falls_faster_on_a_smooth_swing(
             max.is_finite() && max >= rms / 2f64.sqrt() && max < 0.5,
             "K = {} {}: max deviation {max}, RMS configuration error {rms}",
             p.knots,
-            p.method.name()
+            p.method.study_name()
         );
     }
-    let first = log_log_slope(&result.table.means(Method::FirstOrder)).unwrap();
-    let variational = log_log_slope(&result.table.means(Method::Variational)).unwrap();
+    let first = log_log_slope(&result.table.means(Integrator::Euler)).unwrap();
+    let variational = log_log_slope(&result.table.means(Integrator::Midpoint)).unwrap();
     assert!(
         variational < first - 0.3,
         "slopes: variational {variational}, first order {first}"
@@ -210,7 +215,7 @@ fn tracking_study_records_but_does_not_track_a_relaxed_plan() {
         gains: vec!["theta=50,5".into(), "r=1000,50".into()],
         feedback: None,
         rate: 2000.0,
-        methods: vito::study::Method::BOTH.to_vec(),
+        methods: vito::study::PAPER_METHODS.to_vec(),
         reference: vito::discrete::Integrator::Euler,
     }
     .run(
@@ -243,19 +248,19 @@ fn brick_study_in_flight_galerkin4_error_falls_at_fourth_order() {
         seeds: 3,
         knots: vec![4, 6, 8, 12, 16],
         spin: 3.0,
-        methods: vec![Method::Variational, Method::Galerkin4],
-        reference: Method::Galerkin6,
+        methods: vec![Integrator::Midpoint, Integrator::Galerkin4],
+        reference: Integrator::Galerkin6,
         ..BrickAccuracy::default()
     };
     let table = study.run(&spec, |_, _| {}).expect("study runs");
     print(&table);
     for &k in &study.knots {
-        let midpoint = table.row(k, Method::Variational).unwrap().mean();
-        let galerkin4 = table.row(k, Method::Galerkin4).unwrap().mean();
+        let midpoint = table.row(k, Integrator::Midpoint).unwrap().mean();
+        let galerkin4 = table.row(k, Integrator::Galerkin4).unwrap().mean();
         assert!(galerkin4 < midpoint, "K = {k}: {galerkin4} vs {midpoint}");
     }
-    let midpoint = log_log_slope(&table.means(Method::Variational)).unwrap();
-    let galerkin4 = log_log_slope(&table.means(Method::Galerkin4)).unwrap();
+    let midpoint = log_log_slope(&table.means(Integrator::Midpoint)).unwrap();
+    let galerkin4 = log_log_slope(&table.means(Integrator::Galerkin4)).unwrap();
     assert!(
         (-2.6..=-1.7).contains(&midpoint),
         "midpoint slope {midpoint}"
@@ -287,13 +292,17 @@ fn frontier_higher_orders_pay_on_a_smooth_swing() {
         gains: vec!["all=0,0".into()],
         feedback: None,
         rate: 2000.0,
-        methods: vec![Method::Variational, Method::Galerkin4, Method::Galerkin6],
+        methods: vec![
+            Integrator::Midpoint,
+            Integrator::Galerkin4,
+            Integrator::Galerkin6,
+        ],
         reference: vito::discrete::Integrator::Galerkin6,
     }
     .run(&file, &[], |_, _| {})
     .expect("study runs");
     print!("{}", vito::study::frontier::frontier_csv(&result.plans));
-    let errors = |method: Method| -> Vec<(f64, f64)> {
+    let errors = |method: Integrator| -> Vec<(f64, f64)> {
         knots
             .iter()
             .map(|&k| {
@@ -306,7 +315,7 @@ fn frontier_higher_orders_pay_on_a_smooth_swing() {
             })
             .collect()
     };
-    let plan = |k: usize, method: Method| {
+    let plan = |k: usize, method: Integrator| {
         result
             .plans
             .iter()
@@ -315,22 +324,29 @@ fn frontier_higher_orders_pay_on_a_smooth_swing() {
     };
     let error = |k, method| plan(k, method).knot_error.expect("tracked");
     for (method, slope_at_most) in [
-        (Method::Variational, -1.7),
-        (Method::Galerkin4, -3.5),
-        (Method::Galerkin6, -5.0),
+        (Integrator::Midpoint, -1.7),
+        (Integrator::Galerkin4, -3.5),
+        (Integrator::Galerkin6, -5.0),
     ] {
         let fine: Vec<(f64, f64)> = errors(method).into_iter().skip(2).collect();
         let slope = log_log_slope(&fine).unwrap();
-        println!("{}: slope from 21 to 41 knots {slope:.2}", method.name());
-        assert!(slope <= slope_at_most, "{}: slope {slope}", method.name());
+        println!(
+            "{}: slope from 21 to 41 knots {slope:.2}",
+            method.study_name()
+        );
+        assert!(
+            slope <= slope_at_most,
+            "{}: slope {slope}",
+            method.study_name()
+        );
     }
     for k in [21, 41] {
         assert!(
-            error(k, Method::Galerkin6) < error(k, Method::Galerkin4)
-                && error(k, Method::Galerkin4) < error(k, Method::Variational),
+            error(k, Integrator::Galerkin6) < error(k, Integrator::Galerkin4)
+                && error(k, Integrator::Galerkin4) < error(k, Integrator::Midpoint),
             "{k} knots"
         );
     }
-    assert!(plan(21, Method::Galerkin4).variables < plan(41, Method::Variational).variables);
-    assert!(error(21, Method::Galerkin4) < error(41, Method::Variational));
+    assert!(plan(21, Integrator::Galerkin4).variables < plan(41, Integrator::Midpoint).variables);
+    assert!(error(21, Integrator::Galerkin4) < error(41, Integrator::Midpoint));
 }
