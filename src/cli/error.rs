@@ -3,8 +3,6 @@
 use vito::problem::ProblemError;
 use vito::report;
 
-use super::output::write_stderr;
-
 /// Exit code: solved (check, inspect, regress: passed).
 pub const EXIT_OK: u8 = 0;
 /// Exit code: finished but not solved.
@@ -95,17 +93,4 @@ impl CliError {
             },
         }
     }
-}
-
-pub(super) fn print_error(e: &CliError) {
-    let mut message = format!("error: {e}");
-    let mut source = std::error::Error::source(e);
-    while let Some(s) = source {
-        let text = s.to_string();
-        if !message.contains(&text) {
-            message.push_str(&format!("\n  caused by: {text}"));
-        }
-        source = s.source();
-    }
-    write_stderr(&message);
 }

@@ -42,7 +42,6 @@ pub(super) fn write_stdout(line: &str) -> Result<(), CliError> {
     })
 }
 
-/// The URDF reader's warnings (repairs, ignored elements), on stderr.
 /// The URDF's warnings; with `has_contacts` (the problem gives its contacts) without the
 /// advice to add sphere collisions.
 pub(super) fn print_model_warnings(robot: &RobotInfo, has_contacts: bool) {
@@ -53,4 +52,18 @@ pub(super) fn print_model_warnings(robot: &RobotInfo, has_contacts: bool) {
         };
         note!("warning: {}: {w}", robot.urdf.display());
     }
+}
+
+/// The error and its chain of causes (each once), on stderr.
+pub(super) fn print_error(e: &CliError) {
+    let mut message = format!("error: {e}");
+    let mut source = std::error::Error::source(e);
+    while let Some(s) = source {
+        let text = s.to_string();
+        if !message.contains(&text) {
+            message.push_str(&format!("\n  caused by: {text}"));
+        }
+        source = s.source();
+    }
+    write_stderr(&message);
 }

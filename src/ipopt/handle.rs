@@ -193,7 +193,7 @@ impl Handle {
         &mut self,
         x0: Vec<f64>,
         m: usize,
-        start: Option<&super::solver::Multipliers>,
+        start: Option<&Multipliers>,
         ctx: &mut Context<'_, P>,
     ) -> Outputs {
         let n = x0.len();
@@ -233,4 +233,15 @@ impl Drop for Handle {
         // SAFETY: raw came from CreateIpoptProblem, is freed exactly once, here.
         unsafe { sys::FreeIpoptProblem(self.raw.as_ptr()) };
     }
+}
+
+/// Multipliers to start a solve from (Ipopt's convention, as in [`SolveReport`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Multipliers {
+    /// Constraint multipliers (length m).
+    pub g: Vec<f64>,
+    /// Lower-bound multipliers (length n).
+    pub x_lower: Vec<f64>,
+    /// Upper-bound multipliers (length n).
+    pub x_upper: Vec<f64>,
 }

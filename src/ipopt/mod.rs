@@ -47,14 +47,13 @@ mod threads;
 
 pub use compat::{LONG_VERSION, MpiState, VERSION, mpi_state};
 pub use error::IpoptError;
+pub use handle::Multipliers;
 pub use nlp::{IterationInfo, Nlp};
 pub use options::{
     DEFAULTS_FILE, OptionValue, PROBLEM_FILE_OPTIONS, check_allowed, check_problem_option,
     default_options, parse_option_file,
 };
 pub use scaling::{GradientRule, JacobianEntries, Scaling};
-pub use solver::{
-    CallbackSplit, CallbackStat, Multipliers, SolveReport, Solver, others_waiting_for_ipopt,
-};
+pub use solver::{CallbackSplit, CallbackStat, SolveReport, Solver, others_waiting_for_ipopt};
 pub use status::Status;
 pub use threads::{BlasThreads, pin_one_thread};

@@ -8,7 +8,7 @@ use std::time::Instant;
 
 use super::callbacks::{Context, panic_message};
 use super::compat::Index;
-use super::handle::{Definition, Handle};
+use super::handle::{Definition, Handle, Multipliers};
 use super::options::{FORCED, check_allowed, default_options};
 use super::{IpoptError, Nlp, OptionValue, Scaling, Status};
 
@@ -172,17 +172,6 @@ pub struct Solver {
     deadline: Option<Instant>,
     /// Starting multipliers, read by Ipopt under `warm_start_init_point yes`.
     start_multipliers: Option<Multipliers>,
-}
-
-/// Multipliers to start a solve from (Ipopt's convention, as in [`SolveReport`]).
-#[derive(Debug, Clone, PartialEq)]
-pub struct Multipliers {
-    /// Constraint multipliers (length m).
-    pub g: Vec<f64>,
-    /// Lower-bound multipliers (length n).
-    pub x_lower: Vec<f64>,
-    /// Upper-bound multipliers (length n).
-    pub x_upper: Vec<f64>,
 }
 
 impl Default for Solver {

@@ -1,9 +1,7 @@
 //! The immutable model: a kinematic tree of frames in topological order, plus names,
 //! limits, springs, dampers, inputs, contact points and loop closures.
 
-use std::path::Path;
-
-use super::{BaseType, CoordinateKind, ModelError};
+use super::{BaseType, CoordinateKind};
 use crate::autodiff::Scalar;
 
 /// Index of a URDF link in [`Model::link_names`].
@@ -269,38 +267,6 @@ impl Model {
             world_rotation.push(rotation);
         }
         true
-    }
-
-    /// Loads a URDF file (Drake extensions included) with the given base.
-    ///
-    /// Repairs that are unambiguous (a `<limit>` without `velocity` or `effort`, which then
-    /// mean "no limit") are made and listed in [`Model::warnings`].
-    pub fn from_urdf_file(path: &Path, base: BaseType) -> Result<Model, ModelError> {
-        let xml = crate::files::input::read_regular_text(path, crate::files::input::MAX_URDF_BYTES)
-            .map_err(|source| ModelError::Io {
-                path: path.to_path_buf(),
-                source,
-            })?;
-        super::urdf::load(&xml, &path.display().to_string(), base)
-    }
-
-    /// Loads a URDF from a string; see [`Model::from_urdf_file`].
-    ///
-    /// # Example
-    /// ```
-    /// use vito::model::{BaseType, Model, mass_matrix, sample};
-    /// let model = Model::from_urdf_str(&sample::pendulum(), BaseType::Fixed).unwrap();
-    /// assert_eq!(model.coordinate_names(), ["joint1"]);
-    /// // A uniform 1 kg, 1 m rod about its end: m l²/3.
-    /// assert!((mass_matrix(&model, &[0.4])[(0, 0)] - 1.0 / 3.0).abs() < 1e-14);
-    /// ```
-    pub fn from_urdf_str(xml: &str, base: BaseType) -> Result<Model, ModelError> {
-        super::urdf::load(xml, "<string>", base)
-    }
-
-    /// Loads a URDF from a string that messages call `origin` (its file's path).
-    pub fn from_urdf_named(xml: &str, origin: &str, base: BaseType) -> Result<Model, ModelError> {
-        super::urdf::load(xml, origin, base)
     }
 
     /// The robot's name (URDF `<robot name>`).

@@ -14,7 +14,7 @@ use super::blocks::complementarity_penalty::{PENALTY_TERM, interval_products, in
 use super::blocks::{
     Block, Eval, GeometryUse, ScalarBlockFn, ScalarKind, VectorBlockFn, VectorKind,
 };
-use super::structure::NO_SLOT;
+use super::structure::{NO_SLOT, gather};
 use super::{InitialGuessReport, Transcription};
 use crate::autodiff::{
     Restricted, ThirdOrder, gradient, gradient_hessian, gradient_hessian_third, grouped_hessian,
@@ -546,11 +546,6 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         };
         expand_hessian(&gradient_hessian(&r, &r.point()).2, inputs, z.len())
     }
-}
-
-/// x[vars] as a dense local vector.
-pub(super) fn gather(x: &[f64], vars: &[usize]) -> Vec<f64> {
-    vars.iter().map(|&v| x[v]).collect()
 }
 
 /// Storage a derivative call's task reuses from block to block: the block's local point and

@@ -21,7 +21,6 @@ use num_dual::Dual;
 
 use super::Transcription;
 use super::blocks::Block;
-use super::evaluate::gather;
 use super::pattern::PatternBuilder;
 use crate::autodiff::dependency::{DependencyScalar, Trace};
 use crate::autodiff::{ScalarFunction, SymmetricGroups, VectorFunction};
@@ -319,4 +318,9 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         self.jacobian = jac.finish();
         self.hessian = hess.finish();
     }
+}
+
+/// x[vars] as a dense local vector.
+pub(super) fn gather(x: &[f64], vars: &[usize]) -> Vec<f64> {
+    vars.iter().map(|&v| x[v]).collect()
 }

@@ -22,7 +22,7 @@ pub use periodic_momentum::PeriodicMomentum;
 use serde::Deserialize;
 
 use super::schema::ProblemFile;
-use super::validate::Context;
+use super::validate::context::Context;
 use super::{ProblemError, RobotInfo};
 use crate::autodiff::Scalar;
 use crate::discrete::{Integrator, Mechanics};
@@ -228,7 +228,7 @@ impl ConstraintCheck<'_> {
 
     /// A finite number.
     pub fn finite(&self, key: &str, value: f64) -> Result<f64, ProblemError> {
-        super::validate::finite(self.ctx, &self.field(key), value)
+        super::validate::values::finite(self.ctx, &self.field(key), value)
     }
 }
 

@@ -34,7 +34,8 @@ use nalgebra::DMatrix;
 use serde::Deserialize;
 
 use super::schema::{NamedVector, ProblemFile};
-use super::validate::{Context, nonnegative, resolve};
+use super::validate::context::Context;
+use super::validate::values::{nonnegative, resolve};
 use super::{ProblemError, RobotInfo};
 use crate::autodiff::Scalar;
 

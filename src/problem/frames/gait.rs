@@ -12,7 +12,8 @@ use serde::Deserialize;
 
 use super::{Clearance, FrameCheck, FramePoint, FrameQuantity, FrameTerm, KnotChoice};
 use crate::problem::schema::ProblemFile;
-use crate::problem::validate::{Context, finite, nonnegative};
+use crate::problem::validate::context::Context;
+use crate::problem::validate::values::{finite, nonnegative};
 use crate::problem::{ContactSpec, ProblemError, RobotInfo, TimeSteps};
 
 /// `[[contact_window]]`: one contact in flight or in stance over a time window.

@@ -29,7 +29,8 @@ pub use velocity::Velocity;
 use serde::Deserialize;
 
 use super::schema::{KnotsName, ProblemFile};
-use super::validate::{Context, finite, nonnegative};
+use super::validate::context::Context;
+use super::validate::values::{finite, nonnegative};
 use super::{ContactSpec, ProblemError, RobotInfo, TimeSteps};
 use crate::autodiff::Scalar;
 use crate::contact::Terrain;

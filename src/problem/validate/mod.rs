@@ -6,7 +6,7 @@
 
 mod bounds;
 mod contacts;
-mod context;
+pub(crate) mod context;
 mod endpoints;
 mod horizon;
 mod initial_guess;
@@ -18,13 +18,12 @@ mod slack;
 mod solver;
 mod terrain;
 mod tracking;
-mod values;
+pub(crate) mod values;
 
 use std::path::Path;
 
 pub(crate) use context::Context;
 pub(crate) use initial_guess::warm_start_from_text;
-pub(crate) use values::{finite, nonnegative, resolve};
 
 use crate::problem::schema::ProblemFile;
 use crate::problem::{LoadedProblem, ProblemError, ProblemSpec, RobotSpec};
