@@ -183,6 +183,10 @@ pub enum Command {
         /// Write the strip as SVG (an orthographic side view) to this file.
         #[arg(long, requires = "strip")]
         svg: Option<PathBuf>,
+        /// Draw the strip in one world frame: each pose at its true x over one terrain, earlier
+        /// poses lighter (default: side by side, each over its own piece of terrain).
+        #[arg(long, requires = "strip")]
+        world: bool,
     },
     /// The paper's accuracy studies: first-order against variational time stepping.
     #[command(after_help = exit_codes_help())]

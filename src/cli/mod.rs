@@ -217,12 +217,18 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
             out,
             strip,
             svg,
+            world,
         } => view::view(
             &dirs,
             problem.as_deref(),
             out.as_deref(),
             strip,
             svg.as_deref(),
+            if world {
+                vito::view::StripLayout::World
+            } else {
+                vito::view::StripLayout::Panels
+            },
         ),
         Command::Init { urdf, base, out } => {
             init::init(&urdf, base.resolve(&urdf)?, out.as_deref())

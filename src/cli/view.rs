@@ -224,6 +224,7 @@ pub(super) fn view(
     out: Option<&Path>,
     strip: Option<usize>,
     svg: Option<&Path>,
+    layout: vito::view::StripLayout,
 ) -> Result<u8, CliError> {
     // Checked before anything is read or drawn.
     if let Some(n) = strip.filter(|&n| n == 0 || n > MAX_STRIP_POSES) {
@@ -279,10 +280,14 @@ pub(super) fn view(
     if let (Some(n), Some(svg)) = (strip, svg) {
         vito::view::write_atomically(
             svg,
-            &vito::view::strip_svg(&scene, &drawing, &motions[0], n),
+            &vito::view::strip_svg(&scene, &drawing, &motions[0], n, layout),
         )
         .map_err(write_err)?;
-        out!("strip        {} ({n} poses)", svg.display());
+        let frame = match layout {
+            vito::view::StripLayout::Panels => "",
+            vito::view::StripLayout::World => ", one world frame",
+        };
+        out!("strip        {} ({n} poses{frame})", svg.display());
     }
     if out.is_some() || svg.is_none() {
         let path = match out {

@@ -54,7 +54,7 @@ impl SimulationColumns {
             normal_impulse: &self.normal,
             friction_impulse: &self.friction,
             signed_distance: &sim.distance,
-            contact_positions: &[],
+            contact_positions: &sim.contact_positions,
             slack: &self.slack,
         }
     }

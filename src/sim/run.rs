@@ -7,7 +7,9 @@ use std::ops::ControlFlow;
 
 use super::step::{Before, ContactStep, Impulses, StepFailure, StepInput, StepOptions};
 use crate::contact::ContactModel;
-use crate::discrete::{Integrator, MechanicsDerivatives, arriving_momentum, initial_momentum};
+use crate::discrete::{
+    Integrator, Mechanics, MechanicsDerivatives, arriving_momentum, initial_momentum,
+};
 
 /// Settings of a simulation.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -88,6 +90,11 @@ pub struct Simulation {
     /// Signed distance per contact at every knot (N + 1 × nc): the impulses of step k are
     /// complementary to the distance at knot k + 1.
     pub distance: Vec<Vec<f64>>,
+    /// World position of each contact point at every knot (N + 1 × nc; a sphere's lowest
+    /// point), the plan's `<contact>_x`, `_y`, `_z` columns. Empty in a record written before
+    /// it was kept.
+    #[serde(default)]
+    pub contact_positions: Vec<Vec<[f64; 3]>>,
     /// Newton iterations per step (N).
     pub iterations: Vec<usize>,
     /// The NLP's complementarity products per step (N; see [`super::StepOutcome`]).
@@ -109,6 +116,13 @@ impl Simulation {
             .flatten()
             .fold(0.0_f64, |a, &d| a.max(-d))
     }
+}
+
+/// Every contact point's world position at `q`.
+fn contact_positions<M: Mechanics>(mech: &M, q: &[f64]) -> Vec<[f64; 3]> {
+    (0..mech.num_contacts())
+        .map(|i| mech.contact_position(i, q))
+        .collect()
 }
 
 /// Simulates from q_0 = `q0` with velocity v_0 = `v0`. `input(k, t_k, q_k, v_k)` gives u_k,
@@ -151,6 +165,7 @@ pub fn simulate_until<M: MechanicsDerivatives, U: Into<StepInput>>(
                 .map(|i| crate::contact::distance_with_gradient(mech, contact, i, q0).0)
                 .collect(),
         ],
+        contact_positions: vec![contact_positions(mech, q0)],
         ..Simulation::default()
     };
     let mut warm = Impulses::zeros(mech, contact);
@@ -250,6 +265,8 @@ pub fn simulate_until<M: MechanicsDerivatives, U: Into<StepInput>>(
         }
         sim.times
             .push(crate::files::trajectory_csv::knot_time(k + 1, h));
+        sim.contact_positions
+            .push(contact_positions(mech, &outcome.q_next));
         sim.q.push(outcome.q_next);
         sim.v.push(v_next);
         sim.u.push(outcome.input.clone());

@@ -15,7 +15,7 @@ mod stl;
 mod svg;
 
 pub use body::{Body, Part, base_link, body, frames_only, package_root, resolve_mesh};
-pub use svg::strip_svg;
+pub use svg::{StripLayout, strip_svg};
 
 use std::path::{Path, PathBuf};
 

@@ -1,5 +1,7 @@
-//! A strip as SVG: N evenly spaced poses side by side, an orthographic view from the side
-//! (looking along +y: world x to the right, z up), each over its own piece of terrain.
+//! A strip as SVG: N evenly spaced poses, an orthographic view from the side (looking along
+//! +y: world x to the right, z up), either side by side, each over its own piece of terrain
+//! ([`StripLayout::Panels`]), or at their true world x over one terrain
+//! ([`StripLayout::World`]).
 
 use std::fmt::Write;
 
@@ -7,6 +9,20 @@ use super::{Drawing, Frame, Motion, Scene, rotation_of, xml_escape};
 
 /// Height of the caption band naming the motion's verdict, pixels.
 const CAPTION_H: f64 = 20.0;
+
+/// Widest a world-frame strip is drawn, pixels (a long motion is drawn smaller).
+const MAX_WORLD_WIDTH: f64 = 2400.0;
+
+/// Where a strip puts its poses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum StripLayout {
+    /// Side by side, each pose centred in a panel of its own over its own piece of terrain.
+    #[default]
+    Panels,
+    /// In one world frame: each pose at its true x over one continuous terrain, earlier
+    /// poses lighter, so that forward progress shows.
+    World,
+}
 
 /// The frame nearest each of `n` evenly spaced times of `frames` (first and last included).
 pub fn strip_frames(frames: &[Frame], n: usize) -> Vec<&Frame> {
@@ -101,8 +117,14 @@ fn colour(c: [f32; 3], shade: f32) -> String {
 
 /// The strip of `n` poses of the first motion of `drawing` (`motion`, whose legend the caption
 /// above the poses gives: a plan's verdict, in amber or red when it is not solved) as an SVG
-/// document.
-pub fn strip_svg(scene: &Scene, drawing: &Drawing, motion: &Motion, n: usize) -> String {
+/// document, laid out as `layout` says.
+pub fn strip_svg(
+    scene: &Scene,
+    drawing: &Drawing,
+    motion: &Motion,
+    n: usize,
+    layout: StripLayout,
+) -> String {
     let frames = drawing.frames.first().map_or(&[][..], Vec::as_slice);
     let poses = strip_frames(frames, n.max(1));
     // Each pose's x–z box, and one panel width for all.
@@ -131,6 +153,9 @@ pub fn strip_svg(scene: &Scene, drawing: &Drawing, motion: &Motion, n: usize) ->
         })
         .collect();
     let margin = 0.15 * drawing.size;
+    if layout == StripLayout::World {
+        return world_svg(scene, drawing, motion, &poses, &boxes, margin);
+    }
     let width = boxes
         .iter()
         .map(|b| b[2] - b[0])
@@ -151,26 +176,12 @@ pub fn strip_svg(scene: &Scene, drawing: &Drawing, motion: &Motion, n: usize) ->
     let (panel_w, panel_h) = (width * px, (z_hi - z_lo) * px);
     let total_w = panel_w * poses.len() as f64;
     let label_h = 22.0;
-    let mut svg = format!("{}\n", super::SVG_MARK);
-    let _ = writeln!(
-        svg,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{:.0}" height="{:.0}" viewBox="0 0 {total_w:.1} {:.1}" font-family="sans-serif" font-size="13">"#,
+    let mut svg = svg_head(
+        scene,
+        motion,
+        poses.len(),
         total_w,
         panel_h + label_h + CAPTION_H,
-        panel_h + label_h + CAPTION_H
-    );
-    let _ = writeln!(
-        svg,
-        r##"<rect width="100%" height="100%" fill="#ffffff"/><title>{}: {} poses</title>"##,
-        xml_escape(&scene.title),
-        poses.len()
-    );
-    let _ = writeln!(
-        svg,
-        r#"<text class="verdict" data-standing="{}" x="6" y="15" fill="{}">{}</text><g transform="translate(0 {CAPTION_H})">"#,
-        motion.standing.name(),
-        motion.standing.colour().unwrap_or("#333"),
-        xml_escape(&motion.detail)
     );
     for (i, (frame, b)) in poses.iter().zip(&boxes).enumerate() {
         let centre = (b[0] + b[2]) / 2.0;
@@ -190,27 +201,7 @@ pub fn strip_svg(scene: &Scene, drawing: &Drawing, motion: &Motion, n: usize) ->
             svg,
             r##"<path d="{ground}" fill="#d9d4c7" stroke="#8a8374" stroke-width="1"/>"##
         );
-        for (_, c, outline) in silhouettes(drawing, frame) {
-            let points: Vec<String> = outline
-                .iter()
-                .map(|p| format!("{:.1},{:.1}", sx(p[0]), sz(p[1])))
-                .collect();
-            let _ = writeln!(
-                svg,
-                r#"<polygon points="{}" fill="{}" stroke="{}" stroke-width="0.8" stroke-linejoin="round"/>"#,
-                points.join(" "),
-                colour(c, 1.0),
-                colour(c, 0.55)
-            );
-        }
-        for c in &frame.contacts {
-            let _ = writeln!(
-                svg,
-                r##"<circle cx="{:.1}" cy="{:.1}" r="2.5" fill="#c0392b"/>"##,
-                sx(c[0]),
-                sz(c[2])
-            );
-        }
+        pose_shapes(&mut svg, drawing, frame, sx, sz);
         let _ = writeln!(
             svg,
             r##"<text x="{:.1}" y="{:.1}" text-anchor="middle" fill="#333">t = {:.4} {}</text></g>"##,
@@ -226,6 +217,151 @@ pub fn strip_svg(scene: &Scene, drawing: &Drawing, motion: &Motion, n: usize) ->
             );
         }
     }
+    svg.push_str("</g></svg>\n");
+    svg
+}
+
+/// One pose's part silhouettes and contact points, placed by `sx` (world x to pixels) and
+/// `sz` (world z to pixels).
+fn pose_shapes(
+    svg: &mut String,
+    drawing: &Drawing,
+    frame: &Frame,
+    sx: impl Fn(f64) -> f64,
+    sz: impl Fn(f64) -> f64,
+) {
+    for (_, c, outline) in silhouettes(drawing, frame) {
+        let points: Vec<String> = outline
+            .iter()
+            .map(|p| format!("{:.1},{:.1}", sx(p[0]), sz(p[1])))
+            .collect();
+        let _ = writeln!(
+            svg,
+            r#"<polygon points="{}" fill="{}" stroke="{}" stroke-width="0.8" stroke-linejoin="round"/>"#,
+            points.join(" "),
+            colour(c, 1.0),
+            colour(c, 0.55)
+        );
+    }
+    for c in &frame.contacts {
+        let _ = writeln!(
+            svg,
+            r##"<circle cx="{:.1}" cy="{:.1}" r="2.5" fill="#c0392b"/>"##,
+            sx(c[0]),
+            sz(c[2])
+        );
+    }
+}
+
+/// The SVG's opening: its mark, size, title and the caption naming the verdict; the poses
+/// follow inside a group moved below the caption.
+fn svg_head(scene: &Scene, motion: &Motion, poses: usize, width: f64, height: f64) -> String {
+    let mut svg = format!("{}\n", super::SVG_MARK);
+    let _ = writeln!(
+        svg,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{width:.0}" height="{height:.0}" viewBox="0 0 {width:.1} {height:.1}" font-family="sans-serif" font-size="13">"#
+    );
+    let _ = writeln!(
+        svg,
+        r##"<rect width="100%" height="100%" fill="#ffffff"/><title>{}: {poses} poses</title>"##,
+        xml_escape(&scene.title),
+    );
+    let _ = writeln!(
+        svg,
+        r#"<text class="verdict" data-standing="{}" x="6" y="15" fill="{}">{}</text><g transform="translate(0 {CAPTION_H})">"#,
+        motion.standing.name(),
+        motion.standing.colour().unwrap_or("#333"),
+        xml_escape(&motion.detail)
+    );
+    svg
+}
+
+/// The world-frame strip: every pose at its own x over one terrain profile spanning them
+/// all (`boxes`: each pose's x–z box), opacity rising from the first pose to the last; one
+/// line below the ground gives the poses' times (overlapping poses leave no room for a label
+/// each). At least wide enough for the caption, the terrain widened to fill it.
+fn world_svg(
+    scene: &Scene,
+    drawing: &Drawing,
+    motion: &Motion,
+    poses: &[&Frame],
+    boxes: &[[f64; 4]],
+    margin: f64,
+) -> String {
+    let pose_width = boxes
+        .iter()
+        .map(|b| b[2] - b[0])
+        .fold(0.0, f64::max)
+        .max(drawing.size * 0.5)
+        + 2.0 * margin;
+    let x_lo = boxes.iter().map(|b| b[0]).fold(f64::MAX, f64::min) - margin;
+    let x_hi = boxes.iter().map(|b| b[2]).fold(f64::MIN, f64::max) + margin;
+    let (x_lo, x_hi) = if x_lo.is_finite() && x_hi.is_finite() && x_hi > x_lo {
+        (x_lo, x_hi)
+    } else {
+        (-drawing.size, drawing.size)
+    };
+    let px = (220.0 / pose_width.max(1e-12)).min(MAX_WORLD_WIDTH / (x_hi - x_lo));
+    // Room for the caption and the times: about 7 px a character at 13 px.
+    let min_w = (7.0 * motion.detail.chars().count().max(40) as f64 + 12.0).min(MAX_WORLD_WIDTH);
+    let widen = ((min_w / px - (x_hi - x_lo)) / 2.0).max(0.0);
+    let (x_lo, x_hi) = (x_lo - widen, x_hi + widen);
+    let (xs, zs) = super::terrain_profile(&scene.terrain, x_lo, x_hi);
+    let z_lo = boxes
+        .iter()
+        .map(|b| b[1])
+        .chain(zs.iter().copied())
+        .fold(f64::MAX, f64::min)
+        - margin;
+    let z_hi = boxes.iter().map(|b| b[3]).fold(f64::MIN, f64::max) + margin;
+    let (total_w, panel_h) = ((x_hi - x_lo) * px, (z_hi - z_lo) * px);
+    let label_h = 22.0;
+    let sx = |x: f64| (x - x_lo) * px;
+    let sz = |z: f64| (z_hi - z) * px;
+    let mut svg = svg_head(
+        scene,
+        motion,
+        poses.len(),
+        total_w,
+        panel_h + label_h + CAPTION_H,
+    );
+    let mut ground = format!("M{:.1},{:.1}", sx(x_lo), sz(z_lo));
+    for (x, z) in xs.iter().zip(&zs) {
+        let _ = write!(ground, " L{:.1},{:.1}", sx(*x), sz(*z));
+    }
+    let _ = write!(ground, " L{:.1},{:.1} Z", sx(x_hi), sz(z_lo));
+    let _ = writeln!(
+        svg,
+        r##"<path class="terrain" d="{ground}" fill="#d9d4c7" stroke="#8a8374" stroke-width="1"/>"##
+    );
+    let last = poses.len().saturating_sub(1).max(1) as f64;
+    for (i, frame) in poses.iter().enumerate() {
+        let opacity = if poses.len() > 1 {
+            0.3 + 0.7 * i as f64 / last
+        } else {
+            1.0
+        };
+        let _ = writeln!(
+            svg,
+            r#"<g class="pose" data-time="{}" opacity="{opacity:.2}">"#,
+            frame.time
+        );
+        pose_shapes(&mut svg, drawing, frame, sx, sz);
+        svg.push_str("</g>\n");
+    }
+    let (first, last) = (
+        poses.first().map_or(0.0, |f| f.time),
+        poses.last().map_or(0.0, |f| f.time),
+    );
+    let _ = writeln!(
+        svg,
+        r##"<text class="times" x="6" y="{:.1}" fill="#333">{} poses, t = {:.4} to {:.4} {}, earlier ones lighter</text>"##,
+        panel_h + 16.0,
+        poses.len(),
+        first,
+        last,
+        xml_escape(&scene.time_unit)
+    );
     svg.push_str("</g></svg>\n");
     svg
 }

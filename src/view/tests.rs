@@ -1,5 +1,6 @@
 use super::*;
 use crate::model::link_pose;
+use svg::strip_frames;
 
 fn hopper_scene() -> (crate::problem::LoadedProblem, Scene) {
     let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/hopper_2d.toml");
@@ -146,7 +147,7 @@ fn the_page_is_self_contained_and_its_strip_draws_n_poses() {
     for remote in ["http://", "https://", "//cdn", "src=\"", "import "] {
         assert!(!html.contains(remote), "the page names `{remote}`");
     }
-    let svg = strip_svg(&scene, &drawing, &motion, 5);
+    let svg = strip_svg(&scene, &drawing, &motion, 5, StripLayout::Panels);
     assert_eq!(svg.matches("<g class=\"pose\"").count(), 5);
     assert!(!svg.contains("NaN"));
 }
@@ -298,14 +299,16 @@ fn the_strip_names_the_verdict() {
     motion.standing = Standing::Relaxed;
     motion.detail = "plan, NOT SOLVED: relaxed_contact".into();
     let drawing = drawing(&scene, std::slice::from_ref(&motion));
-    let svg = strip_svg(&scene, &drawing, &motion, 4);
-    assert!(
-        svg.contains(
-            r##"<text class="verdict" data-standing="relaxed" x="6" y="15" fill="#b35c00">plan, NOT SOLVED: relaxed_contact</text>"##
-        ),
-        "{svg}"
-    );
-    assert_eq!(svg.matches("<g").count(), svg.matches("</g>").count());
+    for layout in [StripLayout::Panels, StripLayout::World] {
+        let svg = strip_svg(&scene, &drawing, &motion, 4, layout);
+        assert!(
+            svg.contains(
+                r##"<text class="verdict" data-standing="relaxed" x="6" y="15" fill="#b35c00">plan, NOT SOLVED: relaxed_contact</text>"##
+            ),
+            "{layout:?}: {svg}"
+        );
+        assert_eq!(svg.matches("<g").count(), svg.matches("</g>").count());
+    }
 }
 
 /// The page's JSON holds no character that could change the HTML parser's state inside the
@@ -349,7 +352,7 @@ fn vito_pages_and_strips_are_recognised_by_their_heads() {
     let (problem, scene) = hopper_scene();
     let motion = motion_of(&problem, 5, 0.05, false);
     let drawing = drawing(&scene, std::slice::from_ref(&motion));
-    let strip = strip_svg(&scene, &drawing, &motion, 3);
+    let strip = strip_svg(&scene, &drawing, &motion, 3, StripLayout::Panels);
     assert!(is_vito_strip(strip.as_bytes()));
     assert!(is_vito_strip(
         b"<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"1\">\n<!-- vito strip --><rect />"
@@ -367,7 +370,7 @@ fn strip_svg_parses_with_markup_in_names() {
     scene.time_unit = hostile.to_owned();
     let motion = motion_of(&problem, 5, 0.05, false);
     let drawing = drawing(&scene, std::slice::from_ref(&motion));
-    let svg = strip_svg(&scene, &drawing, &motion, 3);
+    let svg = strip_svg(&scene, &drawing, &motion, 3, StripLayout::Panels);
     let doc = roxmltree::Document::parse(&svg).expect("the strip is XML");
     assert!(doc.descendants().all(|n| n.tag_name().name() != "script"));
     let title = doc
@@ -383,4 +386,101 @@ fn strip_svg_parses_with_markup_in_names() {
         .collect();
     assert_eq!(labels.len(), 3);
     assert!(labels.iter().all(|l| l.ends_with(hostile)), "{labels:?}");
+    // One world frame: one line of times, holding the unit as text.
+    let svg = strip_svg(&scene, &drawing, &motion, 3, StripLayout::World);
+    let doc = roxmltree::Document::parse(&svg).expect("the world strip is XML");
+    assert!(doc.descendants().all(|n| n.tag_name().name() != "script"));
+    let times = doc
+        .descendants()
+        .find(|n| n.attribute("class") == Some("times"))
+        .and_then(|n| n.text())
+        .unwrap();
+    assert!(
+        times.ends_with(&format!("{hostile}, earlier ones lighter")),
+        "{times}"
+    );
+}
+
+/// Each pose group's polygons' mean x in the SVG's pixels, in the strip's order.
+fn pose_centres(svg: &str) -> Vec<f64> {
+    let doc = roxmltree::Document::parse(svg).expect("the strip is XML");
+    doc.descendants()
+        .filter(|n| n.attribute("class") == Some("pose"))
+        .map(|g| {
+            let xs: Vec<f64> = g
+                .descendants()
+                .filter(|n| n.has_tag_name("polygon"))
+                .flat_map(|p| {
+                    p.attribute("points")
+                        .unwrap()
+                        .split(' ')
+                        .map(|xy| xy.split(',').next().unwrap().parse::<f64>().unwrap())
+                        .collect::<Vec<_>>()
+                })
+                .collect();
+            assert!(!xs.is_empty(), "a pose without polygons");
+            xs.iter().sum::<f64>() / xs.len() as f64
+        })
+        .collect()
+}
+
+/// `--world`: the poses of a motion moving forward stand at their true x over one terrain,
+/// each further along than the one before, by the base's own advance at the strip's scale;
+/// the caption still names the verdict. Side by side (the default), pose i stays in
+/// panel i, each over its own terrain.
+#[test]
+fn the_world_strip_draws_poses_at_their_true_x() {
+    let (problem, scene) = hopper_scene();
+    let motion = motion_of(&problem, 20, 0.05, false);
+    let drawing = drawing(&scene, std::slice::from_ref(&motion));
+    let n = 5;
+    let world = strip_svg(&scene, &drawing, &motion, n, StripLayout::World);
+    assert!(is_vito_strip(world.as_bytes()));
+    assert!(world.contains(r#"<text class="verdict" data-standing="solved""#));
+    assert_eq!(world.matches("<path").count(), 1, "one terrain");
+    assert_eq!(world.matches("<g").count(), world.matches("</g>").count());
+    let centres = pose_centres(&world);
+    assert_eq!(centres.len(), n);
+    assert!(
+        centres.windows(2).all(|w| w[1] > w[0]),
+        "poses not in order along x: {centres:?}"
+    );
+    // One scale for the whole strip: each pose's contact point stands at its world x times
+    // the same pixels per unit (from the first pose's), so progress is drawn as it happened.
+    let frames = strip_frames(&drawing.frames[0], n);
+    let foot_x: Vec<f64> = frames.iter().map(|f| f.contacts[0][0]).collect();
+    let doc = roxmltree::Document::parse(&world).unwrap();
+    let dots: Vec<f64> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("circle"))
+        .map(|c| c.attribute("cx").unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(dots.len(), n);
+    assert!(foot_x[n - 1] - foot_x[0] > 0.2, "{foot_x:?}");
+    let scale = (dots[n - 1] - dots[0]) / (foot_x[n - 1] - foot_x[0]);
+    assert!(scale > 50.0, "{scale} px per unit");
+    for i in 1..n - 1 {
+        let drawn = dots[0] + scale * (foot_x[i] - foot_x[0]);
+        assert!(
+            (dots[i] - drawn).abs() < 0.2,
+            "pose {i}: {} against {drawn}",
+            dots[i]
+        );
+    }
+    let panels = strip_svg(&scene, &drawing, &motion, n, StripLayout::Panels);
+    assert_eq!(panels.matches("<path").count(), n, "a terrain per pose");
+    let doc = roxmltree::Document::parse(&panels).unwrap();
+    let width: f64 = doc
+        .root_element()
+        .attribute("width")
+        .unwrap()
+        .parse()
+        .unwrap();
+    for (i, c) in pose_centres(&panels).iter().enumerate() {
+        let panel = width / n as f64;
+        assert!(
+            *c > panel * i as f64 && *c < panel * (i + 1) as f64,
+            "pose {i} at {c}, outside its panel of {panel}"
+        );
+    }
 }

@@ -302,7 +302,19 @@ fn check(browser: &Path, dir: &str, knots: [usize; 2], keep: Option<&Path>) {
         "{dir}: {:?}",
         console_lines(&stderr)
     );
-    assert_eq!(status(&dom)["copies"], n, "{dir}");
+    let strip_status = status(&dom);
+    assert_eq!(strip_status["copies"], n, "{dir}");
+    // The legend's box (its text and contact swatches are not robots).
+    let legend: Vec<f64> = strip_status["legend_box"]
+        .as_array()
+        .expect("the legend's box")
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    let in_legend = |x: usize, y: usize| {
+        let (x, y) = (x as f64, y as f64);
+        x >= legend[0] - 1.0 && x <= legend[2] + 1.0 && y >= legend[1] - 1.0 && y <= legend[3] + 1.0
+    };
     let strip = tmp.path().join("strip.png");
     browse(
         browser,
@@ -314,7 +326,7 @@ fn check(browser: &Path, dir: &str, knots: [usize; 2], keep: Option<&Path>) {
     let columns: Vec<bool> = (0..WIDTH)
         .map(|x| {
             (200..HEIGHT - 80)
-                .filter(|&y| robot_pixel(image.rgb[y * WIDTH + x]))
+                .filter(|&y| !in_legend(x, y) && robot_pixel(image.rgb[y * WIDTH + x]))
                 .count()
                 > 2
         })
@@ -584,4 +596,212 @@ fn markup_in_names_neither_stops_the_page_nor_runs() {
         console_lines(&stderr)
     );
     assert!(!stderr.contains("INJECTED"), "{stderr}");
+}
+
+/// Whether any pixel within one of `p` differs between two screenshots.
+fn differs_near(a: &Image, b: &Image, p: [f64; 2]) -> bool {
+    let (x, y) = (p[0].round() as i64, p[1].round() as i64);
+    (-1..=1).any(|dy| {
+        (-1..=1).any(|dx| {
+            let (x, y) = (x + dx, y + dy);
+            x >= 0
+                && y >= 0
+                && (x as usize) < a.width
+                && (y as usize) < a.height
+                && a.rgb[y as usize * a.width + x as usize]
+                    != b.rgb[y as usize * b.width + x as usize]
+        })
+    })
+}
+
+/// Distance from `p` to the segment from `a` to `b` (screen pixels).
+fn to_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+    let len2 = dx * dx + dy * dy;
+    let s = if len2 > 0.0 {
+        (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    ((p[0] - a[0] - s * dx).powi(2) + (p[1] - a[1] - s * dy).powi(2)).sqrt()
+}
+
+/// LittleDog climbing the step. Drop lines (on by default): at the knot where a foot stands
+/// highest above the step's top, the pixels between the foot and the terrain under it
+/// (H(x) from the problem's terrain, computed here) differ from the page with `drops=0`,
+/// and those between the step's top and the floor below it do not: the line ends on the
+/// step, not at z = 0. Foot trails (`trails=1`, off by default): halfway through, the
+/// contact points of earlier knots are drawn, and those of later knots (away from every
+/// earlier path) are not.
+#[test]
+fn drop_lines_reach_the_terrain_and_trails_follow_the_feet() {
+    let Some(browser) = chromium() else {
+        assert!(
+            std::env::var_os("CI").is_none(),
+            "chromium is missing under CI"
+        );
+        eprintln!("skipped: chromium is not installed");
+        return;
+    };
+    let dir = "results/motion/littledog_step";
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let tmp = tempfile::tempdir().unwrap();
+    let page = tmp.path().join("animation.html");
+    let run = Command::new(env!("CARGO_BIN_EXE_vito"))
+        .current_dir(root)
+        .args(["view", dir, "--out"])
+        .arg(&page)
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let summary: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(root.join(dir).join("summary.json")).unwrap(),
+    )
+    .unwrap();
+    let problem =
+        vito::problem::load(&root.join(summary["problem_file"].as_str().unwrap()), &[]).unwrap();
+    let scene = scene(&problem).unwrap();
+    let csv = std::fs::read_to_string(root.join(dir).join("trajectory.csv")).unwrap();
+    let recorded =
+        vito::files::trajectory_csv::read_trajectory(&csv, &problem.robot.coordinates, &[])
+            .unwrap();
+    let contacts: Vec<Vec<[f64; 3]>> = recorded
+        .q
+        .iter()
+        .map(|q| scene_contacts(&scene, q))
+        .collect();
+    let top = scene.terrain.height(10.0);
+    assert!(top > 0.05, "the step's top at {top}");
+    // The foot highest above the step's top.
+    let (k, c) = (0..contacts.len())
+        .flat_map(|k| (0..contacts[k].len()).map(move |c| (k, c)))
+        .filter(|&(k, c)| scene.terrain.height(contacts[k][c][0]) > 0.99 * top)
+        .max_by(|a, b| {
+            let gap = |(k, c): (usize, usize)| contacts[k][c][2] - top;
+            gap(*a).total_cmp(&gap(*b))
+        })
+        .expect("a foot over the step");
+    let foot = contacts[k][c];
+    let ground = [foot[0], foot[1], scene.terrain.height(foot[0])];
+    assert!(foot[2] - ground[2] > 0.02, "foot {foot:?} over {ground:?}");
+
+    let profile = tmp.path().join("profile");
+    let url =
+        |fragment: &str| format!("file://{}#size={WIDTH}x{HEIGHT}&{fragment}", page.display());
+    let shot = |fragment: &str, name: &str| {
+        let path = tmp.path().join(name);
+        let (_, stderr) = browse(
+            &browser,
+            &profile,
+            &url(fragment),
+            &[format!("--screenshot={}", path.display())],
+        );
+        assert!(
+            console_lines(&stderr).is_empty(),
+            "{:?}",
+            console_lines(&stderr)
+        );
+        read_png(&path)
+    };
+    let t = recorded.times[k];
+    let (dom, _) = browse(
+        &browser,
+        &profile,
+        &url(&format!("t={t}")),
+        &["--dump-dom".into()],
+    );
+    let s = status(&dom);
+    assert_eq!(s["errors"], serde_json::json!([]));
+    assert_eq!(
+        s["drops"][0].as_array().map(Vec::len),
+        Some(contacts[k].len())
+    );
+    assert_eq!(
+        s["trails"],
+        serde_json::json!([]),
+        "trails are off by default"
+    );
+    let camera = s["camera"].clone();
+    let (on, off) = (
+        shot(&format!("t={t}"), "drops.png"),
+        shot(&format!("t={t}&drops=0"), "nodrops.png"),
+    );
+    let along = |from: [f64; 3], to: [f64; 3], s: f64| {
+        project(&camera, [0, 1, 2].map(|i| from[i] + s * (to[i] - from[i])))
+    };
+    let samples = 20;
+    let drawn = (0..samples)
+        .filter(|&i| {
+            let s = 0.2 + 0.6 * i as f64 / (samples - 1) as f64;
+            differs_near(&on, &off, along(foot, ground, s))
+        })
+        .count();
+    assert!(
+        drawn >= samples * 3 / 5,
+        "{drawn} of {samples} points of the drop line drawn"
+    );
+    let floor = [foot[0], foot[1], 0.0];
+    let below = (0..samples)
+        .filter(|&i| {
+            let s = 0.3 + 0.6 * i as f64 / (samples - 1) as f64;
+            differs_near(&on, &off, along(ground, floor, s))
+        })
+        .count();
+    assert!(
+        below <= 1,
+        "{below} of {samples} points below the step's top drawn"
+    );
+
+    // Trails halfway through.
+    let mid = contacts.len() / 2;
+    let t = recorded.times[mid];
+    let (dom, _) = browse(
+        &browser,
+        &profile,
+        &url(&format!("t={t}&trails=1")),
+        &["--dump-dom".into()],
+    );
+    let s = status(&dom);
+    assert!(s["trails"][0].as_u64().unwrap() as usize >= (mid + 1) * contacts[0].len());
+    let (on, off) = (
+        shot(&format!("t={t}&trails=1"), "trails.png"),
+        shot(&format!("t={t}"), "notrails.png"),
+    );
+    let screen: Vec<Vec<[f64; 2]>> = contacts
+        .iter()
+        .map(|row| row.iter().map(|p| project(&camera, *p)).collect())
+        .collect();
+    let earlier: Vec<[f64; 2]> = (1..mid - 1).flat_map(|j| screen[j].clone()).collect();
+    let shown = earlier
+        .iter()
+        .filter(|p| differs_near(&on, &off, **p))
+        .count();
+    assert!(
+        shown * 2 >= earlier.len(),
+        "{shown} of {} earlier contact points on a trail",
+        earlier.len()
+    );
+    let away: Vec<[f64; 2]> = (mid + 2..screen.len())
+        .flat_map(|j| screen[j].clone())
+        .filter(|p| {
+            (0..screen[0].len())
+                .all(|c| (0..mid).all(|j| to_segment(*p, screen[j][c], screen[j + 1][c]) > 8.0))
+        })
+        .collect();
+    assert!(
+        away.len() >= 4,
+        "{} later points away from the trails",
+        away.len()
+    );
+    let later = away.iter().filter(|p| differs_near(&on, &off, **p)).count();
+    assert_eq!(
+        later,
+        0,
+        "{later} of {} later contact points drawn",
+        away.len()
+    );
 }

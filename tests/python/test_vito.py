@@ -282,6 +282,12 @@ def test_simulate_tracks_a_solution(tmp_path, hopper, hopper_solution):
     assert sim.summary["feedback"] == "explicit"
     assert list(sim.to_pandas().columns) == sim.columns
     assert (tmp_path / "sim" / "trajectory.csv").read_text() == sim.trajectory_csv()
+    # Each contact's world position on every row: the foot by hand from q = [x, z, theta, r].
+    frame = sim.to_pandas()
+    x, z, theta, r = sim.q.T
+    assert np.allclose(frame["foot_contact_x [m]"], x + r * np.sin(theta), atol=1e-12)
+    assert np.allclose(frame["foot_contact_y [m]"], 0.0, atol=1e-12)
+    assert np.allclose(frame["foot_contact_z [m]"], z - r * np.cos(theta), atol=1e-12)
     # The command, tracking the same file, writes the same trajectory.
     hopper_solution.write(str(tmp_path / "plan"))
     cli = run_cli(

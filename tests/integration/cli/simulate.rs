@@ -472,3 +472,64 @@ fn signals_keep_the_simulated_part_and_exit_1() {
         assert_eq!(csv.lines().count() as u64, steps + 2, "{signal}");
     }
 }
+
+/// `vito simulate`'s trajectory.csv gives each contact point's world position on every row,
+/// under the plan's column names: on the hopper replaying its committed plan at 200 Hz, the
+/// foot is where q puts it by hand, (x + r sin θ, 0, z − r cos θ), and its height above the
+/// flat ground is the row's signed distance.
+#[test]
+fn simulate_writes_each_contacts_world_position() {
+    let t = TestDir::with_hopper("simulate-contact-positions");
+    t.write("hopper.toml", &crate::cli::util::hopper_text());
+    let plan = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("results/motion/hopper_2d/trajectory.csv");
+    t.vito()
+        .args([
+            "simulate",
+            "hopper.toml",
+            "--quiet",
+            "--rate",
+            "200",
+            "--inputs",
+        ])
+        .args([plan.as_os_str()])
+        .args(["--out", "out"])
+        .assert_exit(0);
+    let csv = std::fs::read_to_string(t.path().join("out/trajectory.csv")).unwrap();
+    let header = csv.lines().next().unwrap();
+    assert!(
+        header.contains(
+            "foot_contact_distance [m],foot_contact_x [m],foot_contact_y [m],foot_contact_z [m],"
+        ),
+        "{header}"
+    );
+    let table = vito::files::trajectory_csv::read_csv(&csv).unwrap();
+    let col = |name: &str| table.column(name).unwrap_or_else(|| panic!("{name}"));
+    let (x, z, theta, r) = (col("x"), col("z"), col("theta"), col("r"));
+    let (fx, fy, fz, distance) = (
+        col("foot_contact_x"),
+        col("foot_contact_y"),
+        col("foot_contact_z"),
+        col("foot_contact_distance"),
+    );
+    assert_eq!(table.rows(), 201);
+    let mut lowest = f64::MAX;
+    for k in 0..table.rows() {
+        let foot = [
+            x[k] + r[k] * theta[k].sin(),
+            0.0,
+            z[k] - r[k] * theta[k].cos(),
+        ];
+        for (axis, (got, want)) in [fx[k], fy[k], fz[k]].iter().zip(foot).enumerate() {
+            assert!(
+                (got - want).abs() < 1e-12,
+                "row {k} axis {axis}: {got} against {want}"
+            );
+        }
+        assert!((fz[k] - distance[k]).abs() < 1e-12, "row {k}");
+        lowest = lowest.min(fz[k]);
+    }
+    // The replay touches the ground and leaves it: the rows are not all one pose.
+    assert!(lowest.abs() < 1e-6, "lowest foot height {lowest}");
+    assert!(fx[200] - fx[0] > 0.1, "the foot moved {}", fx[200] - fx[0]);
+}
