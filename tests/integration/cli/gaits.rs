@@ -94,7 +94,8 @@ fn a_flight_window_lifts_the_foot() {
 /// The shipped trot, solved and read back from its trajectory.csv: the diagonal pairs
 /// (front_left + back_right, front_right + back_left) leave the ground together and in turn,
 /// twice each, every swing clears 3 cm, the body moves at least 0.2 m and stays level within
-/// ±0.1 rad, with no slack; and its derivatives pass the check.
+/// ±0.1 rad, with no slack, at the objective `golden-slow.toml` records; and its derivatives
+/// pass the check.
 #[test]
 #[ignore = "slow: cargo test --release -- --ignored littledog_trot"]
 fn littledog_trot_reads_back_as_a_trot() {
@@ -125,6 +126,11 @@ fn littledog_trot_reads_back_as_a_trot() {
         s["max_slack"].as_f64().unwrap() <= 1e-4,
         "{}",
         s["max_slack"]
+    );
+    super::util::assert_recorded(
+        "golden-slow.toml",
+        "littledog_trot.toml",
+        s["objective"].as_f64().unwrap(),
     );
     let table = read_csv(&std::fs::read_to_string(out.join("trajectory.csv")).unwrap()).unwrap();
     let column = |name: &str| table.column(name).unwrap_or_else(|| panic!("no {name}"));

@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use crate::cli::sweep::hopper_family;
-use crate::cli::util::{TestDir, problems_dir, says, summary};
+use crate::cli::util::{TestDir, assert_recorded, problems_dir, says, summary};
 
 /// Solves `file` into a temp dir and checks what every solve must give (a solved status, a
 /// closed slack), and the objective against the regression record `record` (under
@@ -30,24 +30,7 @@ fn solve_and_check(name: &str, file: &str, max_slack: f64, record: &str) {
         "max slack {}",
         s["max_slack"]
     );
-    // Objective against the regression record.
-    let record: toml::Table =
-        toml::from_str(&std::fs::read_to_string(problems_dir().join(record)).unwrap()).unwrap();
-    let entry = record["problem"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .find(|e| e["file"].as_str() == Some(file))
-        .unwrap_or_else(|| {
-            panic!("{file} is not in problems/{record}; run `vito regress --bless {file}`")
-        });
-    let recorded = entry["objective"].as_float().unwrap();
-    let tolerance = entry["tolerance"].as_float().unwrap();
-    let objective = s["objective"].as_f64().unwrap();
-    assert!(
-        (objective - recorded).abs() <= tolerance * recorded.abs().max(1.0),
-        "objective {objective} vs recorded {recorded} (tolerance {tolerance})"
-    );
+    assert_recorded(record, file, s["objective"].as_f64().unwrap());
     check_csv_agrees(&out, &s);
     check_callback_split(&s);
     // inputs.svg only for a robot with inputs (the brick has none).

@@ -135,3 +135,24 @@ pub fn says(t: &TestDir, args: &[&str], code: i32, text: &str) -> Run {
     );
     run
 }
+
+/// Asserts that `objective` is `file`'s in the regression record `problems/<record>` within
+/// the record's tolerance (relative, at least absolute).
+pub fn assert_recorded(record: &str, file: &str, objective: f64) {
+    let text = std::fs::read_to_string(problems_dir().join(record)).unwrap();
+    let table: toml::Table = toml::from_str(&text).unwrap();
+    let entry = table["problem"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|e| e["file"].as_str() == Some(file))
+        .unwrap_or_else(|| {
+            panic!("{file} is not in problems/{record}; run `vito regress --bless {file}`")
+        });
+    let recorded = entry["objective"].as_float().unwrap();
+    let tolerance = entry["tolerance"].as_float().unwrap();
+    assert!(
+        (objective - recorded).abs() <= tolerance * recorded.abs().max(1.0),
+        "objective {objective} vs recorded {recorded} (tolerance {tolerance})"
+    );
+}
