@@ -183,39 +183,110 @@ pub fn split_csv_line(line: &str) -> Result<Vec<String>, String> {
     }
 }
 
+/// One column of a trajectory CSV: its name, its unit (empty: none) and what gives it its
+/// name (for messages: `the time`, `coordinate \`hip\``, `contact \`foot\``, `the slack`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Column {
+    /// The name (the header without its unit).
+    pub name: String,
+    /// The unit.
+    pub unit: String,
+    /// What the name comes from.
+    pub source: String,
+}
+
+/// The columns of a trajectory CSV, in order, for these names, friction directions per
+/// contact and slacks per interval.
+pub fn columns(
+    coordinate_names: &[String],
+    input_names: &[String],
+    contact_names: &[String],
+    friction_directions: usize,
+    slacks: usize,
+    units: &ColumnUnits,
+) -> Vec<Column> {
+    let column = |name: String, unit: &str, source: String| Column {
+        name,
+        unit: unit.to_owned(),
+        source,
+    };
+    let unit_of = |list: &[String], i: usize| list.get(i).cloned().unwrap_or_default();
+    let mut out = vec![column("time".into(), &units.time, "the time".into())];
+    for (i, c) in coordinate_names.iter().enumerate() {
+        out.push(column(
+            c.clone(),
+            &unit_of(&units.coordinates, i),
+            format!("coordinate `{c}`"),
+        ));
+    }
+    for (i, c) in coordinate_names.iter().enumerate() {
+        let rate = format!("{}/{}", unit_of(&units.coordinates, i), units.time);
+        out.push(column(
+            format!("{c}_dot"),
+            &rate,
+            format!("coordinate `{c}`"),
+        ));
+    }
+    for (i, u) in input_names.iter().enumerate() {
+        out.push(column(
+            input_column_name(u),
+            &unit_of(&units.inputs, i),
+            format!("input `{u}`"),
+        ));
+    }
+    let directions = friction_direction_names(friction_directions);
+    for c in contact_names {
+        let source = || format!("contact `{c}`");
+        out.push(column(format!("{c}_normal"), &units.impulse, source()));
+        for d in &directions {
+            out.push(column(
+                format!("{c}_friction_{d}"),
+                &units.impulse,
+                source(),
+            ));
+        }
+        out.push(column(format!("{c}_distance"), &units.length, source()));
+        for axis in AXES {
+            out.push(column(format!("{c}_{axis}"), &units.length, source()));
+        }
+    }
+    if slacks == 1 {
+        out.push(column("slack".into(), "", "the slack".into()));
+    } else {
+        out.extend((0..slacks).map(|j| column(format!("slack_{j}"), "", "the slacks".into())));
+    }
+    out
+}
+
+/// The first two columns of `columns` with one name, if any: a CSV with both could not be
+/// read back (every column appears once).
+pub fn repeated_column(columns: &[Column]) -> Option<(&Column, &Column)> {
+    let mut seen = std::collections::HashMap::new();
+    for (i, c) in columns.iter().enumerate() {
+        if let Some(&first) = seen.get(c.name.as_str()) {
+            return Some((&columns[first], c));
+        }
+        seen.insert(c.name.as_str(), i);
+    }
+    None
+}
+
 /// Renders the trajectory CSV.
 pub fn write_trajectory(trajectory: &Trajectory<'_>, units: &ColumnUnits) -> String {
     let s = trajectory;
-    let mut names = vec![header("time", &units.time)];
-    for (c, unit) in s.coordinate_names.iter().zip(&units.coordinates) {
-        names.push(header(c, unit));
-    }
-    for (c, unit) in s.coordinate_names.iter().zip(&units.coordinates) {
-        names.push(header(
-            &format!("{c}_dot"),
-            &format!("{unit}/{}", units.time),
-        ));
-    }
-    for (u, unit) in s.input_names.iter().zip(&units.inputs) {
-        names.push(header(&input_column_name(u), unit));
-    }
     let directions = friction_direction_names(s.friction_directions);
-    for c in s.contact_names {
-        names.push(header(&format!("{c}_normal"), &units.impulse));
-        for d in &directions {
-            names.push(header(&format!("{c}_friction_{d}"), &units.impulse));
-        }
-        names.push(header(&format!("{c}_distance"), &units.length));
-        for axis in AXES {
-            names.push(header(&format!("{c}_{axis}"), &units.length));
-        }
-    }
     let slacks = s.slack.first().map_or(1, Vec::len);
-    if slacks == 1 {
-        names.push("slack".into());
-    } else {
-        names.extend((0..slacks).map(|j| format!("slack_{j}")));
-    }
+    let names: Vec<String> = columns(
+        s.coordinate_names,
+        s.input_names,
+        s.contact_names,
+        s.friction_directions,
+        slacks,
+        units,
+    )
+    .iter()
+    .map(|c| header(&c.name, &c.unit))
+    .collect();
     let mut out = names
         .iter()
         .map(|n| csv_field(n))

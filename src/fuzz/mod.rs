@@ -480,10 +480,16 @@ fn names_once(name: &str) -> bool {
     };
     let csv = write_trajectory(&trajectory, &units);
     let table = read_csv(&csv);
-    // A name a problem file can give (no hidden characters, not padded, short) reads back.
+    // A name a problem file can give (no hidden characters, not padded, short, no column
+    // named twice: loading refuses those) reads back.
+    let clash = crate::files::trajectory_csv::repeated_column(
+        &crate::files::trajectory_csv::columns(&names, &[], &names, 2, 1, &units),
+    )
+    .is_some();
     let plain = !name.is_empty()
         && name.trim() == name
         && name.len() <= 150
+        && !clash
         && !name.chars().any(crate::files::names::is_hidden_char);
     if plain {
         let table = table.expect("vito's own CSV reads back");

@@ -5,6 +5,7 @@
 #![warn(missing_docs)]
 
 mod bounds;
+mod columns;
 mod contacts;
 pub(crate) mod context;
 mod endpoints;
@@ -48,6 +49,8 @@ pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, Pr
         actuation,
     } = robot::check_robot(ctx, &raw)?;
     let contacts = contacts::check_contacts(ctx, &raw.contacts, &robot)?;
+    let (slack_weight, slack_mode, slack_tolerance) = slack::check_slack_penalty(ctx, &raw)?;
+    columns::check_csv_columns(ctx, &robot, &contacts, slack_mode)?;
     let terrain = terrain::check_terrain(ctx, &raw)?;
     let knots = horizon::check_knots(ctx, &raw)?;
     size::check_nlp_fits(ctx, &robot, contacts.len(), knots)?;
@@ -59,7 +62,6 @@ pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, Pr
     let contact_names: Vec<String> = contacts.iter().map(|c| c.name.clone()).collect();
     let costs =
         crate::problem::costs::check_costs(ctx, &raw, &robot, &contact_names, &endpoints.goal)?;
-    let (slack_weight, slack_mode, slack_tolerance) = slack::check_slack_penalty(ctx, &raw)?;
     let max_slip_speed = contacts::check_max_slip_speed(ctx, &raw)?;
     let mode_block = contacts::check_mode_block(ctx, &raw, knots)?;
     let slack_continuation = slack::check_slack_continuation(ctx, &raw, slack_tolerance)?;

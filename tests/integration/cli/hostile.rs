@@ -365,6 +365,28 @@ fn check_with_urdf(name: &str, urdf: &str) -> String {
     run.stderr
 }
 
+/// Names whose trajectory.csv columns would clash (a joint called `time` or `slack`, a joint
+/// called like a contact's position column) are input errors naming both, before solving: the
+/// file could not be read back.
+#[test]
+fn names_that_clash_in_the_trajectory_csv_are_input_errors() {
+    for (joint, says) in [
+        ("time", "the time and coordinate `time`"),
+        ("slack", "coordinate `slack` and the slack"),
+        (
+            "foot_contact_z",
+            "coordinate `foot_contact_z` and contact `foot_contact`",
+        ),
+    ] {
+        let urdf = hopper_urdf().replace(
+            "<joint name=\"x\" type=\"prismatic\">",
+            &format!("<joint name=\"{joint}\" type=\"prismatic\">"),
+        );
+        let stderr = check_with_urdf(&format!("clash_{joint}"), &urdf);
+        assert!(stderr.contains(says), "{joint}: {stderr}");
+    }
+}
+
 /// NaN or crossed URDF values are errors naming the URDF element (not
 /// `initial.q`, not Ipopt's "invalid number" after solving).
 #[test]
