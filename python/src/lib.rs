@@ -18,6 +18,7 @@ mod convert;
 mod errors;
 mod html;
 mod kinematics;
+mod load;
 mod problem;
 mod simulation;
 mod solution;

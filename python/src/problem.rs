@@ -1,19 +1,20 @@
 //! `vito.Problem`: a loaded and checked problem file with its overrides; `check()` and
 //! `solve()` as the command runs them; pickled as its file and overrides.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::Arc;
 
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
 use vito::pipeline;
-use vito::problem::{InitialGuess, LoadedProblem, Override};
+use vito::problem::{InitialGuess, LoadedProblem};
 use vito::report;
 use vito::transcription::MultiStart;
 
 use crate::convert::{python_str, set_args, set_literal};
-use crate::errors::{VitoError, problem_error, vito_error};
+use crate::errors::{VitoError, vito_error};
+use crate::load::{load_problem, reload_pickled};
 use crate::solution::Solution;
 use crate::solve::solve_loaded;
 
@@ -25,23 +26,6 @@ pub(crate) struct Problem {
     /// `--set` arguments applied, in order.
     pub(crate) sets: Vec<String>,
     pub(crate) loaded: Arc<LoadedProblem>,
-}
-
-/// Loads `path` with `sets` as `vito solve FILE --set ...` does (`pipeline::load_checked`),
-/// without the GIL (asking Ipopt about the options waits for any solve going on).
-pub(crate) fn load_problem(
-    py: Python<'_>,
-    path: &Path,
-    sets: &[String],
-) -> PyResult<LoadedProblem> {
-    let loaded = py.detach(|| {
-        let overrides: Vec<Override> = sets
-            .iter()
-            .map(|s| Override::parse(s))
-            .collect::<Result<_, _>>()?;
-        pipeline::load_checked(path, &overrides)
-    });
-    loaded.map_err(|e| problem_error(py, &e))
 }
 
 impl Problem {
@@ -61,21 +45,19 @@ impl Problem {
     }
 }
 
-/// Rebuilds a pickled `Problem` (or the problem of a pickled result): the file must still be
-/// where it was, with the overrides still valid.
+/// Rebuilds a pickled `Problem`: the file must still be where it was, with the overrides
+/// still valid.
 #[pyfunction]
 pub(crate) fn _restore_problem(
     py: Python<'_>,
     path: PathBuf,
     sets: Vec<String>,
 ) -> PyResult<Problem> {
-    Problem::open(py, path.clone(), sets).inspect_err(|e| {
-        let note = format!(
-            "while unpickling a vito object: its problem file {} is read again from where it \
-             was when pickled (the file must be reachable at that path from this process)",
-            path.display()
-        );
-        let _ = e.value(py).call_method1("add_note", (note,));
+    let loaded = reload_pickled(py, &path, &sets)?;
+    Ok(Problem {
+        path,
+        sets,
+        loaded: Arc::new(loaded),
     })
 }
 

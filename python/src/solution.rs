@@ -16,7 +16,7 @@ use vito::report;
 
 use crate::convert::{csv_columns, csv_dataframe, json_to_py, matrix, vector};
 use crate::errors::{VitoError, vito_error};
-use crate::problem::_restore_problem;
+use crate::load::reload_pickled;
 
 /// What a solve or a simulation writes as `trajectory.csv`, kept as its text: the base class
 /// of `Solution` and `Simulation`.
@@ -80,8 +80,8 @@ pub(crate) fn unpickled<T: serde::de::DeserializeOwned>(
 ) -> PyResult<(Arc<LoadedProblem>, T)> {
     let value = toml::from_str(text)
         .map_err(|e| VitoError::new_err(format!("not a pickled vito result: {e}")))?;
-    let problem = _restore_problem(py, path, sets)?;
-    Ok((problem.loaded, value))
+    let problem = reload_pickled(py, &path, &sets)?;
+    Ok((Arc::new(problem), value))
 }
 
 /// A solve's result: the verdict, the numbers of `summary.json`, and the trajectory as

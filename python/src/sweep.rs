@@ -22,7 +22,8 @@ use vito::transcription::MultiStart;
 
 use crate::convert::value_text;
 use crate::errors::{problem_error, vito_error};
-use crate::problem::{Problem, load_problem};
+use crate::load::load_problem;
+use crate::problem::Problem;
 use crate::solution::Solution;
 use crate::solve::solve_loaded;
 use crate::watch::run_watched;
