@@ -1,9 +1,9 @@
 //! The rigid bodies of a URDF: tree frames with their lumped masses (and the checks on the
 //! lumped bodies), where each link sits, and the contact points.
 
-use super::build::{Coordinates, IDENTITY, NameIndex, Tree, base_chain, rpy};
 use super::extensions::Extensions;
 use super::inertia::{MassPiece, check_body, link_inertia, lump};
+use super::parts::{Coordinates, IDENTITY, NameIndex, Tree, base_chain, rpy};
 use crate::model::spatial::{mat_mul, normalized, transpose};
 use crate::model::tree::{Frame, LinkPlacement, Motion};
 use crate::model::{BaseType, ContactPoint, IgnoredCollision, ModelError};

@@ -7,43 +7,10 @@ use std::collections::{HashMap, HashSet};
 use super::bodies::{Findings, bodies, contact_points};
 use super::extensions::Extensions;
 use super::joint_elements::{JointCoordinates, actuators, loop_closures, springs};
+use super::parts::{Coordinates, NameIndex, Tree};
 use crate::model::actuation::AppliedActuation;
-use crate::model::spatial::rpy_to_matrix;
-use crate::model::tree::{Mimic, Motion};
+use crate::model::tree::Mimic;
 use crate::model::{BaseType, Model, ModelError};
-
-pub(super) fn rpy(v: &[f64; 3]) -> [[f64; 3]; 3] {
-    rpy_to_matrix(v[0], v[1], v[2])
-}
-
-pub(super) const IDENTITY: [[f64; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-
-/// One virtual base frame: its motion, axis and coordinate index (into
-/// [`BaseType::coordinate_names`]).
-pub(super) type BaseFrame = (Motion, [f64; 3], usize);
-
-pub(super) fn base_chain(base: BaseType) -> Vec<BaseFrame> {
-    const X: [f64; 3] = [1.0, 0.0, 0.0];
-    const Y: [f64; 3] = [0.0, 1.0, 0.0];
-    const Z: [f64; 3] = [0.0, 0.0, 1.0];
-    match base {
-        BaseType::Fixed => vec![],
-        BaseType::Planar => vec![
-            (Motion::Prismatic, X, 0),
-            (Motion::Prismatic, Z, 1),
-            (Motion::Revolute, Y, 2),
-        ],
-        // Trans(x, y, z)·Rz(yaw)·Ry(pitch)·Rx(roll), q_base = [x, y, z, roll, pitch, yaw].
-        BaseType::Floating => vec![
-            (Motion::Prismatic, X, 0),
-            (Motion::Prismatic, Y, 1),
-            (Motion::Prismatic, Z, 2),
-            (Motion::Revolute, Z, 5),
-            (Motion::Revolute, Y, 4),
-            (Motion::Revolute, X, 3),
-        ],
-    }
-}
 
 /// Converts a parsed URDF with its extensions into a model with the given base.
 pub(super) fn build(
@@ -122,9 +89,6 @@ pub(super) fn build(
     Ok(model)
 }
 
-/// Index of a link or joint by name.
-pub(super) type NameIndex<'a> = HashMap<&'a str, usize>;
-
 /// Link and joint indices by name; a name used twice is an error.
 fn index_names(robot: &urdf_rs::Robot) -> Result<(NameIndex<'_>, NameIndex<'_>), ModelError> {
     let mut link_of: HashMap<&str, usize> = HashMap::new();
@@ -146,15 +110,6 @@ fn index_names(robot: &urdf_rs::Robot) -> Result<(NameIndex<'_>, NameIndex<'_>),
         }
     }
     Ok((link_of, joint_of))
-}
-
-/// The tree's shape: each link's parent joint, and the links parents first.
-pub(super) struct Tree {
-    pub(super) parent_joint: Vec<Option<usize>>,
-    /// Links without children, in document order.
-    pub(super) leaves: Vec<usize>,
-    /// Depth-first from the root.
-    pub(super) order: Vec<usize>,
 }
 
 /// Checks that the joints form one tree of supported joints and orders its links.
@@ -234,18 +189,6 @@ fn tree_order(robot: &urdf_rs::Robot, link_of: &NameIndex) -> Result<Tree, Model
         leaves,
         order,
     })
-}
-
-/// The coordinates: base, then non-fixed joints in document order (except `<mimic>`
-/// joints, which follow their leader and have no coordinate of their own).
-pub(super) struct Coordinates {
-    pub(super) names: Vec<String>,
-    pub(super) limits: Vec<(f64, f64)>,
-    pub(super) damping: Vec<f64>,
-    /// Per joint, its coordinate (`None` for fixed and mimic joints).
-    pub(super) joint_coordinate: Vec<Option<usize>>,
-    /// Per mimic joint, its leader's coordinate and the map from it.
-    pub(super) mimic: Vec<Option<(usize, Mimic)>>,
 }
 
 fn coordinates(

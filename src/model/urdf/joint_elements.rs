@@ -3,8 +3,8 @@
 
 use std::collections::HashMap;
 
-use super::build::{NameIndex, rpy};
 use super::extensions::{Extensions, bad};
+use super::parts::{NameIndex, rpy};
 use crate::model::actuation::Actuator;
 use crate::model::spatial::{normalized, perpendicular_pair};
 use crate::model::{LinkId, LoopClosure, ModelError, Spring, SpringKind};

@@ -33,6 +33,7 @@ mod geometry;
 mod inertia;
 mod joint_elements;
 mod limits;
+mod parts;
 mod repair;
 mod values;
 
