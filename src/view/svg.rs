@@ -156,12 +156,7 @@ pub fn strip_svg(
     if layout == StripLayout::World {
         return world_svg(scene, drawing, motion, &poses, &boxes, margin);
     }
-    let width = boxes
-        .iter()
-        .map(|b| b[2] - b[0])
-        .fold(0.0, f64::max)
-        .max(drawing.size * 0.5)
-        + 2.0 * margin;
+    let width = pose_width(&boxes, drawing, margin);
     let mut z_lo = boxes.iter().map(|b| b[1]).fold(f64::MAX, f64::min);
     let z_hi = boxes.iter().map(|b| b[3]).fold(f64::MIN, f64::max) + margin;
     for b in &boxes {
@@ -276,6 +271,17 @@ fn svg_head(scene: &Scene, motion: &Motion, poses: usize, width: f64, height: f6
     svg
 }
 
+/// The width one pose takes: its widest box (at least half the robot's size) and a margin
+/// either side.
+fn pose_width(boxes: &[[f64; 4]], drawing: &Drawing, margin: f64) -> f64 {
+    boxes
+        .iter()
+        .map(|b| b[2] - b[0])
+        .fold(0.0, f64::max)
+        .max(drawing.size * 0.5)
+        + 2.0 * margin
+}
+
 /// The world-frame strip: every pose at its own x over one terrain profile spanning them
 /// all (`boxes`: each pose's x–z box), opacity rising from the first pose to the last; one
 /// line below the ground gives the poses' times (overlapping poses leave no room for a label
@@ -288,12 +294,7 @@ fn world_svg(
     boxes: &[[f64; 4]],
     margin: f64,
 ) -> String {
-    let pose_width = boxes
-        .iter()
-        .map(|b| b[2] - b[0])
-        .fold(0.0, f64::max)
-        .max(drawing.size * 0.5)
-        + 2.0 * margin;
+    let pose_width = pose_width(boxes, drawing, margin);
     let x_lo = boxes.iter().map(|b| b[0]).fold(f64::MAX, f64::min) - margin;
     let x_hi = boxes.iter().map(|b| b[2]).fold(f64::MIN, f64::max) + margin;
     let (x_lo, x_hi) = if x_lo.is_finite() && x_hi.is_finite() && x_hi > x_lo {

@@ -125,9 +125,9 @@ fn project(camera: &serde_json::Value, p: [f64; 3]) -> [f64; 2] {
     ]
 }
 
-/// Checks one result directory's page.
-fn check(browser: &Path, dir: &str, knots: [usize; 2], keep: Option<&Path>) {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+/// `vito view DIR --out <temporary>/animation.html` from the repository root: the page's
+/// path and the directory holding it (removed when dropped).
+fn write_page(root: &Path, dir: &str) -> (tempfile::TempDir, std::path::PathBuf) {
     let tmp = tempfile::tempdir().unwrap();
     let page = tmp.path().join("animation.html");
     let run = Command::new(env!("CARGO_BIN_EXE_vito"))
@@ -141,6 +141,13 @@ fn check(browser: &Path, dir: &str, knots: [usize; 2], keep: Option<&Path>) {
         "{}",
         String::from_utf8_lossy(&run.stderr)
     );
+    (tmp, page)
+}
+
+/// Checks one result directory's page.
+fn check(browser: &Path, dir: &str, knots: [usize; 2], keep: Option<&Path>) {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let (tmp, page) = write_page(root, dir);
     let html = std::fs::read_to_string(&page).unwrap();
     assert!(
         html.len() < 2_000_000,
@@ -645,19 +652,7 @@ fn drop_lines_reach_the_terrain_and_trails_follow_the_feet() {
     };
     let dir = "results/motion/littledog_step";
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let tmp = tempfile::tempdir().unwrap();
-    let page = tmp.path().join("animation.html");
-    let run = Command::new(env!("CARGO_BIN_EXE_vito"))
-        .current_dir(root)
-        .args(["view", dir, "--out"])
-        .arg(&page)
-        .output()
-        .unwrap();
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
+    let (tmp, page) = write_page(root, dir);
     let summary: serde_json::Value = serde_json::from_str(
         &std::fs::read_to_string(root.join(dir).join("summary.json")).unwrap(),
     )
