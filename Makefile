@@ -12,6 +12,7 @@
 #   make bench-casadi  `vito bench` beside the independent CasADi implementation (CasADi 3.8.2
 #                   from PyPI into .venv-casadi; nothing else needs it)
 #   make fuzz       1,000,000 generated and mutated inputs (problems, URDFs, expressions, chains, attributes, trajectory CSVs, names) through loading, the CSV readers and the writers of names (FUZZ_COUNT, FUZZ_SEED)
+#   make fuzz-python 100,000 generated Python values through vito.Problem and the solve options (FUZZ_PYTHON_COUNT)
 #   make test-debian13  `make demo` and `make test` in a fresh Debian 13 chroot (Ipopt 3.14; root)
 
 CARGO ?= cargo
@@ -22,7 +23,7 @@ OUT ?= out/hopper_2d
 # solve lock already gives one solve per process); parallel work uses processes.
 export OPENBLAS_NUM_THREADS ?= 1
 
-.PHONY: deps build demo python test test-python test-wheel test-slow test-slurm lint pages bench bench-casadi robustness fuzz test-debian13
+.PHONY: deps build demo python test test-python test-wheel test-slow test-slurm lint pages bench bench-casadi robustness fuzz fuzz-python test-debian13
 
 deps:
 	bash vendor-config/install-deps.sh
@@ -102,6 +103,11 @@ FUZZ_COUNT ?= 1000000
 FUZZ_SEED ?= 1
 fuzz: deps
 	$(CARGO) run --release --example fuzz -- $(FUZZ_COUNT) $(FUZZ_SEED)
+
+# Generated Python values through the package (tools/fuzz_python.py); docs/fuzz.md.
+FUZZ_PYTHON_COUNT ?= 100000
+fuzz-python: python
+	.venv/bin/python tools/fuzz_python.py --count $(FUZZ_PYTHON_COUNT) --seed $(FUZZ_SEED)
 
 # The two commands above on Debian 13 (trixie, Ipopt 3.14), in a debootstrapped chroot that is
 # removed afterwards; needs root and Debian's archive. See tools/test-debian13.sh.

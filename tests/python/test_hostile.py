@@ -193,3 +193,15 @@ def test_ctrl_c_stops_a_sweep_and_it_resumes(tmp_path, how):
     assert statuses[1:] == ["pending"] * 5
     assert statuses[0] in ("interrupted", "pending")
     assert all(n for n in table["note"].tolist()[1:])
+
+
+def test_generated_python_values_raise_ordinary_exceptions():
+    """3,000 inputs of tools/fuzz_python.py (`make fuzz-python` runs 100,000): every call
+    returns or raises an ordinary exception; no panic, crash or hang."""
+    r = subprocess.run(
+        [sys.executable, str(ROOT / "tools" / "fuzz_python.py"), "--count", "3000"],
+        capture_output=True, text=True, timeout=600, cwd=ROOT,
+    )
+    assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
+    assert "findings 0" in r.stdout, r.stdout[-3000:]
+    assert "ProblemError" in r.stdout and "TypeError" in r.stdout, r.stdout[-3000:]
