@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
 """Generated Python values through the package's entry points: `vito.Problem(path, set=...)`
-with real and invented keys, `Problem.with_set`-style overrides as strings, and the solve and
-simulate options checked before any solve starts. Each call must return or raise an ordinary
-exception (ValueError, TypeError, FileNotFoundError, vito.VitoError, ...): a PanicException,
-a SystemError, a crash or a hang is a finding.
+with real and invented keys, `set=` strings, problem paths, and `Problem.solve` and
+`vito.simulate` options that must be refused before anything runs. Each call must return or
+raise an ordinary exception (ValueError, TypeError, FileNotFoundError, vito.VitoError, ...),
+and an option meant to be refused must raise; a PanicException, a SystemError, a crash, a
+hang or an accepted option is a finding.
 
     tools/fuzz_python.py [--count N] [--seed S] [--first K]
 
@@ -39,6 +40,21 @@ NUMBERS = [
     0, 1, -1, 2**31, 2**63, 2**64, -(2**63) - 1, 10**400, 0.0, -0.0, 1e-300, 1e308,
     math.inf, -math.inf, math.nan, 0.5, 21, 3, 1e9, 1e20,
 ]
+
+
+# (option, value) pairs `Problem.solve` must refuse before solving.
+INVALID_SOLVE = [
+    (option, bad)
+    for option, values in {
+        "starts": [0, -1, -(2**70), 2**64, 10**30, math.nan, math.inf, "3", [1], 1.5],
+        "seed": [-1, -(2**70), 2**64, math.nan, "3", [1], 1.5],
+        "warm_start": [42, [1], "missing.csv", "", "/dev/null", str(ROOT)],
+        "progress": [42, "print", [1]],
+    }.items()
+    for bad in values
+]
+# Durations `vito.simulate` must refuse before simulating.
+INVALID_DURATIONS = [-1.0, -(2**70), math.nan, math.inf, -math.inf, 1e20, "1", [1]]
 
 
 def value(rng, depth=0):
@@ -95,14 +111,19 @@ def one(rng):
     if what == 2:
         vito.Problem(rng.choice([HOPPER, value(rng), "/dev/null", str(ROOT), "missing.toml"]))
         return "Problem(path)"
-    # Options validated before a solve or simulation starts: only out-of-range values, so
-    # that no call actually solves.
-    option = rng.choice(["starts", "jobs", "time_limit", "max_iter"])
-    bad = rng.choice([0, -1, -(2**70), 10**30, math.nan, math.inf, -math.inf, "3", None, [1]])
-    if bad is None:
-        bad = -5
-    vito.Problem(HOPPER).solve(**{option: bad})
-    return f"solve({option}=...)"
+    # Options validated before a solve or a simulation starts: only values each must
+    # refuse, so that no call actually solves or writes.
+    if rng.random() < 0.5:
+        option, bad = rng.choice(INVALID_SOLVE)
+        vito.Problem(HOPPER).solve(**{option: bad})
+        raise Accepted(f"solve({option}={bad!r}) ran")
+    duration = rng.choice(INVALID_DURATIONS)
+    vito.simulate(vito.Problem(HOPPER), duration=duration)
+    raise Accepted(f"simulate(duration={duration!r}) ran")
+
+
+class Accepted(Exception):
+    """A value meant to be refused before anything runs was accepted."""
 
 
 def main():
@@ -123,7 +144,8 @@ def main():
             returned += 1
         except BaseException as e:  # noqa: BLE001 - every exception is sorted below
             name = type(e).__name__
-            if name in ("PanicException", "SystemError", "KeyboardInterrupt", "MemoryError"):
+            if name in ("PanicException", "SystemError", "KeyboardInterrupt", "MemoryError",
+                        "Accepted"):
                 findings.append((i, name, str(e)[:300]))
             raised[name] = raised.get(name, 0) + 1
         dt = time.process_time() - t0

@@ -183,8 +183,35 @@ pub fn split_csv_line(line: &str) -> Result<Vec<String>, String> {
     }
 }
 
+/// What gives a trajectory CSV column its name.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum ColumnSource {
+    /// The knot time.
+    Time,
+    /// A coordinate (its value or its rate), by name.
+    Coordinate(String),
+    /// An input, by name.
+    Input(String),
+    /// A contact (impulses, distance, position), by name.
+    Contact(String),
+    /// The slacks.
+    Slack,
+}
+
+impl std::fmt::Display for ColumnSource {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ColumnSource::Time => write!(f, "the time"),
+            ColumnSource::Coordinate(name) => write!(f, "coordinate `{name}`"),
+            ColumnSource::Input(name) => write!(f, "input `{name}`"),
+            ColumnSource::Contact(name) => write!(f, "contact `{name}`"),
+            ColumnSource::Slack => write!(f, "the slack"),
+        }
+    }
+}
+
 /// One column of a trajectory CSV: its name, its unit (empty: none) and what gives it its
-/// name (for messages: `the time`, `coordinate \`hip\``, `contact \`foot\``, `the slack`).
+/// name.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Column {
     /// The name (the header without its unit).
@@ -192,7 +219,7 @@ pub struct Column {
     /// The unit.
     pub unit: String,
     /// What the name comes from.
-    pub source: String,
+    pub source: ColumnSource,
 }
 
 /// The columns of a trajectory CSV, in order, for these names, friction directions per
@@ -205,18 +232,18 @@ pub fn columns(
     slacks: usize,
     units: &ColumnUnits,
 ) -> Vec<Column> {
-    let column = |name: String, unit: &str, source: String| Column {
+    let column = |name: String, unit: &str, source: ColumnSource| Column {
         name,
         unit: unit.to_owned(),
         source,
     };
     let unit_of = |list: &[String], i: usize| list.get(i).cloned().unwrap_or_default();
-    let mut out = vec![column("time".into(), &units.time, "the time".into())];
+    let mut out = vec![column("time".into(), &units.time, ColumnSource::Time)];
     for (i, c) in coordinate_names.iter().enumerate() {
         out.push(column(
             c.clone(),
             &unit_of(&units.coordinates, i),
-            format!("coordinate `{c}`"),
+            ColumnSource::Coordinate(c.clone()),
         ));
     }
     for (i, c) in coordinate_names.iter().enumerate() {
@@ -224,19 +251,19 @@ pub fn columns(
         out.push(column(
             format!("{c}_dot"),
             &rate,
-            format!("coordinate `{c}`"),
+            ColumnSource::Coordinate(c.clone()),
         ));
     }
     for (i, u) in input_names.iter().enumerate() {
         out.push(column(
             input_column_name(u),
             &unit_of(&units.inputs, i),
-            format!("input `{u}`"),
+            ColumnSource::Input(u.clone()),
         ));
     }
     let directions = friction_direction_names(friction_directions);
     for c in contact_names {
-        let source = || format!("contact `{c}`");
+        let source = || ColumnSource::Contact(c.clone());
         out.push(column(format!("{c}_normal"), &units.impulse, source()));
         for d in &directions {
             out.push(column(
@@ -251,9 +278,9 @@ pub fn columns(
         }
     }
     if slacks == 1 {
-        out.push(column("slack".into(), "", "the slack".into()));
+        out.push(column("slack".into(), "", ColumnSource::Slack));
     } else {
-        out.extend((0..slacks).map(|j| column(format!("slack_{j}"), "", "the slacks".into())));
+        out.extend((0..slacks).map(|j| column(format!("slack_{j}"), "", ColumnSource::Slack)));
     }
     out
 }

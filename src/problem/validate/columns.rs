@@ -2,7 +2,7 @@
 //! once, or the file could not be read back (as a warm start, by `simulate --track`).
 
 use super::context::Context;
-use crate::files::trajectory_csv::{ColumnUnits, columns, repeated_column};
+use crate::files::trajectory_csv::{ColumnSource, ColumnUnits, columns, repeated_column};
 use crate::problem::{ContactSpec, ProblemError, RobotInfo, SlackMode};
 
 /// Refuses coordinate, input and contact names whose columns would share a name (a joint
@@ -38,8 +38,9 @@ pub(super) fn check_csv_columns(
         None => Ok(()),
         Some((first, second)) => {
             // The URDF names coordinates and inputs; the problem file may name contacts.
-            let from_urdf =
-                |source: &str| source.starts_with("coordinate") || source.starts_with("input");
+            let from_urdf = |source: &ColumnSource| {
+                matches!(source, ColumnSource::Coordinate(_) | ColumnSource::Input(_))
+            };
             let field = if from_urdf(&first.source) || from_urdf(&second.source) {
                 "robot.urdf"
             } else {
