@@ -286,3 +286,16 @@ pub(crate) fn csv_dataframe<'py>(py: Python<'py>, csv: &str) -> PyResult<Bound<'
     kwargs.set_item("columns", order)?;
     pandas.call_method("DataFrame", (data,), Some(&kwargs))
 }
+
+/// `progress=`: None or a callable, checked before anything runs (a TypeError naming it).
+pub(crate) fn check_progress(py: Python<'_>, progress: Option<&Py<PyAny>>) -> PyResult<()> {
+    match progress {
+        Some(p) if !p.bind(py).is_callable() => Err(PyTypeError::new_err(format!(
+            "progress={}: give a callable (or None)",
+            p.bind(py)
+                .repr()
+                .map_or_else(|_| "?".into(), |r| r.to_string())
+        ))),
+        _ => Ok(()),
+    }
+}

@@ -12,7 +12,7 @@ use vito::problem::{InitialGuess, LoadedProblem};
 use vito::report;
 use vito::transcription::MultiStart;
 
-use crate::convert::{python_str, set_args, set_literal};
+use crate::convert::{check_progress, python_str, set_args, set_literal};
 use crate::errors::{VitoError, vito_error};
 use crate::load::{load_problem, reload_pickled};
 use crate::solution::Solution;
@@ -180,6 +180,7 @@ impl Problem {
                 "starts=0: give at least 1",
             ));
         }
+        check_progress(py, progress.as_ref())?;
         let problem = match warm_start {
             None => self.loaded.clone(),
             Some(w) => {

@@ -122,6 +122,7 @@ pub(crate) fn _sweep(
     if jobs == 0 {
         return Err(PyValueError::new_err("jobs=0: give at least 1"));
     }
+    crate::convert::check_progress(py, progress.as_ref())?;
     if starts == 0 {
         return Err(PyValueError::new_err("starts=0: give at least 1"));
     }

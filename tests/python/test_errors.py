@@ -88,6 +88,9 @@ def test_out_of_range_options_are_value_errors(hopper):
         vito.simulate(hopper, feedback="sideways")
     with pytest.raises(ValueError, match="starts=0"):
         hopper.solve(starts=0)
+    # Refused before the solve starts (not at its first iteration).
+    with pytest.raises(TypeError, match="progress=42: give a callable"):
+        hopper.solve(progress=42)
 
 
 def test_notebook_display_shows_the_summary_and_the_motion_page(hopper, hopper_solution):
