@@ -46,3 +46,20 @@ pub enum TranscriptionError {
     #[error(transparent)]
     Solver(#[from] crate::ipopt::IpoptError),
 }
+
+/// `Ok` when a given length `found` is the `expected` one, else the error naming `field`.
+pub(super) fn check_len(
+    field: &str,
+    expected: usize,
+    found: usize,
+) -> Result<(), TranscriptionError> {
+    if expected == found {
+        Ok(())
+    } else {
+        Err(TranscriptionError::Length {
+            field: field.to_string(),
+            expected,
+            found,
+        })
+    }
+}

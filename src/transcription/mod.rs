@@ -7,22 +7,21 @@
 //! Where things are: `layout` (variable indices, the dynamics rows and the rows the kinds
 //! declare), `blocks` (each block kind in its own file: its value, closed-form derivatives,
 //! placement and the rows it owns; dynamics pieces from `discrete::del`, contact rows from
-//! `crate::contact`; cost terms, one file each, are `crate::problem::costs`), `placement`
-//! (the driver that has every kind place its blocks), `structure` (sparsity patterns),
-//! `start` (bounds, initial guess, warm start), `evaluate` (values and derivatives),
-//! `program` (the [`Transcription`] itself), `nlp` (the Ipopt callbacks' adapter), `scaling`
-//! (Ipopt's user scaling from the problem's units, `[solver] scaling = "units"`), `solve`
-//! (solving a problem file's NLP, slack continuation; the entry point is
-//! `crate::pipeline::solve`), `robot` (a problem's URDF mechanics).
+//! `crate::contact`; cost terms, one file each, are `crate::problem::costs`; `place_blocks`
+//! has every kind place its blocks), `structure` (sparsity patterns), `start` (bounds and
+//! initial guess), `program` (the [`Transcription`], the one owner of the NLP's data, with
+//! `evaluate`: values and derivatives, and `inspect`: what reports read at a point and the
+//! derivative check), `nlp` (the Ipopt callbacks' adapter), `scaling` (Ipopt's user scaling
+//! from the problem's units, `[solver] scaling = "units"`), `solve` (the solve driver:
+//! multi-start, slack continuation; the entry point is `crate::pipeline::solve`), `solution`
+//! (what a solve returns, read off Ipopt's final iterate), `robot` (a problem's URDF
+//! mechanics).
 
 mod blocks;
-mod derivative_check;
 mod error;
-mod evaluate;
 mod layout;
 mod nlp;
 mod pattern;
-mod placement;
 mod program;
 mod robot;
 mod scaling;
@@ -36,12 +35,13 @@ pub use crate::discrete::{
     Mechanics, MechanicsDerivatives, ModelMechanics, contact_jet_by_autodiff,
 };
 pub use blocks::Context;
-pub use derivative_check::{DerivativeCheck, DerivativeKind, EntryCheck};
 pub use error::TranscriptionError;
 pub use layout::{Dims, EntryNames, IntervalRows, Layout};
 pub use nlp::{Progress, ProgressFn, TranscriptionNlp};
 pub use pattern::{Pattern, PatternBuilder};
+pub use program::{DerivativeCheck, DerivativeKind, EntryCheck};
 pub use program::{InitialGuessReport, Transcription};
+pub use scaling::{units_scaling, variable_units};
 pub use solution::{NlpSize, Solution};
 pub use solve::{
     BenchRow, MultiStart, PENALTY_BOUND_RELAX, PERTURBATION, SolveOptions, StartRecord, best_of,
@@ -53,3 +53,30 @@ pub use verdict::{
 
 #[allow(unused_imports)]
 use crate::problem::ProblemSpec;
+
+/// The shipped hopper (`problems/hopper_2d.toml`), the small problem of the module's unit
+/// tests.
+#[cfg(test)]
+pub(crate) mod fixture {
+    use super::{ModelMechanics, Transcription};
+    use crate::problem::{Override, ProblemSpec, load};
+
+    /// The hopper's spec with `overrides` (`--set` syntax) applied.
+    pub fn hopper_spec(overrides: &[&str]) -> ProblemSpec {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/hopper_2d.toml");
+        let overrides: Vec<Override> = overrides
+            .iter()
+            .map(|o| Override::parse(o).expect("a valid override"))
+            .collect();
+        load(&path, &overrides)
+            .expect("the shipped hopper loads")
+            .spec
+    }
+
+    /// The hopper's NLP with `overrides` applied.
+    pub fn hopper(overrides: &[&str]) -> Transcription<ModelMechanics> {
+        let spec = hopper_spec(overrides);
+        let mech = ModelMechanics::load(&spec).expect("the hopper's URDF loads");
+        Transcription::new(mech, &spec).expect("the hopper's NLP builds")
+    }
+}

@@ -1,6 +1,10 @@
-//! What a solve returns: the trajectory by knot, with names, and the numbers a summary needs.
+//! What a solve returns: the trajectory by knot, with names, and the numbers a summary needs;
+//! read off Ipopt's final iterate ([`Solution::read_off`]).
 
-use crate::ipopt::Status;
+use super::blocks::complementarity_penalty::{interval_products, interval_slack};
+use super::{MechanicsDerivatives, Transcription};
+use crate::ipopt::{self, Status};
+use crate::problem::{ProblemSpec, SlackMode};
 
 /// Sizes of the NLP as Ipopt sees it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
@@ -105,4 +109,240 @@ impl Solution {
     pub fn verdict(&self) -> super::SolveVerdict {
         super::SolveVerdict::new(self.status, self.max_slack, self.slack_tolerance)
     }
+}
+
+/// Signed distance φ_i(q) of every contact at q.
+fn distances<M: MechanicsDerivatives>(t: &Transcription<M>, q: &[f64]) -> Vec<f64> {
+    (0..t.layout().nc)
+        .map(|i| crate::contact::distance(t.mechanics(), &t.context().contact, i, q))
+        .collect()
+}
+
+impl Solution {
+    /// The solution at Ipopt's final iterate of `t` (`report`): the trajectory by knot, the
+    /// contact quantities, slack and its peak, violations and the worst rows, named.
+    pub(super) fn read_off<M: MechanicsDerivatives>(
+        t: &Transcription<M>,
+        spec: &ProblemSpec,
+        report: &ipopt::SolveReport,
+    ) -> Solution {
+        let l = t.layout();
+        let x = &report.x;
+        let q: Vec<Vec<f64>> = (0..l.knots).map(|k| x[l.q(k)].to_vec()).collect();
+        let time_steps: Vec<f64> = (0..l.intervals()).map(|j| x[l.h(j)]).collect();
+        let times: Vec<f64> = match time_steps.first() {
+            // Equal steps (fixed, or free steps that ended equal): t_k = k·h, in decimal.
+            Some(&h) if time_steps.iter().all(|&s| s == h) => (0..l.knots)
+                .map(|k| crate::files::trajectory_csv::knot_time(k, h))
+                .collect(),
+            _ => {
+                let mut times = vec![0.0];
+                for h in &time_steps {
+                    times.push(times.last().copied().unwrap_or(0.0) + h);
+                }
+                times
+            }
+        };
+        let mut v = vec![x[l.v0()].to_vec()];
+        for j in 0..l.intervals() {
+            v.push(
+                q[j + 1]
+                    .iter()
+                    .zip(&q[j])
+                    .map(|(b, a)| (b - a) / time_steps[j])
+                    .collect(),
+            );
+        }
+        let mut normal_impulse = Vec::new();
+        let mut friction_impulse = Vec::new();
+        let mut slack = Vec::new();
+        let mut max_complementarity = 0.0_f64;
+        // φ at every knot; the impulses of interval j are complementary to φ at knot j + 1.
+        let signed_distance: Vec<Vec<f64>> = q.iter().map(|qk| distances(t, qk)).collect();
+        for j in 0..l.intervals() {
+            let phi = &signed_distance[j + 1];
+            let c: Vec<f64> = (0..l.nc).map(|i| x[l.c(j, i)]).collect();
+            let beta: Vec<Vec<f64>> = (0..l.nc).map(|i| x[l.beta(j, i)].to_vec()).collect();
+            // Report the slack and the clipped c·φ. The other two products (ηᵀβ and
+            // ψ(μc − eᵀβ)) are not meaningful per contact: ψ and η are undetermined in flight
+            // and stick and drift to 1e5–1e8, where Ipopt's 1e-8 bound relaxation shows as
+            // O(1e-2) terms that cancel within a row.
+            let contact_gap: f64 = (0..l.nc).map(|i| c[i].max(0.0) * phi[i].max(0.0)).sum();
+            max_complementarity = max_complementarity.max(contact_gap);
+            normal_impulse.push(c);
+            friction_impulse.push(beta);
+            // A slack is ≥ 0; Ipopt's bound relaxation leaves it at −1e-8 where it is 0.
+            slack.push(x[l.slack(j)].iter().map(|s| s.max(0.0)).collect());
+        }
+        let contact_names: Vec<String> = spec.contacts.iter().map(|c| c.name.clone()).collect();
+        let (max_slack, slack_peak) = if l.slack_mode == SlackMode::Penalty {
+            // No slack variables: an interval's slack is the one the elastic form would hold
+            // there, the largest sum of its products (so a plan whose products exceed the
+            // tolerance is still `relaxed_contact`).
+            let products = interval_products(l, t.context(), x, &signed_distance);
+            slack = products.iter().map(|p| vec![interval_slack(p)]).collect();
+            let peak = penalty_slack_peak(&products, &contact_names);
+            (peak.as_ref().map_or(0.0, |p| p.slack), peak)
+        } else {
+            let max_slack = x[l.slacks()].iter().fold(0.0_f64, |a, &b| a.max(b));
+            (
+                max_slack,
+                slack_peak(t, x, &signed_distance, &contact_names),
+            )
+        };
+        let contact_positions = q
+            .iter()
+            .map(|qk| {
+                (0..l.nc)
+                    .map(|i| t.mechanics().contact_position(i, qk))
+                    .collect()
+            })
+            .collect();
+        let (row_violations, _) = t.row_violations(x);
+        let max_constraint_violation = row_violations.iter().fold(0.0_f64, |a, &b| a.max(b));
+        let coordinate_names = t.mechanics().coordinate_names();
+        let input_names = t.mechanics().input_names();
+        let worst_rows = worst_rows(
+            l,
+            &row_violations,
+            crate::transcription::EntryNames {
+                coordinates: &coordinate_names,
+                inputs: &input_names,
+                contacts: &contact_names,
+            },
+        );
+        Solution {
+            status: report.status,
+            objective: report.objective,
+            objective_terms: t.objective_terms(x),
+            iterations: report.iterations,
+            wall_time_s: report.wall_time_s,
+            callback_time_s: report.callback_time_s,
+            ipopt_time_s: report.ipopt_time_s,
+            callback_split: report.callback_split,
+            size: t.size(),
+            coordinate_names,
+            input_names,
+            contact_names,
+            friction_directions: l.nd,
+            times,
+            time_steps,
+            u: (0..l.intervals()).map(|j| x[l.u(j)].to_vec()).collect(),
+            q,
+            v,
+            normal_impulse,
+            friction_impulse,
+            signed_distance,
+            contact_positions,
+            slack,
+            max_slack,
+            slack_peak,
+            slack_tolerance: spec.slack_tolerance,
+            max_complementarity,
+            max_constraint_violation,
+            worst_rows,
+            slack_weight: t.slack_weight(),
+            solves: 1,
+            starts: Vec::new(),
+            best_start: 0,
+        }
+    }
+}
+
+/// Where the largest slack of x sits: its interval, and the contact it relaxes (its own in
+/// per-contact mode; else the contact with the largest clipped product c·φ, ηᵀβ or
+/// ψ(μc − eᵀβ) in that interval).
+fn slack_peak<M: MechanicsDerivatives>(
+    t: &Transcription<M>,
+    x: &[f64],
+    distance: &[Vec<f64>],
+    contacts: &[String],
+) -> Option<crate::transcription::SlackPeak> {
+    let l = t.layout();
+    let per = l.slacks_per_interval();
+    let (index, slack) = x[l.slacks()].iter().copied().enumerate().fold(
+        None,
+        |best: Option<(usize, f64)>, (i, s)| match best {
+            Some((_, b)) if s <= b || s.is_nan() => best,
+            _ => Some((i, s)),
+        },
+    )?;
+    let interval = index / per;
+    let contact = if per > 1 {
+        // Per-contact mode: three slacks per contact, in contact order.
+        Some((index % per) / 3)
+    } else {
+        let j = interval;
+        let product = |i: usize| {
+            let (c, beta) = (x[l.c(j, i)], &x[l.beta(j, i)]);
+            let (psi, eta) = (x[l.psi(j, i)], &x[l.eta(j, i)]);
+            let gap = c.max(0.0) * distance[j + 1][i].max(0.0);
+            let eta_beta: f64 = eta.iter().zip(beta).map(|(e, b)| e * b).sum();
+            let cone = t.context().contact.friction[i] * c - beta.iter().sum::<f64>();
+            gap.max(eta_beta).max(psi * cone)
+        };
+        (0..l.nc)
+            .map(|i| (i, product(i)))
+            .filter(|&(_, p)| p > 0.0)
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+            .map(|(i, _)| i)
+    };
+    Some(crate::transcription::SlackPeak {
+        interval,
+        contact: contact.and_then(|i| contacts.get(i).cloned()),
+        slack: slack.max(0.0),
+    })
+}
+
+/// Where the largest interval slack of penalty mode sits ([`interval_slack`] of each
+/// interval's products): its interval and the contact with the largest product there (None
+/// when no product is positive).
+fn penalty_slack_peak(
+    products: &[Vec<[f64; 3]>],
+    contacts: &[String],
+) -> Option<crate::transcription::SlackPeak> {
+    let (interval, slack) = products
+        .iter()
+        .map(|p| interval_slack(p))
+        .enumerate()
+        .fold(None, |best: Option<(usize, f64)>, (j, s)| match best {
+            Some((_, b)) if s <= b || s.is_nan() => best,
+            _ => Some((j, s)),
+        })?;
+    let contact = products[interval]
+        .iter()
+        .map(|p| p.iter().copied().fold(0.0_f64, f64::max))
+        .enumerate()
+        .filter(|&(_, p)| p > 0.0)
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+        .and_then(|(i, _)| contacts.get(i).cloned());
+    Some(crate::transcription::SlackPeak {
+        interval,
+        contact,
+        slack,
+    })
+}
+
+/// A row violated by at most this much is not listed among the worst rows: Ipopt relaxes
+/// bounds by 1e-8 (`bound_relax_factor`), so solved points show violations of that order.
+const LISTED_VIOLATION: f64 = 1e-6;
+
+/// The most violated rows (at most [`Solution::WORST_ROWS`], each by more than
+/// [`LISTED_VIOLATION`]), worst first, named as `vito check --derivatives` names them.
+fn worst_rows(
+    l: &crate::transcription::Layout,
+    violations: &[f64],
+    names: crate::transcription::EntryNames,
+) -> Vec<crate::transcription::RowViolation> {
+    let mut rows: Vec<usize> = (0..violations.len())
+        .filter(|&r| violations[r] > LISTED_VIOLATION)
+        .collect();
+    rows.sort_by(|&a, &b| violations[b].total_cmp(&violations[a]).then(a.cmp(&b)));
+    rows.truncate(Solution::WORST_ROWS);
+    rows.into_iter()
+        .map(|r| crate::transcription::RowViolation {
+            row: l.row_name(r, names),
+            violation: violations[r],
+        })
+        .collect()
 }

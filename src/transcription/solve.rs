@@ -1,12 +1,11 @@
 //! Solving a problem's NLP: build the transcription, run Ipopt (multi-start, slack
-//! continuation), fill a [`Solution`]; plus the benchmark row. The entry point is
+//! continuation) and keep the [`Solution`] it reads off; plus the benchmark row. The entry point is
 //! [`crate::pipeline::solve`], which loads the robot and resolves the initial guess first.
 
 use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
-use super::blocks::complementarity_penalty::{interval_products, interval_slack};
 use super::nlp::{ProgressFn, TranscriptionNlp};
 use super::{
     MechanicsDerivatives, NlpSize, Solution, SolveVerdict, Transcription, TranscriptionError,
@@ -315,7 +314,7 @@ fn solve_transcription<M: MechanicsDerivatives>(
     let mut solver = configure(spec, options)?;
     let mut nlp = adapter(transcription, spec, options);
     let report = solver.solve(&mut nlp)?;
-    let mut solution = fill_solution(transcription, spec, &report);
+    let mut solution = Solution::read_off(transcription, spec, &report);
     let Some(continuation) = spec.slack_continuation else {
         return Ok(solution);
     };
@@ -386,7 +385,7 @@ fn solve_transcription<M: MechanicsDerivatives>(
         }
         let mut nlp = adapter(transcription, spec, options);
         let next_report = solver.solve(&mut nlp)?;
-        let mut next = fill_solution(transcription, spec, &next_report);
+        let mut next = Solution::read_off(transcription, spec, &next_report);
         next.iterations += solution.iterations;
         next.wall_time_s += solution.wall_time_s;
         next.callback_time_s += solution.callback_time_s;
@@ -415,7 +414,11 @@ fn adapter<'a, M: MechanicsDerivatives>(
                 .chain(&options.ipopt_options)
                 .cloned()
                 .collect();
-            Some(transcription.units_scaling(&given, ipopt_drops_fixed_variables(spec, options)))
+            Some(super::units_scaling(
+                transcription,
+                &given,
+                ipopt_drops_fixed_variables(spec, options),
+            ))
         }
     };
     TranscriptionNlp::new(transcription, options.progress.as_deref()).with_scaling(scaling)
@@ -491,234 +494,103 @@ fn restartable(status: ipopt::Status) -> bool {
         )
 }
 
-/// Signed distance φ_i(q) of every contact at q.
-fn distances<M: MechanicsDerivatives>(t: &Transcription<M>, q: &[f64]) -> Vec<f64> {
-    (0..t.layout().nc)
-        .map(|i| crate::contact::distance(t.mechanics(), &t.context().contact, i, q))
-        .collect()
-}
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::discrete::ModelMechanics;
+    use crate::transcription::fixture::hopper_spec;
 
-fn fill_solution<M: MechanicsDerivatives>(
-    t: &Transcription<M>,
-    spec: &ProblemSpec,
-    report: &ipopt::SolveReport,
-) -> Solution {
-    let l = t.layout();
-    let x = &report.x;
-    let q: Vec<Vec<f64>> = (0..l.knots).map(|k| x[l.q(k)].to_vec()).collect();
-    let time_steps: Vec<f64> = (0..l.intervals()).map(|j| x[l.h(j)]).collect();
-    let times: Vec<f64> = match time_steps.first() {
-        // Equal steps (fixed, or free steps that ended equal): t_k = k·h, in decimal.
-        Some(&h) if time_steps.iter().all(|&s| s == h) => (0..l.knots)
-            .map(|k| crate::files::trajectory_csv::knot_time(k, h))
-            .collect(),
-        _ => {
-            let mut times = vec![0.0];
-            for h in &time_steps {
-                times.push(times.last().copied().unwrap_or(0.0) + h);
-            }
-            times
-        }
-    };
-    let mut v = vec![x[l.v0()].to_vec()];
-    for j in 0..l.intervals() {
-        v.push(
-            q[j + 1]
-                .iter()
-                .zip(&q[j])
-                .map(|(b, a)| (b - a) / time_steps[j])
-                .collect(),
-        );
+    fn solve(spec: &ProblemSpec, options: &SolveOptions) -> Solution {
+        let mech = ModelMechanics::load(spec).expect("the hopper's URDF loads");
+        solve_with(mech, spec, options).expect("the solve runs")
     }
-    let mut normal_impulse = Vec::new();
-    let mut friction_impulse = Vec::new();
-    let mut slack = Vec::new();
-    let mut max_complementarity = 0.0_f64;
-    // φ at every knot; the impulses of interval j are complementary to φ at knot j + 1.
-    let signed_distance: Vec<Vec<f64>> = q.iter().map(|qk| distances(t, qk)).collect();
-    for j in 0..l.intervals() {
-        let phi = &signed_distance[j + 1];
-        let c: Vec<f64> = (0..l.nc).map(|i| x[l.c(j, i)]).collect();
-        let beta: Vec<Vec<f64>> = (0..l.nc).map(|i| x[l.beta(j, i)].to_vec()).collect();
-        // Report the slack and the clipped c·φ. The other two products (ηᵀβ and
-        // ψ(μc − eᵀβ)) are not meaningful per contact: ψ and η are undetermined in flight
-        // and stick and drift to 1e5–1e8, where Ipopt's 1e-8 bound relaxation shows as
-        // O(1e-2) terms that cancel within a row.
-        let contact_gap: f64 = (0..l.nc).map(|i| c[i].max(0.0) * phi[i].max(0.0)).sum();
-        max_complementarity = max_complementarity.max(contact_gap);
-        normal_impulse.push(c);
-        friction_impulse.push(beta);
-        // A slack is ≥ 0; Ipopt's bound relaxation leaves it at −1e-8 where it is 0.
-        slack.push(x[l.slack(j)].iter().map(|s| s.max(0.0)).collect());
-    }
-    let contact_names: Vec<String> = spec.contacts.iter().map(|c| c.name.clone()).collect();
-    let (max_slack, slack_peak) = if l.slack_mode == SlackMode::Penalty {
-        // No slack variables: an interval's slack is the one the elastic form would hold
-        // there, the largest sum of its products (so a plan whose products exceed the
-        // tolerance is still `relaxed_contact`).
-        let products = interval_products(l, t.context(), x, &signed_distance);
-        slack = products.iter().map(|p| vec![interval_slack(p)]).collect();
-        let peak = penalty_slack_peak(&products, &contact_names);
-        (peak.as_ref().map_or(0.0, |p| p.slack), peak)
-    } else {
-        let max_slack = x[l.slacks()].iter().fold(0.0_f64, |a, &b| a.max(b));
-        (
-            max_slack,
-            slack_peak(t, x, &signed_distance, &contact_names),
-        )
-    };
-    let contact_positions = q
-        .iter()
-        .map(|qk| {
-            (0..l.nc)
-                .map(|i| t.mechanics().contact_position(i, qk))
-                .collect()
-        })
-        .collect();
-    let (row_violations, _) = t.row_violations(x);
-    let max_constraint_violation = row_violations.iter().fold(0.0_f64, |a, &b| a.max(b));
-    let coordinate_names = t.mechanics().coordinate_names();
-    let input_names = t.mechanics().input_names();
-    let worst_rows = worst_rows(
-        l,
-        &row_violations,
-        crate::transcription::EntryNames {
-            coordinates: &coordinate_names,
-            inputs: &input_names,
-            contacts: &contact_names,
-        },
-    );
-    Solution {
-        status: report.status,
-        objective: report.objective,
-        objective_terms: t.objective_terms(x),
-        iterations: report.iterations,
-        wall_time_s: report.wall_time_s,
-        callback_time_s: report.callback_time_s,
-        ipopt_time_s: report.ipopt_time_s,
-        callback_split: report.callback_split,
-        size: t.size(),
-        coordinate_names,
-        input_names,
-        contact_names,
-        friction_directions: l.nd,
-        times,
-        time_steps,
-        u: (0..l.intervals()).map(|j| x[l.u(j)].to_vec()).collect(),
-        q,
-        v,
-        normal_impulse,
-        friction_impulse,
-        signed_distance,
-        contact_positions,
-        slack,
-        max_slack,
-        slack_peak,
-        slack_tolerance: spec.slack_tolerance,
-        max_complementarity,
-        max_constraint_violation,
-        worst_rows,
-        slack_weight: t.slack_weight(),
-        solves: 1,
-        starts: Vec::new(),
-        best_start: 0,
-    }
-}
 
-/// Where the largest slack of x sits: its interval, and the contact it relaxes (its own in
-/// per-contact mode; else the contact with the largest clipped product c·φ, ηᵀβ or
-/// ψ(μc − eᵀβ) in that interval).
-fn slack_peak<M: MechanicsDerivatives>(
-    t: &Transcription<M>,
-    x: &[f64],
-    distance: &[Vec<f64>],
-    contacts: &[String],
-) -> Option<crate::transcription::SlackPeak> {
-    let l = t.layout();
-    let per = l.slacks_per_interval();
-    let (index, slack) = x[l.slacks()].iter().copied().enumerate().fold(
-        None,
-        |best: Option<(usize, f64)>, (i, s)| match best {
-            Some((_, b)) if s <= b || s.is_nan() => best,
-            _ => Some((i, s)),
-        },
-    )?;
-    let interval = index / per;
-    let contact = if per > 1 {
-        // Per-contact mode: three slacks per contact, in contact order.
-        Some((index % per) / 3)
-    } else {
-        let j = interval;
-        let product = |i: usize| {
-            let (c, beta) = (x[l.c(j, i)], &x[l.beta(j, i)]);
-            let (psi, eta) = (x[l.psi(j, i)], &x[l.eta(j, i)]);
-            let gap = c.max(0.0) * distance[j + 1][i].max(0.0);
-            let eta_beta: f64 = eta.iter().zip(beta).map(|(e, b)| e * b).sum();
-            let cone = t.context().contact.friction[i] * c - beta.iter().sum::<f64>();
-            gap.max(eta_beta).max(psi * cone)
+    /// The hopper's optimum, as the independent implementation finds it
+    /// (`problems/golden.toml`).
+    const HOPPER_OPTIMUM: f64 = 6.948567241208028;
+
+    #[test]
+    fn a_solve_reads_off_its_optimum() {
+        let spec = hopper_spec(&[]);
+        let s = solve(&spec, &SolveOptions::default());
+        assert!(s.status.is_success(), "{:?}", s.status);
+        assert!(matches!(s.verdict(), SolveVerdict::Solved(_)));
+        assert!((s.objective - HOPPER_OPTIMUM).abs() <= 1e-6 * HOPPER_OPTIMUM);
+        let terms: f64 = s.objective_terms.iter().map(|(_, v)| v).sum();
+        assert!((s.objective - terms).abs() <= 1e-9 * s.objective);
+        // The trajectory by knot: fixed start, the goal 0.5 m ahead, T = 1 s over 20 steps.
+        assert_eq!(s.q.len(), 21);
+        assert_eq!(s.q[0], spec.q_initial);
+        assert!((s.q[20][0] - 0.5).abs() <= 1e-8);
+        assert_eq!(s.times.last().copied(), Some(1.0));
+        assert_eq!(s.slack.len(), 20);
+        assert!(s.max_slack <= spec.slack_tolerance);
+        // v_k = (q_k − q_{k−1}) / h from the knots themselves.
+        let v = (s.q[10][1] - s.q[9][1]) / s.time_steps[9];
+        assert!((s.v[10][1] - v).abs() <= 1e-12);
+        assert_eq!(s.solves, 1);
+    }
+
+    #[test]
+    fn multi_start_keeps_the_best_solved_start_and_records_every_start() {
+        let spec = hopper_spec(&[]);
+        let options = SolveOptions {
+            multi_start: Some(MultiStart {
+                starts: 3,
+                seed: 5,
+                only: None,
+            }),
+            ..SolveOptions::default()
         };
-        (0..l.nc)
-            .map(|i| (i, product(i)))
-            .filter(|&(_, p)| p > 0.0)
-            .max_by(|a, b| a.1.total_cmp(&b.1))
-            .map(|(i, _)| i)
-    };
-    Some(crate::transcription::SlackPeak {
-        interval,
-        contact: contact.and_then(|i| contacts.get(i).cloned()),
-        slack: slack.max(0.0),
-    })
-}
+        let s = solve(&spec, &options);
+        assert_eq!(s.starts.len(), 3);
+        let seeds: Vec<Option<u64>> = s.starts.iter().map(|r| r.seed).collect();
+        assert_eq!(seeds, [None, Some(6), Some(7)]);
+        let best = s
+            .starts
+            .iter()
+            .enumerate()
+            .filter(|(_, r)| matches!(r.verdict, SolveVerdict::Solved(_)))
+            .min_by(|a, b| a.1.objective.total_cmp(&b.1.objective))
+            .map(|(k, r)| (k, r.objective));
+        assert_eq!(best, Some((s.best_start, s.objective)));
+        // Each start solved on its own and merged gives the same answer.
+        let alone: Vec<(usize, Solution)> = (0..3)
+            .map(|k| {
+                let only = SolveOptions {
+                    multi_start: Some(MultiStart {
+                        starts: 3,
+                        seed: 5,
+                        only: Some(k),
+                    }),
+                    ..SolveOptions::default()
+                };
+                (k, solve(&spec, &only))
+            })
+            .collect();
+        let merged = best_of(alone).expect("three starts");
+        assert_eq!(merged.best_start, s.best_start);
+        assert_eq!(merged.objective.to_bits(), s.objective.to_bits());
+        assert_eq!(merged.starts.len(), 3);
+    }
 
-/// Where the largest interval slack of penalty mode sits ([`interval_slack`] of each
-/// interval's products): its interval and the contact with the largest product there (None
-/// when no product is positive).
-fn penalty_slack_peak(
-    products: &[Vec<[f64; 3]>],
-    contacts: &[String],
-) -> Option<crate::transcription::SlackPeak> {
-    let (interval, slack) = products
-        .iter()
-        .map(|p| interval_slack(p))
-        .enumerate()
-        .fold(None, |best: Option<(usize, f64)>, (j, s)| match best {
-            Some((_, b)) if s <= b || s.is_nan() => best,
-            _ => Some((j, s)),
-        })?;
-    let contact = products[interval]
-        .iter()
-        .map(|p| p.iter().copied().fold(0.0_f64, f64::max))
-        .enumerate()
-        .filter(|&(_, p)| p > 0.0)
-        .max_by(|a, b| a.1.total_cmp(&b.1))
-        .and_then(|(i, _)| contacts.get(i).cloned());
-    Some(crate::transcription::SlackPeak {
-        interval,
-        contact,
-        slack,
-    })
-}
+    #[test]
+    fn the_continuation_raises_the_weight_until_the_slack_is_below_its_target() {
+        let spec = hopper_spec(&["slack.weight=1e-3", "slack.target=1e-6", "slack.rounds=6"]);
+        let s = solve(&spec, &SolveOptions::default());
+        assert!(
+            s.solves > 1,
+            "the first solve at α = 1e-3 already met the target"
+        );
+        let weight = 1e-3 * 10f64.powi(s.solves as i32 - 1);
+        assert!((s.slack_weight - weight).abs() <= 1e-12 * weight);
+        assert!(s.max_slack <= 1e-6, "{}", s.max_slack);
+    }
 
-/// A row violated by at most this much is not listed among the worst rows: Ipopt relaxes
-/// bounds by 1e-8 (`bound_relax_factor`), so solved points show violations of that order.
-const LISTED_VIOLATION: f64 = 1e-6;
-
-/// The most violated rows (at most [`Solution::WORST_ROWS`], each by more than
-/// [`LISTED_VIOLATION`]), worst first, named as `vito check --derivatives` names them.
-fn worst_rows(
-    l: &crate::transcription::Layout,
-    violations: &[f64],
-    names: crate::transcription::EntryNames,
-) -> Vec<crate::transcription::RowViolation> {
-    let mut rows: Vec<usize> = (0..violations.len())
-        .filter(|&r| violations[r] > LISTED_VIOLATION)
-        .collect();
-    rows.sort_by(|&a, &b| violations[b].total_cmp(&violations[a]).then(a.cmp(&b)));
-    rows.truncate(Solution::WORST_ROWS);
-    rows.into_iter()
-        .map(|r| crate::transcription::RowViolation {
-            row: l.row_name(r, names),
-            violation: violations[r],
-        })
-        .collect()
+    #[test]
+    fn only_optima_and_limits_restart_the_continuation() {
+        use ipopt::Status::*;
+        assert!(restartable(SolveSucceeded) && restartable(MaximumIterationsExceeded));
+        assert!(!restartable(UserRequestedStop) && !restartable(InfeasibleProblemDetected));
+    }
 }

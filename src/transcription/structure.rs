@@ -19,9 +19,8 @@ use std::sync::Arc;
 
 use num_dual::Dual;
 
-use super::Transcription;
-use super::blocks::Block;
-use super::pattern::PatternBuilder;
+use super::blocks::{Block, Context, PlacedBlocks, ScalarBlockFn, VectorBlockFn};
+use super::pattern::{Pattern, PatternBuilder};
 use crate::autodiff::dependency::{DependencyScalar, Trace};
 use crate::autodiff::{ScalarFunction, SymmetricGroups, VectorFunction};
 use crate::discrete::{MechanicsDerivatives, midpoint_segment_groups};
@@ -190,134 +189,151 @@ impl GroupCache {
     }
 }
 
-impl<M: MechanicsDerivatives> Transcription<M> {
-    /// Sparsity patterns of the whole NLP: the structure of every block, placed.
-    pub(super) fn build_patterns(&mut self) {
-        let structure = self.dependency_structure();
-        self.assign_slots(&structure);
-    }
+/// The sparsity patterns (Jacobian, lower Hessian) of the NLP whose blocks are `blocks`: the
+/// structure of every block (see the module documentation), placed. Fills each block's slots,
+/// Hessian inputs and second-derivative groups; `x_lower` and `x_upper` say which variables are
+/// fixed.
+pub(super) fn build_patterns<M: MechanicsDerivatives>(
+    mech: &M,
+    ctx: &Context,
+    blocks: &mut PlacedBlocks,
+    x: &[f64],
+    (x_lower, x_upper): (&[f64], &[f64]),
+) -> (Pattern, Pattern) {
+    let structure = dependency_structure(mech, ctx, blocks, x);
+    let fixed: Vec<bool> = x_lower
+        .iter()
+        .zip(x_upper)
+        .map(|(lo, hi)| lo == hi)
+        .collect();
+    assign_slots(blocks, &structure, &fixed, &mech.translation_coordinates())
+}
 
-    /// Which local entries of every block can be nonzero anywhere, from the dependencies of
-    /// its function (see the module documentation). The one place that decides structure.
-    fn dependency_structure(&self) -> Structure {
-        fn traced<K: std::fmt::Debug>(
-            blocks: &[Block<K>],
-            mut trace: impl FnMut(&Block<K>) -> BlockMask,
-        ) -> Vec<BlockMask> {
-            let mut cache: HashMap<(String, usize, Vec<bool>), BlockMask> = HashMap::new();
-            blocks
-                .iter()
-                .map(|b| {
-                    cache
-                        .entry(trace_key(b))
-                        .or_insert_with(|| trace(b))
-                        .clone()
-                })
-                .collect()
-        }
-        let x = &self.x_initial;
-        Structure {
-            cost: traced(&self.cost_blocks, |b| {
-                cost_mask(&self.scalar_fn(b), &gather(x, &b.vars), b.targets.len())
-            }),
-            gradient: traced(&self.gradient_blocks, |b| {
-                gradient_mask(&self.scalar_fn(b), &gather(x, &b.vars), &live_outputs(b))
-            }),
-            vector: traced(&self.vector_blocks, |b| {
-                vector_mask(&self.vector_fn(b), &gather(x, &b.vars), &live_outputs(b))
-            }),
-        }
-    }
-
-    /// Global Jacobian and Hessian slots of every block's structural nonzeros, and the
-    /// inputs its generic-AD Hessian runs over.
-    fn assign_slots(&mut self, structure: &Structure) {
-        let mut jac = PatternBuilder::default();
-        let mut hess = PatternBuilder::default();
-        let fixed: Vec<bool> = self
-            .x_lower
+/// Which local entries of every block can be nonzero anywhere, from the dependencies of its
+/// function at `x`'s point (see the module documentation). The one place that decides
+/// structure.
+fn dependency_structure<M: MechanicsDerivatives>(
+    mech: &M,
+    ctx: &Context,
+    blocks: &PlacedBlocks,
+    x: &[f64],
+) -> Structure {
+    fn traced<K: std::fmt::Debug>(
+        blocks: &[Block<K>],
+        mut trace: impl FnMut(&Block<K>) -> BlockMask,
+    ) -> Vec<BlockMask> {
+        let mut cache: HashMap<(String, usize, Vec<bool>), BlockMask> = HashMap::new();
+        blocks
             .iter()
-            .zip(&self.x_upper)
-            .map(|(lo, hi)| lo == hi)
-            .collect();
-        fn place<K>(
-            b: &mut Block<K>,
-            (jmask, hmask): &BlockMask,
-            fixed: &[bool],
-            jac: &mut PatternBuilder,
-            hess: &mut PatternBuilder,
-        ) {
-            let nv = b.vars.len();
-            let mut slots = Vec::new();
-            for (o, rows) in b.targets.iter().enumerate() {
-                for &r in rows {
-                    for (a, &v) in b.vars.iter().enumerate() {
-                        slots.push(if jmask[o * nv + a] {
-                            jac.slot(r, v)
-                        } else {
-                            NO_SLOT
-                        });
-                    }
-                }
-            }
-            b.jacobian_slots = slots;
-            let mut hslots = Vec::new();
-            let mut active = vec![false; b.nonlinear];
-            for a in 0..b.nonlinear {
-                for c in (0..=a).filter(|&c| b.has_hessian_pair(a, c)) {
-                    if !hmask[a * nv + c] {
-                        hslots.push((NO_SLOT, 0.0));
-                        continue;
-                    }
-                    active[a] = true;
-                    active[c] = true;
-                    let mult = if a != c && b.vars[a] == b.vars[c] {
-                        2.0
-                    } else {
-                        1.0
-                    };
-                    hslots.push((hess.lower_slot(b.vars[a], b.vars[c]), mult));
-                }
-            }
-            b.hessian_slots = hslots;
-            b.hessian_inputs = (0..b.nonlinear).filter(|&a| active[a]).collect();
-            b.free_input_mask = b.vars.iter().map(|&v| !fixed[v]).collect();
-            b.hessian_free_inputs = b
-                .hessian_inputs
-                .iter()
-                .copied()
-                .filter(|&a| !fixed[b.vars[a]])
-                .collect();
-        }
-        for (b, m) in self.cost_blocks.iter_mut().zip(&structure.cost) {
-            place(b, m, &fixed, &mut jac, &mut hess);
-        }
-        for (b, m) in self.gradient_blocks.iter_mut().zip(&structure.gradient) {
-            place(b, m, &fixed, &mut jac, &mut hess);
-        }
-        for (b, m) in self.vector_blocks.iter_mut().zip(&structure.vector) {
-            place(b, m, &fixed, &mut jac, &mut hess);
-        }
-        let mut groups = GroupCache::default();
-        for (b, (_, hmask)) in self.cost_blocks.iter_mut().zip(&structure.cost) {
-            let nv = b.vars.len();
-            b.second_derivative_groups = groups.restricted(hmask, nv, &b.hessian_inputs);
-            b.free_second_derivative_groups = groups.restricted(hmask, nv, &b.hessian_free_inputs);
-        }
-        let translations = self.mech.translation_coordinates();
-        for (b, (jmask, _)) in self.gradient_blocks.iter_mut().zip(&structure.gradient) {
-            if b.kind.segment_groups() {
-                // A segment's rows are the gradient of Ld: their Jacobian mask is the
-                // pattern of the Hessian of Ld.
-                let all = vec![true; b.vars.len()];
-                b.second_derivative_groups = groups.segment(jmask, &all, &translations);
-                b.free_second_derivative_groups =
-                    groups.segment(jmask, &b.free_input_mask, &translations);
-            }
-        }
-        self.jacobian = jac.finish();
-        self.hessian = hess.finish();
+            .map(|b| {
+                cache
+                    .entry(trace_key(b))
+                    .or_insert_with(|| trace(b))
+                    .clone()
+            })
+            .collect()
     }
+    Structure {
+        cost: traced(&blocks.cost, |b| {
+            let f = ScalarBlockFn::new(mech, ctx, b);
+            cost_mask(&f, &gather(x, &b.vars), b.targets.len())
+        }),
+        gradient: traced(&blocks.gradient, |b| {
+            let f = ScalarBlockFn::new(mech, ctx, b);
+            gradient_mask(&f, &gather(x, &b.vars), &live_outputs(b))
+        }),
+        vector: traced(&blocks.vector, |b| {
+            let f = VectorBlockFn::new(mech, ctx, b);
+            vector_mask(&f, &gather(x, &b.vars), &live_outputs(b))
+        }),
+    }
+}
+
+/// Global Jacobian and Hessian slots of every block's structural nonzeros, and the
+/// inputs its generic-AD Hessian runs over.
+fn assign_slots(
+    blocks: &mut PlacedBlocks,
+    structure: &Structure,
+    fixed: &[bool],
+    translations: &[bool],
+) -> (Pattern, Pattern) {
+    let mut jac = PatternBuilder::default();
+    let mut hess = PatternBuilder::default();
+    fn place<K>(
+        b: &mut Block<K>,
+        (jmask, hmask): &BlockMask,
+        fixed: &[bool],
+        jac: &mut PatternBuilder,
+        hess: &mut PatternBuilder,
+    ) {
+        let nv = b.vars.len();
+        let mut slots = Vec::new();
+        for (o, rows) in b.targets.iter().enumerate() {
+            for &r in rows {
+                for (a, &v) in b.vars.iter().enumerate() {
+                    slots.push(if jmask[o * nv + a] {
+                        jac.slot(r, v)
+                    } else {
+                        NO_SLOT
+                    });
+                }
+            }
+        }
+        b.jacobian_slots = slots;
+        let mut hslots = Vec::new();
+        let mut active = vec![false; b.nonlinear];
+        for a in 0..b.nonlinear {
+            for c in (0..=a).filter(|&c| b.has_hessian_pair(a, c)) {
+                if !hmask[a * nv + c] {
+                    hslots.push((NO_SLOT, 0.0));
+                    continue;
+                }
+                active[a] = true;
+                active[c] = true;
+                let mult = if a != c && b.vars[a] == b.vars[c] {
+                    2.0
+                } else {
+                    1.0
+                };
+                hslots.push((hess.lower_slot(b.vars[a], b.vars[c]), mult));
+            }
+        }
+        b.hessian_slots = hslots;
+        b.hessian_inputs = (0..b.nonlinear).filter(|&a| active[a]).collect();
+        b.free_input_mask = b.vars.iter().map(|&v| !fixed[v]).collect();
+        b.hessian_free_inputs = b
+            .hessian_inputs
+            .iter()
+            .copied()
+            .filter(|&a| !fixed[b.vars[a]])
+            .collect();
+    }
+    for (b, m) in blocks.cost.iter_mut().zip(&structure.cost) {
+        place(b, m, fixed, &mut jac, &mut hess);
+    }
+    for (b, m) in blocks.gradient.iter_mut().zip(&structure.gradient) {
+        place(b, m, fixed, &mut jac, &mut hess);
+    }
+    for (b, m) in blocks.vector.iter_mut().zip(&structure.vector) {
+        place(b, m, fixed, &mut jac, &mut hess);
+    }
+    let mut groups = GroupCache::default();
+    for (b, (_, hmask)) in blocks.cost.iter_mut().zip(&structure.cost) {
+        let nv = b.vars.len();
+        b.second_derivative_groups = groups.restricted(hmask, nv, &b.hessian_inputs);
+        b.free_second_derivative_groups = groups.restricted(hmask, nv, &b.hessian_free_inputs);
+    }
+    for (b, (jmask, _)) in blocks.gradient.iter_mut().zip(&structure.gradient) {
+        if b.kind.segment_groups() {
+            // A segment's rows are the gradient of Ld: their Jacobian mask is the
+            // pattern of the Hessian of Ld.
+            let all = vec![true; b.vars.len()];
+            b.second_derivative_groups = groups.segment(jmask, &all, translations);
+            b.free_second_derivative_groups =
+                groups.segment(jmask, &b.free_input_mask, translations);
+        }
+    }
+    (jac.finish(), hess.finish())
 }
 
 /// x[vars] as a dense local vector.

@@ -518,7 +518,7 @@ fn units_scaling_reaches_ipopt_and_reports_unscaled_numbers() {
     );
     spec.scaling = ScalingMode::Units;
     let t = Transcription::new(ModelMechanics::load(&spec).unwrap(), &spec).unwrap();
-    let (l, units) = (t.layout(), t.variable_units());
+    let (l, units) = (t.layout(), vito::transcription::variable_units(&t));
     let impulse = 3.3 * 9.81 * 0.05;
     let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * b;
     assert!(close(units[l.h(3)], 0.05));
@@ -533,7 +533,7 @@ fn units_scaling_reaches_ipopt_and_reports_unscaled_numbers() {
             .all(|&u| u == 1.0)
     );
     assert_eq!(units[l.psi(3, 0)], 1.0);
-    let scaling = t.units_scaling(&[], true);
+    let scaling = vito::transcription::units_scaling(&t, &[], true);
     let rows = scaling.constraints.unwrap();
     assert_eq!(rows.len(), l.num_constraints());
     assert!(rows.iter().all(|&d| d > 0.0 && d <= 1.0));

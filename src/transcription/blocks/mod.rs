@@ -68,7 +68,7 @@ pub(crate) use initial_momentum::InitialMomentum;
 pub(crate) use interior_distance::InteriorDistance;
 pub(crate) use loop_closure::LoopClosure;
 pub(crate) use loop_work::LoopWork;
-pub(crate) use place::{Placement, Stage};
+pub(crate) use place::{PlacedBlocks, Placement, Stage, place_blocks};
 pub(crate) use segment::Segment;
 pub(crate) use spin_friction::SpinFriction;
 pub(crate) use tangential_rate::TangentialRate;
@@ -622,6 +622,19 @@ pub struct VectorBlockFn<'a, M> {
     pub dim_out: usize,
 }
 
+impl<'a, M> VectorBlockFn<'a, M> {
+    /// Block `b` bound to the mechanics and the problem's constants.
+    pub fn new(mech: &'a M, ctx: &'a Context, b: &'a Block<VectorKind>) -> Self {
+        VectorBlockFn {
+            mech,
+            ctx,
+            kind: &b.kind,
+            dim_in: b.vars.len(),
+            dim_out: b.targets.len(),
+        }
+    }
+}
+
 impl<M: Mechanics> VectorFunction for VectorBlockFn<'_, M> {
     fn dim_in(&self) -> usize {
         self.dim_in
@@ -644,6 +657,18 @@ pub struct ScalarBlockFn<'a, M> {
     pub kind: &'a ScalarKind,
     /// Local inputs.
     pub dim: usize,
+}
+
+impl<'a, M> ScalarBlockFn<'a, M> {
+    /// Block `b` bound to the mechanics and the problem's constants.
+    pub fn new(mech: &'a M, ctx: &'a Context, b: &'a Block<ScalarKind>) -> Self {
+        ScalarBlockFn {
+            mech,
+            ctx,
+            kind: &b.kind,
+            dim: b.vars.len(),
+        }
+    }
 }
 
 impl<M: Mechanics> ScalarFunction for ScalarBlockFn<'_, M> {

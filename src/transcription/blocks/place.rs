@@ -9,7 +9,33 @@
 use std::ops::Range;
 
 use super::{Block, Context, ScalarKind, VectorKind};
+use crate::discrete::Mechanics;
 use crate::transcription::layout::Layout;
+
+/// Every block of an NLP, placed: the rows' vector and gradient blocks and the cost blocks,
+/// each list in placement order.
+#[derive(Debug, Default)]
+pub struct PlacedBlocks {
+    /// Vector blocks.
+    pub vector: Vec<Block<VectorKind>>,
+    /// Gradient blocks.
+    pub gradient: Vec<Block<ScalarKind>>,
+    /// Cost blocks.
+    pub cost: Vec<Block<ScalarKind>>,
+}
+
+/// The blocks of the NLP laid out as `layout` for the robot `mech`: every kind places its
+/// own, stage by stage ([`Placement::place_all`]).
+pub fn place_blocks<M: Mechanics>(mech: &M, layout: &Layout, ctx: &Context) -> PlacedBlocks {
+    let rolls = (0..layout.nc).map(|i| mech.contact_rolls(i)).collect();
+    let mut placement = Placement::new(layout, ctx, mech.has_discrete_force(), rolls);
+    placement.place_all();
+    PlacedBlocks {
+        vector: placement.vector,
+        gradient: placement.gradient,
+        cost: placement.cost,
+    }
+}
 
 /// One step of the NLP's skeleton at which kinds place blocks.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

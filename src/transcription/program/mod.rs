@@ -1,16 +1,27 @@
-//! The [`Transcription`]: the NLP of one problem, built from its parts (`placement`: which
-//! blocks; `structure`: sparsity; `start`: bounds and initial guess; `evaluate`: values and
-//! derivatives), with its accessors and evaluation settings.
+//! The [`Transcription`]: the NLP of one problem. [`Transcription::new`] builds its data once
+//! from the builders of the sibling modules (`blocks::place_blocks`: which blocks;
+//! `structure`: sparsity; `start`: bounds and initial guess), and only this module and its
+//! children see the fields: `evaluate` (values and derivatives) and `inspect` (what reports
+//! read, the derivative check) read them; the evaluation settings and the starting point are
+//! changed here.
 
-use super::blocks::{Block, Context, ScalarKind, VectorKind};
-use super::evaluate::{ContactDerivatives, JetPools};
+mod evaluate;
+mod inspect;
+
+pub use inspect::{DerivativeCheck, DerivativeKind, EntryCheck};
+
+use super::blocks::{Block, Context, ScalarKind, VectorKind, place_blocks};
+use super::error::check_len;
 use super::layout::{Dims, Layout};
 use super::pattern::Pattern;
+use super::start::{bounds, initial_guess, interior_points};
+use super::structure::build_patterns;
 use super::{NlpSize, TranscriptionError};
 use crate::discrete::{Mechanics, MechanicsDerivatives};
 use crate::problem::costs::{CostSizes, length_mismatch};
 use crate::problem::frames::FrameReads;
 use crate::problem::{HessianMode, ProblemSpec, TimeSteps};
+use evaluate::{ContactDerivatives, JetPools};
 
 /// From this many Jacobian nonzeros on, the Jacobian and Hessian blocks are evaluated on
 /// rayon's pool (see [`Transcription::set_parallel`]).
@@ -29,44 +40,29 @@ pub struct InitialGuessReport {
 
 /// The variational contact NLP of one problem (docs/reference-problems.md), ready for Ipopt.
 pub struct Transcription<M> {
-    pub(super) mech: M,
-    pub(super) ctx: Context,
-    pub(super) layout: Layout,
-    pub(super) hessian_mode: HessianMode,
-    pub(super) x_lower: Vec<f64>,
-    pub(super) x_upper: Vec<f64>,
-    pub(super) g_lower: Vec<f64>,
-    pub(super) g_upper: Vec<f64>,
-    pub(super) x_initial: Vec<f64>,
-    pub(super) vector_blocks: Vec<Block<VectorKind>>,
-    pub(super) gradient_blocks: Vec<Block<ScalarKind>>,
-    pub(super) cost_blocks: Vec<Block<ScalarKind>>,
-    pub(super) jacobian: Pattern,
-    pub(super) hessian: Pattern,
-    pub(super) parallel: bool,
+    mech: M,
+    ctx: Context,
+    layout: Layout,
+    hessian_mode: HessianMode,
+    x_lower: Vec<f64>,
+    x_upper: Vec<f64>,
+    g_lower: Vec<f64>,
+    g_upper: Vec<f64>,
+    /// The starting point (see [`Transcription::set_initial_point`]).
+    x_initial: Vec<f64>,
+    vector_blocks: Vec<Block<VectorKind>>,
+    gradient_blocks: Vec<Block<ScalarKind>>,
+    cost_blocks: Vec<Block<ScalarKind>>,
+    jacobian: Pattern,
+    hessian: Pattern,
+    parallel: bool,
     /// How the contact blocks' derivatives are taken when evaluating.
-    pub(super) contact_derivatives: ContactDerivatives,
+    contact_derivatives: ContactDerivatives,
     /// See [`Transcription::set_skip_fixed_variables`].
-    pub(super) skip_fixed: bool,
+    skip_fixed: bool,
     /// Storage of the contact geometries' point jets, kept from one derivative call to the
     /// next.
-    pub(super) jets: JetPools,
-}
-
-pub(super) fn check_len(
-    field: &str,
-    expected: usize,
-    found: usize,
-) -> Result<(), TranscriptionError> {
-    if expected == found {
-        Ok(())
-    } else {
-        Err(TranscriptionError::Length {
-            field: field.to_string(),
-            expected,
-            found,
-        })
-    }
+    jets: JetPools,
 }
 
 impl<M: MechanicsDerivatives> Transcription<M> {
@@ -145,36 +141,41 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                 .collect(),
             VectorKind::interval_rows(&dims, spec.slack_mode),
         );
-        let mut t = Transcription {
-            ctx,
-            layout,
-            hessian_mode: spec.hessian,
-            x_lower: Vec::new(),
-            x_upper: Vec::new(),
-            g_lower: Vec::new(),
-            g_upper: Vec::new(),
-            x_initial: Vec::new(),
-            vector_blocks: Vec::new(),
-            gradient_blocks: Vec::new(),
-            cost_blocks: Vec::new(),
-            jacobian: Pattern::default(),
-            hessian: Pattern::default(),
-            parallel: true,
-            contact_derivatives: ContactDerivatives::ChainRule,
-            skip_fixed: false,
-            jets: JetPools::default(),
-            mech,
-        };
-        t.place_blocks();
-        t.set_bounds(spec)?;
-        t.set_initial_guess(spec)?;
-        t.build_patterns();
+        let mut blocks = place_blocks(&mech, &layout, &ctx);
+        let bounds = bounds(&mech, &layout, spec)?;
+        let x_initial = initial_guess(&mech, &ctx, &layout, &bounds, spec)?;
+        let (jacobian, hessian) = build_patterns(
+            &mech,
+            &ctx,
+            &mut blocks,
+            &x_initial,
+            (&bounds.x_lower, &bounds.x_upper),
+        );
         // Measured in solves on the shared 2-core machine (BENCHMARKS.md): the
         // pool pays for HAMR's Jacobian and Hessian (143,302 Jacobian nonzeros: J 41 ms, H
         // 127 ms a call against 63 and 170 serial) and costs on the brick's (32,546: callbacks
         // 6.4 s a solve against 3.9 s serial), whose J + H now take 5 ms.
-        t.parallel = t.jacobian.nnz() >= PARALLEL_FROM_JACOBIAN_NNZ;
-        Ok(t)
+        let parallel = jacobian.nnz() >= PARALLEL_FROM_JACOBIAN_NNZ;
+        Ok(Transcription {
+            ctx,
+            layout,
+            hessian_mode: spec.hessian,
+            x_lower: bounds.x_lower,
+            x_upper: bounds.x_upper,
+            g_lower: bounds.g_lower,
+            g_upper: bounds.g_upper,
+            x_initial,
+            vector_blocks: blocks.vector,
+            gradient_blocks: blocks.gradient,
+            cost_blocks: blocks.cost,
+            jacobian,
+            hessian,
+            parallel,
+            contact_derivatives: ContactDerivatives::ChainRule,
+            skip_fixed: false,
+            jets: JetPools::default(),
+            mech,
+        })
     }
 
     /// Slack weight α of the objective α Σ s.
@@ -271,6 +272,23 @@ impl<M: MechanicsDerivatives> Transcription<M> {
     /// Problem constants of the blocks.
     pub fn context(&self) -> &Context {
         &self.ctx
+    }
+
+    /// Start the next solve from `x` (all variables, e.g. a previous solution), clamped to the
+    /// variable bounds.
+    pub fn set_initial_point(&mut self, x: &[f64]) -> Result<(), TranscriptionError> {
+        check_len("initial point", self.x_initial.len(), x.len())?;
+        for (i, (&xi, out)) in x.iter().zip(self.x_initial.iter_mut()).enumerate() {
+            *out = xi.clamp(self.x_lower[i], self.x_upper[i]);
+        }
+        Ok(())
+    }
+
+    /// Sets a Galerkin integrator's interior points in `x` from its knots: on the chord between
+    /// each interval's knots, or with `from_dynamics` where the interval's dynamics put them
+    /// (stationary, as at a solution). Nothing for another integrator.
+    pub fn set_interior_points(&self, x: &mut [f64], from_dynamics: bool) {
+        interior_points(&self.mech, &self.ctx, &self.layout, x, from_dynamics);
     }
 }
 

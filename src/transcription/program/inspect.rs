@@ -1,3 +1,7 @@
+//! The NLP read at a point for the user: row violations, the objective by term, the
+//! complementarity products, the largest slack, derivative time per block kind; and the
+//! derivative check.
+//!
 //! The derivative check (`vito check --derivatives`): the objective gradient, the constraint
 //! Jacobian and the Lagrangian Hessian (seeded random multipliers) against central finite
 //! differences at one point, entry by entry, including the entries the declared structure
@@ -18,10 +22,16 @@
 
 use std::collections::HashMap;
 
-use super::Transcription;
-use super::layout::EntryNames;
+use super::{InitialGuessReport, Transcription};
 use crate::discrete::MechanicsDerivatives;
+use crate::problem::SlackMode;
 use crate::random::SeededRng;
+use crate::transcription::blocks::ScalarKind;
+use crate::transcription::blocks::complementarity_penalty::{
+    PENALTY_TERM, interval_products, interval_slack,
+};
+use crate::transcription::layout::EntryNames;
+use crate::transcription::structure::gather;
 
 /// Which derivative an entry belongs to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -176,7 +186,7 @@ fn entry(
 impl<M: MechanicsDerivatives> Transcription<M> {
     /// Every block as (its variables, the rows it adds into).
     fn block_footprints(&self) -> Vec<(&[usize], Vec<usize>)> {
-        fn rows<K>(b: &super::blocks::Block<K>) -> Vec<usize> {
+        fn rows<K>(b: &crate::transcription::blocks::Block<K>) -> Vec<usize> {
             b.targets.iter().flatten().copied().collect()
         }
         let mut out: Vec<(&[usize], Vec<usize>)> = Vec::new();
@@ -359,5 +369,152 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                 "  OUTSIDE DECLARED STRUCTURE"
             }
         )
+    }
+}
+
+impl<M: MechanicsDerivatives> Transcription<M> {
+    /// Objective, largest constraint violation and ‖equality residuals‖₂ at the initial
+    /// point (docs/reference-problems.md, "values at the initial guess").
+    pub fn initial_guess_report(&self) -> InitialGuessReport {
+        let x = &self.x_initial;
+        let (max_violation, eq_norm) = self.violation(x);
+        InitialGuessReport {
+            objective: self.objective(x),
+            max_constraint_violation: max_violation,
+            equality_residual_norm: eq_norm,
+        }
+    }
+
+    /// Largest violation of the constraint rows (|g| for equalities, the shortfall below
+    /// the lower bound for inequalities) and the 2-norm of the equality residuals at x.
+    pub fn violation(&self, x: &[f64]) -> (f64, f64) {
+        let (violations, g) = self.row_violations(x);
+        let max = violations.iter().fold(0.0_f64, |a, &b| a.max(b));
+        let sq: f64 = g
+            .iter()
+            .enumerate()
+            .filter(|&(r, _)| self.layout.is_equality(r))
+            .map(|(_, gr)| gr * gr)
+            .sum();
+        (max, sq.sqrt())
+    }
+
+    /// Each constraint row's violation at x (how far g_r lies outside [g_lower, g_upper],
+    /// 0 inside), and g itself.
+    pub fn row_violations(&self, x: &[f64]) -> (Vec<f64>, Vec<f64>) {
+        let mut g = vec![0.0; self.layout.num_constraints()];
+        self.constraints(x, &mut g);
+        let violations = g
+            .iter()
+            .enumerate()
+            .map(|(r, &gr)| (self.g_lower[r] - gr).max(gr - self.g_upper[r]).max(0.0))
+            .collect();
+        (violations, g)
+    }
+
+    /// Problem cost per term (names as in `Solution::objective_terms`) and the slack penalty
+    /// ("slack_penalty"), or in penalty mode the weighted complementarity products
+    /// ("complementarity_penalty").
+    pub fn objective_terms(&self, x: &[f64]) -> Vec<(String, f64)> {
+        let mut terms: Vec<(String, f64)> = Vec::new();
+        let mut penalty = 0.0;
+        for b in &self.cost_blocks {
+            let z = gather(x, &b.vars);
+            let value = crate::autodiff::ScalarFunction::eval(&self.scalar_fn(b), &z);
+            let name = match &b.kind {
+                ScalarKind::Cost(cost) => {
+                    crate::problem::costs::term_name(&self.ctx.costs[cost.term])
+                }
+                ScalarKind::FrameCost(cost) => self.ctx.frames[cost.term].cost_name(),
+                ScalarKind::ComplementarityPenalty(_) => {
+                    penalty += value;
+                    continue;
+                }
+                _ => continue,
+            };
+            match terms.iter_mut().find(|(n, _)| n == name) {
+                Some(entry) => entry.1 += value,
+                None => terms.push((name.to_string(), value)),
+            }
+        }
+        if self.layout.slack_mode == SlackMode::Penalty {
+            terms.push((PENALTY_TERM.into(), penalty));
+        } else {
+            let slack: f64 = x[self.layout.slacks()].iter().sum();
+            terms.push(("slack_penalty".into(), self.ctx.slack_weight * slack));
+        }
+        terms
+    }
+
+    /// Per interval and contact, the complementarity products at x ([`interval_products`]:
+    /// η_jᵀβ, c_j·φ(q_{j+1}), ψ_j(μc_j − eᵀβ_j), summed over the partners of j's
+    /// contact-mode block, factors clipped at 0).
+    pub fn complementarity_products(&self, x: &[f64]) -> Vec<Vec<[f64; 3]>> {
+        let l = &self.layout;
+        let phi: Vec<Vec<f64>> = (0..l.knots)
+            .map(|k| {
+                let q = &x[l.q(k)];
+                (0..l.nc)
+                    .map(|i| crate::contact::distance(&self.mech, &self.ctx.contact, i, q))
+                    .collect()
+            })
+            .collect();
+        interval_products(l, &self.ctx, x, &phi)
+    }
+
+    /// The largest slack at x: of the slack variables, or in penalty mode the largest
+    /// interval's [`interval_slack`] of its products (the slack the elastic form would hold).
+    pub fn max_slack(&self, x: &[f64]) -> f64 {
+        if self.layout.slack_mode == SlackMode::Penalty {
+            return self
+                .complementarity_products(x)
+                .iter()
+                .map(|p| interval_slack(p))
+                .fold(0.0_f64, f64::max);
+        }
+        x[self.layout.slacks()]
+            .iter()
+            .fold(0.0_f64, |a, &b| a.max(b))
+    }
+
+    /// Seconds spent on one Jacobian plus Lagrangian-Hessian evaluation per block kind
+    /// (serial, at x with constraint multipliers `lambda`), named like the block kinds
+    /// ("Segment", "ContactWork", "TangentialRate", …, "Cost" for the cost Hessians); for
+    /// benchmarks.
+    pub fn derivative_time_by_kind(&self, x: &[f64], lambda: &[f64]) -> Vec<(String, f64)> {
+        let mut times: Vec<(String, f64)> = Vec::new();
+        let mut add = |name: String, secs: f64| match times.iter_mut().find(|(n, _)| *n == name) {
+            Some(entry) => entry.1 += secs,
+            None => times.push((name, secs)),
+        };
+        let weights = |targets: &[Vec<usize>]| -> Vec<f64> {
+            targets
+                .iter()
+                .map(|rows| rows.iter().map(|&r| lambda[r]).sum())
+                .collect()
+        };
+        for b in &self.vector_blocks {
+            let z = gather(x, &b.vars);
+            let start = std::time::Instant::now();
+            std::hint::black_box(self.vector_block_jacobian(b, &z, None));
+            if b.nonlinear > 0 {
+                std::hint::black_box(self.vector_block_hessian(b, &z, &weights(&b.targets), None));
+            }
+            add(b.kind.name().into(), start.elapsed().as_secs_f64());
+        }
+        for b in self.cost_blocks.iter().filter(|b| b.nonlinear > 0) {
+            let z = gather(x, &b.vars);
+            let start = std::time::Instant::now();
+            std::hint::black_box(self.cost_block_hessian(b, &z));
+            add("Cost".into(), start.elapsed().as_secs_f64());
+        }
+        for b in &self.gradient_blocks {
+            let z = gather(x, &b.vars);
+            let start = std::time::Instant::now();
+            std::hint::black_box(self.gradient_block_hessian(b, &z, None));
+            std::hint::black_box(self.gradient_block_third(b, &z, &weights(&b.targets), None));
+            add(b.kind.name().into(), start.elapsed().as_secs_f64());
+        }
+        times
     }
 }

@@ -10,12 +10,7 @@ use std::sync::{Mutex, OnceLock};
 use nalgebra::DMatrix;
 use rayon::prelude::*;
 
-use super::blocks::complementarity_penalty::{PENALTY_TERM, interval_products, interval_slack};
-use super::blocks::{
-    Block, Eval, GeometryUse, ScalarBlockFn, ScalarKind, VectorBlockFn, VectorKind,
-};
-use super::structure::{NO_SLOT, gather};
-use super::{InitialGuessReport, Transcription};
+use super::Transcription;
 use crate::autodiff::{
     Restricted, ThirdOrder, gradient, gradient_hessian, gradient_hessian_third, grouped_hessian,
     jacobian, weighted_hessian,
@@ -23,7 +18,10 @@ use crate::autodiff::{
 use crate::contact::ContactGeometry;
 use crate::discrete::MechanicsDerivatives;
 use crate::model::PointJet;
-use crate::problem::SlackMode;
+use crate::transcription::blocks::{
+    Block, Eval, GeometryUse, ScalarBlockFn, ScalarKind, VectorBlockFn, VectorKind,
+};
+use crate::transcription::structure::{NO_SLOT, gather};
 
 /// How the contact blocks (tangential rate, contact work, signed distance, c·φ,
 /// complementarity) and the loop-closure blocks (residual rows, loop work) are differentiated.
@@ -38,110 +36,6 @@ pub enum ContactDerivatives {
 }
 
 impl<M: MechanicsDerivatives> Transcription<M> {
-    /// Objective, largest constraint violation and ‖equality residuals‖₂ at the initial
-    /// point (docs/reference-problems.md, "values at the initial guess").
-    pub fn initial_guess_report(&self) -> InitialGuessReport {
-        let x = &self.x_initial;
-        let (max_violation, eq_norm) = self.violation(x);
-        InitialGuessReport {
-            objective: self.objective(x),
-            max_constraint_violation: max_violation,
-            equality_residual_norm: eq_norm,
-        }
-    }
-
-    /// Largest violation of the constraint rows (|g| for equalities, the shortfall below
-    /// the lower bound for inequalities) and the 2-norm of the equality residuals at x.
-    pub fn violation(&self, x: &[f64]) -> (f64, f64) {
-        let (violations, g) = self.row_violations(x);
-        let max = violations.iter().fold(0.0_f64, |a, &b| a.max(b));
-        let sq: f64 = g
-            .iter()
-            .enumerate()
-            .filter(|&(r, _)| self.layout.is_equality(r))
-            .map(|(_, gr)| gr * gr)
-            .sum();
-        (max, sq.sqrt())
-    }
-
-    /// Each constraint row's violation at x (how far g_r lies outside [g_lower, g_upper],
-    /// 0 inside), and g itself.
-    pub fn row_violations(&self, x: &[f64]) -> (Vec<f64>, Vec<f64>) {
-        let mut g = vec![0.0; self.layout.num_constraints()];
-        self.constraints(x, &mut g);
-        let violations = g
-            .iter()
-            .enumerate()
-            .map(|(r, &gr)| (self.g_lower[r] - gr).max(gr - self.g_upper[r]).max(0.0))
-            .collect();
-        (violations, g)
-    }
-
-    /// Problem cost per term (names as in `Solution::objective_terms`) and the slack penalty
-    /// ("slack_penalty"), or in penalty mode the weighted complementarity products
-    /// ("complementarity_penalty").
-    pub fn objective_terms(&self, x: &[f64]) -> Vec<(String, f64)> {
-        let mut terms: Vec<(String, f64)> = Vec::new();
-        let mut penalty = 0.0;
-        for b in &self.cost_blocks {
-            let z = gather(x, &b.vars);
-            let value = crate::autodiff::ScalarFunction::eval(&self.scalar_fn(b), &z);
-            let name = match &b.kind {
-                ScalarKind::Cost(cost) => {
-                    crate::problem::costs::term_name(&self.ctx.costs[cost.term])
-                }
-                ScalarKind::FrameCost(cost) => self.ctx.frames[cost.term].cost_name(),
-                ScalarKind::ComplementarityPenalty(_) => {
-                    penalty += value;
-                    continue;
-                }
-                _ => continue,
-            };
-            match terms.iter_mut().find(|(n, _)| n == name) {
-                Some(entry) => entry.1 += value,
-                None => terms.push((name.to_string(), value)),
-            }
-        }
-        if self.layout.slack_mode == SlackMode::Penalty {
-            terms.push((PENALTY_TERM.into(), penalty));
-        } else {
-            let slack: f64 = x[self.layout.slacks()].iter().sum();
-            terms.push(("slack_penalty".into(), self.ctx.slack_weight * slack));
-        }
-        terms
-    }
-
-    /// Per interval and contact, the complementarity products at x ([`interval_products`]:
-    /// η_jᵀβ, c_j·φ(q_{j+1}), ψ_j(μc_j − eᵀβ_j), summed over the partners of j's
-    /// contact-mode block, factors clipped at 0).
-    pub fn complementarity_products(&self, x: &[f64]) -> Vec<Vec<[f64; 3]>> {
-        let l = &self.layout;
-        let phi: Vec<Vec<f64>> = (0..l.knots)
-            .map(|k| {
-                let q = &x[l.q(k)];
-                (0..l.nc)
-                    .map(|i| crate::contact::distance(&self.mech, &self.ctx.contact, i, q))
-                    .collect()
-            })
-            .collect();
-        interval_products(l, &self.ctx, x, &phi)
-    }
-
-    /// The largest slack at x: of the slack variables, or in penalty mode the largest
-    /// interval's [`interval_slack`] of its products (the slack the elastic form would hold).
-    pub fn max_slack(&self, x: &[f64]) -> f64 {
-        if self.layout.slack_mode == SlackMode::Penalty {
-            return self
-                .complementarity_products(x)
-                .iter()
-                .map(|p| interval_slack(p))
-                .fold(0.0_f64, f64::max);
-        }
-        x[self.layout.slacks()]
-            .iter()
-            .fold(0.0_f64, |a, &b| a.max(b))
-    }
-
     /// Objective f(x) = problem cost + α Σ s.
     pub fn objective(&self, x: &[f64]) -> f64 {
         let cost: f64 = self
@@ -258,47 +152,6 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         shared.recycle();
     }
 
-    /// Seconds spent on one Jacobian plus Lagrangian-Hessian evaluation per block kind
-    /// (serial, at x with constraint multipliers `lambda`), named like the block kinds
-    /// ("Segment", "ContactWork", "TangentialRate", …, "Cost" for the cost Hessians); for
-    /// benchmarks.
-    pub fn derivative_time_by_kind(&self, x: &[f64], lambda: &[f64]) -> Vec<(String, f64)> {
-        let mut times: Vec<(String, f64)> = Vec::new();
-        let mut add = |name: String, secs: f64| match times.iter_mut().find(|(n, _)| *n == name) {
-            Some(entry) => entry.1 += secs,
-            None => times.push((name, secs)),
-        };
-        let weights = |targets: &[Vec<usize>]| -> Vec<f64> {
-            targets
-                .iter()
-                .map(|rows| rows.iter().map(|&r| lambda[r]).sum())
-                .collect()
-        };
-        for b in &self.vector_blocks {
-            let z = gather(x, &b.vars);
-            let start = std::time::Instant::now();
-            std::hint::black_box(self.vector_block_jacobian(b, &z, None));
-            if b.nonlinear > 0 {
-                std::hint::black_box(self.vector_block_hessian(b, &z, &weights(&b.targets), None));
-            }
-            add(b.kind.name().into(), start.elapsed().as_secs_f64());
-        }
-        for b in self.cost_blocks.iter().filter(|b| b.nonlinear > 0) {
-            let z = gather(x, &b.vars);
-            let start = std::time::Instant::now();
-            std::hint::black_box(self.cost_block_hessian(b, &z));
-            add("Cost".into(), start.elapsed().as_secs_f64());
-        }
-        for b in &self.gradient_blocks {
-            let z = gather(x, &b.vars);
-            let start = std::time::Instant::now();
-            std::hint::black_box(self.gradient_block_hessian(b, &z, None));
-            std::hint::black_box(self.gradient_block_third(b, &z, &weights(&b.targets), None));
-            add(b.kind.name().into(), start.elapsed().as_secs_f64());
-        }
-        times
-    }
-
     /// The contact geometries of one Jacobian or Hessian call (chain-rule derivatives only),
     /// one per (contact, knot configuration), to the highest order the call's blocks there
     /// need: the tangential rate, the distance, the gap and the contact work at one knot read
@@ -383,23 +236,12 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         }
     }
 
-    pub(super) fn vector_fn<'a>(&'a self, b: &'a Block<VectorKind>) -> VectorBlockFn<'a, M> {
-        VectorBlockFn {
-            mech: &self.mech,
-            ctx: &self.ctx,
-            kind: &b.kind,
-            dim_in: b.vars.len(),
-            dim_out: b.targets.len(),
-        }
+    fn vector_fn<'a>(&'a self, b: &'a Block<VectorKind>) -> VectorBlockFn<'a, M> {
+        VectorBlockFn::new(&self.mech, &self.ctx, b)
     }
 
     pub(super) fn scalar_fn<'a>(&'a self, b: &'a Block<ScalarKind>) -> ScalarBlockFn<'a, M> {
-        ScalarBlockFn {
-            mech: &self.mech,
-            ctx: &self.ctx,
-            kind: &b.kind,
-            dim: b.vars.len(),
-        }
+        ScalarBlockFn::new(&self.mech, &self.ctx, b)
     }
 
     /// Whether `b`'s closed-form derivatives are used (`set_contact_chain_rule(false)` asks
@@ -742,5 +584,147 @@ impl<'a> SharedGeometries<'a> {
     ) -> Option<&ContactGeometry<'a>> {
         let u = geometry?;
         self.lookup(u.contact, &vars[u.q], build)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::autodiff::finite_differences::{central, moved};
+    use crate::random::SeededRng;
+    use crate::transcription::fixture::hopper;
+
+    /// A point off the guess: every variable moved by up to 0.05, within its bounds.
+    fn point(t: &crate::transcription::Transcription<crate::discrete::ModelMechanics>) -> Vec<f64> {
+        let mut rng = SeededRng::new(7);
+        let (lo, hi) = t.variable_bounds();
+        t.initial_point()
+            .iter()
+            .enumerate()
+            .map(|(i, &x)| (x + rng.symmetric(0.05)).clamp(lo[i], hi[i]))
+            .collect()
+    }
+
+    /// The dense Jacobian column j from the sparse values.
+    fn jacobian_column(
+        t: &crate::transcription::Transcription<crate::discrete::ModelMechanics>,
+        x: &[f64],
+        j: usize,
+    ) -> Vec<f64> {
+        let pattern = t.jacobian_pattern();
+        let mut values = vec![0.0; pattern.nnz()];
+        t.jacobian_values(x, &mut values);
+        let mut column = vec![0.0; t.layout().num_constraints()];
+        for ((&r, &c), v) in pattern.rows.iter().zip(&pattern.cols).zip(&values) {
+            if c == j {
+                column[r] += v;
+            }
+        }
+        column
+    }
+
+    #[test]
+    fn the_objective_is_the_sum_of_its_terms() {
+        let t = hopper(&[]);
+        let x = point(&t);
+        let terms: f64 = t.objective_terms(&x).iter().map(|(_, v)| v).sum();
+        let f = t.objective(&x);
+        assert!(f > 0.0);
+        assert!(
+            (f - terms).abs() <= 1e-12 * f,
+            "{f} against the terms' {terms}"
+        );
+    }
+
+    #[test]
+    fn gradient_and_jacobian_agree_with_central_differences() {
+        let t = hopper(&[]);
+        let x = point(&t);
+        let mut grad = vec![0.0; x.len()];
+        t.gradient(&x, &mut grad);
+        let rows = t.layout().num_constraints();
+        let g = |y: &[f64]| {
+            let mut out = vec![0.0; rows];
+            t.constraints(y, &mut out);
+            out
+        };
+        // Every fifth variable: knots, inputs, steps, impulses and slacks all among them.
+        for j in (0..x.len()).step_by(5) {
+            let fd = central(|s| t.objective(&moved(&x, j, s)), 1e-6);
+            assert!(
+                (grad[j] - fd).abs() <= 1e-6 * (1.0 + fd.abs()),
+                "∂f/∂x{j}: {} against {fd}",
+                grad[j]
+            );
+            let fd = central(|s| g(&moved(&x, j, s)), 1e-6);
+            for (r, (a, d)) in jacobian_column(&t, &x, j).iter().zip(&fd).enumerate() {
+                assert!(
+                    (a - d).abs() <= 1e-5 * (1.0 + d.abs()),
+                    "∂g{r}/∂x{j}: {a} against {d}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn the_hessian_is_the_lagrangians_second_derivative() {
+        let t = hopper(&[]);
+        let x = point(&t);
+        let rows = t.layout().num_constraints();
+        let mut rng = SeededRng::new(11);
+        let lambda = rng.symmetric_vec(rows, 1.0);
+        let obj_factor = 0.7;
+        // ∇L = obj_factor ∇f + Jᵀλ, densely.
+        let grad_lagrangian = |y: &[f64]| -> Vec<f64> {
+            let mut out = vec![0.0; y.len()];
+            t.gradient(y, &mut out);
+            out.iter_mut().for_each(|v| *v *= obj_factor);
+            let pattern = t.jacobian_pattern();
+            let mut values = vec![0.0; pattern.nnz()];
+            t.jacobian_values(y, &mut values);
+            for ((&r, &c), v) in pattern.rows.iter().zip(&pattern.cols).zip(&values) {
+                out[c] += lambda[r] * v;
+            }
+            out
+        };
+        let pattern = t.hessian_pattern();
+        let mut values = vec![0.0; pattern.nnz()];
+        t.hessian_values(&x, obj_factor, &lambda, &mut values);
+        let n = x.len();
+        let mut dense = vec![0.0; n * n];
+        for ((&r, &c), v) in pattern.rows.iter().zip(&pattern.cols).zip(&values) {
+            dense[r * n + c] += v;
+            if r != c {
+                dense[c * n + r] += v;
+            }
+        }
+        for j in (0..n).step_by(7) {
+            let fd = central(|s| grad_lagrangian(&moved(&x, j, s)), 1e-5);
+            for (i, d) in fd.iter().enumerate() {
+                let a = dense[i * n + j];
+                assert!(
+                    (a - d).abs() <= 1e-4 * (1.0 + d.abs()),
+                    "∂²L/∂x{i}∂x{j}: {a} against {d}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn the_pool_and_one_thread_evaluate_the_same_bits() {
+        let mut t = hopper(&[]);
+        let x = point(&t);
+        let lambda = SeededRng::new(3).symmetric_vec(t.layout().num_constraints(), 1.0);
+        let mut run = |parallel: bool| {
+            t.set_parallel(parallel);
+            let mut jac = vec![0.0; t.jacobian_pattern().nnz()];
+            t.jacobian_values(&x, &mut jac);
+            let mut hess = vec![0.0; t.hessian_pattern().nnz()];
+            t.hessian_values(&x, 1.0, &lambda, &mut hess);
+            (jac, hess)
+        };
+        let (serial, pooled) = (run(false), run(true));
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<u64>>();
+        assert_eq!(bits(&serial.0), bits(&pooled.0));
+        assert_eq!(bits(&serial.1), bits(&pooled.1));
     }
 }
