@@ -1,6 +1,6 @@
 //! Plan-quality figures of solved plans, from their `trajectory.csv` and the robot's
 //! kinematics: the number of contact-mode switches and the largest stance slip speed (the
-//! `contacts.mode_block` table of BENCHMARKS.md). Usage:
+//! `contacts.mode_block` row of BENCHMARKS.md's Tried and dropped table). Usage:
 //! `cargo run --release --example mode_quality -- PROBLEM.toml RUN_DIR...`
 //!
 //! Per contact and interval k, the contact is *in contact* when its normal impulse c_k exceeds
