@@ -20,7 +20,7 @@
 //! | 38 | 9.3    | 153,634 / 72,271 / 797 | 142,395 / 72,125 / 974 | 163,309 / 53,343 / 977 |
 //!
 //! (A first run gave T = 8: 13,742 µs at n = 19 and 95,333 µs at n = 38.) T = 16 was 2–3×
-//! slower throughout. DESIGN.md's forward duals through the recursion took 142 µs / 1.4 ms /
+//! slower throughout. Forward duals through the recursion took 142 µs / 1.4 ms /
 //! 13 ms and its adjoint route 11 / 44 / 146 µs: the hyper-dual tiles are 10–30× slower than
 //! the former, so large robots need the adjoint gradient with
 //! `autodiff::jacobian_directional` on top.
