@@ -1,5 +1,5 @@
 //! `vito regress`: solve every problem of a regression record, each in its own process (one
-//! Ipopt solve per process, DESIGN.md), compare the objectives with the record, and rewrite
+//! Ipopt solve per process, ARCHITECTURE.md), compare the objectives with the record, and rewrite
 //! the record atomically when blessing.
 
 pub mod independent;
