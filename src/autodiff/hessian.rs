@@ -168,22 +168,13 @@ mod tests {
     use crate::autodiff::Scalar;
     use crate::autodiff::finite_differences::gradient as fd_gradient;
     use crate::autodiff::gradient;
-    use crate::autodiff::test_functions::{Coupled, CoupledVector, dims, point};
+    use crate::autodiff::test_functions::{ClosedForm, Coupled, CoupledVector, dims, point};
 
     /// Closed form: f = z_0² z_1 + sin z_1 has H = [[2 z_1, 2 z_0], [2 z_0, −sin z_1]].
     #[test]
     fn hessian_matches_closed_form() {
-        struct F;
-        impl ScalarFunction for F {
-            fn dim(&self) -> usize {
-                2
-            }
-            fn eval<D: Scalar>(&self, z: &[D]) -> D {
-                z[0] * z[0] * z[1] + z[1].sin()
-            }
-        }
         let (x, y) = (0.7, -1.3);
-        let (_, g, h) = gradient_hessian(&F, &[x, y]);
+        let (_, g, h) = gradient_hessian(&ClosedForm, &[x, y]);
         assert!((g[0] - 2.0 * x * y).abs() < 1e-14);
         assert!((h[(0, 0)] - 2.0 * y).abs() < 1e-14);
         assert!((h[(0, 1)] - 2.0 * x).abs() < 1e-14);

@@ -109,21 +109,12 @@ pub fn gradient_into<const T: usize, F: ScalarFunction>(f: &F, z: &[f64], grad: 
 mod tests {
     use super::*;
     use crate::autodiff::finite_differences::gradient as fd_gradient;
-    use crate::autodiff::test_functions::{Coupled, CoupledVector, dims, point};
+    use crate::autodiff::test_functions::{ClosedForm, Coupled, CoupledVector, dims, point};
 
     /// Closed form: f(z) = z_0² z_1 + sin(z_1) has ∇f = (2 z_0 z_1, z_0² + cos z_1).
     #[test]
     fn gradient_matches_closed_form() {
-        struct F;
-        impl ScalarFunction for F {
-            fn dim(&self) -> usize {
-                2
-            }
-            fn eval<D: crate::autodiff::Scalar>(&self, z: &[D]) -> D {
-                z[0] * z[0] * z[1] + z[1].sin()
-            }
-        }
-        let (v, g) = gradient(&F, &[0.7, -1.3]);
+        let (v, g) = gradient(&ClosedForm, &[0.7, -1.3]);
         assert!((v - (0.49 * -1.3 + (-1.3f64).sin())).abs() < 1e-14);
         assert!((g[0] - 2.0 * 0.7 * -1.3).abs() < 1e-14);
         assert!((g[1] - (0.49 + (-1.3f64).cos())).abs() < 1e-14);

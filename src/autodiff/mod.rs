@@ -102,6 +102,18 @@ pub(crate) mod test_functions {
         }
     }
 
+    /// f(z) = z_0² z_1 + sin z_1: two inputs, with ∇f, ∇²f and ∂³f in closed form.
+    pub struct ClosedForm;
+
+    impl ScalarFunction for ClosedForm {
+        fn dim(&self) -> usize {
+            2
+        }
+        fn eval<D: Scalar>(&self, z: &[D]) -> D {
+            z[0] * z[0] * z[1] + z[1].sin()
+        }
+    }
+
     /// g(z)_j = Coupled restricted to a rotation of z, times (j + 1): m outputs.
     pub struct CoupledVector {
         pub n: usize,

@@ -130,27 +130,17 @@ pub fn gradient_hessian_third_into<const T: usize, F: ScalarFunction>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::autodiff::Scalar;
     use crate::autodiff::finite_differences::{along, central};
     use crate::autodiff::gradient_hessian;
-    use crate::autodiff::test_functions::{Coupled, dims, point};
+    use crate::autodiff::test_functions::{ClosedForm, Coupled, dims, point};
 
     /// Closed form: f = z_0² z_1 + sin z_1. ∂³f: f_001 = 2, f_111 = −cos z_1, others 0, so
     /// W = [[2 d_1, 2 d_0], [2 d_0, −cos(z_1) d_1]].
     #[test]
     fn contracted_third_matches_closed_form() {
-        struct F;
-        impl ScalarFunction for F {
-            fn dim(&self) -> usize {
-                2
-            }
-            fn eval<D: Scalar>(&self, z: &[D]) -> D {
-                z[0] * z[0] * z[1] + z[1].sin()
-            }
-        }
         let (x, y) = (0.7, -1.3);
         let dir = [0.4, -2.5];
-        let t = gradient_hessian_third(&F, &[x, y], &dir);
+        let t = gradient_hessian_third(&ClosedForm, &[x, y], &dir);
         assert!((t.value - (x * x * y + y.sin())).abs() < 1e-14);
         assert!((t.hessian[(0, 1)] - 2.0 * x).abs() < 1e-14);
         assert!((t.contracted[(0, 0)] - 2.0 * dir[1]).abs() < 1e-14);

@@ -58,6 +58,50 @@ impl BaseArg {
     }
 }
 
+/// What `simulate` runs: the inputs or the reference, the feedback, the duration and the
+/// integrator.
+#[derive(Debug, clap::Args)]
+pub struct SimulateArgs {
+    /// Replay the inputs of a trajectory CSV (zero-order hold); default: zero inputs.
+    #[arg(long, conflicts_with = "track")]
+    inputs: Option<PathBuf>,
+    /// Track a trajectory CSV with PD feedback (its inputs as feedforward).
+    #[arg(long)]
+    track: Option<PathBuf>,
+    /// PD gains by input name, `NAME=KP,KD` or `all=KP,KD` (repeatable; kp in input units
+    /// per coordinate unit, kd per coordinate rate), on top of the file's `[tracking] gains`.
+    #[arg(long, value_name = "NAME=KP,KD", requires = "track")]
+    gains: Vec<String>,
+    /// Where the PD reads the state: the step's start (explicit) or end (implicit,
+    /// solved with the step; stable at stiff gains) [default: the file's
+    /// `[tracking] feedback`, else explicit].
+    #[arg(long, value_parser = feedback_parser(), requires = "track")]
+    feedback: Option<Feedback>,
+    /// Simulated time (default: the CSV's last time, else the problem's horizon).
+    #[arg(long)]
+    duration: Option<f64>,
+    /// Steps per time unit (default: 1/h of the problem).
+    #[arg(long)]
+    rate: Option<f64>,
+    /// Integrator (default: the problem's).
+    #[arg(long, value_parser = integrator_parser())]
+    integrator: Option<Integrator>,
+}
+
+impl From<SimulateArgs> for vito::pipeline::simulation::SimulateRequest {
+    fn from(args: SimulateArgs) -> Self {
+        vito::pipeline::simulation::SimulateRequest {
+            inputs: args.inputs,
+            track: args.track,
+            gains: args.gains,
+            feedback: args.feedback,
+            duration: args.duration,
+            rate: args.rate,
+            integrator: args.integrator,
+        }
+    }
+}
+
 /// `--integrator`: the names of [`Integrator::name`], listed in the help, parsed by
 /// Integrator's own `FromStr`.
 fn integrator_parser() -> impl clap::builder::TypedValueParser<Value = Integrator> {
@@ -133,30 +177,8 @@ pub enum Command {
         /// Overrides as for `solve`.
         #[arg(long = "set", value_name = "KEY.PATH=VALUE")]
         set: Vec<String>,
-        /// Replay the inputs of a trajectory CSV (zero-order hold); default: zero inputs.
-        #[arg(long, conflicts_with = "track")]
-        inputs: Option<PathBuf>,
-        /// Track a trajectory CSV with PD feedback (its inputs as feedforward).
-        #[arg(long)]
-        track: Option<PathBuf>,
-        /// PD gains by input name, `NAME=KP,KD` or `all=KP,KD` (repeatable; kp in input units
-        /// per coordinate unit, kd per coordinate rate), on top of the file's `[tracking] gains`.
-        #[arg(long, value_name = "NAME=KP,KD", requires = "track")]
-        gains: Vec<String>,
-        /// Where the PD reads the state: the step's start (explicit) or end (implicit,
-        /// solved with the step; stable at stiff gains) [default: the file's
-        /// `[tracking] feedback`, else explicit].
-        #[arg(long, value_parser = feedback_parser(), requires = "track")]
-        feedback: Option<Feedback>,
-        /// Simulated time (default: the CSV's last time, else the problem's horizon).
-        #[arg(long)]
-        duration: Option<f64>,
-        /// Steps per time unit (default: 1/h of the problem).
-        #[arg(long)]
-        rate: Option<f64>,
-        /// Integrator (default: the problem's).
-        #[arg(long, value_parser = integrator_parser())]
-        integrator: Option<Integrator>,
+        #[command(flatten)]
+        request: SimulateArgs,
         /// Output directory (default: `out/<problem name>-simulate`).
         #[arg(long)]
         out: Option<PathBuf>,

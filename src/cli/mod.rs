@@ -8,8 +8,6 @@
 use std::process::ExitCode;
 use std::sync::atomic::Ordering;
 
-use vito::pipeline;
-
 /// `eprintln!` that escapes control characters and never fails: a standard error that
 /// cannot be written (`2> /dev/full`) must not stop a command before its results are
 /// written; the failure is remembered and turns the exit code into [`EXIT_OUTPUT`].
@@ -133,27 +131,10 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
         Command::Simulate {
             file,
             set,
-            inputs,
-            track,
-            gains,
-            feedback,
-            duration,
-            rate,
-            integrator,
+            request,
             out,
             quiet,
-        } => {
-            let request = pipeline::simulation::SimulateRequest {
-                inputs,
-                track,
-                gains,
-                feedback,
-                duration,
-                rate,
-                integrator,
-            };
-            simulate::simulate(&file, &set, &request, out.as_deref(), quiet)
-        }
+        } => simulate::simulate(&file, &set, &request.into(), out.as_deref(), quiet),
         Command::Study {
             study:
                 StudyKind::BrickAccuracy {

@@ -67,6 +67,20 @@ pub struct ColumnUnits {
     pub impulse: String,
 }
 
+#[cfg(test)]
+impl ColumnUnits {
+    /// SI labels for the tests' two-coordinate sample: x in m, θ in rad, one torque input.
+    pub(crate) fn x_theta_sample() -> Self {
+        ColumnUnits {
+            time: "s".into(),
+            length: "m".into(),
+            coordinates: vec!["m".into(), "rad".into()],
+            inputs: vec!["N·m".into()],
+            impulse: "N·s".into(),
+        }
+    }
+}
+
 /// The column holding input `name`.
 pub fn input_column_name(name: &str) -> String {
     format!("u_{name}")
@@ -637,13 +651,7 @@ mod tests {
             ],
             slack: &[vec![1e-9], vec![2e-9]],
         };
-        let units = ColumnUnits {
-            time: "s".into(),
-            length: "m".into(),
-            coordinates: vec!["m".into(), "rad".into()],
-            inputs: vec!["N·m".into()],
-            impulse: "N·s".into(),
-        };
+        let units = ColumnUnits::x_theta_sample();
         let text = write_trajectory(&trajectory, &units);
         assert_eq!(
             text.lines().next(),

@@ -243,6 +243,68 @@ pub(super) extern "C" fn eval_g<P: Nlp + ?Sized>(
     })
 }
 
+/// The matrix a sparse callback serves.
+#[derive(Clone, Copy)]
+enum Sparse {
+    /// The constraint Jacobian (`eval_jac_g`).
+    Jacobian,
+    /// The Lagrangian Hessian (`eval_h`).
+    Hessian,
+}
+
+/// The body `eval_jac_g` and `eval_h` share. Ipopt asks either for the sparsity structure
+/// (`values` null: the context's rows and columns are copied into `i_row` and `j_col`) or for
+/// the values, which `fill` writes into the `nele` entries of `values`. A call whose `nele` is
+/// not the structure's size, or a Hessian call for a problem without one, is refused.
+///
+/// # Safety
+/// `user_data` is what [`context`] requires. For the structure call `i_row` and `j_col` are
+/// Ipopt's two distinct output arrays of `nele` indices; for the values call `values` is its
+/// output array of `nele` numbers, apart from every array `fill` reads.
+unsafe fn sparse_callback<P: Nlp + ?Sized>(
+    user_data: UserDataPtr,
+    matrix: Sparse,
+    nele: Index,
+    i_row: *mut Index,
+    j_col: *mut Index,
+    values: *mut Number,
+    fill: impl FnOnce(&mut P, &mut [Number]),
+) -> Bool {
+    // SAFETY: the caller's promise above.
+    let ctx = unsafe { context::<P>(user_data) };
+    let name = match (matrix, values.is_null()) {
+        (Sparse::Jacobian, true) => "jacobian_structure",
+        (Sparse::Jacobian, false) => "jacobian_values",
+        (Sparse::Hessian, true) => "hessian_structure",
+        (Sparse::Hessian, false) => "hessian_values",
+    };
+    guard(ctx, name, |ctx| {
+        let (rows, cols) = match matrix {
+            Sparse::Jacobian => (&ctx.jacobian_rows, &ctx.jacobian_cols),
+            Sparse::Hessian if ctx.has_hessian => (&ctx.hessian_rows, &ctx.hessian_cols),
+            Sparse::Hessian => return Flow::Mismatch,
+        };
+        if usize::try_from(nele) != Ok(rows.len()) {
+            return Flow::Mismatch;
+        }
+        if values.is_null() {
+            // SAFETY: for the structure call Ipopt passes two distinct output arrays of nele
+            // indices (the caller's promise).
+            let (out_rows, out_cols) = unsafe { (output(i_row, nele), output(j_col, nele)) };
+            if out_rows.len() != rows.len() || out_cols.len() != cols.len() {
+                return Flow::Mismatch;
+            }
+            out_rows.copy_from_slice(rows);
+            out_cols.copy_from_slice(cols);
+            return Flow::Continue;
+        }
+        // SAFETY: values is Ipopt's output array of nele numbers (the caller's promise).
+        let values = unsafe { output(values, nele) };
+        fill(&mut *ctx.problem, values);
+        finite_flow(values)
+    })
+}
+
 /// Ipopt's `eval_jac_g`: the Jacobian structure (when `values` is null) or its values.
 pub(super) extern "C" fn eval_jac_g<P: Nlp + ?Sized>(
     n: Index,
@@ -255,33 +317,24 @@ pub(super) extern "C" fn eval_jac_g<P: Nlp + ?Sized>(
     values: *mut Number,
     user_data: UserDataPtr,
 ) -> Bool {
-    // SAFETY: Ipopt hands back the user_data `solve` gave it (see `context`).
-    let ctx = unsafe { context::<P>(user_data) };
-    let name = if values.is_null() {
-        "jacobian_structure"
-    } else {
-        "jacobian_values"
+    let jacobian_values = |problem: &mut P, values: &mut [Number]| {
+        // SAFETY: x holds n values, read-only during the call.
+        let x = unsafe { input(x, n) };
+        problem.jacobian_values(x, is_true(new_x), values);
     };
-    guard(ctx, name, |ctx| {
-        if usize::try_from(nele_jac) != Ok(ctx.jacobian_rows.len()) {
-            return Flow::Mismatch;
-        }
-        if values.is_null() {
-            // SAFETY: for the structure call Ipopt passes two output arrays of nele_jac
-            // indices, distinct from each other.
-            let (rows, cols) = unsafe { (output(i_row, nele_jac), output(j_col, nele_jac)) };
-            if rows.len() != ctx.jacobian_rows.len() || cols.len() != ctx.jacobian_cols.len() {
-                return Flow::Mismatch;
-            }
-            rows.copy_from_slice(&ctx.jacobian_rows);
-            cols.copy_from_slice(&ctx.jacobian_cols);
-            return Flow::Continue;
-        }
-        // SAFETY: x holds n values; values is Ipopt's output array of nele_jac numbers.
-        let (x, values) = unsafe { (input(x, n), output(values, nele_jac)) };
-        ctx.problem.jacobian_values(x, is_true(new_x), values);
-        finite_flow(values)
-    })
+    // SAFETY: Ipopt hands back the user_data `solve` gave it (see `context`); i_row, j_col
+    // and values are its output arrays of nele_jac entries, distinct from x.
+    unsafe {
+        sparse_callback(
+            user_data,
+            Sparse::Jacobian,
+            nele_jac,
+            i_row,
+            j_col,
+            values,
+            jacobian_values,
+        )
+    }
 }
 
 /// Ipopt's `eval_h`: the Lagrangian Hessian structure (when `values` is null) or its values.
@@ -299,33 +352,10 @@ pub(super) extern "C" fn eval_h<P: Nlp + ?Sized>(
     values: *mut Number,
     user_data: UserDataPtr,
 ) -> Bool {
-    // SAFETY: Ipopt hands back the user_data `solve` gave it (see `context`).
-    let ctx = unsafe { context::<P>(user_data) };
-    let name = if values.is_null() {
-        "hessian_structure"
-    } else {
-        "hessian_values"
-    };
-    guard(ctx, name, |ctx| {
-        if !ctx.has_hessian || usize::try_from(nele_hess) != Ok(ctx.hessian_rows.len()) {
-            return Flow::Mismatch;
-        }
-        if values.is_null() {
-            // SAFETY: for the structure call Ipopt passes two distinct output arrays of
-            // nele_hess indices.
-            let (rows, cols) = unsafe { (output(i_row, nele_hess), output(j_col, nele_hess)) };
-            if rows.len() != ctx.hessian_rows.len() || cols.len() != ctx.hessian_cols.len() {
-                return Flow::Mismatch;
-            }
-            rows.copy_from_slice(&ctx.hessian_rows);
-            cols.copy_from_slice(&ctx.hessian_cols);
-            return Flow::Continue;
-        }
-        // SAFETY: x holds n values and lambda m values (read-only); values is Ipopt's output
-        // array of nele_hess numbers.
-        let (x, lambda, values) =
-            unsafe { (input(x, n), input(lambda, m), output(values, nele_hess)) };
-        ctx.problem.hessian_values(
+    let hessian_values = |problem: &mut P, values: &mut [Number]| {
+        // SAFETY: x holds n values and lambda m values, read-only during the call.
+        let (x, lambda) = unsafe { (input(x, n), input(lambda, m)) };
+        problem.hessian_values(
             x,
             is_true(new_x),
             obj_factor,
@@ -333,8 +363,20 @@ pub(super) extern "C" fn eval_h<P: Nlp + ?Sized>(
             is_true(new_lambda),
             values,
         );
-        finite_flow(values)
-    })
+    };
+    // SAFETY: Ipopt hands back the user_data `solve` gave it (see `context`); i_row, j_col
+    // and values are its output arrays of nele_hess entries, distinct from x and lambda.
+    unsafe {
+        sparse_callback(
+            user_data,
+            Sparse::Hessian,
+            nele_hess,
+            i_row,
+            j_col,
+            values,
+            hessian_values,
+        )
+    }
 }
 
 /// Ipopt's intermediate callback: counts iterations, honours the cancel flag and the deadline,

@@ -41,12 +41,8 @@ pub(super) struct Outputs {
     pub g: Vec<f64>,
     /// Objective at x (NaN if Ipopt did not write it).
     pub objective: f64,
-    /// Constraint multipliers.
-    pub mult_g: Vec<f64>,
-    /// Lower-bound multipliers.
-    pub mult_x_lower: Vec<f64>,
-    /// Upper-bound multipliers.
-    pub mult_x_upper: Vec<f64>,
+    /// The final multipliers.
+    pub multipliers: Multipliers,
     /// Ipopt's raw return code.
     pub code: i32,
 }
@@ -201,9 +197,11 @@ impl Handle {
             x: x0,
             g: vec![0.0; m],
             objective: f64::NAN,
-            mult_g: start.map_or_else(|| vec![0.0; m], |w| w.g.clone()),
-            mult_x_lower: start.map_or_else(|| vec![0.0; n], |w| w.x_lower.clone()),
-            mult_x_upper: start.map_or_else(|| vec![0.0; n], |w| w.x_upper.clone()),
+            multipliers: start.cloned().unwrap_or_else(|| Multipliers {
+                g: vec![0.0; m],
+                x_lower: vec![0.0; n],
+                x_upper: vec![0.0; n],
+            }),
             code: 0,
         };
         let user_data = (ctx as *mut Context<'_, P>).cast::<c_void>();
@@ -217,9 +215,9 @@ impl Handle {
                 out.x.as_mut_ptr(),
                 out.g.as_mut_ptr(),
                 &mut out.objective,
-                out.mult_g.as_mut_ptr(),
-                out.mult_x_lower.as_mut_ptr(),
-                out.mult_x_upper.as_mut_ptr(),
+                out.multipliers.g.as_mut_ptr(),
+                out.multipliers.x_lower.as_mut_ptr(),
+                out.multipliers.x_upper.as_mut_ptr(),
                 user_data,
             )
         };

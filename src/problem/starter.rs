@@ -51,21 +51,26 @@ fn nominal_pose(robot: &RobotInfo) -> Vec<f64> {
         .collect()
 }
 
+/// The URDF's collision spheres as feet.
+fn urdf_feet(robot: &RobotInfo) -> Vec<Foot> {
+    robot
+        .contacts
+        .iter()
+        .map(|c| Foot {
+            name: c.name.clone(),
+            link: c.link.clone(),
+            centre: c.point,
+            radius: c.radius,
+            from_urdf: true,
+        })
+        .collect()
+}
+
 /// The feet: the URDF's collision spheres; else end links named like feet; else the end
 /// links lowest in the nominal pose (within 2 % of the robot's height).
 fn find_feet(model: &Model, robot: &RobotInfo, q: &[f64]) -> Vec<Foot> {
     if !robot.contacts.is_empty() {
-        return robot
-            .contacts
-            .iter()
-            .map(|c| Foot {
-                name: c.name.clone(),
-                link: c.link.clone(),
-                centre: c.point,
-                radius: c.radius,
-                from_urdf: true,
-            })
-            .collect();
+        return urdf_feet(robot);
     }
     let at_origin = |link: &String| Foot {
         name: link.clone(),
@@ -183,17 +188,7 @@ pub fn starter_problem(
     if base != BaseType::Fixed {
         return Ok(standing_problem(model, robot, base, urdf));
     }
-    let contacts: Vec<Foot> = robot
-        .contacts
-        .iter()
-        .map(|c| Foot {
-            name: c.name.clone(),
-            link: c.link.clone(),
-            centre: c.point,
-            radius: c.radius,
-            from_urdf: true,
-        })
-        .collect();
+    let contacts = urdf_feet(robot);
     let mut pose = nominal_pose(robot);
     lift_onto_ground(model, &contacts, &mut pose);
     if let Some((foot, z)) = contacts

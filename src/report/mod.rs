@@ -331,13 +331,7 @@ mod tests {
     #[test]
     fn csv_has_a_row_per_knot_and_reads_back() {
         let s = sample_solution();
-        let units = ColumnUnits {
-            time: "s".into(),
-            length: "m".into(),
-            coordinates: vec!["m".into(), "rad".into()],
-            inputs: vec!["N·m".into()],
-            impulse: "N·s".into(),
-        };
+        let units = ColumnUnits::x_theta_sample();
         let text = trajectory_csv(&s, &units);
         let header = text.lines().next().unwrap();
         assert!(header.starts_with("time [s],x [m],theta [rad],x_dot [m/s],theta_dot [rad/s],u_theta [N·m],toe_normal [N·s],toe_friction_+x [N·s],toe_friction_-x [N·s],toe_distance [m],"));

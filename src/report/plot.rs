@@ -2,6 +2,7 @@
 
 use std::path::Path;
 
+use plotters::coord::ranged1d::AsRangedCoord;
 use plotters::prelude::*;
 
 use crate::files::trajectory_csv::Trajectory;
@@ -66,6 +67,34 @@ pub fn line_plot(
             series: series.to_vec(),
         }],
     )
+}
+
+/// A study chart's drawing area and its chart over the axes `X` × `Y`.
+pub(crate) type StudyChart<'a, X, Y> = (
+    DrawingArea<SVGBackend<'a>, plotters::coord::Shift>,
+    ChartContext<'a, SVGBackend<'a>, Cartesian2d<X, Y>>,
+);
+
+/// The studies' line chart: an 800 × 480 SVG at `path` filled white, its caption and axes
+/// over `x` and `y`. The caller draws the mesh and the series, then
+/// [`legend_and_present`] with the drawing area returned beside the chart.
+pub(crate) fn study_chart<'a, X: AsRangedCoord, Y: AsRangedCoord>(
+    path: &'a Path,
+    title: &str,
+    x: X,
+    y: Y,
+) -> Result<StudyChart<'a, X::CoordDescType, Y::CoordDescType>, PlotError> {
+    let e = |e: &dyn std::fmt::Display| e.to_string();
+    let root = SVGBackend::new(path, (800, 480)).into_drawing_area();
+    root.fill(&WHITE).map_err(|x| e(&x))?;
+    let chart = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 20))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(70)
+        .build_cartesian_2d(x, y)
+        .map_err(|x| e(&x))?;
+    Ok((root, chart))
 }
 
 /// Draws the series' legend in the upper right corner and writes the SVG: the last step of

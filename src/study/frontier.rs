@@ -91,15 +91,12 @@ fn frontier_svg(
     };
     let (x_lo, x_hi) = range(&mut points.iter().map(|p| p.1));
     let (y_lo, y_hi) = range(&mut points.iter().map(|p| p.2));
-    let root = SVGBackend::new(path, (800, 480)).into_drawing_area();
-    root.fill(&WHITE).map_err(|x| e(&x))?;
-    let mut chart = ChartBuilder::on(&root)
-        .caption(title, ("sans-serif", 20))
-        .margin(12)
-        .x_label_area_size(40)
-        .y_label_area_size(70)
-        .build_cartesian_2d((x_lo..x_hi).log_scale(), (y_lo..y_hi).log_scale())
-        .map_err(|x| e(&x))?;
+    let (root, mut chart) = crate::report::plot::study_chart(
+        path,
+        title,
+        (x_lo..x_hi).log_scale(),
+        (y_lo..y_hi).log_scale(),
+    )?;
     chart
         .configure_mesh()
         .light_line_style(WHITE)

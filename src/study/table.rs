@@ -209,15 +209,8 @@ impl StudyTable {
             .fold(0.0_f64, f64::max)
             * 1.05;
         let y_max = if y_max > 0.0 { y_max } else { 1.0 };
-        let root = SVGBackend::new(path, (800, 480)).into_drawing_area();
-        root.fill(&WHITE).map_err(|x| e(&x))?;
-        let mut chart = ChartBuilder::on(&root)
-            .caption(title, ("sans-serif", 20))
-            .margin(12)
-            .x_label_area_size(40)
-            .y_label_area_size(70)
-            .build_cartesian_2d(x_min..x_max, 0.0..y_max)
-            .map_err(|x| e(&x))?;
+        let (root, mut chart) =
+            crate::report::plot::study_chart(path, title, x_min..x_max, 0.0..y_max)?;
         chart
             .configure_mesh()
             .x_desc("knot points")

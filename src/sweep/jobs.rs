@@ -178,7 +178,7 @@ impl JobSweep {
             let value = toml::Value::String(csv.display().to_string());
             sets.push(format!("{WARM_START_KEY}={value}"));
         }
-        let row = self.row_mut(point.index)?;
+        let row = self.table.row_mut(point.index)?;
         row.note = warm
             .as_ref()
             .map(|n| format!("warm start from {}", n.run_name()))
@@ -292,7 +292,7 @@ impl JobSweep {
             self.running_attempts.retain(|d| d != dir);
             self.counts.running = self.running.len() + self.running_attempts.len();
             self.counts.attempts_done += 1;
-            return self.row_mut(index).map(|r| &*r);
+            return self.table.row_mut(index).map(|r| &*r);
         }
         self.running.retain(|&i| i != index);
         self.counts.running = self.running.len() + self.running_attempts.len();
@@ -305,7 +305,7 @@ impl JobSweep {
         let run_dir = self.runs.join(point.run_name());
         let sha256 = self.sha256.clone();
         let start = first_pass_start(&run_dir, &self.points);
-        let row = self.row_mut(index)?;
+        let row = self.table.row_mut(index)?;
         let warm_note = std::mem::take(&mut row.note);
         let on_disk = read_result(row, &run_dir, &sha256, &parameters);
         let name = point.run_name();
@@ -341,7 +341,7 @@ impl JobSweep {
         // Every point back: the first pass's table in full; before, when due.
         let last = self.running.is_empty() && self.queue.is_empty();
         self.writes.write(&self.table, &self.out, last)?;
-        self.row_mut(index).map(|r| &*r)
+        self.table.row_mut(index).map(|r| &*r)
     }
 
     /// Ends the sweep early (a stop request): the points handed out and not recorded, and
@@ -358,7 +358,7 @@ impl JobSweep {
         self.plan.clear();
         self.rounds_left = 0;
         for index in unfinished {
-            self.row_mut(index)?.status = RunStatus::Pending;
+            self.table.row_mut(index)?.status = RunStatus::Pending;
         }
         self.table.mark_not_run();
         self.counts.running = 0;
@@ -378,13 +378,5 @@ impl JobSweep {
     /// Points handed out and not recorded yet.
     pub fn running(&self) -> usize {
         self.running.len()
-    }
-
-    fn row_mut(&mut self, index: usize) -> Result<&mut Row, SweepError> {
-        self.table
-            .rows
-            .iter_mut()
-            .find(|r| r.index == index)
-            .ok_or_else(|| SweepError::Internal("a point without a row".into()))
     }
 }

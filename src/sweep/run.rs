@@ -340,14 +340,6 @@ impl<F: FnMut(Event)> SweepRun<'_, F> {
             .is_some_and(|s| s.load(Ordering::SeqCst))
     }
 
-    fn row_mut(&mut self, index: usize) -> Result<&mut Row, SweepError> {
-        self.table
-            .rows
-            .iter_mut()
-            .find(|r| r.index == index)
-            .ok_or_else(|| SweepError::Internal("a point without a row".into()))
-    }
-
     /// Runs `queue` (popped from the end), at most `jobs` at a time, until it is empty or a
     /// stop request arrives, and waits for the running ones.
     fn run_jobs(&mut self, mut queue: Vec<Job>) -> Result<(), SweepError> {
@@ -386,7 +378,7 @@ impl<F: FnMut(Event)> SweepRun<'_, F> {
                             format!("warm start from {name}")
                         })
                         .unwrap_or_default();
-                    let row = self.row_mut(job.point.index)?;
+                    let row = self.table.row_mut(job.point.index)?;
                     row.clear_result();
                     row.note = note;
                 }
@@ -438,9 +430,9 @@ impl<F: FnMut(Event)> SweepRun<'_, F> {
                 }
                 if let Some(w) = &r.job.warm {
                     let label = self.label_of_dir(w);
-                    self.row_mut(r.job.point.index)?.start = format!("warm {label}");
+                    self.table.row_mut(r.job.point.index)?.start = format!("warm {label}");
                 } else {
-                    self.row_mut(r.job.point.index)?.start = "guess".into();
+                    self.table.row_mut(r.job.point.index)?.start = "guess".into();
                 }
                 self.writes.write(&self.table, &options.out, false)?;
                 let row = self

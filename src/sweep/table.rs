@@ -318,6 +318,14 @@ impl TableWrites {
 }
 
 impl Table {
+    /// The row of point `index` (every point of the table has one).
+    pub(crate) fn row_mut(&mut self, index: usize) -> Result<&mut Row, SweepError> {
+        self.rows
+            .iter_mut()
+            .find(|r| r.index == index)
+            .ok_or_else(|| SweepError::Internal("a point without a row".into()))
+    }
+
     /// After a stop request: every point that did not run (still pending) says so in its
     /// note (a rerun of the sweep runs it).
     pub fn mark_not_run(&mut self) {

@@ -10,6 +10,9 @@ use super::{Drawing, Frame, Motion, Scene, rotation_of, xml_escape};
 /// Height of the caption band naming the motion's verdict, pixels.
 const CAPTION_H: f64 = 20.0;
 
+/// Height of the band of time labels below the poses, pixels.
+const LABEL_H: f64 = 22.0;
+
 /// Widest a world-frame strip is drawn, pixels (a long motion is drawn smaller).
 const MAX_WORLD_WIDTH: f64 = 2400.0;
 
@@ -170,14 +173,7 @@ pub fn strip_svg(
     let px = 220.0 / width.max(1e-12);
     let (panel_w, panel_h) = (width * px, (z_hi - z_lo) * px);
     let total_w = panel_w * poses.len() as f64;
-    let label_h = 22.0;
-    let mut svg = svg_head(
-        scene,
-        motion,
-        poses.len(),
-        total_w,
-        panel_h + label_h + CAPTION_H,
-    );
+    let mut svg = svg_head(scene, motion, poses.len(), total_w, panel_h);
     for (i, (frame, b)) in poses.iter().zip(&boxes).enumerate() {
         let centre = (b[0] + b[2]) / 2.0;
         let x_left = centre - width / 2.0;
@@ -248,9 +244,11 @@ fn pose_shapes(
     }
 }
 
-/// The SVG's opening: its mark, size, title and the caption naming the verdict; the poses
-/// follow inside a group moved below the caption.
-fn svg_head(scene: &Scene, motion: &Motion, poses: usize, width: f64, height: f64) -> String {
+/// The SVG's opening: its mark, size (`panel_h` high for the poses, plus the caption and the
+/// labels), title and the caption naming the verdict; the poses follow inside a group moved
+/// below the caption.
+fn svg_head(scene: &Scene, motion: &Motion, poses: usize, width: f64, panel_h: f64) -> String {
+    let height = panel_h + LABEL_H + CAPTION_H;
     let mut svg = format!("{}\n", super::SVG_MARK);
     let _ = writeln!(
         svg,
@@ -316,16 +314,9 @@ fn world_svg(
         - margin;
     let z_hi = boxes.iter().map(|b| b[3]).fold(f64::MIN, f64::max) + margin;
     let (total_w, panel_h) = ((x_hi - x_lo) * px, (z_hi - z_lo) * px);
-    let label_h = 22.0;
     let sx = |x: f64| (x - x_lo) * px;
     let sz = |z: f64| (z_hi - z) * px;
-    let mut svg = svg_head(
-        scene,
-        motion,
-        poses.len(),
-        total_w,
-        panel_h + label_h + CAPTION_H,
-    );
+    let mut svg = svg_head(scene, motion, poses.len(), total_w, panel_h);
     let mut ground = format!("M{:.1},{:.1}", sx(x_lo), sz(z_lo));
     for (x, z) in xs.iter().zip(&zs) {
         let _ = write!(ground, " L{:.1},{:.1}", sx(*x), sz(*z));

@@ -1,24 +1,10 @@
 //! Problem-file constraint kinds (`problem::constraints`): `[[periodic]]` and its general
 //! spelling `[[constraint]] type = "periodic"`, from the file to a solved trajectory.
 
-use std::path::{Path, PathBuf};
-
+use crate::common::reference::{appended, hopper_appended};
 use vito::discrete::ModelMechanics;
 use vito::pipeline::solve;
-use vito::problem::{LoadedProblem, ProblemError, load_from_str};
 use vito::transcription::{SolveOptions, Transcription};
-
-fn hopper_file() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/hopper_2d.toml")
-}
-
-/// The hopper reference problem with `extra` appended.
-fn hopper_with(extra: &str) -> Result<LoadedProblem, ProblemError> {
-    let file = hopper_file();
-    let text = std::fs::read_to_string(&file).unwrap() + extra;
-    let urdf = std::fs::read_to_string(file.with_file_name("robots/hopper_2d.urdf")).unwrap();
-    load_from_str(&file, &text, &urdf, &[])
-}
 
 const SHORTHAND: &str = r#"
 [[periodic]]
@@ -48,10 +34,10 @@ velocity = true
 
 #[test]
 fn both_spellings_build_the_same_nlp() {
-    let a = hopper_with(SHORTHAND).unwrap().spec;
-    let b = hopper_with(GENERAL).unwrap().spec;
+    let a = hopper_appended(SHORTHAND).unwrap().spec;
+    let b = hopper_appended(GENERAL).unwrap().spec;
     assert_eq!(a.constraints, b.constraints);
-    let plain = hopper_with("").unwrap().spec;
+    let plain = hopper_appended("").unwrap().spec;
     let size = |spec| {
         let t = Transcription::new(ModelMechanics::load(spec).unwrap(), spec).unwrap();
         (t.size(), t.layout().constraint_rows.clone())
@@ -68,7 +54,7 @@ fn both_spellings_build_the_same_nlp() {
 
 #[test]
 fn a_solve_meets_the_periodic_rows() {
-    let spec = hopper_with(
+    let spec = hopper_appended(
         &(GENERAL.to_owned()
             + "\n[[constraint]]\ntype = \"periodic\"\ncoordinate = \"x\"\noffset = 0.5\n"),
     )
@@ -86,7 +72,7 @@ fn a_solve_meets_the_periodic_rows() {
     assert!((q[last][0] - q[0][0] - 0.5).abs() < 1e-9);
     // The constraints change the optimum: the free hopper ends its hop with another leg
     // velocity than it starts with.
-    let free = solve(&hopper_with("").unwrap().spec, &SolveOptions::default()).unwrap();
+    let free = solve(&hopper_appended("").unwrap().spec, &SolveOptions::default()).unwrap();
     let (fq, fh) = (&free.q, &free.time_steps);
     let free_gap = (fq[last][3] - fq[last - 1][3]) / fh[last - 1] - (fq[1][3] - fq[0][3]) / fh[0];
     assert!(free_gap.abs() > 1e-3, "free leg-velocity gap {free_gap}");
@@ -94,16 +80,16 @@ fn a_solve_meets_the_periodic_rows() {
 
 #[test]
 fn bad_constraint_entries_name_the_field() {
-    let unknown = hopper_with("\n[[constraint]]\ntype = \"periodic\"\ncoordinate = \"rr\"\n")
+    let unknown = hopper_appended("\n[[constraint]]\ntype = \"periodic\"\ncoordinate = \"rr\"\n")
         .unwrap_err()
         .to_string();
     assert!(unknown.contains("constraint[0].coordinate"), "{unknown}");
     assert!(unknown.contains("`r`"), "{unknown}");
-    let kind = hopper_with("\n[[constraint]]\ntype = \"perodic\"\ncoordinate = \"r\"\n")
+    let kind = hopper_appended("\n[[constraint]]\ntype = \"perodic\"\ncoordinate = \"r\"\n")
         .unwrap_err()
         .to_string();
     assert!(kind.contains("periodic"), "{kind}");
-    let offset = hopper_with("\n[[periodic]]\ncoordinate = \"x\"\noffset = nan\n")
+    let offset = hopper_appended("\n[[periodic]]\ncoordinate = \"x\"\noffset = nan\n")
         .unwrap_err()
         .to_string();
     assert!(offset.contains("periodic[0].offset"), "{offset}");
@@ -117,7 +103,7 @@ fn periodic_momentum_rows_are_the_end_momentum_minus_the_start_momentum() {
     use num_dual::Dual64;
     use vito::discrete::Mechanics;
     use vito::random::SeededRng;
-    let spec = hopper_with("\n[[constraint]]\ntype = \"periodic_momentum\"\n")
+    let spec = hopper_appended("\n[[constraint]]\ntype = \"periodic_momentum\"\n")
         .unwrap()
         .spec;
     let t = Transcription::new(ModelMechanics::load(&spec).unwrap(), &spec).unwrap();
@@ -150,12 +136,11 @@ fn periodic_momentum_rows_are_the_end_momentum_minus_the_start_momentum() {
             "row {c}: {row} vs {expected}"
         );
     }
-    let euler = load_from_str(
-        &hopper_file(),
-        &(std::fs::read_to_string(hopper_file()).unwrap()
-            + "\n[[constraint]]\ntype = \"periodic_momentum\"\n"),
-        &std::fs::read_to_string(hopper_file().with_file_name("robots/hopper_2d.urdf")).unwrap(),
-        &[vito::problem::Override::parse("solver.integrator=\"euler\"").unwrap()],
+    let euler = appended(
+        "hopper_2d",
+        "robots/hopper_2d.urdf",
+        "\n[[constraint]]\ntype = \"periodic_momentum\"\n",
+        &["solver.integrator=\"euler\""],
     )
     .unwrap_err()
     .to_string();

@@ -3,29 +3,12 @@
 //! body angles), as rows and as costs, and their derivatives against finite differences
 //! (`vito check --derivatives`' check).
 
-use std::path::{Path, PathBuf};
-
+use crate::common::reference::{appended, hopper_appended};
 use vito::discrete::ModelMechanics;
 use vito::pipeline::kinematics::Kinematics;
-use vito::problem::{LoadedProblem, ProblemError, load_from_str};
+use vito::problem::LoadedProblem;
 use vito::random::SeededRng;
 use vito::transcription::{DerivativeKind, Transcription};
-
-fn problems() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("problems")
-}
-
-/// `file` (under problems/) with `extra` appended.
-fn with(file: &str, urdf: &str, extra: &str) -> Result<LoadedProblem, ProblemError> {
-    let path = problems().join(file);
-    let text = std::fs::read_to_string(&path).unwrap() + extra;
-    let urdf = std::fs::read_to_string(problems().join(urdf)).unwrap();
-    load_from_str(&path, &text, &urdf, &[])
-}
-
-fn hopper(extra: &str) -> Result<LoadedProblem, ProblemError> {
-    with("hopper_2d.toml", "robots/hopper_2d.urdf", extra)
-}
 
 /// The hopper with a 0.11 m step at x = 0.25 (width 0.005) and frame terms at knot 5.
 const HOPPER_TERMS: &str = r#"
@@ -99,7 +82,7 @@ fn hopper_foot(q: [f64; 4]) -> [f64; 3] {
 
 #[test]
 fn each_quantity_matches_the_pose_worked_out_by_hand() {
-    let p = hopper(HOPPER_TERMS).unwrap();
+    let p = hopper_appended(HOPPER_TERMS).unwrap();
     // q = [x, z, θ, r]: the foot at x = 0.4 + 0.5 sin 0.3 = 0.5478, past the step's edge,
     // z = 0.6 − 0.5 cos 0.3 = 0.122332, so 0.012332 above the step's top (0.11).
     let q4 = [0.38, 0.58, 0.25, 0.48];
@@ -144,10 +127,11 @@ axis = "roll"
 knots = "final"
 upper = 1.0
 "#;
-    let p = with(
-        "littledog_walk.toml",
+    let p = appended(
+        "littledog_walk",
         "robots/littledog/LittleDog.normalized.urdf",
         extra,
+        &[],
     )
     .unwrap();
     let kinematics = Kinematics::new(&p.spec).unwrap();
@@ -174,7 +158,7 @@ upper = 1.0
 
 #[test]
 fn contact_positions_by_name_match_the_hopper_worked_out_by_hand() {
-    let p = hopper("").unwrap();
+    let p = hopper_appended("").unwrap();
     let kinematics = Kinematics::new(&p.spec).unwrap();
     let q = [0.1, 0.7, -0.4, 0.35];
     let got = kinematics.contact_position("foot_contact", &q).unwrap();
@@ -201,7 +185,7 @@ fn contact_positions_by_name_match_the_hopper_worked_out_by_hand() {
 
 #[test]
 fn frame_derivatives_match_finite_differences() {
-    let p = hopper(HOPPER_TERMS).unwrap();
+    let p = hopper_appended(HOPPER_TERMS).unwrap();
     let mut rng = SeededRng::new(11);
     let mut q = || {
         [
@@ -256,7 +240,7 @@ fn bad_frame_entries_name_their_field() {
         ),
     ];
     for (entry, field) in cases {
-        let err = hopper(&format!("\n[[frame]]\n{entry}\n"))
+        let err = hopper_appended(&format!("\n[[frame]]\n{entry}\n"))
             .unwrap_err()
             .to_string();
         assert!(err.contains(field), "{entry:?}: {err}");
@@ -265,7 +249,7 @@ fn bad_frame_entries_name_their_field() {
 
 #[test]
 fn a_window_chooses_the_knots_whose_time_lies_in_it() {
-    let p = hopper(
+    let p = hopper_appended(
         "\n[[frame]]\ntype = \"clearance\"\ncontact = \"foot_contact\"\nwindow = [0.2, 0.35]\nlower = 0.01\n",
     )
     .unwrap();
@@ -276,7 +260,7 @@ fn a_window_chooses_the_knots_whose_time_lies_in_it() {
 #[test]
 fn a_gait_expands_into_stance_and_swing_windows() {
     // h = 0.05, period 0.5 s, duty 0.5: stance while t mod 0.5 < 0.25.
-    let p = hopper(
+    let p = hopper_appended(
         "\n[gait]\nperiod = 0.5\nduty = 0.5\nclearance = 0.03\noffsets = { foot_contact = 0.0 }\n",
     )
     .unwrap();

@@ -3,22 +3,17 @@
 //! file states it, and the loop closures along a simulated stretch of the open-loop trot
 //! (the robot's counts, mass and loop closure at q = 0 are in `model_robots::hamr_floating`).
 
-use std::path::{Path, PathBuf};
-
+use crate::common::problems_dir;
+use crate::common::robots::robot;
 use vito::model::{
     BaseType, Model, generalized_input_force, loop_residual, point_position, potential_energy,
     potential_energy_gradient,
 };
 use vito::problem::{Constraint, InitialGuess, Interval, Override, TimeSteps, load};
 
-fn problems() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("problems")
-}
-
 /// `FL_scaled.urdf` (the front-left leg on a welded chassis), with gravity g.
 fn one_leg(gravity: f64) -> Model {
-    let path = problems().join("robots/hamr/FL_scaled.normalized.urdf");
-    let mut m = Model::from_urdf_file(&path, BaseType::Fixed).unwrap_or_else(|e| panic!("{e}"));
+    let mut m = robot("hamr/FL_scaled.normalized.urdf", BaseType::Fixed);
     m.set_gravity([0.0, 0.0, -gravity]);
     m
 }
@@ -110,7 +105,7 @@ fn trot(overrides: &[(&str, &str)]) -> vito::problem::LoadedProblem {
         .iter()
         .map(|(k, v)| Override::parse(&format!("{k}={v}")).unwrap_or_else(|e| panic!("{e}")))
         .collect();
-    load(&problems().join("hamr_trot.toml"), &overrides).unwrap_or_else(|e| panic!("{e}"))
+    load(&problems_dir().join("hamr_trot.toml"), &overrides).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// The trot family as the paper's scripts set it: 51 knots, T within ±10 % of one stride,

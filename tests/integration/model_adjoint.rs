@@ -2,7 +2,7 @@
 //! gradients of T, V and L, the midpoint slot derivatives, and the Hessian and contracted
 //! third derivative of Ld taken through it, on the reference robots and the paper's robots.
 
-use std::path::Path;
+use crate::common::robots::{paper_robots, robot};
 use vito::autodiff::finite_differences::{self as fd, relative_step, values};
 
 use nalgebra::DMatrix;
@@ -19,13 +19,6 @@ use vito::model::{
     potential_energy, potential_energy_gradient, sample,
 };
 use vito::random::SeededRng;
-
-fn robot(rel: &str, base: BaseType) -> Model {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("problems/robots")
-        .join(rel);
-    Model::from_urdf_file(&path, base).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
-}
 
 /// A floating robot that exercises every branch of the sweep: joint origins with rpy,
 /// a revolute and a prismatic joint about tilted (non-coordinate) axes, a negative
@@ -103,7 +96,7 @@ const TWISTED: &str = r#"<?xml version="1.0"?>
 /// Every robot of the comparison, with its name.
 fn robots() -> Vec<(&'static str, Model)> {
     let sampled = |xml: &str, base| Model::from_urdf_str(xml, base).expect("sample loads");
-    vec![
+    let mut robots = vec![
         ("pendulum", sampled(&sample::pendulum(), BaseType::Fixed)),
         (
             "double_pendulum",
@@ -123,22 +116,20 @@ fn robots() -> Vec<(&'static str, Model)> {
             "gripper (mimic joints)",
             sampled(sample::gripper(), BaseType::Floating),
         ),
-        (
-            "spring_flamingo",
-            robot(
-                "spring_flamingo/spring_flamingo_passive_ankle.normalized.urdf",
-                BaseType::Planar,
-            ),
-        ),
-        (
-            "littledog",
-            robot("littledog/LittleDog.normalized.urdf", BaseType::Floating),
-        ),
-        (
-            "hamr",
-            robot("hamr/HAMR_scaledV2.normalized.urdf", BaseType::Floating),
-        ),
-    ]
+    ];
+    robots.extend(paper_robots());
+    robots
+}
+
+/// `m` with the entries between two marked columns kept and every other entry zero.
+fn between_marked(m: &DMatrix<f64>, columns: &[bool]) -> DMatrix<f64> {
+    DMatrix::from_fn(m.nrows(), m.ncols(), |i, j| {
+        if columns[i] && columns[j] {
+            m[(i, j)]
+        } else {
+            0.0
+        }
+    })
 }
 
 /// Forward-dual gradient of a scalar function of a vector: one `Dual64` pass per input.
@@ -539,25 +530,16 @@ fn grouped_segment_derivatives_match_one_column_per_pass() {
             let grouped = grouped_third_order(&model, &z, &dir, &groups);
             let grouped_hessian = grouped_hessian(&model, &z, &groups);
             // Entries between marked columns are exact; the others are left zero.
-            let between_marked = |m: &DMatrix<f64>| {
-                DMatrix::from_fn(dim, dim, |i, j| {
-                    if columns[i] && columns[j] {
-                        m[(i, j)]
-                    } else {
-                        0.0
-                    }
-                })
-            };
             for (what, ours, theirs) in [
                 ("hessian", &grouped.hessian, &part.hessian),
                 ("contracted", &grouped.contracted, &part.contracted),
             ] {
                 assert_eq!(
                     ours,
-                    &between_marked(ours),
+                    &between_marked(ours, &columns),
                     "{name} {what}: outside entries"
                 );
-                let theirs = between_marked(theirs);
+                let theirs = between_marked(theirs, &columns);
                 assert_matrix_close(&format!("{name} {what}"), ours, &theirs, 1e-10);
             }
             if columns.iter().all(|&c| c) {
@@ -752,15 +734,6 @@ fn segment_groups_with_the_midpoint_identity_match_every_column() {
                         previous.groups().len()
                     );
                 }
-                let between_marked = |m: &DMatrix<f64>| {
-                    DMatrix::from_fn(dim, dim, |i, j| {
-                        if columns[i] && columns[j] {
-                            m[(i, j)]
-                        } else {
-                            0.0
-                        }
-                    })
-                };
                 for (reference, along_h) in [(&full, false), (&full_h, true)] {
                     let mut d = dir.clone();
                     if !along_h {
@@ -780,7 +753,7 @@ fn segment_groups_with_the_midpoint_identity_match_every_column() {
                             hessian_scale,
                         ),
                     ] {
-                        let (a, b) = (between_marked(a), between_marked(b));
+                        let (a, b) = (between_marked(a, &columns), between_marked(b, &columns));
                         let scale = b.amax().max(floor);
                         let diff = (&a - &b).amax();
                         assert!(
@@ -794,8 +767,8 @@ fn segment_groups_with_the_midpoint_identity_match_every_column() {
                 let hessian = grouped_hessian(&model, &z, &groups);
                 assert_matrix_close(
                     &format!("{name} {point} J"),
-                    &between_marked(&hessian),
-                    &between_marked(&full.hessian),
+                    &between_marked(&hessian, &columns),
+                    &between_marked(&full.hessian, &columns),
                     1e-12,
                 );
             }

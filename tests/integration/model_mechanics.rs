@@ -3,7 +3,8 @@
 //! other; forward-mode AD against central finite differences.
 
 use std::f64::consts::PI;
-use std::path::Path;
+
+use crate::common::robots::{paper_robots, robot};
 
 use num_dual::{Dual64, HyperDual64};
 use vito::autodiff::finite_differences::{Differenced, along, central};
@@ -18,18 +19,9 @@ fn from_str(xml: &str, base: BaseType) -> Model {
     Model::from_urdf_str(xml, base).unwrap_or_else(|e| panic!("{e}"))
 }
 
-fn robot(rel: &str, base: BaseType) -> Model {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("problems/robots")
-        .join(rel);
-    Model::from_urdf_file(&path, base).unwrap_or_else(|e| panic!("{e}"))
-}
-
 /// The models every cross-check runs on: fixtures, the reference robots and the paper's.
 fn all_models() -> Vec<(&'static str, Model)> {
-    let mut hamr = robot("hamr/HAMR_scaledV2.normalized.urdf", BaseType::Floating);
-    hamr.set_gravity([0.0, 0.0, -9.81e-3]);
-    vec![
+    let mut models = vec![
         ("pendulum", from_str(&sample::pendulum(), BaseType::Fixed)),
         (
             "double_pendulum",
@@ -43,19 +35,15 @@ fn all_models() -> Vec<(&'static str, Model)> {
         ),
         ("hopper", from_str(sample::hopper_2d(), BaseType::Fixed)),
         ("brick", from_str(sample::brick(), BaseType::Floating)),
-        (
-            "spring_flamingo",
-            robot(
-                "spring_flamingo/spring_flamingo_passive_ankle.normalized.urdf",
-                BaseType::Planar,
-            ),
-        ),
-        (
-            "littledog",
-            robot("littledog/LittleDog.normalized.urdf", BaseType::Floating),
-        ),
-        ("hamr", hamr),
-    ]
+    ];
+    for (name, mut model) in paper_robots() {
+        if name == "hamr" {
+            // HAMR's lengths are in mm and its times in ms.
+            model.set_gravity([0.0, 0.0, -9.81e-3]);
+        }
+        models.push((name, model));
+    }
+    models
 }
 
 fn dual_at(x: &[f64], dir: &[f64]) -> Vec<Dual64> {

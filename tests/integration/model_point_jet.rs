@@ -2,8 +2,7 @@
 //! origins) equal forward AD through `point_position` to round-off, for every link of the
 //! paper's robots and of vito's reference robots, in all three orders.
 
-use std::path::Path;
-
+use crate::common::robots::robot;
 use vito::discrete::{MechanicsDerivatives, ModelMechanics, contact_jet_by_autodiff};
 use vito::model::{BaseType, Model, PointJet};
 use vito::problem::ContactSpec;
@@ -57,11 +56,7 @@ fn max_difference(a: &[[f64; 3]], b: &[[f64; 3]]) -> (f64, f64) {
 }
 
 fn check_robot(rel: &str, base: BaseType, links: usize) {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("problems/robots")
-        .join(rel);
-    let model = Model::from_urdf_file(&path, base).unwrap_or_else(|e| panic!("{rel}: {e}"));
-    check_model(rel, model, links);
+    check_model(rel, robot(rel, base), links);
 }
 
 fn check_model(rel: &str, model: Model, links: usize) {
@@ -156,9 +151,7 @@ fn hamr_first_links() {
 #[test]
 fn hamr_loop_closure_jets_match_autodiff() {
     use vito::discrete::loop_jets_by_autodiff;
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("problems/robots/hamr/HAMR_scaledV2_TYM.normalized.urdf");
-    let model = Model::from_urdf_file(&path, BaseType::Floating).expect("HAMR loads");
+    let model = robot("hamr/HAMR_scaledV2_TYM.normalized.urdf", BaseType::Floating);
     let n = model.nq();
     let mech = ModelMechanics::new(model, &[]).expect("no contacts to resolve");
     let q: Vec<f64> = (0..n).map(|k| 0.3 * (1.3 * k as f64 + 0.2).sin()).collect();

@@ -1,24 +1,12 @@
 //! The paper's robots and vito's reference robots load with the right counts, masses,
 //! springs and loop closures; the reference robots' energies equal the closed forms of docs/reference-problems.md.
 
-use std::path::{Path, PathBuf};
-
+use crate::common::robots::{robot, robot_path};
 use vito::model::{
     BaseType, Model, SpringKind, inspect, kinetic_energy, loop_residual, point_position,
     potential_energy,
 };
 use vito::random::SeededRng;
-
-fn robot(rel: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("problems/robots")
-        .join(rel)
-}
-
-fn load(rel: &str, base: BaseType) -> Model {
-    let path = robot(rel);
-    Model::from_urdf_file(&path, base).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
-}
 
 #[test]
 fn spring_flamingo_planar() {
@@ -26,7 +14,7 @@ fn spring_flamingo_planar() {
         "spring_flamingo/spring_flamingo_passive_ankle.normalized.urdf",
         "spring_flamingo/spring_flamingo_passive_ankle.urdf",
     ] {
-        let m = load(file, BaseType::Planar);
+        let m = robot(file, BaseType::Planar);
         assert_eq!(
             m.coordinate_names(),
             [
@@ -80,7 +68,7 @@ fn spring_flamingo_planar() {
 #[test]
 fn spring_flamingo_contacts_touch_ground_in_the_start_pose() {
     // spring-flamingo-walk: q_1 = [0, 0.875, 0, 0, 0, δ, 0, 0, δ] levels the soles at z = 9.01e-10.
-    let m = load(
+    let m = robot(
         "spring_flamingo/spring_flamingo_passive_ankle.normalized.urdf",
         BaseType::Planar,
     );
@@ -121,7 +109,7 @@ fn littledog_floating() {
         "littledog/LittleDog.normalized.urdf",
         "littledog/LittleDog.urdf",
     ] {
-        let m = load(file, BaseType::Floating);
+        let m = robot(file, BaseType::Floating);
         assert_eq!(m.nq(), 18, "{file}");
         assert_eq!(
             &m.coordinate_names()[..9],
@@ -157,7 +145,7 @@ fn littledog_floating() {
 #[test]
 fn littledog_home_pose_feet_just_above_ground() {
     // littledog-step: with base_z = 0.136 the feet sit 0.65 mm above the ground (0.36 mm for BR).
-    let m = load("littledog/LittleDog.normalized.urdf", BaseType::Floating);
+    let m = robot("littledog/LittleDog.normalized.urdf", BaseType::Floating);
     let mut q = vec![0.0; 18];
     q[2] = 0.136;
     for (leg, (roll, pitch, knee)) in [
@@ -192,7 +180,7 @@ fn hamr_floating() {
         "hamr/HAMR_scaledV2_TYM.normalized.urdf",
         "hamr/HAMR_scaledV2_TYM.urdf",
     ] {
-        let m = load(file, BaseType::Floating);
+        let m = robot(file, BaseType::Floating);
         assert_eq!(m.nq(), 38, "{file}");
         assert!(
             (m.total_mass() - 1.47499).abs() < 1e-5,
@@ -236,7 +224,7 @@ fn hamr_floating() {
         assert_eq!(info.n_loop_constraints, 24);
         assert!(info.max_loop_residual < 2e-7);
     }
-    let tym = load("hamr/HAMR_scaledV2_TYM.normalized.urdf", BaseType::Floating);
+    let tym = robot("hamr/HAMR_scaledV2_TYM.normalized.urdf", BaseType::Floating);
     let lift = tym
         .springs()
         .iter()
@@ -248,7 +236,7 @@ fn hamr_floating() {
 #[test]
 fn hamr_loops_are_violated_away_from_zero() {
     // A loop residual that is zero everywhere would pass the q = 0 test; move one flexure.
-    let m = load("hamr/HAMR_scaledV2.normalized.urdf", BaseType::Floating);
+    let m = robot("hamr/HAMR_scaledV2.normalized.urdf", BaseType::Floating);
     let mut q = vec![0.0f64; 38];
     q[m.coordinate_index("FLqs1").expect("FLqs1")] = 0.1;
     let r = loop_residual(&m, &q);
@@ -262,7 +250,7 @@ fn hamr_loops_are_violated_away_from_zero() {
 
 #[test]
 fn hopper_energies_equal_spec_closed_forms() {
-    let m = load("hopper_2d.urdf", BaseType::Fixed);
+    let m = robot("hopper_2d.urdf", BaseType::Fixed);
     assert_eq!(m.coordinate_names(), ["x", "z", "theta", "r"]);
     assert_eq!(m.input_names(), ["theta", "r"]);
     assert_eq!(m.input_coordinates(), [2, 3]);
@@ -307,7 +295,7 @@ fn body_rates(roll: f64, pitch: f64, rates: [f64; 3]) -> [f64; 3] {
 
 #[test]
 fn brick_energies_equal_rigid_body_closed_forms() {
-    let m = load("brick.urdf", BaseType::Floating);
+    let m = robot("brick.urdf", BaseType::Floating);
     assert_eq!(
         m.coordinate_names(),
         [
@@ -361,7 +349,7 @@ fn brick_energies_equal_rigid_body_closed_forms() {
 
 #[test]
 fn inspect_json_has_the_documented_keys() {
-    let m = load(
+    let m = robot(
         "spring_flamingo/spring_flamingo_passive_ankle.normalized.urdf",
         BaseType::Planar,
     );
@@ -406,8 +394,8 @@ fn fixed_leg(hip_axis: &str, hip_rpy: &str) -> Model {
 #[test]
 fn only_models_moving_in_the_xz_plane_are_planar() {
     // The reference hopper (slides along x and z, a joint about −y) and a planar base are planar.
-    assert!(load("hopper_2d.urdf", BaseType::Fixed).moves_in_xz_plane());
-    let flamingo = robot("spring_flamingo")
+    assert!(robot("hopper_2d.urdf", BaseType::Fixed).moves_in_xz_plane());
+    let flamingo = robot_path("spring_flamingo")
         .read_dir()
         .unwrap()
         .map(|e| e.unwrap().path())
@@ -419,8 +407,8 @@ fn only_models_moving_in_the_xz_plane_are_planar() {
             .moves_in_xz_plane()
     );
     // Floating bases move in 3D.
-    assert!(!load("brick.urdf", BaseType::Floating).moves_in_xz_plane());
-    assert!(!load("littledog/LittleDog.normalized.urdf", BaseType::Floating).moves_in_xz_plane());
+    assert!(!robot("brick.urdf", BaseType::Floating).moves_in_xz_plane());
+    assert!(!robot("littledog/LittleDog.normalized.urdf", BaseType::Floating).moves_in_xz_plane());
     // A fixed-base leg: planar when its hip turns about y, even about a y reached through a
     // rotated joint frame (−y after a half turn about z); spatial with a hip about x, though
     // the foot's y-rate vanishes wherever the leg is folded onto the hip axis.

@@ -333,9 +333,7 @@ fn four_bar_stays_closed_in_simulated_steps() {
 /// 2 kHz now solves to its tolerance, with the feet at most 1e-8 m below the ground.
 #[test]
 fn littledog_collapsing_without_inputs_solves_every_step() {
-    let file =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/littledog_step.toml");
-    let problem = vito::problem::load(&file, &[]).expect("loads");
+    let problem = crate::common::reference::loaded("littledog_step", &[]);
     let mech = vito::pipeline::mechanics(&problem.spec).expect("mechanics");
     let contact = problem.spec.contact_model(&mech);
     let m = mech.nu();

@@ -1,10 +1,33 @@
 //! The accuracy studies (figures 5 and 6 of the paper), short versions.
 
+use std::path::Path;
+
 use vito::discrete::Integrator;
 use vito::study::brick::BrickAccuracy;
+use vito::study::tracking::{Tracking, TrackingResult};
 use vito::study::{PAPER_METHODS, StudyMethod, StudyTable, log_log_slope};
 
-use crate::common::reference;
+use crate::common::{problems_dir, reference};
+
+/// The tracking study of the paper's methods, each plan tracked at 2 kHz in the first-order
+/// simulation: the problem `file` (with `overrides`) planned at `knots`, PD `gains`.
+fn paper_tracking(
+    file: &Path,
+    overrides: &[&str],
+    knots: Vec<usize>,
+    gains: &[&str],
+) -> TrackingResult {
+    Tracking {
+        knots,
+        gains: gains.iter().map(|g| (*g).to_owned()).collect(),
+        feedback: None,
+        rate: 2000.0,
+        methods: PAPER_METHODS.to_vec(),
+        reference: Integrator::Euler,
+    }
+    .run(file, &reference::parsed(overrides), |_, _| {})
+    .expect("study runs")
+}
 
 fn print(table: &StudyTable) {
     for r in &table.rows {
@@ -95,23 +118,8 @@ fn brick_study_in_flight_variational_error_falls_faster() {
 /// by both methods (BENCHMARKS.md; the smooth swing below shows the orders).
 #[test]
 fn tracking_study_pd_feedback_lowers_every_plans_error() {
-    use vito::study::tracking::Tracking;
-    let run = |gains: &[&str]| {
-        Tracking {
-            knots: vec![10, 20],
-            gains: gains.iter().map(|g| (*g).to_owned()).collect(),
-            feedback: None,
-            rate: 2000.0,
-            methods: vito::study::PAPER_METHODS.to_vec(),
-            reference: vito::discrete::Integrator::Euler,
-        }
-        .run(
-            &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/hopper_2d.toml"),
-            &[],
-            |_, _| {},
-        )
-        .expect("study runs")
-    };
+    let hopper = problems_dir().join("hopper_2d.toml");
+    let run = |gains: &[&str]| paper_tracking(&hopper, &[], vec![10, 20], gains);
     let tracked = run(&["theta=50,5", "r=1000,50"]);
     let open_loop = run(&["all=0,0"]);
     print(&tracked.table);
@@ -153,23 +161,13 @@ fn tracking_study_pd_feedback_lowers_every_plans_error() {
 /// alike (BENCHMARKS.md).
 #[test]
 fn tracking_study_variational_error_is_below_and_falls_faster_on_a_smooth_swing() {
-    use vito::study::tracking::Tracking;
     let dir = tempfile::Builder::new()
         .prefix("vito-tracking-swing-")
         .tempdir()
         .expect("temp dir");
     let file = crate::common::swing::write_pendulum_swing(dir.path());
     let knots = vec![5, 10, 20];
-    let result = Tracking {
-        knots: knots.clone(),
-        gains: vec!["all=20,2".into()],
-        feedback: None,
-        rate: 2000.0,
-        methods: vito::study::PAPER_METHODS.to_vec(),
-        reference: vito::discrete::Integrator::Euler,
-    }
-    .run(&file, &[], |_, _| {})
-    .expect("study runs");
+    let result = paper_tracking(&file, &[], knots.clone(), &["all=20,2"]);
     print(&result.table);
     print(&result.configuration);
     print!("{}", result.plans_csv());
@@ -208,22 +206,13 @@ fn tracking_study_variational_error_is_below_and_falls_faster_on_a_smooth_swing(
 /// from it.
 #[test]
 fn tracking_study_records_but_does_not_track_a_relaxed_plan() {
-    use vito::study::tracking::Tracking;
     use vito::transcription::DEFAULT_SLACK_TOLERANCE;
-    let result = Tracking {
-        knots: vec![10],
-        gains: vec!["theta=50,5".into(), "r=1000,50".into()],
-        feedback: None,
-        rate: 2000.0,
-        methods: vito::study::PAPER_METHODS.to_vec(),
-        reference: vito::discrete::Integrator::Euler,
-    }
-    .run(
-        &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/hopper_2d.toml"),
-        &[vito::problem::Override::parse("slack.weight=1e-3").unwrap()],
-        |_, _| {},
-    )
-    .expect("study runs");
+    let result = paper_tracking(
+        &problems_dir().join("hopper_2d.toml"),
+        &["slack.weight=1e-3"],
+        vec![10],
+        &["theta=50,5", "r=1000,50"],
+    );
     print!("{}", result.plans_csv());
     assert_eq!(result.plans.len(), 2);
     for p in &result.plans {
@@ -280,7 +269,6 @@ fn brick_study_in_flight_galerkin4_error_falls_at_fourth_order() {
 /// are printed, not asserted on.
 #[test]
 fn frontier_higher_orders_pay_on_a_smooth_swing() {
-    use vito::study::tracking::Tracking;
     let dir = tempfile::Builder::new()
         .prefix("vito-frontier-swing-")
         .tempdir()

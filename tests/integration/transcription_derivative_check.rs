@@ -3,8 +3,9 @@
 //! where the tanh step's slope is large and, a few widths away, exactly 0.0 (a structure
 //! probed from values lost these entries); hopper and brick at seeded random points.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
+use crate::common::reference::loaded;
 use vito::discrete::Mechanics;
 use vito::pipeline::build_nlp;
 use vito::problem::{LoadedProblem, Override, load};
@@ -12,17 +13,6 @@ use vito::random::SeededRng;
 use vito::transcription::{
     DerivativeCheck, DerivativeKind, EntryNames, ModelMechanics, Transcription,
 };
-
-fn problem(file: &str, overrides: &[&str]) -> LoadedProblem {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("problems")
-        .join(file);
-    let overrides: Vec<Override> = overrides
-        .iter()
-        .map(|o| Override::parse(o).unwrap())
-        .collect();
-    load(Path::new(&path), &overrides).unwrap()
-}
 
 /// Asserts the check passes at x, printing the failures (by name) when it does not.
 fn assert_passes(
@@ -95,7 +85,7 @@ fn littledog_galerkin4_passes_with_a_foot_on_the_step_edge() {
 }
 
 fn littledog_passes_on_the_step_edge(overrides: &[&str], feet: &[usize]) {
-    let p = problem("littledog_step.toml", overrides);
+    let p = loaded("littledog_step", overrides);
     let nlp = build_nlp(&p.spec).unwrap();
     let l = nlp.layout();
     for &foot in feet {
@@ -154,10 +144,10 @@ fn random_point(nlp: &Transcription<ModelMechanics>, seed: u64, a: f64) -> Vec<f
 #[test]
 fn hopper_and_brick_pass_at_random_points() {
     for (file, overrides) in [
-        ("hopper_2d.toml", vec![]),
-        ("brick_3d.toml", vec!["horizon.knots=11"]),
+        ("hopper_2d", vec![]),
+        ("brick_3d", vec!["horizon.knots=11"]),
     ] {
-        let p = problem(file, &overrides);
+        let p = loaded(file, &overrides);
         let nlp = build_nlp(&p.spec).unwrap();
         for seed in 1..=3 {
             let x = random_point(&nlp, seed, 0.3);

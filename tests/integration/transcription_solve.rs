@@ -28,6 +28,12 @@ fn quiet() -> SolveOptions {
 
 fn run<M: MechanicsDerivatives>(label: &str, mech: M, spec: &ProblemSpec) -> Solution {
     let s = solve_with(mech, spec, &quiet()).unwrap();
+    report(label, &s);
+    s
+}
+
+/// Prints how the solve `label` went and the size of its NLP.
+fn report(label: &str, s: &Solution) {
     println!(
         "{label}: {:?}, objective {:.9}, {} iterations, wall {:.3} s (callbacks {:.3} s, ipopt {:.3} s), \
          max slack {:.2e}, max complementarity {:.2e}, max violation {:.2e}; \
@@ -46,7 +52,6 @@ fn run<M: MechanicsDerivatives>(label: &str, mech: M, spec: &ProblemSpec) -> Sol
         s.size.nnz_jacobian,
         s.size.nnz_hessian
     );
-    s
 }
 
 /// The independent implementation's stored result.
@@ -212,17 +217,7 @@ fn brick_comes_to_rest_on_a_face() {
 #[test]
 fn brick_from_urdf_matches_the_independent_optimum() {
     let s = solve(&brick_3d(), &quiet()).unwrap();
-    println!(
-        "brick-3d (URDF): {:?}, objective {:.9}, {} iterations, wall {:.3} s \
-         (callbacks {:.3} s, ipopt {:.3} s), max slack {:.2e}",
-        s.status,
-        s.objective,
-        s.iterations,
-        s.wall_time_s,
-        s.callback_time_s,
-        s.ipopt_time_s,
-        s.max_slack
-    );
+    report("brick-3d (URDF)", &s);
     assert_eq!(s.status, Status::SolveSucceeded);
     assert!(s.max_slack < 1e-4, "max slack {}", s.max_slack);
     let objective = independent("brick_3d").objective;
@@ -324,11 +319,7 @@ fn hopper_from_urdf_matches_the_independent_optimum() {
     opts.ipopt_options
         .push(("tol".into(), OptionValue::Num(1e-8)));
     let s = solve(&hopper_2d(), &opts).unwrap();
-    println!(
-        "hopper-2d (URDF): {:?}, objective {:.9}, {} iterations, wall {:.3} s \
-         (callbacks {:.3} s, ipopt {:.3} s)",
-        s.status, s.objective, s.iterations, s.wall_time_s, s.callback_time_s, s.ipopt_time_s
-    );
+    report("hopper-2d (URDF)", &s);
     assert_eq!(s.status, Status::SolveSucceeded);
     assert!(s.max_slack < 1e-4 && s.max_complementarity < 1e-4);
     let Independent { objective, q, .. } = independent("hopper_2d");

@@ -172,11 +172,7 @@ fn galerkin_transcription_adds_interior_points_and_their_rows() {
 fn galerkin_plan_read_back_has_its_interior_points() {
     use vito::ipopt::OptionValue;
     use vito::transcription::SolveOptions;
-    let load = vito::problem::load(
-        &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/hopper_2d.toml"),
-        &[vito::problem::Override::parse("solver.integrator=galerkin4").unwrap()],
-    )
-    .unwrap();
+    let load = crate::common::reference::loaded("hopper_2d", &["solver.integrator=galerkin4"]);
     let options = SolveOptions {
         ipopt_options: vec![("print_level".into(), OptionValue::Int(0))],
         ..SolveOptions::default()

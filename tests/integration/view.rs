@@ -10,8 +10,9 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+use vito::files::trajectory_csv::{RecordedTrajectory, read_trajectory};
 use vito::model::link_pose;
-use vito::view::{base_link, scene};
+use vito::view::{Scene, base_link, scene};
 
 const WIDTH: usize = 900;
 const HEIGHT: usize = 600;
@@ -54,6 +55,13 @@ fn browse(browser: &Path, profile: &Path, url: &str, args: &[String]) -> (String
 /// Console lines (the page logs nothing; an error shows as a console line).
 fn console_lines(stderr: &str) -> Vec<&str> {
     stderr.lines().filter(|l| l.contains("CONSOLE")).collect()
+}
+
+/// Asserts that Chromium's `stderr` holds no console line (`page` names the page in the
+/// message).
+fn assert_no_console_lines(stderr: &str, page: &str) {
+    let lines = console_lines(stderr);
+    assert!(lines.is_empty(), "{page}: {lines:?}");
 }
 
 /// The page's status element (JSON) from a DOM dump.
@@ -144,6 +152,21 @@ fn write_page(root: &Path, dir: &str) -> (tempfile::TempDir, std::path::PathBuf)
     (tmp, page)
 }
 
+/// The scene of the problem the result directory `dir` (under `root`) was solved from (its
+/// summary's `problem_file`), and its trajectory as recorded.
+fn solved(root: &Path, dir: &str) -> (Scene, RecordedTrajectory) {
+    let summary: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(root.join(dir).join("summary.json")).unwrap(),
+    )
+    .unwrap();
+    let problem =
+        vito::problem::load(&root.join(summary["problem_file"].as_str().unwrap()), &[]).unwrap();
+    let scene = scene(&problem).unwrap();
+    let csv = std::fs::read_to_string(root.join(dir).join("trajectory.csv")).unwrap();
+    let recorded = read_trajectory(&csv, &problem.robot.coordinates, &[]).unwrap();
+    (scene, recorded)
+}
+
 /// Checks one result directory's page.
 fn check(browser: &Path, dir: &str, knots: [usize; 2], keep: Option<&Path>) {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
@@ -157,18 +180,8 @@ fn check(browser: &Path, dir: &str, knots: [usize; 2], keep: Option<&Path>) {
 
     // The model's kinematics, here: the base (its first link that is a body, not a frame
     // such as the world or a planar base's slider) and every link at the two knots.
-    let summary: serde_json::Value = serde_json::from_str(
-        &std::fs::read_to_string(root.join(dir).join("summary.json")).unwrap(),
-    )
-    .unwrap();
-    let problem =
-        vito::problem::load(&root.join(summary["problem_file"].as_str().unwrap()), &[]).unwrap();
-    let scene = scene(&problem).unwrap();
+    let (scene, recorded) = solved(root, dir);
     let model = scene.mechanics.model();
-    let csv = std::fs::read_to_string(root.join(dir).join("trajectory.csv")).unwrap();
-    let recorded =
-        vito::files::trajectory_csv::read_trajectory(&csv, &problem.robot.coordinates, &[])
-            .unwrap();
     let links = |k: usize| -> Vec<[f64; 3]> {
         model
             .link_names()
@@ -192,11 +205,7 @@ fn check(browser: &Path, dir: &str, knots: [usize; 2], keep: Option<&Path>) {
             &url(&format!("t={t}")),
             &["--dump-dom".into()],
         );
-        assert!(
-            console_lines(&stderr).is_empty(),
-            "{dir}: {:?}",
-            console_lines(&stderr)
-        );
+        assert_no_console_lines(&stderr, dir);
         let s = status(&dom);
         assert_eq!(s["errors"], serde_json::json!([]), "{dir}");
         assert_eq!(s["ready"], true, "{dir}");
@@ -212,11 +221,7 @@ fn check(browser: &Path, dir: &str, knots: [usize; 2], keep: Option<&Path>) {
             &url(&format!("t={t}")),
             &[format!("--screenshot={}", shot.display())],
         );
-        assert!(
-            console_lines(&stderr).is_empty(),
-            "{dir}: {:?}",
-            console_lines(&stderr)
-        );
+        assert_no_console_lines(&stderr, dir);
         shots.push((k, read_png(&shot), shot));
     }
     let (a, b) = (&shots[0].1, &shots[1].1);
@@ -304,11 +309,7 @@ fn check(browser: &Path, dir: &str, knots: [usize; 2], keep: Option<&Path>) {
         &url(&format!("strip={n}")),
         &["--dump-dom".into()],
     );
-    assert!(
-        console_lines(&stderr).is_empty(),
-        "{dir}: {:?}",
-        console_lines(&stderr)
-    );
+    assert_no_console_lines(&stderr, dir);
     let strip_status = status(&dom);
     assert_eq!(strip_status["copies"], n, "{dir}");
     // The legend's box (its text and contact swatches are not robots).
@@ -577,11 +578,7 @@ fn markup_in_names_neither_stops_the_page_nor_runs() {
         &format!("file://{}#size={WIDTH}x{HEIGHT}", page.display()),
         &["--dump-dom".into()],
     );
-    assert!(
-        console_lines(&stderr).is_empty(),
-        "{:?}",
-        console_lines(&stderr)
-    );
+    assert_no_console_lines(&stderr, "page.html");
     assert!(!stderr.contains("INJECTED"), "{stderr}");
     let s = status(&dom);
     assert_eq!(s["errors"], serde_json::json!([]));
@@ -597,11 +594,7 @@ fn markup_in_names_neither_stops_the_page_nor_runs() {
         &format!("file://{}", t.path().join("strip.svg").display()),
         &["--dump-dom".into()],
     );
-    assert!(
-        console_lines(&stderr).is_empty(),
-        "{:?}",
-        console_lines(&stderr)
-    );
+    assert_no_console_lines(&stderr, "strip.svg");
     assert!(!stderr.contains("INJECTED"), "{stderr}");
 }
 
@@ -653,17 +646,7 @@ fn drop_lines_reach_the_terrain_and_trails_follow_the_feet() {
     let dir = "results/motion/littledog_step";
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let (tmp, page) = write_page(root, dir);
-    let summary: serde_json::Value = serde_json::from_str(
-        &std::fs::read_to_string(root.join(dir).join("summary.json")).unwrap(),
-    )
-    .unwrap();
-    let problem =
-        vito::problem::load(&root.join(summary["problem_file"].as_str().unwrap()), &[]).unwrap();
-    let scene = scene(&problem).unwrap();
-    let csv = std::fs::read_to_string(root.join(dir).join("trajectory.csv")).unwrap();
-    let recorded =
-        vito::files::trajectory_csv::read_trajectory(&csv, &problem.robot.coordinates, &[])
-            .unwrap();
+    let (scene, recorded) = solved(root, dir);
     let contacts: Vec<Vec<[f64; 3]>> = recorded
         .q
         .iter()
@@ -695,11 +678,7 @@ fn drop_lines_reach_the_terrain_and_trails_follow_the_feet() {
             &url(fragment),
             &[format!("--screenshot={}", path.display())],
         );
-        assert!(
-            console_lines(&stderr).is_empty(),
-            "{:?}",
-            console_lines(&stderr)
-        );
+        assert_no_console_lines(&stderr, name);
         read_png(&path)
     };
     let t = recorded.times[k];

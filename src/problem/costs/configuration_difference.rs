@@ -1,22 +1,16 @@
 //! Smoothness: the change of the configuration over every interval.
 
-use serde::Deserialize;
-
 use super::{
     CheckCost, CostCheck, CostFunction, CostInputs, CostSizes, LengthMismatch,
     half_weighted_change, mismatch,
 };
 use crate::autodiff::Scalar;
 use crate::problem::ProblemError;
-use crate::problem::schema::NamedVector;
 
 /// `type = "configuration_difference"`: Σ_k ½ (q_{k+1} − q_k)ᵀ diag(w) (q_{k+1} − q_k).
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Entry {
-    /// Weights per coordinate.
-    pub weights: NamedVector,
-}
+///
+/// Its weights are per coordinate.
+pub type Entry = super::WeightsEntry;
 
 /// Σ_{k=1}^{N−1} ½ (q_{k+1} − q_k)ᵀ diag(w) (q_{k+1} − q_k).
 #[derive(Debug, Clone, PartialEq)]

@@ -1,7 +1,6 @@
 //! Smoothness: the change of the inputs between adjacent intervals.
 
 use nalgebra::DMatrix;
-use serde::Deserialize;
 
 use super::{
     CheckCost, CostCheck, CostFunction, CostInputs, CostSizes, LengthMismatch, change_hessian,
@@ -9,15 +8,11 @@ use super::{
 };
 use crate::autodiff::Scalar;
 use crate::problem::ProblemError;
-use crate::problem::schema::NamedVector;
 
 /// `type = "input_rate"`: Σ_k ½ (u_k − u_{k−1})ᵀ diag(w) (u_k − u_{k−1}).
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Entry {
-    /// Weights per input.
-    pub weights: NamedVector,
-}
+///
+/// Its weights are per input.
+pub type Entry = super::WeightsEntry;
 
 /// Σ_{k=2}^{N−1} ½ (u_k − u_{k−1})ᵀ diag(w) (u_k − u_{k−1}).
 #[derive(Debug, Clone, PartialEq)]

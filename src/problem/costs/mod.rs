@@ -1,5 +1,6 @@
 //! Cost terms, one file per term. A term's file holds all of it: its `[[cost]]` entry as the
-//! problem file spells it (`Entry`, names and all), the check that turns the entry into the
+//! problem file spells it (`Entry`, names and all; a term that takes nothing but weights names
+//! [`WeightsEntry`]), the check that turns the entry into the
 //! checked term (names resolved to full-length vectors), and the checked term's
 //! [`CostFunction`]: the knot-local variables it reads ([`CostInputs`]) and its value on them.
 //! The transcription places each term from that declaration, so a term's variables are
@@ -95,6 +96,15 @@ cost_terms! {
     Time in time,
     VelocityDifference in velocity_difference,
     ImpulseRate in impulse_rate,
+}
+
+/// The `[[cost]]` entry of a term that takes nothing but its weights (per coordinate or per
+/// input, as the term says).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WeightsEntry {
+    /// Weights, by name or as an array.
+    pub weights: NamedVector,
 }
 
 /// The knot-local variables a cost term reads, in the order of its input z, and where.

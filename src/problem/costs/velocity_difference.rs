@@ -2,21 +2,16 @@
 //! paper's eq. 36).
 
 use nalgebra::DMatrix;
-use serde::Deserialize;
 
 use super::{CheckCost, CostCheck, CostFunction, CostInputs, CostSizes, LengthMismatch, mismatch};
 use crate::autodiff::Scalar;
 use crate::problem::ProblemError;
-use crate::problem::schema::NamedVector;
 
 /// `type = "velocity_difference"`: Σ_k ½ (v_k − v_{k−1})ᵀ diag(w) (v_k − v_{k−1}) with the
 /// interval velocities v_k = (q_{k+1} − q_k) / h_k.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Entry {
-    /// Weights per coordinate.
-    pub weights: NamedVector,
-}
+///
+/// Its weights are per coordinate.
+pub type Entry = super::WeightsEntry;
 
 /// Σ_{k=2}^{N−1} ½ (v_k − v_{k−1})ᵀ diag(w) (v_k − v_{k−1}), v_k = (q_{k+1} − q_k) / h_k.
 #[derive(Debug, Clone, PartialEq)]

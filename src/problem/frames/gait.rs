@@ -10,11 +10,11 @@ use std::collections::BTreeMap;
 
 use serde::Deserialize;
 
-use super::{Clearance, FrameCheck, FramePoint, FrameQuantity, FrameTerm, KnotChoice};
+use super::{Clearance, FramePoint, FrameQuantity, FrameScope, FrameTerm, KnotChoice};
+use crate::problem::ProblemError;
 use crate::problem::schema::ProblemFile;
 use crate::problem::validate::context::Context;
 use crate::problem::validate::values::{finite, nonnegative};
-use crate::problem::{ContactSpec, ProblemError, RobotInfo, TimeSteps};
 
 /// `[[contact_window]]`: one contact in flight or in stance over a time window.
 #[derive(Debug, Clone, Deserialize)]
@@ -76,23 +76,13 @@ struct Window {
 
 /// `[[contact_window]]` and `[gait]`, expanded and checked for overlaps.
 pub(crate) fn check_windows(
-    ctx: &Context,
+    scope: &FrameScope,
     raw: &ProblemFile,
-    robot: &RobotInfo,
-    contacts: &[ContactSpec],
-    knots: usize,
-    time_steps: &TimeSteps,
 ) -> Result<Windows, ProblemError> {
+    let ctx = scope.ctx;
     let mut windows = Vec::new();
     for (i, entry) in raw.contact_window.iter().enumerate() {
-        let at = FrameCheck::new(
-            ctx,
-            format!("contact_window[{i}]"),
-            robot,
-            contacts,
-            knots,
-            time_steps,
-        );
+        let at = scope.check(format!("contact_window[{i}]"));
         let contact = at.contact("contact", &entry.contact)?;
         let flight = match entry.phase.as_str() {
             "flight" => true,
@@ -127,20 +117,15 @@ pub(crate) fn check_windows(
         });
     }
     if let Some(gait) = &raw.gait {
-        windows.extend(gait_windows(ctx, gait, contacts, knots, time_steps)?);
+        windows.extend(gait_windows(scope, gait)?);
     }
     refuse_overlaps(ctx, &windows)?;
     Ok(expand(&windows))
 }
 
 /// The gait's stance and swing runs per contact, from knot 1 (or `start`) on.
-fn gait_windows(
-    ctx: &Context,
-    gait: &GaitEntry,
-    contacts: &[ContactSpec],
-    knots: usize,
-    time_steps: &TimeSteps,
-) -> Result<Vec<Window>, ProblemError> {
+fn gait_windows(scope: &FrameScope, gait: &GaitEntry) -> Result<Vec<Window>, ProblemError> {
+    let ctx = scope.ctx;
     let period = finite(ctx, "gait.period", gait.period)?;
     if period <= 0.0 {
         return Err(ctx.invalid("gait.period", format!("must be > 0 s, got {period}")));
@@ -154,7 +139,7 @@ fn gait_windows(
     }
     let clearance = nonnegative(ctx, "gait.clearance", gait.clearance.unwrap_or(0.0))?;
     let start = finite(ctx, "gait.start", gait.start.unwrap_or(0.0))?;
-    let times = super::nominal_times(knots, time_steps);
+    let times = &scope.times;
     let end = times.last().copied().unwrap_or(0.0);
     if start < 0.0 || start >= end {
         return Err(ctx.invalid(
@@ -169,7 +154,7 @@ fn gait_windows(
              e.g. { front_left_foot = 0.0, front_right_foot = 0.5 }",
         ));
     }
-    let names: Vec<String> = contacts.iter().map(|c| c.name.clone()).collect();
+    let names: Vec<String> = scope.contacts.iter().map(|c| c.name.clone()).collect();
     let mut windows = Vec::new();
     for (name, &offset) in &gait.offsets {
         let field = format!("gait.offsets.{name}");

@@ -248,29 +248,28 @@ impl FrameTerm {
     }
 }
 
-/// What a term's check needs: where it is, the robot's and the problem's names, the knots.
-pub struct FrameCheck<'a> {
+/// What every `[[frame]]`, `[[contact_window]]` and `[gait]` check shares: the robot's and
+/// the problem's names and the knots.
+pub(crate) struct FrameScope<'a> {
     ctx: &'a Context,
-    entry: String,
     robot: &'a RobotInfo,
     contacts: &'a [ContactSpec],
     knots: usize,
+    /// The knots' nominal times.
     times: Vec<f64>,
 }
 
-impl<'a> FrameCheck<'a> {
-    /// The check of entry `entry` (as errors name it).
+impl<'a> FrameScope<'a> {
+    /// The scope of a problem with these contacts, knots and steps.
     pub(crate) fn new(
         ctx: &'a Context,
-        entry: String,
         robot: &'a RobotInfo,
         contacts: &'a [ContactSpec],
         knots: usize,
         time_steps: &TimeSteps,
     ) -> Self {
-        FrameCheck {
+        FrameScope {
             ctx,
-            entry,
             robot,
             contacts,
             knots,
@@ -278,6 +277,30 @@ impl<'a> FrameCheck<'a> {
         }
     }
 
+    /// The check of entry `entry` (as errors name it).
+    pub(crate) fn check(&self, entry: String) -> FrameCheck<'_> {
+        FrameCheck {
+            ctx: self.ctx,
+            entry,
+            robot: self.robot,
+            contacts: self.contacts,
+            knots: self.knots,
+            times: &self.times,
+        }
+    }
+}
+
+/// What a term's check needs: where it is, the robot's and the problem's names, the knots.
+pub struct FrameCheck<'a> {
+    ctx: &'a Context,
+    entry: String,
+    robot: &'a RobotInfo,
+    contacts: &'a [ContactSpec],
+    knots: usize,
+    times: &'a [f64],
+}
+
+impl FrameCheck<'_> {
     /// `entry.key`.
     pub(crate) fn field(&self, key: &str) -> String {
         format!("{}.{key}", self.entry)
@@ -313,7 +336,7 @@ impl<'a> FrameCheck<'a> {
 
     /// The knots `knots` or `window` choose.
     pub(crate) fn knots(&self, choice: KnotChoice) -> Result<Vec<usize>, ProblemError> {
-        choice.resolve(self, self.knots, &self.times)
+        choice.resolve(self, self.knots, self.times)
     }
 
     fn quantity<F: FrameFunction>(&self, entry: &FrameEntry) -> Result<F, ProblemError> {
@@ -389,27 +412,13 @@ fn quoted(names: &[&str]) -> String {
 
 /// `[[frame]]`: every entry checked, in file order.
 pub(crate) fn check_frames(
-    ctx: &Context,
+    scope: &FrameScope,
     raw: &ProblemFile,
-    robot: &RobotInfo,
-    contacts: &[ContactSpec],
-    knots: usize,
-    time_steps: &TimeSteps,
 ) -> Result<Vec<FrameTerm>, ProblemError> {
     raw.frame
         .iter()
         .enumerate()
-        .map(|(i, entry)| {
-            let at = FrameCheck::new(
-                ctx,
-                format!("frame[{i}]"),
-                robot,
-                contacts,
-                knots,
-                time_steps,
-            );
-            check_frame(&at, entry)
-        })
+        .map(|(i, entry)| check_frame(&scope.check(format!("frame[{i}]")), entry))
         .collect()
 }
 

@@ -27,7 +27,7 @@ pub(crate) use context::Context;
 pub(crate) use initial_guess::warm_start_from_text;
 
 use crate::problem::schema::ProblemFile;
-use crate::problem::{LoadedProblem, ProblemError, ProblemSpec, RobotSpec};
+use crate::problem::{LoadedProblem, ProblemError, ProblemSpec};
 
 /// Checks a parsed problem file, section by section, into a [`LoadedProblem`] (whose hash
 /// and overrides the caller fills in).
@@ -42,11 +42,8 @@ pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, Pr
     };
     let robot::CheckedRobot {
         units,
-        base,
-        urdf,
+        spec: robot_spec,
         robot,
-        gravity,
-        actuation,
     } = robot::check_robot(ctx, &raw)?;
     let contacts = contacts::check_contacts(ctx, &raw.contacts, &robot)?;
     let (slack_weight, slack_mode, slack_tolerance) = slack::check_slack_penalty(ctx, &raw)?;
@@ -66,10 +63,10 @@ pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, Pr
     let mode_block = contacts::check_mode_block(ctx, &raw, knots)?;
     let slack_continuation = slack::check_slack_continuation(ctx, &raw, slack_tolerance)?;
     let constraints = crate::problem::constraints::check_constraints(ctx, &raw, &robot, knots)?;
-    let mut frames =
-        crate::problem::frames::check_frames(ctx, &raw, &robot, &contacts, knots, &time_steps)?;
-    let windows =
-        crate::problem::frames::check_windows(ctx, &raw, &robot, &contacts, knots, &time_steps)?;
+    let frame_scope =
+        crate::problem::frames::FrameScope::new(ctx, &robot, &contacts, knots, &time_steps);
+    let mut frames = crate::problem::frames::check_frames(&frame_scope, &raw)?;
+    let windows = crate::problem::frames::check_windows(&frame_scope, &raw)?;
     frames.extend(windows.frames);
     let zero_impulse = windows.zero_impulse;
     let initial_guess = initial_guess::check_initial_guess(ctx, &raw, &robot, &endpoints, knots)?;
@@ -113,12 +110,7 @@ pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, Pr
 
     let spec = ProblemSpec {
         name,
-        robot: RobotSpec {
-            urdf,
-            base,
-            gravity,
-            actuation,
-        },
+        robot: robot_spec,
         contacts,
         terrain,
         knots,

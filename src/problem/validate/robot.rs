@@ -1,22 +1,19 @@
 //! `[robot]`: units, base, URDF and gravity.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use super::context::Context;
 use super::values::finite;
 use crate::model::{Actuation, BaseType};
 use crate::problem::schema::{ActuatedEntry, BaseName, ProblemFile};
 use crate::problem::units::si_units;
-use crate::problem::{ProblemError, RobotError, RobotInfo, Units};
+use crate::problem::{ProblemError, RobotError, RobotInfo, RobotSpec, Units};
 
 /// The checked `[robot]` section.
 pub(super) struct CheckedRobot {
     pub(super) units: Units,
-    pub(super) base: BaseType,
-    pub(super) urdf: PathBuf,
+    pub(super) spec: RobotSpec,
     pub(super) robot: RobotInfo,
-    pub(super) gravity: [f64; 3],
-    pub(super) actuation: Actuation,
 }
 
 pub(super) fn check_robot(ctx: &Context, raw: &ProblemFile) -> Result<CheckedRobot, ProblemError> {
@@ -77,11 +74,13 @@ pub(super) fn check_robot(ctx: &Context, raw: &ProblemFile) -> Result<CheckedRob
     }
     Ok(CheckedRobot {
         units,
-        base,
-        urdf,
+        spec: RobotSpec {
+            urdf,
+            base,
+            gravity,
+            actuation,
+        },
         robot,
-        gravity,
-        actuation,
     })
 }
 

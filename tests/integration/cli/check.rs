@@ -215,11 +215,15 @@ fn derivative_check_at_a_solved_trajectory() {
         .args(["solve", "hopper.toml", "--quiet", "--out", "solved"])
         .assert_exit(0);
     let trajectory = t.path().join("solved/trajectory.csv");
-    let run = t
-        .vito()
-        .args(["check", "--derivatives", "--at"])
-        .args([trajectory.as_os_str(), problem.as_os_str()])
-        .assert_exit(0);
+    // `vito check --derivatives --set SETS… --at CSV hopper.toml`, exiting with `code`.
+    let check_at = |sets: &[&str], csv: &std::path::Path, code: i32| {
+        t.vito()
+            .args(["check", "--derivatives"])
+            .args(sets.iter().flat_map(|&set| ["--set", set]))
+            .args(["--at".as_ref(), csv.as_os_str(), problem.as_os_str()])
+            .assert_exit(code)
+    };
+    let run = check_at(&[], &trajectory, 0);
     assert!(run.stdout.contains("trajectory.csv ("), "{}", run.stdout);
     // A galerkin4 plan, checked at its trajectory (interior points on the chord between its
     // knots).
@@ -227,32 +231,13 @@ fn derivative_check_at_a_solved_trajectory() {
         .args(["solve", "hopper.toml", "--quiet", "--out", "g4"])
         .args(["--set", "solver.integrator=galerkin4"])
         .assert_exit(0);
-    let run = t
-        .vito()
-        .args([
-            "check",
-            "--derivatives",
-            "--set",
-            "solver.integrator=galerkin4",
-            "--at",
-        ])
-        .args([
-            t.path().join("g4/trajectory.csv").as_os_str(),
-            problem.as_os_str(),
-        ])
-        .assert_exit(0);
+    let run = check_at(
+        &["solver.integrator=galerkin4"],
+        &t.path().join("g4/trajectory.csv"),
+        0,
+    );
     assert!(run.stdout.trim_end().ends_with("passed"), "{}", run.stdout);
-    let run = t
-        .vito()
-        .args([
-            "check",
-            "--derivatives",
-            "--set",
-            "horizon.knots=11",
-            "--at",
-        ])
-        .args([trajectory.as_os_str(), problem.as_os_str()])
-        .assert_exit(2);
+    let run = check_at(&["horizon.knots=11"], &trajectory, 2);
     assert!(
         run.stderr
             .contains("trajectory.csv: it has 21 rows, the problem has 11 knots"),

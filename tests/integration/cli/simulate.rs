@@ -1,6 +1,8 @@
 //! `vito simulate`: outputs in the solve's format, replaying a solved plan, and one clear
 //! error (exit 2) for bad input before simulating.
 
+use std::path::PathBuf;
+
 use crate::cli::util::{TestDir, problems_dir, summary};
 
 /// The brick of brick_3d.toml simulated for 1 s at 1 kHz: trajectory.csv with the solve's
@@ -110,6 +112,31 @@ fn simulate_rejects_bad_input_before_simulating() {
 const HOPPER_SWING_PLAN: &str = "time [s],x [m],z [m],theta [rad],r [m],u_theta [N·m],u_r [N]\n\
     0,0,0.5,0,0.5,0,0\n0.05,0,0.5,0.1,0.45,,\n";
 
+/// `vito simulate FILE --quiet --track plan.csv --rate 2000 --out OUT EXTRA…` in `t`, which
+/// succeeds; the directory it wrote.
+fn tracked(t: &TestDir, file: &str, extra: &[&str], out: &str) -> PathBuf {
+    t.vito()
+        .args(["simulate", file, "--quiet", "--track", "plan.csv"])
+        .args(["--rate", "2000", "--out", out])
+        .args(extra)
+        .assert_exit(0);
+    t.path().join(out)
+}
+
+/// `vito simulate FILE --quiet --track plan.csv --out OUT` in `t`, which is refused (exit 2)
+/// naming the file, with nothing written; its standard error.
+fn refused(t: &TestDir, file: &str, out: &str) -> String {
+    let out = t.path().join(out);
+    let failed = t
+        .vito()
+        .args(["simulate", file, "--quiet", "--track", "plan.csv", "--out"])
+        .args([out.as_os_str()])
+        .assert_exit(2);
+    assert!(failed.stderr.contains(file), "{}", failed.stderr);
+    assert!(!out.exists());
+    failed.stderr
+}
+
 /// `[tracking] gains` in the problem file: the same simulation as the same gains given with
 /// `--gains` (byte-identical trajectory); `--gains` overrides the file per input; an unknown
 /// input name or a negative gain in the file, or `--track` without any gains, is one error
@@ -125,12 +152,7 @@ fn simulate_tracks_with_the_files_gains() {
     );
     t.write("plan.csv", HOPPER_SWING_PLAN);
     let run = |file: &str, extra: &[&str], out: &str| {
-        t.vito()
-            .args(["simulate", file, "--quiet", "--track", "plan.csv"])
-            .args(["--rate", "2000", "--out", out])
-            .args(extra)
-            .assert_exit(0);
-        std::fs::read_to_string(t.path().join(out).join("trajectory.csv")).unwrap()
+        std::fs::read_to_string(tracked(&t, file, extra, out).join("trajectory.csv")).unwrap()
     };
     let from_file = run("gains.toml", &[], "file");
     let from_cli = run(
@@ -148,38 +170,12 @@ fn simulate_tracks_with_the_files_gains() {
         ("gain = { theta = [1, 1] }", "gain"),
     ] {
         t.write("bad.toml", &format!("{hopper}\n[tracking]\n{text}\n"));
-        let out = t.path().join("bad-out");
-        let failed = t
-            .vito()
-            .args([
-                "simulate", "bad.toml", "--quiet", "--track", "plan.csv", "--out",
-            ])
-            .args([out.as_os_str()])
-            .assert_exit(2);
-        assert!(failed.stderr.contains("bad.toml"), "{}", failed.stderr);
-        assert!(failed.stderr.contains(named), "{named}: {}", failed.stderr);
-        assert!(!out.exists());
+        let stderr = refused(&t, "bad.toml", "bad-out");
+        assert!(stderr.contains(named), "{named}: {stderr}");
     }
-    let out = t.path().join("none-out");
-    let failed = t
-        .vito()
-        .args([
-            "simulate",
-            "hopper.toml",
-            "--quiet",
-            "--track",
-            "plan.csv",
-            "--out",
-        ])
-        .args([out.as_os_str()])
-        .assert_exit(2);
-    assert!(failed.stderr.contains("--gains"), "{}", failed.stderr);
-    assert!(
-        failed.stderr.contains("[tracking] gains"),
-        "{}",
-        failed.stderr
-    );
-    assert!(!out.exists());
+    let stderr = refused(&t, "hopper.toml", "none-out");
+    assert!(stderr.contains("--gains"), "{stderr}");
+    assert!(stderr.contains("[tracking] gains"), "{stderr}");
 }
 
 /// `[tracking] feedback = "implicit"` in the problem file runs the same simulation as
@@ -198,12 +194,8 @@ fn simulate_feedback_law_from_the_file_or_the_command_line() {
     );
     t.write("plan.csv", HOPPER_SWING_PLAN);
     let run = |file: &str, extra: &[&str], out: &str| {
-        t.vito()
-            .args(["simulate", file, "--quiet", "--track", "plan.csv"])
-            .args(["--rate", "2000", "--out", out])
-            .args(extra)
-            .assert_exit(0);
-        let read = |name: &str| std::fs::read_to_string(t.path().join(out).join(name)).unwrap();
+        let dir = tracked(&t, file, extra, out);
+        let read = |name: &str| std::fs::read_to_string(dir.join(name)).unwrap();
         (read("trajectory.csv"), read("summary.json"))
     };
     let (from_file, summary) = run("implicit.toml", &[], "file");
@@ -223,21 +215,8 @@ fn simulate_feedback_law_from_the_file_or_the_command_line() {
         "bad.toml",
         &format!("{hopper}\n{gains}feedback = \"backward\"\n"),
     );
-    let out = t.path().join("bad-out");
-    let failed = t
-        .vito()
-        .args([
-            "simulate", "bad.toml", "--quiet", "--track", "plan.csv", "--out",
-        ])
-        .args([out.as_os_str()])
-        .assert_exit(2);
-    assert!(failed.stderr.contains("bad.toml"), "{}", failed.stderr);
-    assert!(
-        failed.stderr.contains("tracking.feedback"),
-        "{}",
-        failed.stderr
-    );
-    assert!(!out.exists());
+    let stderr = refused(&t, "bad.toml", "bad-out");
+    assert!(stderr.contains("tracking.feedback"), "{stderr}");
 }
 
 /// At gains the explicit PD law cannot hold at 2 kHz (kp 1e6, kd 1e4 on the hopper), the run

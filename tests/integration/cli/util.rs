@@ -3,10 +3,7 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-/// The repository's `problems/` directory.
-pub fn problems_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("problems")
-}
+pub use crate::common::problems_dir;
 
 /// A temp directory for one test, removed at the end.
 pub struct TestDir {

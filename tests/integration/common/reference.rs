@@ -1,19 +1,45 @@
 //! The reference problems (docs/reference-problems.md), read from their problem files in `problems/`: the tests
 //! solve and differentiate exactly what `vito solve problems/<name>.toml` does.
 
-use std::path::PathBuf;
+use vito::problem::{LoadedProblem, Override, ProblemError, ProblemSpec, load, load_from_str};
 
-use vito::problem::{ProblemSpec, load};
+/// `overrides` (`KEY.PATH=VALUE`, as `--set` takes them) parsed.
+pub fn parsed(overrides: &[&str]) -> Vec<Override> {
+    overrides
+        .iter()
+        .map(|o| Override::parse(o).unwrap_or_else(|e| panic!("{o}: {e}")))
+        .collect()
+}
+
+/// The problem `problems/<file>.toml` loaded with `overrides`.
+pub fn loaded(file: &str, overrides: &[&str]) -> LoadedProblem {
+    let path = super::problems_dir().join(format!("{file}.toml"));
+    load(&path, &parsed(overrides)).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
 
 /// The problem `problems/<file>.toml`, with no overrides.
 pub fn problem(file: &str) -> ProblemSpec {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("problems")
-        .join(format!("{file}.toml"));
-    match load(&path, &[]) {
-        Ok(loaded) => loaded.spec,
-        Err(e) => panic!("{}: {e}", path.display()),
-    }
+    loaded(file, &[]).spec
+}
+
+/// `problems/<file>.toml` with `extra` appended to its text, its robot read from
+/// `problems/<urdf>`, loaded with `overrides`: the reference problem as an edited file.
+pub fn appended(
+    file: &str,
+    urdf: &str,
+    extra: &str,
+    overrides: &[&str],
+) -> Result<LoadedProblem, ProblemError> {
+    let dir = super::problems_dir();
+    let path = dir.join(format!("{file}.toml"));
+    let text = std::fs::read_to_string(&path).unwrap() + extra;
+    let urdf = std::fs::read_to_string(dir.join(urdf)).unwrap();
+    load_from_str(&path, &text, &urdf, &parsed(overrides))
+}
+
+/// The hopper reference problem with `extra` appended.
+pub fn hopper_appended(extra: &str) -> Result<LoadedProblem, ProblemError> {
+    appended("hopper_2d", "robots/hopper_2d.urdf", extra, &[])
 }
 
 /// hopper-2d: the planar hopper hops 0.5 m in 1 s (N = 21, h = 0.05).
