@@ -51,12 +51,21 @@ pub struct IntervalRows {
     pub name: fn(&Layout, usize, usize, EntryNames) -> String,
 }
 
-/// Sizes and offsets of the variable vector and the constraint rows. Its per-knot sizes are
-/// its [`Dims`], read through it: `layout.n` is `layout.dims.n`.
+/// Sizes and offsets of the variable vector and the constraint rows.
 #[derive(Debug, Clone)]
 pub struct Layout {
-    /// The per-knot sizes n, m, nc, nd, nl and the interior points per interval.
-    pub dims: Dims,
+    /// Coordinates n.
+    pub n: usize,
+    /// Inputs m.
+    pub m: usize,
+    /// Contacts nc.
+    pub nc: usize,
+    /// Friction directions per contact nd.
+    pub nd: usize,
+    /// Loop-closure constraints nl.
+    pub nl: usize,
+    /// Interior control points per interval (s − 1 for a Galerkin integrator of degree s).
+    pub interior: usize,
     /// Knots N.
     pub knots: usize,
     /// Slack mode.
@@ -67,14 +76,6 @@ pub struct Layout {
     pub constraint_rows: Vec<String>,
     /// The rows each kind owns per interval after the dynamics rows, in row order.
     pub interval_rows: Vec<IntervalRows>,
-}
-
-impl std::ops::Deref for Layout {
-    type Target = Dims;
-
-    fn deref(&self) -> &Dims {
-        &self.dims
-    }
 }
 
 impl Layout {
@@ -88,8 +89,21 @@ impl Layout {
         constraint_rows: Vec<String>,
         interval_rows: Vec<IntervalRows>,
     ) -> Layout {
+        let Dims {
+            n,
+            m,
+            nc,
+            nd,
+            nl,
+            interior,
+        } = dims;
         Layout {
-            dims,
+            n,
+            m,
+            nc,
+            nd,
+            nl,
+            interior,
             knots,
             slack_mode,
             equal_steps,
