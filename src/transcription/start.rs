@@ -35,25 +35,29 @@ pub(super) fn bounds<M: MechanicsDerivatives>(
     let mut hi = vec![f64::INFINITY; nv];
     let limits = mech.coordinate_limits();
     let last = l.knots - 1;
+    // Coordinate c's joint limits and the file's bounds on it whose knots `applies` takes.
+    let coordinate_bound = |c: usize, applies: &dyn Fn(&KnotSet) -> bool| {
+        let mut b = Interval::FREE;
+        if spec.joint_limits {
+            let (lower, upper) = limits[c];
+            b = intersect(b, Interval { lower, upper });
+        }
+        for cb in spec.bounds.iter().filter(|cb| cb.coordinate == c) {
+            if applies(&cb.knots) {
+                b = intersect(b, cb.bound);
+            }
+        }
+        b
+    };
     for k in 0..l.knots {
         for c in 0..l.n {
-            let mut b = Interval::FREE;
-            if spec.joint_limits {
-                let (lower, upper) = limits[c];
-                b = intersect(b, Interval { lower, upper });
-            }
-            for cb in spec.bounds.iter().filter(|cb| cb.coordinate == c) {
-                let applies = match &cb.knots {
-                    KnotSet::All => true,
-                    KnotSet::Interior => k > 0 && k < last,
-                    KnotSet::First => k == 0,
-                    KnotSet::Last => k == last,
-                    KnotSet::List(list) => list.contains(&k),
-                };
-                if applies {
-                    b = intersect(b, cb.bound);
-                }
-            }
+            let mut b = coordinate_bound(c, &|knots| match knots {
+                KnotSet::All => true,
+                KnotSet::Interior => k > 0 && k < last,
+                KnotSet::First => k == 0,
+                KnotSet::Last => k == last,
+                KnotSet::List(list) => list.contains(&k),
+            });
             if k == last {
                 b = intersect(b, spec.q_final[c]);
             }
@@ -120,16 +124,9 @@ pub(super) fn bounds<M: MechanicsDerivatives>(
     // trajectory: the joint limits and the bounds on every (or every interior) knot hold
     // there too.
     for c in 0..l.n {
-        let mut b = Interval::FREE;
-        if spec.joint_limits {
-            let (lower, upper) = limits[c];
-            b = intersect(b, Interval { lower, upper });
-        }
-        for cb in spec.bounds.iter().filter(|cb| cb.coordinate == c) {
-            if matches!(cb.knots, KnotSet::All | KnotSet::Interior) {
-                b = intersect(b, cb.bound);
-            }
-        }
+        let b = coordinate_bound(c, &|knots| {
+            matches!(knots, KnotSet::All | KnotSet::Interior)
+        });
         for j in 0..l.intervals() {
             for nu in 0..l.interior {
                 lo[l.interior(j, nu).start + c] = b.lower;
