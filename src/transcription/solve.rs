@@ -648,14 +648,27 @@ fn slack_peak<M: MechanicsDerivatives>(
         // Per-contact mode: three slacks per contact, in contact order.
         Some((index % per) / 3)
     } else {
+        use crate::contact::{Own, Partner, Products};
         let j = interval;
+        // c·φ of the clipped factors (c and φ both at Ipopt's relaxed bound −1e-8 would make
+        // a positive product); ηᵀβ and ψ(μc − eᵀβ) raw, as the slack's rows have them, so an
+        // interval where they are ≤ 0 names no contact.
         let product = |i: usize| {
-            let (c, beta) = (x[l.c(j, i)], &x[l.beta(j, i)]);
-            let (psi, eta) = (x[l.psi(j, i)], &x[l.eta(j, i)]);
-            let gap = c.max(0.0) * distance[j + 1][i].max(0.0);
-            let eta_beta: f64 = eta.iter().zip(beta).map(|(e, b)| e * b).sum();
-            let cone = t.context().contact.friction[i] * c - beta.iter().sum::<f64>();
-            gap.max(eta_beta).max(psi * cone)
+            let own = Own {
+                c: x[l.c(j, i)],
+                psi: x[l.psi(j, i)],
+                eta: &x[l.eta(j, i)],
+            };
+            let beta = &x[l.beta(j, i)];
+            let mu = t.context().contact.friction[i];
+            let partner = Partner {
+                phi: distance[j + 1][i],
+                beta,
+                cone: crate::contact::cone(mu, own.c, beta),
+            };
+            let raw = Products::new(&own, &partner);
+            let clipped = Products::clipped(&own, [partner]);
+            clipped.gap.max(raw.eta_beta).max(raw.cone)
         };
         (0..l.nc)
             .map(|i| (i, product(i)))
