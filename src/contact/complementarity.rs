@@ -1,22 +1,134 @@
-//! The friction cone μc − eᵀβ and the relaxed complementarity products of the NLP's
-//! complementarity rows, bilinear in the contact impulses, with their closed-form derivatives.
+//! The complementarity products of a contact, ηᵀβ, c·φ and ψ(μc − eᵀβ), with the friction
+//! cone μc − eᵀβ they share: defined once here for the NLP's complementarity rows (with their
+//! closed-form derivatives, bilinear in the contact impulses), the penalty form's objective and
+//! the reports of a solution and of a simulation.
 
 use nalgebra::DMatrix;
 
 use super::ContactModel;
 use crate::autodiff::Scalar;
 
-/// μ_i c − eᵀβ; z = [c; β (nd)].
+/// μc − eᵀβ: from μc, each β_d subtracted in direction order.
+pub fn cone<D: Scalar>(mu: f64, c: D, beta: &[D]) -> D {
+    beta.iter().fold(c * D::from(mu), |acc, &b| acc - b)
+}
+
+/// μ_i c − eᵀβ ([`cone`]); z = [c; β (nd)].
 pub fn friction_cone<D: Scalar>(model: &ContactModel, contact: usize, z: &[D]) -> D {
-    z[1..]
-        .iter()
-        .fold(z[0] * D::from(model.friction[contact]), |acc, &b| acc - b)
+    cone(model.friction[contact], z[0], &z[1..])
+}
+
+/// ηᵀβ, summed from 0 in direction order.
+pub fn eta_beta<D: Scalar>(eta: &[D], beta: &[D]) -> D {
+    eta.iter()
+        .zip(beta)
+        .fold(D::from(0.0), |acc, (&e, &b)| acc + e * b)
+}
+
+/// c·φ.
+pub fn gap_product<D: Scalar>(c: D, phi: D) -> D {
+    c * phi
+}
+
+/// ψ(μc − eᵀβ), of the cone's value ([`cone`]).
+pub fn cone_product<D: Scalar>(psi: D, cone: D) -> D {
+    psi * cone
+}
+
+/// The factors of a contact's products that belong to interval j: c_j, ψ_j and η_j (nd).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Own<'a, D> {
+    /// Normal impulse c_j.
+    pub c: D,
+    /// ψ_j, the sliding speed (η_j = P v + ψ_j e).
+    pub psi: D,
+    /// η_j (nd).
+    pub eta: &'a [D],
+}
+
+/// The factors complementary to [`Own`]'s, of a partner interval k of j's contact-mode block
+/// (k = j without blocks, and in the simulator): φ(q_{k+1}) against c_j, β_k (nd) against
+/// η_j and the cone μc_k − eᵀβ_k ([`cone`]) against ψ_j.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Partner<'a, D> {
+    /// Signed distance φ(q_{k+1}).
+    pub phi: D,
+    /// Friction impulses β_k (nd).
+    pub beta: &'a [D],
+    /// μc_k − eᵀβ_k.
+    pub cone: D,
+}
+
+/// A contact's three complementarity products, in the order of the complementarity rows:
+/// ηᵀβ ([`eta_beta`]), c·φ ([`gap_product`]) and ψ(μc − eᵀβ) ([`cone_product`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Products<D> {
+    /// η_jᵀβ_k.
+    pub eta_beta: D,
+    /// c_j·φ(q_{k+1}).
+    pub gap: D,
+    /// ψ_j(μc_k − eᵀβ_k).
+    pub cone: D,
+}
+
+impl<D: Scalar> Products<D> {
+    /// The raw products of `own`'s factors with `partner`'s.
+    pub fn new(own: &Own<'_, D>, partner: &Partner<'_, D>) -> Self {
+        Self {
+            eta_beta: eta_beta(own.eta, partner.beta),
+            gap: gap_product(own.c, partner.phi),
+            cone: cone_product(own.psi, partner.cone),
+        }
+    }
+}
+
+impl Products<f64> {
+    /// The products that report how far a solution is from complementarity: every factor
+    /// clipped at 0 (Ipopt's bound relaxation leaves them at −1e-8 where they are 0, and a
+    /// negative factor would hide another product), the partner factors summed over
+    /// `partners` (the intervals of j's contact-mode block, whose sums the rows pair with j's
+    /// own factors) before the products are taken.
+    pub fn clipped<'a>(
+        own: &Own<'_, f64>,
+        partners: impl IntoIterator<Item = Partner<'a, f64>>,
+    ) -> Self {
+        let pos = |v: f64| v.max(0.0);
+        let mut beta = vec![0.0; own.eta.len()];
+        let (mut phi, mut cone) = (0.0, 0.0);
+        for partner in partners {
+            for (sum, &b) in beta.iter_mut().zip(partner.beta) {
+                *sum += pos(b);
+            }
+            phi += pos(partner.phi);
+            cone += pos(partner.cone);
+        }
+        let eta: Vec<f64> = own.eta.iter().map(|&e| pos(e)).collect();
+        let own = Own {
+            c: pos(own.c),
+            psi: pos(own.psi),
+            eta: &eta,
+        };
+        Self::new(
+            &own,
+            &Partner {
+                phi,
+                beta: &beta,
+                cone,
+            },
+        )
+    }
+}
+
+impl<D> From<Products<D>> for [D; 3] {
+    fn from(p: Products<D>) -> Self {
+        [p.eta_beta, p.gap, p.cone]
+    }
 }
 
 /// The relaxed products s − Σ ηᵀβ, s − (Σ c·φ: added by [`super::contact_gap`] blocks),
-/// s − Σ ψ(μc − eᵀβ) over the listed contacts; z = [(c, β, ψ, η) per contact; slacks
-/// (none, 1 shared, or one per product)], out length 3. With no slack the block adds only
-/// −products (another block holds s).
+/// s − Σ ψ(μc − eᵀβ) over the listed contacts ([`eta_beta`], [`cone_product`]); z = [(c, β,
+/// ψ, η) per contact; slacks (none, 1 shared, or one per product)], out length 3. With no
+/// slack the block adds only −products (another block holds s).
 pub fn complementarity<D: Scalar>(
     model: &ContactModel,
     contacts: &[usize],
@@ -30,15 +142,8 @@ pub fn complementarity<D: Scalar>(
     for (l, &i) in contacts.iter().enumerate() {
         let v = &z[l * stride..(l + 1) * stride];
         let (c, beta, psi, eta) = (v[0], &v[1..1 + nd], v[1 + nd], &v[2 + nd..]);
-        let eta_beta = eta
-            .iter()
-            .zip(beta)
-            .fold(D::from(0.0), |acc, (&e, &b)| acc + e * b);
-        let cone = beta
-            .iter()
-            .fold(c * D::from(model.friction[i]), |acc, &b| acc - b);
-        sums[0] += eta_beta;
-        sums[2] += psi * cone;
+        sums[0] += eta_beta(eta, beta);
+        sums[2] += cone_product(psi, cone(model.friction[i], c, beta));
     }
     let s = &z[contacts.len() * stride..];
     for p in 0..3 {
@@ -67,16 +172,14 @@ pub fn complementarity_jacobian(
     for (l, &i) in contacts.iter().enumerate() {
         let base = l * stride;
         let (c, psi) = (z[base], z[base + 1 + nd]);
-        let mut cone = c * model.friction[i];
         for d in 0..nd {
             let (beta, eta) = (z[base + 1 + d], z[base + 2 + nd + d]);
             out[(0, base + 1 + d)] = -eta;
             out[(0, base + 2 + nd + d)] = -beta;
             out[(2, base + 1 + d)] = psi;
-            cone -= beta;
         }
         out[(2, base)] = -psi * model.friction[i];
-        out[(2, base + 1 + nd)] = -cone;
+        out[(2, base + 1 + nd)] = -cone(model.friction[i], c, &z[base + 1..base + 1 + nd]);
     }
     let first_slack = contacts.len() * stride;
     for p in 0..3 {
@@ -114,4 +217,127 @@ pub fn complementarity_hessian(
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use num_dual::Dual64;
+
+    use super::*;
+    use crate::contact::Terrain;
+
+    /// μ = 0.5, c = 2, ψ = 3, η = (4, 1) against φ = 0.125, β = (0.25, 0.5): the cone is
+    /// 1 − 0.25 − 0.5 = 0.25, the products ηᵀβ = 1 + 0.5, c·φ = 0.25 and ψ·cone = 0.75.
+    #[test]
+    fn products_of_a_small_case_by_hand() {
+        let beta = [0.25, 0.5];
+        assert_eq!(cone(0.5, 2.0, &beta), 0.25);
+        let own = Own {
+            c: 2.0,
+            psi: 3.0,
+            eta: &[4.0, 1.0],
+        };
+        let partner = Partner {
+            phi: 0.125,
+            beta: &beta,
+            cone: cone(0.5, 2.0, &beta),
+        };
+        let products = Products::new(&own, &partner);
+        assert_eq!(<[f64; 3]>::from(products), [1.5, 0.25, 0.75]);
+        // With nonnegative factors and one partner, clipping changes nothing.
+        assert_eq!(Products::clipped(&own, [partner]), products);
+    }
+
+    /// The rows are s minus the same products (the c·φ row's product comes from
+    /// `contact_gap` blocks), summed over the contacts.
+    #[test]
+    fn rows_subtract_the_products_from_the_slack() {
+        let model = ContactModel::new(true, vec![0.5, 1.0], Terrain::flat());
+        // Contact 0 as in `products_of_a_small_case_by_hand`; contact 1: μ = 1, c = 1,
+        // β = (0.5, 0.25), ψ = 2, η = (1, 2): ηᵀβ = 1, cone 0.25, ψ·cone = 0.5.
+        let z = [
+            2.0, 0.25, 0.5, 3.0, 4.0, 1.0, // contact 0
+            1.0, 0.5, 0.25, 2.0, 1.0, 2.0, // contact 1
+            8.0, // the shared slack
+        ];
+        let mut out = [0.0; 3];
+        complementarity(&model, &[0, 1], 1, &z, &mut out);
+        assert_eq!(out, [8.0 - 2.5, 8.0, 8.0 - 1.25]);
+        complementarity(&model, &[1], 0, &z[6..12], &mut out);
+        assert_eq!(out, [-1.0, 0.0, -0.5]);
+        assert_eq!(friction_cone(&model, 1, &z[6..9]), 0.25);
+    }
+
+    /// Each negative factor counts as 0, and the partner factors are summed over the block
+    /// after clipping: a negative φ, β_d or cone of one partner does not cancel another's.
+    #[test]
+    fn clipping_zeroes_negative_factors_before_summing_the_partners() {
+        let own = Own {
+            c: 4.0,
+            psi: 2.0,
+            eta: &[3.0, -1e-8],
+        };
+        let first = Partner {
+            phi: -1e-8,
+            beta: &[1.0, -1e-8],
+            cone: 0.75,
+        };
+        let second = Partner {
+            phi: 0.25,
+            beta: &[0.5, 2.0],
+            cone: -0.5,
+        };
+        let clipped = Products::clipped(&own, [first, second]);
+        // ηᵀβ = 3·(1 + 0.5) + 0·(0 + 2), c·φ = 4·(0 + 0.25), ψ·cone = 2·(0.75 + 0).
+        assert_eq!(<[f64; 3]>::from(clipped), [4.5, 1.0, 1.5]);
+        // Raw, the second partner's products are 1.5 − 2e-8, 1 and −1.
+        let raw = Products::new(&own, &second);
+        assert_eq!(raw.eta_beta, 1.5 - 2e-8);
+        assert_eq!((raw.gap, raw.cone), (1.0, -1.0));
+        assert_eq!(
+            <[f64; 3]>::from(Products::clipped(&own, [second])),
+            [1.5, 1.0, 0.0]
+        );
+        // A negative own factor zeroes its product whatever the partner's.
+        let negative = Own {
+            c: -1e-8,
+            psi: -1e-8,
+            eta: &[-1e-8, -1e-8],
+        };
+        assert_eq!(
+            <[f64; 3]>::from(Products::clipped(&negative, [first, second])),
+            [0.0, 0.0, 0.0]
+        );
+        // No partner: nothing to pair with.
+        assert_eq!(
+            <[f64; 3]>::from(Products::clipped(&own, [])),
+            [0.0, 0.0, 0.0]
+        );
+    }
+
+    /// Generic over the scalar: dual numbers carry the derivatives of the bilinear products
+    /// (here in c, η_0 and ψ at once: φ + β_0 + cone).
+    #[test]
+    fn dual_numbers_carry_the_derivatives() {
+        let d = |re: f64, eps: f64| Dual64::new(re, eps);
+        let beta = [d(0.25, 0.0), d(0.5, 0.0)];
+        let c = d(2.0, 1.0);
+        let cone = cone(0.5, c, &beta);
+        assert_eq!((cone.re, cone.eps), (0.25, 0.5));
+        let own = Own {
+            c,
+            psi: d(3.0, 1.0),
+            eta: &[d(4.0, 1.0), d(1.0, 0.0)],
+        };
+        let partner = Partner {
+            phi: d(0.125, 0.0),
+            beta: &beta,
+            cone,
+        };
+        let p = Products::new(&own, &partner);
+        assert_eq!((p.eta_beta.re, p.eta_beta.eps), (1.5, 0.25));
+        assert_eq!((p.gap.re, p.gap.eps), (0.25, 0.125));
+        // ψ·cone: ψ' cone + ψ cone' = 0.25 + 3·0.5.
+        assert_eq!((p.cone.re, p.cone.eps), (0.75, 1.75));
+    }
 }

@@ -3,7 +3,7 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::{ContactGeometry, ContactModel, signed_distance};
+use super::{ContactGeometry, ContactModel, gap_product, signed_distance};
 use crate::autodiff::Scalar;
 use crate::discrete::{Mechanics, MechanicsDerivatives};
 
@@ -20,15 +20,15 @@ pub fn distance<D: Scalar, M: Mechanics>(
     )
 }
 
-/// −c_i φ_i(q), the only product of the complementarity rows that depends on q;
-/// z = [q; c_i], out length 1 (added into the c·φ row).
+/// −c_i φ_i(q) ([`gap_product`] of −c_i), the only product of the complementarity rows that
+/// depends on q; z = [q; c_i], out length 1 (added into the c·φ row).
 pub fn contact_gap<D: Scalar, M: Mechanics>(
     mech: &M,
     model: &ContactModel,
     contact: usize,
     z: &[D],
 ) -> D {
-    -z[mech.nq()] * distance(mech, model, contact, z)
+    gap_product(-z[mech.nq()], distance(mech, model, contact, z))
 }
 
 /// Jacobian of φ_i(q) ([`distance`], 1 × n) or of −c_i φ_i(q) ([`contact_gap`], 1 × (n + 1),

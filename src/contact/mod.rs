@@ -13,7 +13,8 @@
 //! (K(q) = [φ, t] and its derivatives in q), and the rows, each a function of its inputs z:
 //! `gap` (φ and −cφ), `work` (the impulse J(q)ᵀλ as the gradient of the contact work),
 //! `tangential` (tangential velocity and a rolling sphere's spin friction), `complementarity`
-//! (the friction cone and the complementarity products).
+//! (the friction cone and the complementarity products: [`Products`], the one definition the
+//! rows, the penalty form and the solution's and simulator's reports use).
 
 mod complementarity;
 mod distance;
@@ -26,7 +27,8 @@ mod terrain;
 mod work;
 
 pub(crate) use complementarity::{
-    complementarity, complementarity_hessian, complementarity_jacobian, friction_cone,
+    Own, Partner, Products, complementarity, complementarity_hessian, complementarity_jacobian,
+    cone, friction_cone, gap_product,
 };
 pub use distance::signed_distance;
 pub use friction::{FrictionBasis, tangential_coordinates};

@@ -3,6 +3,7 @@
 
 use super::blocks::complementarity_penalty::{interval_products, interval_slack};
 use super::{MechanicsDerivatives, Transcription};
+use crate::contact::{Own, Partner, Products, cone, gap_product};
 use crate::ipopt::{self, Status};
 use crate::problem::{ProblemSpec, SlackMode};
 
@@ -167,7 +168,9 @@ impl Solution {
             // ψ(μc − eᵀβ)) are not meaningful per contact: ψ and η are undetermined in flight
             // and stick and drift to 1e5–1e8, where Ipopt's 1e-8 bound relaxation shows as
             // O(1e-2) terms that cancel within a row.
-            let contact_gap: f64 = (0..l.nc).map(|i| c[i].max(0.0) * phi[i].max(0.0)).sum();
+            let contact_gap: f64 = (0..l.nc)
+                .map(|i| gap_product(c[i].max(0.0), phi[i].max(0.0)))
+                .sum();
             max_complementarity = max_complementarity.max(contact_gap);
             normal_impulse.push(c);
             friction_impulse.push(beta);
@@ -273,13 +276,25 @@ fn slack_peak<M: MechanicsDerivatives>(
         Some((index % per) / 3)
     } else {
         let j = interval;
+        // c·φ of the clipped factors (c and φ both at Ipopt's relaxed bound −1e-8 would make
+        // a positive product); ηᵀβ and ψ(μc − eᵀβ) raw, as the slack's rows have them, so an
+        // interval where they are ≤ 0 names no contact.
         let product = |i: usize| {
-            let (c, beta) = (x[l.c(j, i)], &x[l.beta(j, i)]);
-            let (psi, eta) = (x[l.psi(j, i)], &x[l.eta(j, i)]);
-            let gap = c.max(0.0) * distance[j + 1][i].max(0.0);
-            let eta_beta: f64 = eta.iter().zip(beta).map(|(e, b)| e * b).sum();
-            let cone = t.context().contact.friction[i] * c - beta.iter().sum::<f64>();
-            gap.max(eta_beta).max(psi * cone)
+            let own = Own {
+                c: x[l.c(j, i)],
+                psi: x[l.psi(j, i)],
+                eta: &x[l.eta(j, i)],
+            };
+            let beta = &x[l.beta(j, i)];
+            let mu = t.context().contact.friction[i];
+            let partner = Partner {
+                phi: distance[j + 1][i],
+                beta,
+                cone: cone(mu, own.c, beta),
+            };
+            let raw = Products::new(&own, &partner);
+            let clipped = Products::clipped(&own, [partner]);
+            clipped.gap.max(raw.eta_beta).max(raw.cone)
         };
         (0..l.nc)
             .map(|i| (i, product(i)))

@@ -9,8 +9,9 @@ use super::{Before, ContactStep};
 use crate::autodiff::Scalar;
 use crate::autodiff::{VectorFunction, jacobian, weighted_hessian};
 use crate::contact::{
-    contact_work_gradient, contact_work_hessian, distance_with_gradient, spin_friction_jacobian,
-    tangential_rate, tangential_rate_jacobian,
+    Own, Partner, Products, cone, contact_work_gradient, contact_work_hessian,
+    distance_with_gradient, gap_product, spin_friction_jacobian, tangential_rate,
+    tangential_rate_jacobian,
 };
 use crate::discrete::{
     EulerKnotInNext, GalerkinInterval, Integrator, MechanicsDerivatives, galerkin_interval,
@@ -44,7 +45,8 @@ pub(super) struct StepEvaluation {
     pub system: Evaluation,
     /// Max-norm of the discrete equations (impulse units).
     pub dynamics: f64,
-    /// The NLP's complementarity products, max over contacts of c·φ, ηᵀβ and ψ(μc − eᵀβ).
+    /// The NLP's complementarity products ([`Products`]), max over contacts of |c·φ|, |ηᵀβ|
+    /// and |ψ(μc − eᵀβ)|.
     pub complementarity: f64,
     /// Signed distance per contact.
     pub distance: Vec<f64>,
@@ -271,9 +273,7 @@ impl<M: MechanicsDerivatives> ContactStep<'_, M> {
             for col in 0..n {
                 jac[(base, col)] = db * k_phi * work_hessian[(col, n)];
             }
-            let mut cone = mu * c;
-            let mut eta_beta = 0.0;
-            if mu > 0.0 {
+            let products = if mu > 0.0 {
                 // 0 ≤ β ⊥ η = P v + ψe ≥ 0.
                 let mut rate = vec![0.0; nd];
                 tangential_rate(self.mech, self.contact, i, &segment, &mut rate);
@@ -282,21 +282,20 @@ impl<M: MechanicsDerivatives> ContactStep<'_, M> {
                 } else {
                     DMatrix::zeros(nd, 2 * n + 1)
                 };
+                let eta: Vec<f64> = rate.iter().map(|r| r + psi).collect();
                 for d in 0..nd {
-                    let eta = rate[d] + psi;
                     let row = base + 1 + d;
-                    let (f, da, db) = fischer_burmeister(beta[d], k_v * eta, eps);
+                    let (f, da, db) = fischer_burmeister(beta[d], k_v * eta[d], eps);
                     residual[row] = f;
-                    plain = plain.max(fischer_burmeister(beta[d], k_v * eta, 0.0).0.abs());
+                    plain = plain.max(fischer_burmeister(beta[d], k_v * eta[d], 0.0).0.abs());
                     jac[(row, row)] = da;
                     jac[(row, base + 1 + nd)] = db * k_v;
                     for col in 0..n {
                         jac[(row, col)] = db * k_v * rate_jac[(d, n + col)];
                     }
-                    cone -= beta[d];
-                    eta_beta += eta * beta[d];
                 }
                 // 0 ≤ ψ ⊥ μc − eᵀβ ≥ 0.
+                let cone = cone(mu, c, beta);
                 let row = base + 1 + nd;
                 let (f, da, db) = fischer_burmeister(k_v * psi, cone, eps);
                 residual[row] = f;
@@ -306,22 +305,29 @@ impl<M: MechanicsDerivatives> ContactStep<'_, M> {
                 for d in 0..nd {
                     jac[(row, base + 1 + d)] = -db;
                 }
+                Products::new(&Own { c, psi, eta: &eta }, &Partner { phi, beta, cone })
             } else {
-                // Frictionless: β = 0 and ψ = 0 (the cone μc − eᵀβ ≥ 0 leaves nothing else).
+                // Frictionless: β = 0 and ψ = 0 (the cone μc − eᵀβ ≥ 0 leaves nothing else),
+                // so c·φ is the only product.
                 for d in 0..=nd {
                     residual[base + 1 + d] = vars[1 + d];
                     jac[(base + 1 + d, base + 1 + d)] = 1.0;
                     plain = plain.max(vars[1 + d].abs());
                 }
-            }
+                Products {
+                    eta_beta: 0.0,
+                    gap: gap_product(c, phi),
+                    cone: 0.0,
+                }
+            };
             for r in 0..stride {
                 let unit = if r == 1 + nd { k_v } else { 1.0 };
                 jac[(base + r, base + r)] += PROXIMAL * unit;
             }
             complementarity = complementarity
-                .max((c * phi).abs())
-                .max(eta_beta.abs())
-                .max((psi * cone).abs());
+                .max(products.gap.abs())
+                .max(products.eta_beta.abs())
+                .max(products.cone.abs());
         }
         if nl > 0 {
             // Loop closures are few and small: always with derivatives.

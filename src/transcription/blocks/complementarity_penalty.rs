@@ -15,7 +15,8 @@ use super::place::range_vec;
 use super::{Block, Context, Eval, GradientBlock, Placement, ScalarKind, Stage};
 use crate::autodiff::Scalar;
 use crate::contact::{
-    self, complementarity_hessian, complementarity_jacobian, distance_hessian, distance_jacobian,
+    self, Own, Partner, Products, complementarity_hessian, complementarity_jacobian,
+    distance_hessian, distance_jacobian,
 };
 use crate::discrete::{Mechanics, MechanicsDerivatives};
 use crate::problem::SlackMode;
@@ -128,40 +129,31 @@ impl GradientBlock for ComplementarityPenalty {
 
 /// Per interval j and contact i, the complementarity products [η_jᵀΣβ_k, c_j·Σφ(q_{k+1}),
 /// ψ_j·Σ(μc_k − eᵀβ_k)] over j's contact-mode block (the pairs of the elastic rows), each
-/// factor clipped at 0 (Ipopt's bound relaxation leaves them at −1e-8 where they are 0, and a
-/// negative factor would hide another product); `phi[k][i]` is φ_i(q_k).
+/// factor clipped at 0 ([`Products::clipped`]); `phi[k][i]` is φ_i(q_k).
 pub fn interval_products(
     l: &Layout,
     ctx: &Context,
     x: &[f64],
     phi: &[Vec<f64>],
 ) -> Vec<Vec<[f64; 3]>> {
-    let pos = |v: f64| v.max(0.0);
     (0..l.intervals())
         .map(|j| {
-            let block = ctx.mode_block_of(j, l.intervals());
             (0..l.nc)
                 .map(|i| {
-                    let mut beta = vec![0.0; l.nd];
-                    let (mut gap, mut cone) = (0.0, 0.0);
-                    for k in block.clone() {
-                        for (sum, &b) in beta.iter_mut().zip(&x[l.beta(k, i)]) {
-                            *sum += pos(b);
+                    let own = Own {
+                        c: x[l.c(j, i)],
+                        psi: x[l.psi(j, i)],
+                        eta: &x[l.eta(j, i)],
+                    };
+                    let partners = ctx.mode_block_of(j, l.intervals()).map(|k| {
+                        let beta = &x[l.beta(k, i)];
+                        Partner {
+                            phi: phi[k + 1][i],
+                            beta,
+                            cone: contact::cone(ctx.contact.friction[i], x[l.c(k, i)], beta),
                         }
-                        gap += pos(phi[k + 1][i]);
-                        let e_beta: f64 = x[l.beta(k, i)].iter().sum();
-                        cone += pos(ctx.contact.friction[i] * x[l.c(k, i)] - e_beta);
-                    }
-                    let eta_beta: f64 = x[l.eta(j, i)]
-                        .iter()
-                        .zip(&beta)
-                        .map(|(&e, b)| pos(e) * b)
-                        .sum();
-                    [
-                        eta_beta,
-                        pos(x[l.c(j, i)]) * gap,
-                        pos(x[l.psi(j, i)]) * cone,
-                    ]
+                    });
+                    Products::clipped(&own, partners).into()
                 })
                 .collect()
         })
