@@ -253,8 +253,8 @@ impl Solution {
 }
 
 /// Where the largest slack of x sits: its interval, and the contact it relaxes (its own in
-/// per-contact mode; else the contact with the largest clipped product c·φ, ηᵀβ or
-/// ψ(μc − eᵀβ) in that interval).
+/// per-contact mode; else the contact with the largest of c·φ with both factors clipped at 0,
+/// ηᵀβ and ψ(μc − eᵀβ) of that interval alone, when one is positive).
 fn slack_peak<M: MechanicsDerivatives>(
     t: &Transcription<M>,
     x: &[f64],
