@@ -275,14 +275,15 @@ impl<M: MechanicsDerivatives> ContactStep<'_, M> {
             }
             let products = if mu > 0.0 {
                 // 0 ≤ β ⊥ η = P v + ψe ≥ 0.
-                let mut rate = vec![0.0; nd];
-                tangential_rate(self.mech, self.contact, i, &segment, &mut rate);
+                // The tangential rate P v, then η = P v + ψe in the same storage.
+                let mut eta = vec![0.0; nd];
+                tangential_rate(self.mech, self.contact, i, &segment, &mut eta);
+                eta.iter_mut().for_each(|e| *e += psi);
                 let rate_jac = if with_jacobian {
                     tangential_rate_jacobian(self.mech, self.contact, i, &segment)
                 } else {
                     DMatrix::zeros(nd, 2 * n + 1)
                 };
-                let eta: Vec<f64> = rate.iter().map(|r| r + psi).collect();
                 for d in 0..nd {
                     let row = base + 1 + d;
                     let (f, da, db) = fischer_burmeister(beta[d], k_v * eta[d], eps);
