@@ -299,6 +299,22 @@ pub(super) fn print_summary(
     } else if contacts {
         out!("max slack    {:.3e}", s.max_slack);
     }
+    if let Some(p) = &s.polish {
+        out!(
+            "polish       {} from objective {:.10e} (max slack {:.3e}): {} {:.10e} after {} iterations{}",
+            if p.kept { "kept" } else { "not kept" },
+            p.objective_before,
+            p.max_slack_before,
+            p.verdict.name(),
+            p.objective,
+            p.iterations,
+            if p.kept || !p.verdict.is_solved() {
+                ""
+            } else {
+                " (higher)"
+            },
+        );
+    }
     for (k, r) in s.starts.iter().enumerate() {
         out!(
             "  start {k:<3} {:<28} objective {:.10e}  max slack {:.3e}  {} iterations{}",

@@ -82,17 +82,26 @@ impl<D: Scalar> Products<D> {
     }
 }
 
+/// A factor of a complementarity product at or below this counts as zero in the products
+/// that judge a plan ([`Products::clipped`]). Ipopt's bound relaxation leaves factors that are
+/// zero at about ±1e-8, and ψ and η, which nothing bounds in flight, reach 1e6 (Spring
+/// Flamingo's walk): their raw products are noise of ±1e-2, which in the rows' sums over the
+/// contacts can hide another contact's real product of the same size (a friction impulse of
+/// 0.62 along a slip of 0.46 on LittleDog's step). 1e-6 is a hundred times the relaxation and
+/// far below any impulse, distance or speed a plan uses.
+pub const FACTOR_FLOOR: f64 = 1e-6;
+
 impl Products<f64> {
-    /// The products that report how far a solution is from complementarity: every factor
-    /// clipped at 0 (Ipopt's bound relaxation leaves them at −1e-8 where they are 0, and a
-    /// negative factor would hide another product), the partner factors summed over
-    /// `partners` (the intervals of j's contact-mode block, whose sums the rows pair with j's
-    /// own factors) before the products are taken.
+    /// The products that report how far a solution is from complementarity: every factor at
+    /// or below [`FACTOR_FLOOR`] counted as zero (Ipopt's bound relaxation leaves them at
+    /// ±1e-8 where they are 0, and a negative factor would hide another product), the partner
+    /// factors summed over `partners` (the intervals of j's contact-mode block, whose sums the
+    /// rows pair with j's own factors) before the products are taken.
     pub fn clipped<'a>(
         own: &Own<'_, f64>,
         partners: impl IntoIterator<Item = Partner<'a, f64>>,
     ) -> Self {
-        let pos = |v: f64| v.max(0.0);
+        let pos = |v: f64| if v > FACTOR_FLOOR { v } else { 0.0 };
         let mut beta = vec![0.0; own.eta.len()];
         let (mut phi, mut cone) = (0.0, 0.0);
         for partner in partners {

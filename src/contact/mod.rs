@@ -26,6 +26,7 @@ mod tangential;
 mod terrain;
 mod work;
 
+pub use complementarity::FACTOR_FLOOR;
 pub(crate) use complementarity::{
     Own, Partner, Products, complementarity, complementarity_hessian, complementarity_jacobian,
     cone, friction_cone, gap_product,

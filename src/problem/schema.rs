@@ -455,6 +455,12 @@ pub struct SlackSection {
     /// `growth` per warm-started solve until the largest slack is below `target` (default:
     /// a tenth of `tolerance`; `rounds` default 6, `restart` default `"primal_dual"`).
     pub homotopy: Option<bool>,
+    /// Finish with the contact modes fixed: from the solution, fix each complementarity
+    /// pair's smaller side at zero (a foot touching or free of force, sticking or sliding),
+    /// solve that regular NLP without slacks from there, and keep it if it is solved and the
+    /// solution it started from is not, or is no better (default true, except with
+    /// `contacts.mode_block` above 1).
+    pub polish: Option<bool>,
 }
 
 /// `[initial_guess]`: where Ipopt starts.

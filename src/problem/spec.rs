@@ -309,6 +309,8 @@ pub struct ProblemSpec {
     pub slack_tolerance: f64,
     /// Re-solve with a growing slack weight until the largest slack is below a target.
     pub slack_continuation: Option<SlackContinuation>,
+    /// Finish with a mode-fixed re-solve (`slack.polish`; `transcription::polish`).
+    pub slack_polish: bool,
     /// q_1 (length n): fixed, except where `q_initial_free` is set (there only the guess).
     pub q_initial: Vec<f64>,
     /// Coordinates whose q_1 is a variable (length n).

@@ -311,6 +311,7 @@ mod tests {
             solves: 1,
             starts: Vec::new(),
             best_start: 0,
+            polish: None,
         }
     }
 

@@ -135,6 +135,9 @@ pub fn summary_json(problem: &LoadedProblem, solution: &Solution) -> Value {
             contact_positions: &s.contact_positions,
         },
     );
+    if let Some(p) = &s.polish {
+        summary["polish"] = polish_json(p);
+    }
     summary["metrics"] = metrics;
     summary["metric_units"] = metric_units;
     if !s.starts.is_empty() {
@@ -153,6 +156,7 @@ pub fn summary_json(problem: &LoadedProblem, solution: &Solution) -> Value {
                     "max_constraint_violation": num(r.max_constraint_violation),
                     "iterations": r.iterations,
                     "wall_time_s": num(r.wall_time_s),
+                    "polish": r.polish.as_ref().map(polish_json),
                 })
             })
             .collect();
@@ -160,4 +164,26 @@ pub fn summary_json(problem: &LoadedProblem, solution: &Solution) -> Value {
         summary["best_start"] = json!(s.best_start);
     }
     summary
+}
+
+/// The mode-fixed re-solve of `[slack] polish` as summary.json lists it.
+fn polish_json(p: &crate::transcription::PolishRecord) -> Value {
+    json!({
+        "status": p.verdict.name(),
+        "ipopt_status": status_name(p.status),
+        "objective_before": num(p.objective_before),
+        "max_slack_before": num(p.max_slack_before),
+        "objective": num(p.objective),
+        "iterations": p.iterations,
+        "wall_time_s": num(p.wall_time_s),
+        "kept": p.kept,
+        "fixed": {
+            "free": p.fixed.free,
+            "touching": p.fixed.touching,
+            "no_friction": p.fixed.no_friction,
+            "opposing": p.fixed.opposing,
+            "sticking": p.fixed.sticking,
+            "sliding": p.fixed.sliding,
+        },
+    })
 }

@@ -39,12 +39,13 @@ pub use error::TranscriptionError;
 pub use layout::{Dims, EntryNames, IntervalRows, Layout};
 pub use nlp::{Progress, ProgressFn, TranscriptionNlp};
 pub use pattern::{Pattern, PatternBuilder};
-pub use program::{DerivativeCheck, DerivativeKind, EntryCheck};
+pub use program::{DerivativeCheck, DerivativeKind, EntryCheck, FixedModes};
 pub use program::{InitialGuessReport, Transcription};
 pub use scaling::{units_scaling, variable_units};
 pub use solution::{NlpSize, Solution};
 pub use solve::{
-    BenchRow, MultiStart, PENALTY_BOUND_RELAX, PERTURBATION, SolveOptions, StartRecord, best_of,
+    BenchRow, MultiStart, PENALTY_BOUND_RELAX, PERTURBATION, PolishRecord, SolveOptions,
+    StartRecord, best_of,
 };
 pub(crate) use solve::{bench_with, solve_with};
 pub use verdict::{

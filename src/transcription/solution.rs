@@ -62,8 +62,10 @@ pub struct Solution {
     /// Slacks per interval (N−1 × slacks per interval: 1, or 3·nc in per-contact mode; in
     /// penalty mode 1, the largest of the interval's three complementarity product sums).
     pub slack: Vec<Vec<f64>>,
-    /// Largest slack value (at least 0: Ipopt's bound relaxation leaves slacks at −1e-8); in
-    /// penalty mode the largest interval's product sum.
+    /// Largest interval slack (at least 0): the larger of the interval's slack variables
+    /// (Ipopt's bound relaxation leaves them at −1e-8) and of its complementarity product sums
+    /// with factors at or below [`crate::contact::FACTOR_FLOOR`] zeroed; in penalty mode the
+    /// product sums alone.
     pub max_slack: f64,
     /// Where the largest slack sits (None without slacks).
     pub slack_peak: Option<super::SlackPeak>,
@@ -88,6 +90,9 @@ pub struct Solution {
     pub starts: Vec<super::StartRecord>,
     /// Which of `starts` this solution is.
     pub best_start: usize,
+    /// The mode-fixed re-solve that ended the solve (`[slack] polish`), kept or not.
+    #[serde(default)]
+    pub polish: Option<super::PolishRecord>,
 }
 
 impl Solution {
@@ -178,20 +183,24 @@ impl Solution {
             slack.push(x[l.slack(j)].iter().map(|s| s.max(0.0)).collect());
         }
         let contact_names: Vec<String> = spec.contacts.iter().map(|c| c.name.clone()).collect();
+        // The slack a plan relies on: an interval's slack variables, and the sums of its
+        // complementarity products with noise-level factors zeroed (`Products::clipped`),
+        // whichever is larger. The rows bound the raw sums over the contacts, where a flight
+        // foot's product of a huge ψ or η with a factor at Ipopt's relaxed bound −1e-8 can
+        // cancel another contact's real one; penalty mode has no slack variables, and its
+        // interval slack is the one the elastic form would hold there.
+        let products = interval_products(l, t.context(), x, &signed_distance);
+        let product_peak = product_peak(&products, &contact_names);
         let (max_slack, slack_peak) = if l.slack_mode == SlackMode::Penalty {
-            // No slack variables: an interval's slack is the one the elastic form would hold
-            // there, the largest sum of its products (so a plan whose products exceed the
-            // tolerance is still `relaxed_contact`).
-            let products = interval_products(l, t.context(), x, &signed_distance);
             slack = products.iter().map(|p| vec![interval_slack(p)]).collect();
-            let peak = penalty_slack_peak(&products, &contact_names);
-            (peak.as_ref().map_or(0.0, |p| p.slack), peak)
+            (product_peak.as_ref().map_or(0.0, |p| p.slack), product_peak)
         } else {
-            let max_slack = x[l.slacks()].iter().fold(0.0_f64, |a, &b| a.max(b));
-            (
-                max_slack,
-                slack_peak(t, x, &signed_distance, &contact_names),
-            )
+            let variables = x[l.slacks()].iter().fold(0.0_f64, |a, &b| a.max(b));
+            let peak = slack_peak(t, x, &signed_distance, &contact_names);
+            match product_peak {
+                Some(p) if p.slack > variables => (p.slack, Some(p)),
+                _ => (variables, peak),
+            }
         };
         let contact_positions = q
             .iter()
@@ -248,6 +257,7 @@ impl Solution {
             solves: 1,
             starts: Vec::new(),
             best_start: 0,
+            polish: None,
         }
     }
 }
@@ -309,10 +319,10 @@ fn slack_peak<M: MechanicsDerivatives>(
     })
 }
 
-/// Where the largest interval slack of penalty mode sits ([`interval_slack`] of each
-/// interval's products): its interval and the contact with the largest product there (None
-/// when no product is positive).
-fn penalty_slack_peak(
+/// Where the largest sum of products sits ([`interval_slack`] of each interval's products):
+/// its interval and the contact with the largest product there (None when no product is
+/// positive).
+fn product_peak(
     products: &[Vec<[f64; 3]>],
     contacts: &[String],
 ) -> Option<crate::transcription::SlackPeak> {

@@ -8,7 +8,8 @@ use std::time::Instant;
 
 use super::nlp::{ProgressFn, TranscriptionNlp};
 use super::{
-    MechanicsDerivatives, NlpSize, Solution, SolveVerdict, Transcription, TranscriptionError,
+    FixedModes, MechanicsDerivatives, NlpSize, Solution, SolveVerdict, Transcription,
+    TranscriptionError,
 };
 use crate::ipopt::{self, Multipliers, OptionValue, Solver};
 use crate::problem::{HessianMode, ProblemSpec, ScalingMode, SlackMode, SlackRestart};
@@ -81,6 +82,35 @@ pub struct StartRecord {
     pub iterations: usize,
     /// Wall time [s].
     pub wall_time_s: f64,
+    /// The start's mode-fixed re-solve, if `[slack] polish` asked for one.
+    #[serde(default)]
+    pub polish: Option<PolishRecord>,
+}
+
+/// The mode-fixed re-solve that ends a solve under `[slack] polish`: from the relaxed
+/// solution, each complementarity pair's smaller side fixed at zero
+/// ([`Transcription::fix_contact_modes`]), the slacks at zero, solved warm from there.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct PolishRecord {
+    /// Ipopt's status of the re-solve.
+    pub status: ipopt::Status,
+    /// Its verdict, judged on the problem's own rows and bounds.
+    pub verdict: SolveVerdict,
+    /// The objective of the solution it started from.
+    pub objective_before: f64,
+    /// That solution's largest slack ([`Solution::max_slack`]).
+    pub max_slack_before: f64,
+    /// Its own objective.
+    pub objective: f64,
+    /// Its Ipopt iterations (also counted in the solution's).
+    pub iterations: usize,
+    /// Its wall time [s] (also counted in the solution's).
+    pub wall_time_s: f64,
+    /// Whether it replaced the solution it started from: solved, and that one not solved or
+    /// no better.
+    pub kept: bool,
+    /// The modes it fixed.
+    pub fixed: FixedModes,
 }
 
 /// One row of `vito bench`: sizes, iterations and where the time went.
@@ -239,6 +269,7 @@ fn solve_from<M: MechanicsDerivatives>(
         max_constraint_violation: solution.max_constraint_violation,
         iterations: solution.iterations,
         wall_time_s: solution.wall_time_s,
+        polish: solution.polish.clone(),
     });
     Ok(solution)
 }
@@ -304,19 +335,35 @@ fn perturbed<M: MechanicsDerivatives>(t: &Transcription<M>, guess: &[f64], seed:
     x
 }
 
-/// Solve, then continue with a growing slack weight while `[slack] target` asks for it.
+/// Solve, continue with a growing slack weight while `[slack] target` asks for it, and
+/// polish with the contact modes fixed when `[slack] polish` does.
 fn solve_transcription<M: MechanicsDerivatives>(
     transcription: &mut Transcription<M>,
     spec: &ProblemSpec,
     options: &SolveOptions,
 ) -> Result<Solution, TranscriptionError> {
     transcription.set_skip_fixed_variables(ipopt_drops_fixed_variables(spec, options));
+    let (solution, report) = solve_relaxed(transcription, spec, options)?;
+    if spec.slack_polish {
+        polish(transcription, spec, options, solution, &report)
+    } else {
+        Ok(solution)
+    }
+}
+
+/// Solve, then continue with a growing slack weight while `[slack] target` asks for it; the
+/// solution and Ipopt's report of the last solve.
+fn solve_relaxed<M: MechanicsDerivatives>(
+    transcription: &mut Transcription<M>,
+    spec: &ProblemSpec,
+    options: &SolveOptions,
+) -> Result<(Solution, ipopt::SolveReport), TranscriptionError> {
     let mut solver = configure(spec, options)?;
     let mut nlp = adapter(transcription, spec, options);
     let report = solver.solve(&mut nlp)?;
     let mut solution = Solution::read_off(transcription, spec, &report);
     let Some(continuation) = spec.slack_continuation else {
-        return Ok(solution);
+        return Ok((solution, report));
     };
     // Exact-penalty continuation: a finite α can leave the solve at a relaxed point;
     // raise α and restart from that point, near the central path (small μ and bound push, unless
@@ -328,7 +375,8 @@ fn solve_transcription<M: MechanicsDerivatives>(
     let mut report = report;
     let mut weight = spec.slack_weight;
     for _ in 0..continuation.rounds {
-        if solution.max_slack <= continuation.target
+        // The slack the weight prices: the slack variables (in penalty mode the products).
+        if transcription.max_slack(&report.x) <= continuation.target
             || !restartable(solution.status)
             || options.stopped()
         {
@@ -352,20 +400,7 @@ fn solve_transcription<M: MechanicsDerivatives>(
             SlackRestart::InitialGuess => warm_options.clear(),
             SlackRestart::Primal => warm_options.push(("mu_init", ipopt::OptionValue::Num(1e-4))),
             SlackRestart::PrimalDual => {
-                // The last optimum's multipliers, and a barrier parameter near its own
-                // complementarity; bound multipliers pushed off zero like the bounds.
-                warm_options.extend([
-                    (
-                        "warm_start_init_point",
-                        ipopt::OptionValue::Str("yes".into()),
-                    ),
-                    ("mu_init", ipopt::OptionValue::Num(1e-6)),
-                    ("warm_start_bound_push", ipopt::OptionValue::Num(1e-6)),
-                    ("warm_start_bound_frac", ipopt::OptionValue::Num(1e-6)),
-                    ("warm_start_slack_bound_push", ipopt::OptionValue::Num(1e-6)),
-                    ("warm_start_slack_bound_frac", ipopt::OptionValue::Num(1e-6)),
-                    ("warm_start_mult_bound_push", ipopt::OptionValue::Num(1e-6)),
-                ]);
+                warm_options = primal_dual_warm_start();
                 solver.set_starting_multipliers(Multipliers {
                     g: report.mult_g.clone(),
                     x_lower: report.mult_x_lower.clone(),
@@ -373,16 +408,7 @@ fn solve_transcription<M: MechanicsDerivatives>(
                 });
             }
         }
-        for (name, value) in warm_options {
-            let given = spec
-                .solver_options
-                .iter()
-                .chain(&options.ipopt_options)
-                .any(|(n, _)| n == name);
-            if !given {
-                solver.set_option(name, value)?;
-            }
-        }
+        set_unless_given(&mut solver, spec, options, warm_options)?;
         let mut nlp = adapter(transcription, spec, options);
         let next_report = solver.solve(&mut nlp)?;
         let mut next = Solution::read_off(transcription, spec, &next_report);
@@ -395,7 +421,111 @@ fn solve_transcription<M: MechanicsDerivatives>(
         solution = next;
         report = next_report;
     }
-    Ok(solution)
+    Ok((solution, report))
+}
+
+/// The mode-fixed re-solve of `[slack] polish` ([`PolishRecord`]) from `solution`, an
+/// optimum of the relaxed NLP (Ipopt's `report`), started from its point and multipliers
+/// (the freed complementarity rows' at zero) near the central path. The solution it returns
+/// is the re-solve's if that is solved and `solution` is not, or its objective is no higher;
+/// else `solution`; either way with the re-solve's iterations and times added and its record
+/// attached.
+fn polish<M: MechanicsDerivatives>(
+    transcription: &mut Transcription<M>,
+    spec: &ProblemSpec,
+    options: &SolveOptions,
+    solution: Solution,
+    report: &ipopt::SolveReport,
+) -> Result<Solution, TranscriptionError> {
+    if transcription.layout().nc == 0 || !solution.status.is_success() || options.stopped() {
+        return Ok(solution);
+    }
+    let (original, fixed) = transcription.fix_contact_modes(&report.x);
+    let start = transcription.initial_point().to_vec();
+    transcription.set_initial_point(&report.x)?;
+    let mut g = report.mult_g.clone();
+    for r in transcription.freed_rows() {
+        g[r] = 0.0;
+    }
+    let outcome = (|| {
+        let mut solver = configure(spec, options)?;
+        solver.set_starting_multipliers(Multipliers {
+            g,
+            x_lower: report.mult_x_lower.clone(),
+            x_upper: report.mult_x_upper.clone(),
+        });
+        set_unless_given(&mut solver, spec, options, primal_dual_warm_start())?;
+        let mut nlp = adapter(transcription, spec, options);
+        Ok::<_, TranscriptionError>(solver.solve(&mut nlp)?)
+    })();
+    transcription.restore_bounds(original);
+    transcription.set_initial_point(&start)?;
+    let polished_report = outcome?;
+    let mut polished = Solution::read_off(transcription, spec, &polished_report);
+    let kept = polished.verdict().is_solved()
+        && (!solution.verdict().is_solved() || polished.objective <= solution.objective);
+    let record = PolishRecord {
+        status: polished.status,
+        verdict: polished.verdict(),
+        objective_before: solution.objective,
+        max_slack_before: solution.max_slack,
+        objective: polished.objective,
+        iterations: polished.iterations,
+        wall_time_s: polished.wall_time_s,
+        kept,
+        fixed,
+    };
+    // `solves` counts the relaxed NLP's solves (the continuation's), not the polish.
+    polished.solves = solution.solves;
+    let (mut kept_solution, other) = if kept {
+        (polished, solution)
+    } else {
+        (solution, polished)
+    };
+    kept_solution.iterations += other.iterations;
+    kept_solution.wall_time_s += other.wall_time_s;
+    kept_solution.callback_time_s += other.callback_time_s;
+    kept_solution.callback_split = kept_solution.callback_split.plus(&other.callback_split);
+    kept_solution.ipopt_time_s += other.ipopt_time_s;
+    kept_solution.polish = Some(record);
+    Ok(kept_solution)
+}
+
+/// A warm start from an optimum of a nearby NLP: its multipliers (given separately), a
+/// barrier parameter near its own complementarity, and bounds and bound multipliers pushed
+/// off zero as little.
+fn primal_dual_warm_start() -> Vec<(&'static str, OptionValue)> {
+    vec![
+        ("bound_push", OptionValue::Num(1e-6)),
+        ("bound_frac", OptionValue::Num(1e-6)),
+        ("warm_start_init_point", OptionValue::Str("yes".into())),
+        ("mu_init", OptionValue::Num(1e-6)),
+        ("warm_start_bound_push", OptionValue::Num(1e-6)),
+        ("warm_start_bound_frac", OptionValue::Num(1e-6)),
+        ("warm_start_slack_bound_push", OptionValue::Num(1e-6)),
+        ("warm_start_slack_bound_frac", OptionValue::Num(1e-6)),
+        ("warm_start_mult_bound_push", OptionValue::Num(1e-6)),
+    ]
+}
+
+/// Set each of `values` on `solver` unless the problem file or the caller gives it.
+fn set_unless_given(
+    solver: &mut Solver,
+    spec: &ProblemSpec,
+    options: &SolveOptions,
+    values: Vec<(&'static str, OptionValue)>,
+) -> Result<(), TranscriptionError> {
+    for (name, value) in values {
+        let given = spec
+            .solver_options
+            .iter()
+            .chain(&options.ipopt_options)
+            .any(|(n, _)| n == name);
+        if !given {
+            solver.set_option(name, value)?;
+        }
+    }
+    Ok(())
 }
 
 /// The transcription as Ipopt's problem from its current starting point, with the scaling
@@ -529,6 +659,140 @@ mod tests {
         let v = (s.q[10][1] - s.q[9][1]) / s.time_steps[9];
         assert!((s.v[10][1] - v).abs() <= 1e-12);
         assert_eq!(s.solves, 1);
+    }
+
+    /// The hopper's relaxed optimum (no polish), the transcription and Ipopt's report.
+    fn relaxed_hopper() -> (
+        ProblemSpec,
+        Transcription<ModelMechanics>,
+        Solution,
+        ipopt::SolveReport,
+    ) {
+        let spec = hopper_spec(&["slack.polish=false"]);
+        let mech = ModelMechanics::load(&spec).expect("the hopper's URDF loads");
+        let mut t = Transcription::new(mech, &spec).expect("the hopper's NLP builds");
+        let options = SolveOptions::default();
+        let (solution, report) = solve_relaxed(&mut t, &spec, &options).expect("the solve runs");
+        assert!(solution.verdict().is_solved(), "{:?}", solution.verdict());
+        (spec, t, solution, report)
+    }
+
+    #[test]
+    fn the_polish_fixes_one_side_of_every_pair_where_the_optimum_already_is() {
+        let (_, mut t, _, report) = relaxed_hopper();
+        let (x_lower, x_upper) = t.variable_bounds();
+        let (g_lower, g_upper) = t.constraint_bounds();
+        let before = (
+            x_lower.to_vec(),
+            x_upper.to_vec(),
+            g_lower.to_vec(),
+            g_upper.to_vec(),
+        );
+        let l = t.layout().clone();
+        let (previous, fixed) = t.fix_contact_modes(&report.x);
+        let pairs = l.intervals() * l.nc;
+        assert_eq!(fixed.free + fixed.touching, pairs);
+        assert_eq!(fixed.no_friction + fixed.opposing, pairs * l.nd);
+        assert_eq!(fixed.sticking + fixed.sliding, pairs);
+        // The hopper lands and takes off again: both modes occur.
+        assert!(fixed.free > 0 && fixed.touching > 0, "{fixed:?}");
+        // Each pair's fixed side is the one at zero, so the optimum, moved onto the new
+        // bounds, still satisfies every row within Ipopt's tolerance; slacks are fixed at 0
+        // and the complementarity rows are free.
+        t.set_initial_point(&report.x).expect("the point's length");
+        let x = t.initial_point().to_vec();
+        let (violations, _) = t.row_violations(&x);
+        let worst = violations.iter().fold(0.0_f64, |a, &b| a.max(b));
+        assert!(
+            worst <= 1e-6,
+            "the optimum violates the mode-fixed rows by {worst:e}"
+        );
+        let moved = x
+            .iter()
+            .zip(&report.x)
+            .fold(0.0_f64, |a, (p, q)| a.max((p - q).abs()));
+        assert!(
+            moved <= 1e-6,
+            "fixing the modes moved the optimum by {moved:e}"
+        );
+        assert!(l.slacks().all(|s| t.variable_bounds().1[s] == 0.0));
+        let freed: Vec<usize> = t.freed_rows().collect();
+        assert_eq!(freed.len(), 3 * l.intervals());
+        assert!(
+            freed
+                .iter()
+                .all(|&r| t.constraint_bounds().0[r] == f64::NEG_INFINITY)
+        );
+        t.restore_bounds(previous);
+        let (x_lower, x_upper) = t.variable_bounds();
+        let (g_lower, g_upper) = t.constraint_bounds();
+        assert_eq!(
+            before,
+            (
+                x_lower.to_vec(),
+                x_upper.to_vec(),
+                g_lower.to_vec(),
+                g_upper.to_vec()
+            )
+        );
+    }
+
+    #[test]
+    fn the_polish_is_recorded_and_kept_only_when_no_worse() {
+        let spec = hopper_spec(&[]);
+        assert!(spec.slack_polish, "the polish is on by default");
+        let s = solve(&spec, &SolveOptions::default());
+        let p = s
+            .polish
+            .clone()
+            .expect("a solve with contacts ends with the polish");
+        assert!(p.verdict.is_solved(), "{:?}", p.verdict);
+        assert_eq!(p.objective_before.to_bits(), s.objective.to_bits());
+        // The relaxed optimum is solved already; the mode-fixed one ends no lower (its
+        // slack penalty is exactly zero where the relaxed one's is −2e-5), so it is not kept.
+        assert!(!p.kept);
+        assert!(p.objective >= p.objective_before);
+        assert!((p.objective - HOPPER_OPTIMUM).abs() <= 1e-5 * HOPPER_OPTIMUM);
+        assert!(p.iterations > 0 && s.iterations > p.iterations);
+        assert_eq!(s.solves, 1, "solves counts the relaxed NLP's");
+        let off = solve(
+            &hopper_spec(&["slack.polish=false"]),
+            &SolveOptions::default(),
+        );
+        assert!(off.polish.is_none());
+        assert_eq!(off.objective.to_bits(), s.objective.to_bits());
+        assert_eq!(off.iterations + p.iterations, s.iterations);
+    }
+
+    #[test]
+    fn a_product_hidden_by_another_in_the_rows_sum_is_slack() {
+        // Interval 5's η_+ huge with β_+ at Ipopt's relaxed bound −1e-8 (a product of −0.01)
+        // and a real η_−·β_− = 0.1·0.1: the ηᵀβ row's sum is unchanged, the plan is not.
+        let (spec, t, solved, mut report) = relaxed_hopper();
+        let l = t.layout();
+        let (beta, eta) = (l.beta(5, 0), l.eta(5, 0));
+        report.x[beta.start] = -1e-8;
+        report.x[eta.start] = 1e6;
+        report.x[beta.start + 1] = 0.1;
+        report.x[eta.start + 1] = 0.1;
+        let mut g = vec![0.0; l.num_constraints()];
+        t.constraints(&report.x, &mut g);
+        let row = l.rows_of("Complementarity", 5).start;
+        assert!(
+            g[row] >= -1e-6,
+            "the row's sum hides the product: {:e}",
+            g[row]
+        );
+        let s = Solution::read_off(&t, &spec, &report);
+        assert!((s.max_slack - 0.01).abs() <= 1e-6, "{:e}", s.max_slack);
+        let peak = s.slack_peak.clone().expect("a peak");
+        assert_eq!(peak.interval, 5);
+        assert_eq!(
+            peak.contact.as_deref(),
+            Some(spec.contacts[0].name.as_str())
+        );
+        assert_eq!(s.verdict(), SolveVerdict::RelaxedContact);
+        assert!(solved.max_slack <= 1e-6, "{:e}", solved.max_slack);
     }
 
     #[test]

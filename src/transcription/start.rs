@@ -16,7 +16,7 @@ pub(super) fn intersect(a: Interval, b: Interval) -> Interval {
 }
 
 /// The bounds of an NLP's variables and rows.
-pub(super) struct Bounds {
+pub(crate) struct Bounds {
     pub x_lower: Vec<f64>,
     pub x_upper: Vec<f64>,
     pub g_lower: Vec<f64>,

@@ -5,9 +5,12 @@
 //! (near) zero: a slack s lets a foot push while above the ground (c·φ ≤ s), slide without
 //! friction's resistance or stick while sliding. A solve is solved when Ipopt reached an
 //! optimum ([`Status::is_success`]) and its largest slack is within the problem's
-//! `slack.tolerance` ([`DEFAULT_SLACK_TOLERANCE`] by default). Penalty mode
-//! (`SlackMode::Penalty`) has no slack variables; its slack of an interval is the largest of
-//! the interval's three complementarity product sums (what the elastic slack would be at its
+//! `slack.tolerance` ([`DEFAULT_SLACK_TOLERANCE`] by default). An interval's slack is the
+//! larger of its slack variables and of the sums over its contacts of its complementarity
+//! products with noise-level factors zeroed ([`crate::contact::FACTOR_FLOOR`]): the rows bound
+//! the raw sums, in which a flight foot's product can cancel another foot's
+//! (`Solution::read_off`). Penalty mode (`SlackMode::Penalty`) has no slack variables; its
+//! slack of an interval is the product sums alone (what the elastic slack would be at its
 //! optimum), so the same verdict applies.
 
 use crate::ipopt::Status;

@@ -62,6 +62,7 @@ pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, Pr
     let max_slip_speed = contacts::check_max_slip_speed(ctx, &raw)?;
     let mode_block = contacts::check_mode_block(ctx, &raw, knots)?;
     let slack_continuation = slack::check_slack_continuation(ctx, &raw, slack_tolerance)?;
+    let slack_polish = slack::check_polish(ctx, &raw, mode_block)?;
     let constraints = crate::problem::constraints::check_constraints(ctx, &raw, &robot, knots)?;
     let frame_scope =
         crate::problem::frames::FrameScope::new(ctx, &robot, &contacts, knots, &time_steps);
@@ -120,6 +121,7 @@ pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, Pr
         slack_mode,
         slack_tolerance,
         slack_continuation,
+        slack_polish,
         max_slip_speed,
         mode_block,
         q_initial,

@@ -101,6 +101,26 @@ pub(super) fn check_slack_continuation(
     Ok(slack_continuation)
 }
 
+/// `slack.polish` (default: on unless contact-mode blocks pair intervals): it fixes each
+/// interval's own complementarity pairs, which blocks longer than one interval do not have.
+pub(super) fn check_polish(
+    ctx: &Context,
+    raw: &ProblemFile,
+    mode_block: usize,
+) -> Result<bool, ProblemError> {
+    match raw.slack.polish {
+        Some(true) if mode_block > 1 => Err(ctx.invalid(
+            "slack.polish",
+            format!(
+                "fixes each interval's own contact modes, but contacts.mode_block = {mode_block} \
+                 pairs them across intervals; set contacts.mode_block = 1 or slack.polish = false"
+            ),
+        )),
+        Some(polish) => Ok(polish),
+        None => Ok(mode_block == 1),
+    }
+}
+
 /// Penalty mode needs its products' factors ≥ 0: Ipopt's `bound_relax_factor` must be 0 (the
 /// mode's default, `transcription::PENALTY_BOUND_RELAX`) if the file gives it.
 pub(super) fn check_penalty_options(

@@ -7,8 +7,10 @@
 
 mod evaluate;
 mod inspect;
+mod modes;
 
 pub use inspect::{DerivativeCheck, DerivativeKind, EntryCheck};
+pub use modes::FixedModes;
 
 use super::blocks::{Block, Context, ScalarKind, VectorKind, place_blocks};
 use super::error::check_len;
