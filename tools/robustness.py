@@ -33,7 +33,9 @@ DEFAULT_FILES = [
 
 
 # Each strategy as `--set` overrides on the file as shipped (which ends with the polish, the
-# contact modes fixed; `no-polish` keeps the relaxed optimum). `homotopy`: `[slack] homotopy =
+# contact modes fixed; `no-polish` keeps the relaxed optimum; `exact-bounds` turns off Ipopt's
+# relaxation of the bounds by 1e-8, so that no factor of a product is negative and none can
+# cancel another in the rows' sums). `homotopy`: `[slack] homotopy =
 # true`, the first solve's slack weight 1000 times below the file's, raised tenfold per solve
 # from the last point and its multipliers until the largest slack is below the target (the
 # file's, else a tenth of the tolerance). `homotopy-slow`: the same with the weight raised
@@ -42,6 +44,7 @@ DEFAULT_FILES = [
 STRATEGIES = {
     "shipped": [],
     "no-polish": ["slack.polish=false"],
+    "exact-bounds": ["solver.ipopt.bound_relax_factor=0"],
     "homotopy": ["slack.homotopy=true"],
     "homotopy-slow": ["slack.homotopy=true", "slack.growth=3", "slack.rounds=10"],
 }
