@@ -31,9 +31,23 @@ pub struct FixedModes {
     pub sliding: usize,
 }
 
-/// Whether `a` is the smaller side of a pair (ties: `a`).
-fn first_is_smaller(a: f64, b: f64) -> bool {
-    a <= b
+/// One pair of a variable and a row, each at its value: the variable fixed at zero (its upper
+/// bound) when it is the smaller side (ties: the variable), else the row made an equality at
+/// its lower bound; whether the variable was fixed. `bounds`: the variables' upper bounds,
+/// the rows' lower and upper bounds.
+fn fix_variable_or_row(
+    bounds: (&mut [f64], &[f64], &mut [f64]),
+    (variable, x): (usize, f64),
+    (row, g): (usize, f64),
+) -> bool {
+    let (x_upper, g_lower, g_upper) = bounds;
+    if x <= g {
+        x_upper[variable] = 0.0;
+        true
+    } else {
+        g_upper[row] = g_lower[row];
+        false
+    }
 }
 
 impl<M: MechanicsDerivatives> Transcription<M> {
@@ -56,15 +70,19 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         for i in 0..l.nc {
             for j in 0..intervals {
                 let c = l.c(j, i);
-                if first_is_smaller(x[c], g[phi_row(j, i)]) {
-                    self.x_upper[c] = 0.0;
+                let phi = phi_row(j, i);
+                let bounds = (
+                    &mut self.x_upper[..],
+                    &self.g_lower[..],
+                    &mut self.g_upper[..],
+                );
+                if fix_variable_or_row(bounds, (c, x[c]), (phi, g[phi])) {
                     fixed.free += 1;
                 } else {
-                    self.g_upper[phi_row(j, i)] = self.g_lower[phi_row(j, i)];
                     fixed.touching += 1;
                 }
                 for (beta, eta) in l.beta(j, i).zip(l.eta(j, i)) {
-                    if first_is_smaller(x[beta], x[eta]) {
+                    if x[beta] <= x[eta] {
                         self.x_upper[beta] = 0.0;
                         fixed.no_friction += 1;
                     } else {
@@ -72,12 +90,15 @@ impl<M: MechanicsDerivatives> Transcription<M> {
                         fixed.opposing += 1;
                     }
                 }
-                let psi = l.psi(j, i);
-                if first_is_smaller(x[psi], g[cone_row(j, i)]) {
-                    self.x_upper[psi] = 0.0;
+                let (psi, cone) = (l.psi(j, i), cone_row(j, i));
+                let bounds = (
+                    &mut self.x_upper[..],
+                    &self.g_lower[..],
+                    &mut self.g_upper[..],
+                );
+                if fix_variable_or_row(bounds, (psi, x[psi]), (cone, g[cone])) {
                     fixed.sticking += 1;
                 } else {
-                    self.g_upper[cone_row(j, i)] = self.g_lower[cone_row(j, i)];
                     fixed.sliding += 1;
                 }
             }
