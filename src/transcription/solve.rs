@@ -455,6 +455,19 @@ fn polish<M: MechanicsDerivatives>(
             x_upper: report.mult_x_upper.clone(),
         });
         set_unless_given(&mut solver, spec, options, primal_dual_warm_start())?;
+        // `--ipopt-log`: the polish's log goes beside the relaxed solve's, which it would
+        // otherwise replace (ipopt.log → ipopt.polish.log).
+        let log = options
+            .ipopt_options
+            .iter()
+            .find(|(n, _)| n == "output_file");
+        if let Some((_, OptionValue::Str(path))) = log {
+            let polish_log = match path.strip_suffix(".log") {
+                Some(stem) => format!("{stem}.polish.log"),
+                None => format!("{path}.polish"),
+            };
+            solver.set_option("output_file", OptionValue::Str(polish_log))?;
+        }
         let mut nlp = adapter(transcription, spec, options);
         Ok::<_, TranscriptionError>(solver.solve(&mut nlp)?)
     })();

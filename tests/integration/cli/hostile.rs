@@ -63,7 +63,7 @@ fn ipopt_options_outside_the_allow_list_are_refused() {
 
 /// Ipopt never reads an `ipopt.opt` from the working directory (one that would stop
 /// the solve after one iteration changes nothing), and `--ipopt-log` writes Ipopt's log into
-/// the output directory.
+/// the output directory (the polish's as `ipopt.polish.log`).
 #[test]
 fn ipopt_log_goes_into_the_output_directory_and_cwd_ipopt_opt_is_ignored() {
     let t = TestDir::with_hopper("ipopt_log");
@@ -77,6 +77,20 @@ fn ipopt_log_goes_into_the_output_directory_and_cwd_ipopt_opt_is_ignored() {
     let log = std::fs::read_to_string(t.path().join("res/ipopt.log")).unwrap();
     assert!(log.contains("EXIT: Optimal Solution Found"), "{log}");
     assert!(log.contains("iter    objective"), "{log}");
+    // The relaxed solve's log is ipopt.log, the polish's beside it: each names its own
+    // iterations, which add up to the summary's.
+    let iterations = |log: &str| -> u64 {
+        let line = log
+            .lines()
+            .find(|l| l.starts_with("Number of Iterations"))
+            .unwrap_or_else(|| panic!("no iteration count in {log}"));
+        line.rsplit(' ').next().unwrap().trim().parse().unwrap()
+    };
+    let polish_log = std::fs::read_to_string(t.path().join("res/ipopt.polish.log")).unwrap();
+    let s = crate::cli::util::summary(&t.path().join("res"));
+    let polish = s["polish"]["iterations"].as_u64().unwrap();
+    assert_eq!(iterations(&polish_log), polish);
+    assert_eq!(iterations(&log) + polish, s["iterations"].as_u64().unwrap());
     // Without the flag there is no log.
     t.vito()
         .args(["solve", "p.toml", "--quiet", "--out", "res"])
