@@ -177,13 +177,6 @@ fn polish_json(p: &crate::transcription::PolishRecord) -> Value {
         "iterations": p.iterations,
         "wall_time_s": num(p.wall_time_s),
         "kept": p.kept,
-        "fixed": {
-            "free": p.fixed.free,
-            "touching": p.fixed.touching,
-            "no_friction": p.fixed.no_friction,
-            "opposing": p.fixed.opposing,
-            "sticking": p.fixed.sticking,
-            "sliding": p.fixed.sliding,
-        },
+        "fixed": p.fixed,
     })
 }

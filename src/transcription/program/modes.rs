@@ -106,10 +106,9 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         for s in l.slacks() {
             self.x_upper[s] = 0.0;
         }
-        for j in 0..intervals {
-            for r in l.rows_of("Complementarity", j) {
-                self.g_lower[r] = f64::NEG_INFINITY;
-            }
+        let freed: Vec<usize> = self.freed_rows().collect();
+        for r in freed {
+            self.g_lower[r] = f64::NEG_INFINITY;
         }
         (previous, fixed)
     }
