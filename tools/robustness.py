@@ -47,6 +47,9 @@ STRATEGIES = {
     "exact-bounds": ["solver.ipopt.bound_relax_factor=0"],
     "homotopy": ["slack.homotopy=true"],
     "homotopy-slow": ["slack.homotopy=true", "slack.growth=3", "slack.rounds=10"],
+    "slip-100": ["contacts.max_slip_speed=100"],
+    "slip-1000": ["contacts.max_slip_speed=1000"],
+    "homotopy-slip-100": ["slack.homotopy=true", "contacts.max_slip_speed=100"],
 }
 
 

@@ -302,6 +302,7 @@ mod tests {
                 interval: 2,
                 contact: None,
                 slack: 3e-9,
+                hidden: false,
             }),
             slack_tolerance: crate::transcription::DEFAULT_SLACK_TOLERANCE,
             max_complementarity: 1e-9,

@@ -92,6 +92,7 @@ pub fn summary_json(problem: &LoadedProblem, solution: &Solution) -> Value {
         "max_slack_at": s.slack_peak.as_ref().map(|p| json!({
             "interval": p.interval,
             "contact": p.contact,
+            "hidden": p.hidden,
         })),
         "slack_tolerance": num(s.slack_tolerance),
         "max_complementarity": num(s.max_complementarity),

@@ -198,7 +198,14 @@ impl Solution {
             let variables = x[l.slacks()].iter().fold(0.0_f64, |a, &b| a.max(b));
             let peak = slack_peak(t, x, &signed_distance, &contact_names);
             match product_peak {
-                Some(p) if p.slack > variables => (p.slack, Some(p)),
+                Some(p) if p.slack > variables => {
+                    // Hidden: the slack variables pass the tolerance, the products do not.
+                    let hidden = variables <= spec.slack_tolerance;
+                    (
+                        p.slack,
+                        Some(crate::transcription::SlackPeak { hidden, ..p }),
+                    )
+                }
                 _ => (variables, peak),
             }
         };
@@ -316,6 +323,7 @@ fn slack_peak<M: MechanicsDerivatives>(
         interval,
         contact: contact.and_then(|i| contacts.get(i).cloned()),
         slack: slack.max(0.0),
+        hidden: false,
     })
 }
 
@@ -345,6 +353,7 @@ fn product_peak(
         interval,
         contact,
         slack,
+        hidden: false,
     })
 }
 

@@ -804,8 +804,11 @@ mod tests {
             peak.contact.as_deref(),
             Some(spec.contacts[0].name.as_str())
         );
+        // The slack variables do not hold it: a higher weight would not close it.
+        assert!(peak.hidden);
         assert_eq!(s.verdict(), SolveVerdict::RelaxedContact);
         assert!(solved.max_slack <= 1e-6, "{:e}", solved.max_slack);
+        assert!(!solved.slack_peak.expect("a peak").hidden);
     }
 
     #[test]

@@ -125,6 +125,10 @@ pub struct SlackPeak {
     pub contact: Option<String>,
     /// The slack's value.
     pub slack: f64,
+    /// True when the slack variables are within the tolerance and this slack, the interval's
+    /// complementarity products (factors at noise level zeroed), is not: products of
+    /// opposite sign cancel in the rows' sums, so a higher slack weight does not close it.
+    pub hidden: bool,
 }
 
 /// A constraint row by name (as `vito check --derivatives` names rows) with its violation.

@@ -53,6 +53,9 @@ fn platform_hop_with_open_slack_is_relaxed_contact_not_solved() {
     assert!(s["max_slack"].as_f64().unwrap() > 0.1, "{}", s["max_slack"]);
     assert_eq!(s["max_slack_at"]["contact"], "foot_contact");
     assert_eq!(s["max_slack_at"]["interval"], 2);
+    // The slack variables hold it, not only products cancelled in the rows' sums: a higher
+    // weight can close it.
+    assert_eq!(s["max_slack_at"]["hidden"], false);
     // The page says so too: a plan, not solved, the verdict's word, in amber.
     let page = std::fs::read_to_string(out.join("animation.html")).unwrap();
     let data = crate::view::page_data_of(&page);
