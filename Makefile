@@ -95,9 +95,11 @@ bench-casadi: build
 
 # The nonconvex reference problems from ROBUSTNESS_STARTS seeded starts under each solve
 # strategy: min/median/max objective, iterations and time per start (BENCHMARKS.md).
+# ROBUSTNESS_ARGS picks a part, e.g. '--strategy shipped problems/hamr_jump.toml'.
 ROBUSTNESS_STARTS ?= 10
+ROBUSTNESS_ARGS ?=
 robustness: build
-	python3 tools/robustness.py --starts $(ROBUSTNESS_STARTS)
+	python3 tools/robustness.py --starts $(ROBUSTNESS_STARTS) $(ROBUSTNESS_ARGS)
 
 FUZZ_COUNT ?= 1000000
 FUZZ_SEED ?= 1

@@ -40,7 +40,9 @@ DEFAULT_FILES = [
 # from the last point and its multipliers until the largest slack is below the target (the
 # file's, else a tenth of the tolerance). `homotopy-slow`: the same with the weight raised
 # threefold per solve (up to ten solves), the slower shrinking NOSBENCH found better on
-# contact problems.
+# contact problems. `slip-100`, `slip-1000`: `contacts.max_slip_speed` (m/s) bounds ψ, and η
+# with it, so that no product hidden by the relaxation exceeds 1e-6 or 1e-5;
+# `homotopy-slip-100` the homotopy with that bound.
 STRATEGIES = {
     "shipped": [],
     "no-polish": ["slack.polish=false"],
