@@ -377,31 +377,34 @@ pub(super) fn verdict_explanation(s: &Solution, time_unit: &str) -> Vec<String> 
                 }
                 None => "some contact".to_owned(),
             };
+            // Hidden products are not the slack variables' doing: a higher weight does not
+            // close them.
             let hidden = s.slack_peak.as_ref().is_some_and(|p| p.hidden);
-            if hidden {
-                lines.push(format!(
-                    "not solved:  Ipopt's optimum relaxes the contact model: {at} keeps complementarity products of {:.3e}, \
-                     above slack.tolerance {:e}, which other products of opposite sign cancel in the rows' sums \
-                     (its slack variables are within it)",
-                    s.max_slack, s.slack_tolerance
-                ));
-                lines.push(
-                    "try:         --starts 4 (other starts), a warm start ([initial_guess] warm_start = a solved trajectory.csv), \
-                     contacts.max_slip_speed (bounds ψ and η, whose huge flight values make the cancelling products), \
-                     or --set solver.ipopt.bound_relax_factor=0 (no negative factors); a higher slack weight does not close it"
-                        .to_owned(),
-                );
+            let (what, remedy) = if hidden {
+                (
+                    format!(
+                        "complementarity products of {:.3e}, above slack.tolerance {:e}, which other products of \
+                         opposite sign cancel in the rows' sums (its slack variables are within it)",
+                        s.max_slack, s.slack_tolerance
+                    ),
+                    "contacts.max_slip_speed (bounds ψ and η, whose huge flight values make the cancelling products), \
+                     or --set solver.ipopt.bound_relax_factor=0 (no negative factors); a higher slack weight does not close it",
+                )
             } else {
-                lines.push(format!(
-                    "not solved:  Ipopt's optimum relaxes the contact model: {at} keeps slack {:.3e}, above slack.tolerance {:e}",
-                    s.max_slack, s.slack_tolerance
-                ));
-                lines.push(
-                    "try:         --starts 4 (other starts), a warm start ([initial_guess] warm_start = a solved trajectory.csv), \
-                     or a higher slack weight (--set slack.weight=..., or slack.target for a continuation)"
-                        .to_owned(),
-                );
-            }
+                (
+                    format!(
+                        "slack {:.3e}, above slack.tolerance {:e}",
+                        s.max_slack, s.slack_tolerance
+                    ),
+                    "or a higher slack weight (--set slack.weight=..., or slack.target for a continuation)",
+                )
+            };
+            lines.push(format!(
+                "not solved:  Ipopt's optimum relaxes the contact model: {at} keeps {what}"
+            ));
+            lines.push(format!(
+                "try:         --starts 4 (other starts), a warm start ([initial_guess] warm_start = a solved trajectory.csv), {remedy}"
+            ));
         }
         SolveVerdict::NotSolved(_) => {
             if !s.worst_rows.is_empty() {
