@@ -37,7 +37,7 @@ fn platform_hop_with_open_slack_is_relaxed_contact_not_solved() {
     let (out, run) = solve(&t, &fixture("hop_up.toml"), &[], 1);
     for text in [
         "status       relaxed_contact (Ipopt: solve_succeeded)",
-        "contact `foot_contact` at interval 2",
+        "contact `foot_contact` at interval 2 (knots 2–3, t = 0.2–0.3 s,",
         "above slack.tolerance 1e-4",
         "--starts",
         "warm start",
