@@ -349,13 +349,6 @@ pub(super) fn print_summary(
     Ok(())
 }
 
-/// A knot's time to 1e-4 of its unit, without trailing zeros or the steps' round-off digits
-/// (1.3124, not 1.3124135483652837; 0.2, not 0.2000).
-fn knot_time(t: f64) -> String {
-    let text = format!("{t:.4}");
-    text.trim_end_matches('0').trim_end_matches('.').to_string()
-}
-
 /// Why a solve is not solved and what to try, one line each (nothing when it is solved):
 /// where a relaxed plan breaks contact, or the rows an unsolved one violates most.
 pub(super) fn verdict_explanation(s: &Solution, time_unit: &str) -> Vec<String> {
@@ -368,7 +361,9 @@ pub(super) fn verdict_explanation(s: &Solution, time_unit: &str) -> Vec<String> 
                 Some(p) => {
                     let knots = match (s.times.get(p.interval), s.times.get(p.interval + 1)) {
                         (Some(a), Some(b)) => {
-                            format!(", t = {}–{} {time_unit}", knot_time(*a), knot_time(*b))
+                            // To 1e-4 of the unit, without the steps' round-off digits.
+                            let t = |t: f64| vito::model::trimmed_decimal(t, 4);
+                            format!(", t = {}–{} {time_unit}", t(*a), t(*b))
                         }
                         _ => String::new(),
                     };

@@ -202,10 +202,10 @@ pub fn inspect(model: &Model) -> Inspection {
     }
 }
 
-/// A mass in kg to 1e-9 kg, without the sum's round-off digits (2.7464, not
-/// 2.7464000000000004); `--json` keeps the exact sum.
-fn mass_to_nanograms(kg: f64) -> String {
-    let text = format!("{kg:.9}");
+/// `x` to `places` decimals without trailing zeros, so a printed sum or time loses its
+/// round-off digits (2.7464, not 2.7464000000000004; 0.2, not 0.2000).
+pub fn trimmed_decimal(x: f64, places: usize) -> String {
+    let text = format!("{x:.places$}");
     text.trim_end_matches('0').trim_end_matches('.').to_string()
 }
 
@@ -216,7 +216,7 @@ fn bound(x: Option<f64>, unbounded: &str) -> String {
 impl fmt::Display for Inspection {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         writeln!(f, "robot {} ({} base)", self.robot, self.base)?;
-        writeln!(f, "total mass: {} kg", mass_to_nanograms(self.total_mass))?;
+        writeln!(f, "total mass: {} kg", trimmed_decimal(self.total_mass, 9))?;
         writeln!(f, "coordinates ({}):", self.coordinates.len())?;
         for (i, c) in self.coordinate_details.iter().enumerate() {
             write!(
@@ -308,5 +308,19 @@ impl fmt::Display for Inspection {
             writeln!(f, "warning: {w}")?;
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::trimmed_decimal;
+
+    #[test]
+    fn trimmed_decimals_drop_round_off_and_trailing_zeros_only() {
+        assert_eq!(trimmed_decimal(2.7464000000000004, 9), "2.7464");
+        assert_eq!(trimmed_decimal(1.3124135483652837, 4), "1.3124");
+        assert_eq!(trimmed_decimal(0.2, 4), "0.2");
+        assert_eq!(trimmed_decimal(10.0, 4), "10");
+        assert_eq!(trimmed_decimal(100.25, 4), "100.25");
     }
 }

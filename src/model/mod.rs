@@ -33,7 +33,9 @@ pub use energy_adjoint::{
     SweepBuffers, kinetic_energy_gradient, lagrangian_gradient, potential_energy_gradient,
 };
 pub use error::{ModelError, describe};
-pub use inspect::{ContactInfo, CoordinateInfo, Inspection, LoopInfo, SpringInfo, inspect};
+pub use inspect::{
+    ContactInfo, CoordinateInfo, Inspection, LoopInfo, SpringInfo, inspect, trimmed_decimal,
+};
 pub use kinematics::{link_angular_jacobian, link_pose, point_position, roll_pitch_yaw};
 pub use loops::{LoopJet, loop_closure_jets, loop_residual};
 pub use point_jet::{PointJet, point_jet, point_jet_into, vector_jet};
