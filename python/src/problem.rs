@@ -220,6 +220,7 @@ impl Problem {
             },
             progress,
             None,
+            Arc::default(),
         )?;
         let solution = Solution {
             source: (self.path.clone(), self.sets.clone()),

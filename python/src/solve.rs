@@ -36,15 +36,15 @@ pub(crate) struct Solved {
 
 /// Solves `problem` as `vito solve` does: `starts`/`seed` the command's `--starts`/`--seed`,
 /// `progress` called with a dict at each iteration, stopped after the current iteration by
-/// Ctrl-C, an exception of `progress`, or the `deadline`.
+/// Ctrl-C, an exception of `progress`, the `deadline`, or `cancel` set by another thread.
 pub(crate) fn solve_loaded(
     py: Python<'_>,
     problem: &LoadedProblem,
     multi_start: MultiStart,
     progress: Option<Py<PyAny>>,
     deadline: Option<Instant>,
+    cancel: Arc<AtomicBool>,
 ) -> PyResult<Solved> {
-    let cancel = Arc::new(AtomicBool::new(false));
     let timed_out = Arc::new(AtomicBool::new(false));
     let wants_progress = progress.is_some();
     let (result, error) = run_watched(

@@ -3,8 +3,9 @@
 //! Python executor as jobs ([`vito::sweep::JobSweep`]: the same directories, table and
 //! resume rules), and `_solve_point` is what such a job runs in its worker.
 
+use std::collections::BTreeSet;
 use std::path::PathBuf;
-use std::sync::atomic::AtomicBool;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, PoisonError};
 use std::time::{Duration, Instant};
 
@@ -27,6 +28,67 @@ use crate::problem::Problem;
 use crate::solution::Solution;
 use crate::solve::solve_loaded;
 use crate::watch::run_watched;
+
+/// The jobs solving in this process (a thread executor's, or Dask's threads), by run
+/// directory, and the run directories of stopped sweeps: `SweepJobs.stop()` stops such a job at
+/// its next iteration, and one that starts after the stop at once. A job in another process
+/// (a process pool's, Ray's, a cluster's) finishes on its own.
+struct InProcess {
+    running: Vec<(PathBuf, Arc<AtomicBool>)>,
+    stopped: BTreeSet<PathBuf>,
+}
+
+static IN_PROCESS: Mutex<InProcess> = Mutex::new(InProcess {
+    running: Vec::new(),
+    stopped: BTreeSet::new(),
+});
+
+fn in_process() -> std::sync::MutexGuard<'static, InProcess> {
+    IN_PROCESS.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+/// A job's entry in [`IN_PROCESS`] while it solves; its stop flag is set at once when its
+/// sweep has stopped. Removed on drop.
+struct InProcessJob {
+    run_dir: PathBuf,
+    cancel: Arc<AtomicBool>,
+}
+
+impl InProcessJob {
+    fn register(run_dir: &std::path::Path) -> InProcessJob {
+        let cancel = Arc::new(AtomicBool::new(false));
+        let mut jobs = in_process();
+        if jobs.stopped.contains(run_dir) {
+            cancel.store(true, Ordering::SeqCst);
+        }
+        jobs.running.push((run_dir.to_path_buf(), cancel.clone()));
+        InProcessJob {
+            run_dir: run_dir.to_path_buf(),
+            cancel,
+        }
+    }
+}
+
+impl Drop for InProcessJob {
+    fn drop(&mut self) {
+        in_process()
+            .running
+            .retain(|(dir, flag)| !(dir == &self.run_dir && Arc::ptr_eq(flag, &self.cancel)));
+    }
+}
+
+/// Stops the jobs of `run_dirs` that solve in this process, now or later.
+fn stop_in_process(run_dirs: &[PathBuf]) {
+    let mut jobs = in_process();
+    for dir in run_dirs {
+        for (running, flag) in &jobs.running {
+            if running == dir {
+                flag.store(true, Ordering::SeqCst);
+            }
+        }
+        jobs.stopped.insert(dir.clone());
+    }
+}
 
 fn usage(e: SweepError) -> PyErr {
     match e {
@@ -195,6 +257,8 @@ pub(crate) fn _sweep(
 #[pyclass(module = "vito", frozen)]
 pub(crate) struct SweepJobs {
     sweep: Mutex<JobSweep>,
+    /// The jobs handed out and not recorded: index, attempt, run directory.
+    handed_out: Mutex<Vec<(usize, Option<String>, PathBuf)>>,
     problem: PathBuf,
     out: PathBuf,
     /// The per-run time limit [s], checked (each job carries it).
@@ -250,6 +314,7 @@ impl SweepJobs {
             .map_err(usage)?;
         Ok(SweepJobs {
             sweep: Mutex::new(sweep),
+            handed_out: Mutex::new(Vec::new()),
             problem: path,
             out,
             time_limit,
@@ -267,6 +332,12 @@ impl SweepJobs {
         let Some(job) = self.with(|s| s.next_job())? else {
             return Ok(None);
         };
+        // A run directory handed out again (a resumed sweep) may solve again.
+        in_process().stopped.remove(&job.run_dir);
+        self.handed_out
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .push((job.index, job.attempt.clone(), job.run_dir.clone()));
         let d = PyDict::new(py);
         d.set_item("index", job.index)?;
         d.set_item("problem", &self.problem)?;
@@ -299,6 +370,10 @@ impl SweepJobs {
         };
         let row =
             py.detach(|| self.with(|s| s.record(index, attempt.as_deref(), outcome).cloned()))?;
+        self.handed_out
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .retain(|(i, a, _)| !(*i == index && *a == attempt));
         let d = PyDict::new(py);
         d.set_item("index", row.index)?;
         d.set_item("point", row.point_label())?;
@@ -312,8 +387,22 @@ impl SweepJobs {
     /// stop()
     ///
     /// Ends the sweep early: the points handed out and not recorded, and the rest, stay
-    /// pending (not run; a rerun of the sweep runs them).
+    /// pending (not run; a rerun of the sweep runs them). The jobs handed out that solve in
+    /// this process (a thread executor's) stop at their next iteration; those elsewhere
+    /// finish on their own.
     fn stop(&self) -> PyResult<()> {
+        let handed_out = std::mem::take(
+            &mut *self
+                .handed_out
+                .lock()
+                .unwrap_or_else(PoisonError::into_inner),
+        );
+        stop_in_process(
+            &handed_out
+                .into_iter()
+                .map(|(_, _, dir)| dir)
+                .collect::<Vec<_>>(),
+        );
         self.with(|s| s.stop())
     }
 
@@ -341,7 +430,8 @@ impl SweepJobs {
 ///
 /// One sweep point, as `vito solve PROBLEM --set ... --out RUN_DIR` solves it, in this
 /// process: loads the problem with `sets`, solves, writes the run directory (also the
-/// iterate of a solve stopped at `time_limit` seconds or by Ctrl-C). Returns the time limit
+/// iterate of a solve stopped at `time_limit` seconds, by Ctrl-C or by its sweep's `stop()`
+/// when it runs in the sweep's process). Returns the time limit
 /// when it stopped the solve, else None. Raises what loading or writing raises.
 #[pyfunction]
 #[pyo3(signature = (problem, sets, run_dir, time_limit = None, starts = 1, seed = 0))]
@@ -362,6 +452,7 @@ pub(crate) fn _solve_point(
     let target = pipeline::output::checked_output_dir(&loaded, Some(&run_dir))
         .map_err(|e| vito_error(&report::ReportError::from(e)))?;
     let deadline = time_limit.map(|t| Instant::now() + Duration::from_secs_f64(t));
+    let job = InProcessJob::register(&run_dir);
     let solved = solve_loaded(
         py,
         &loaded,
@@ -372,7 +463,9 @@ pub(crate) fn _solve_point(
         },
         None,
         deadline,
+        job.cancel.clone(),
     )?;
+    drop(job);
     let solution = Solution {
         source: (problem, sets),
         problem: loaded,

@@ -161,15 +161,17 @@ def test_ctrl_c_stops_a_simulation():
 
 @pytest.mark.parametrize("how", ["processes", "executor"])
 def test_ctrl_c_stops_a_sweep_and_it_resumes(tmp_path, how):
-    # Six points of a long problem, one at a time: SIGINT a second into the first stops the sweep
-    # (no new point starts), the table marks the rest not run, and the same call resumes.
+    # Six points of a long problem (12 s a solve here), one at a time: SIGINT a second into the
+    # first stops the sweep (no new point starts) and the first point's solve at its next
+    # iteration, also on a thread of this process (an executor's task the interpreter would
+    # wait for at exit), and the table marks the rest not run.
     sweep_dir = tmp_path / "sweep"
     executor = "executor=ThreadPoolExecutor(1)," if how == "executor" else ""
     script = f"""
         import signal, sys, vito
         from concurrent.futures import ThreadPoolExecutor
         signal.signal(signal.SIGINT, signal.default_int_handler)
-        p = vito.Problem({str(HOPPER)!r}, set={{"horizon.knots": 81, "horizon.time_step": 0.0125}})
+        p = vito.Problem({str(HOPPER)!r}, set={{"horizon.knots": 161, "horizon.time_step": 0.00625}})
         ready = []
         def progress(counts):
             if counts["running"] and not ready:
@@ -193,6 +195,11 @@ def test_ctrl_c_stops_a_sweep_and_it_resumes(tmp_path, how):
     assert statuses[1:] == ["pending"] * 5
     assert statuses[0] in ("interrupted", "pending")
     assert all(n for n in table["note"].tolist()[1:])
+    # The first point's solve stopped (its iterate kept), not finished after the exception.
+    import json
+
+    summaries = [json.loads(f.read_text()) for f in sweep_dir.rglob("summary.json")]
+    assert [s["status"] for s in summaries] in ([], ["user_requested_stop"]), summaries
 
 
 def test_generated_python_values_raise_ordinary_exceptions():

@@ -159,8 +159,10 @@ def sweep(problem, grid, out, jobs=None, time_limit=None, warm_start=None, exe=N
     change; when None, a tqdm bar if tqdm is installed; False: nothing.
 
     Ctrl-C stops the sweep at once: no new point starts, the points running are asked to
-    stop (processes) or left (executor tasks), the table marks the points not finished as
-    not run, and ``KeyboardInterrupt`` is raised; the same call again resumes.
+    stop (``vito solve`` processes, and executor tasks in this process, such as a
+    ``ThreadPoolExecutor``'s, at their next iteration) or left to finish (executor tasks in
+    other processes), the table marks the points not finished as not run, and
+    ``KeyboardInterrupt`` is raised; the same call again resumes.
 
     Returns the sweep table (``sweep.csv``, one row per point) as a pandas DataFrame.
     """
