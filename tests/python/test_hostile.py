@@ -123,9 +123,12 @@ def test_a_comma_inside_a_grid_value_is_one_point(tmp_path, hopper):
 
 def interrupt_after(code_before, seconds, timeout=120):
     """Starts a script, sends SIGINT `seconds` after it prints READY, returns (returncode,
-    stdout, stderr, seconds from the signal to the exit)."""
+    stdout, stderr, seconds from the signal to the exit). A script still running 20 s before
+    the timeout prints every thread's Python stack to stderr and exits (the failure's
+    message shows where it hung)."""
+    watchdog = f"import faulthandler\nfaulthandler.dump_traceback_later({timeout - 20}, exit=True)\n"
     p = subprocess.Popen(
-        [sys.executable, "-c", textwrap.dedent(code_before)],
+        [sys.executable, "-c", watchdog + textwrap.dedent(code_before)],
         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=ROOT,
     )
     try:
