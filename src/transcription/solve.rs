@@ -425,7 +425,8 @@ fn solve_relaxed<M: MechanicsDerivatives>(
 }
 
 /// The mode-fixed re-solve of `[slack] polish` ([`PolishRecord`]) from `solution`, an
-/// optimum of the relaxed NLP (Ipopt's `report`), started from its point and multipliers
+/// optimum of the relaxed NLP or a feasible point at its iteration limit ([`polishable`];
+/// Ipopt's `report`), started from its point and multipliers
 /// (the freed complementarity rows' at zero) near the central path. The solution it returns
 /// is the re-solve's if that is solved and `solution` is not, or its objective is no higher;
 /// else `solution`; either way with the re-solve's iterations and times added and its record
@@ -437,7 +438,8 @@ fn polish<M: MechanicsDerivatives>(
     solution: Solution,
     report: &ipopt::SolveReport,
 ) -> Result<Solution, TranscriptionError> {
-    if transcription.layout().nc == 0 || !solution.status.is_success() || options.stopped() {
+    if transcription.layout().nc == 0 || !polishable(&solution, spec, options) || options.stopped()
+    {
         return Ok(solution);
     }
     let (original, fixed) = transcription.fix_contact_modes(&report.x);
@@ -502,6 +504,32 @@ fn polish<M: MechanicsDerivatives>(
     kept_solution.ipopt_time_s += other.ipopt_time_s;
     kept_solution.polish = Some(record);
     Ok(kept_solution)
+}
+
+/// Ipopt's default `constr_viol_tol`: the largest constraint violation of a converged point.
+const IPOPT_CONSTR_VIOL_TOL: f64 = 1e-4;
+
+/// Whether the polish starts from `solution`: an optimum of the relaxed NLP, or a point where
+/// Ipopt's iteration limit stopped it that satisfies the constraints within `constr_viol_tol`
+/// (the problem's or the caller's, else Ipopt's default). From such a point the NLP with the
+/// contact modes fixed, a regular one, may converge where the relaxed NLP wandered; its plan
+/// is kept only if it is solved. A time limit or a stop request is the caller's end.
+fn polishable(solution: &Solution, spec: &ProblemSpec, options: &SolveOptions) -> bool {
+    if solution.status.is_success() {
+        return true;
+    }
+    let tolerance = spec
+        .solver_options
+        .iter()
+        .chain(&options.ipopt_options)
+        .rev()
+        .find_map(|(n, v)| match (n.as_str(), v) {
+            ("constr_viol_tol", OptionValue::Num(x)) => Some(*x),
+            _ => None,
+        })
+        .unwrap_or(IPOPT_CONSTR_VIOL_TOL);
+    solution.status == ipopt::Status::MaximumIterationsExceeded
+        && solution.max_constraint_violation <= tolerance
 }
 
 /// A warm start from an optimum of a nearby NLP: its multipliers (given separately), a
@@ -775,6 +803,50 @@ mod tests {
         assert!(off.polish.is_none());
         assert_eq!(off.objective.to_bits(), s.objective.to_bits());
         assert_eq!(off.iterations + p.iterations, s.iterations);
+    }
+
+    #[test]
+    fn a_feasible_point_at_the_iteration_limit_is_polished_and_an_infeasible_one_is_not() {
+        // Stopped two iterations before its optimum, the relaxed solve's point satisfies the
+        // constraints: the polish from there solves the mode-fixed NLP near the optimum.
+        let full = solve(
+            &hopper_spec(&["slack.polish=false"]),
+            &SolveOptions::default(),
+        );
+        assert!(full.verdict().is_solved(), "{:?}", full.verdict());
+        let limit = full.iterations - 2;
+        let max_iter = format!("solver.ipopt.max_iter={limit}");
+        let spec = hopper_spec(&[max_iter.as_str()]);
+        let s = solve(&spec, &SolveOptions::default());
+        let p = s.polish.clone().unwrap_or_else(|| {
+            panic!(
+                "no polish at the limit {limit}: {:?}, violation {:e}",
+                s.status, s.max_constraint_violation
+            )
+        });
+        assert_eq!(
+            s.iterations,
+            limit + p.iterations,
+            "the relaxed solve hit the limit"
+        );
+        assert!(p.kept && s.verdict().is_solved(), "{:?}", s.verdict());
+        assert!(s.max_slack <= spec.slack_tolerance);
+        assert!(s.max_constraint_violation <= 1e-6);
+        assert!(
+            (s.objective - HOPPER_OPTIMUM).abs() <= 1e-4 * HOPPER_OPTIMUM,
+            "{}",
+            s.objective
+        );
+        // After three iterations the constraints are violated by far more than Ipopt's
+        // constr_viol_tol (1e-4): no polish, the iteration limit stays the verdict.
+        let early = solve(
+            &hopper_spec(&["solver.ipopt.max_iter=3"]),
+            &SolveOptions::default(),
+        );
+        assert_eq!(early.status, ipopt::Status::MaximumIterationsExceeded);
+        assert!(early.max_constraint_violation > 1e-4);
+        assert!(early.polish.is_none());
+        assert!(!early.verdict().is_solved());
     }
 
     #[test]
