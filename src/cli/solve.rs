@@ -301,10 +301,15 @@ pub(super) fn print_summary(
     }
     if let Some(p) = &s.polish {
         out!(
-            "polish       {} from objective {:.10e} (max slack {:.3e}): {} {:.10e} after {} iterations{}",
+            "polish       {} from objective {:.10e} (max slack {:.3e}{}): {} {:.10e} after {} iterations{}",
             if p.kept { "kept" } else { "not kept" },
             p.objective_before,
             p.max_slack_before,
+            if p.status_before.is_success() {
+                ""
+            } else {
+                "; the relaxed solve stopped at Ipopt's iteration limit"
+            },
             p.verdict.name(),
             p.objective,
             p.iterations,

@@ -172,6 +172,7 @@ fn polish_json(p: &crate::transcription::PolishRecord) -> Value {
     json!({
         "status": p.verdict.name(),
         "ipopt_status": status_name(p.status),
+        "ipopt_status_before": status_name(p.status_before),
         "objective_before": num(p.objective_before),
         "max_slack_before": num(p.max_slack_before),
         "objective": num(p.objective),

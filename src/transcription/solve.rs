@@ -96,6 +96,9 @@ pub struct PolishRecord {
     pub status: ipopt::Status,
     /// Its verdict, judged on the problem's own rows and bounds.
     pub verdict: SolveVerdict,
+    /// Ipopt's status of the relaxed solve it started from: an optimum, or the iteration
+    /// limit at a feasible point.
+    pub status_before: ipopt::Status,
     /// The objective of the solution it started from.
     pub objective_before: f64,
     /// That solution's largest slack ([`Solution::max_slack`]).
@@ -482,6 +485,7 @@ fn polish<M: MechanicsDerivatives>(
     let record = PolishRecord {
         status: polished.status,
         verdict: polished.verdict(),
+        status_before: solution.status,
         objective_before: solution.objective,
         max_slack_before: solution.max_slack,
         objective: polished.objective,
@@ -789,6 +793,7 @@ mod tests {
             .expect("a solve with contacts ends with the polish");
         assert!(p.verdict.is_solved(), "{:?}", p.verdict);
         assert_eq!(p.objective_before.to_bits(), s.objective.to_bits());
+        assert!(p.status_before.is_success(), "{:?}", p.status_before);
         // The relaxed optimum is solved already; the mode-fixed one ends no lower (its
         // slack penalty is exactly zero where the relaxed one's is −2e-5), so it is not kept.
         assert!(!p.kept);
@@ -829,6 +834,7 @@ mod tests {
             limit + p.iterations,
             "the relaxed solve hit the limit"
         );
+        assert_eq!(p.status_before, ipopt::Status::MaximumIterationsExceeded);
         assert!(p.kept && s.verdict().is_solved(), "{:?}", s.verdict());
         assert!(s.max_slack <= spec.slack_tolerance);
         assert!(s.max_constraint_violation <= 1e-6);
