@@ -257,8 +257,6 @@ pub(crate) fn _sweep(
 #[pyclass(module = "vito", frozen)]
 pub(crate) struct SweepJobs {
     sweep: Mutex<JobSweep>,
-    /// The jobs handed out and not recorded: index, attempt, run directory.
-    handed_out: Mutex<Vec<(usize, Option<String>, PathBuf)>>,
     problem: PathBuf,
     out: PathBuf,
     /// The per-run time limit [s], checked (each job carries it).
@@ -314,7 +312,6 @@ impl SweepJobs {
             .map_err(usage)?;
         Ok(SweepJobs {
             sweep: Mutex::new(sweep),
-            handed_out: Mutex::new(Vec::new()),
             problem: path,
             out,
             time_limit,
@@ -334,10 +331,6 @@ impl SweepJobs {
         };
         // A run directory handed out again (a resumed sweep) may solve again.
         in_process().stopped.remove(&job.run_dir);
-        self.handed_out
-            .lock()
-            .unwrap_or_else(PoisonError::into_inner)
-            .push((job.index, job.attempt.clone(), job.run_dir.clone()));
         let d = PyDict::new(py);
         d.set_item("index", job.index)?;
         d.set_item("problem", &self.problem)?;
@@ -370,10 +363,6 @@ impl SweepJobs {
         };
         let row =
             py.detach(|| self.with(|s| s.record(index, attempt.as_deref(), outcome).cloned()))?;
-        self.handed_out
-            .lock()
-            .unwrap_or_else(PoisonError::into_inner)
-            .retain(|(i, a, _)| !(*i == index && *a == attempt));
         let d = PyDict::new(py);
         d.set_item("index", row.index)?;
         d.set_item("point", row.point_label())?;
@@ -391,19 +380,10 @@ impl SweepJobs {
     /// this process (a thread executor's) stop at their next iteration; those elsewhere
     /// finish on their own.
     fn stop(&self) -> PyResult<()> {
-        let handed_out = std::mem::take(
-            &mut *self
-                .handed_out
-                .lock()
-                .unwrap_or_else(PoisonError::into_inner),
-        );
-        stop_in_process(
-            &handed_out
-                .into_iter()
-                .map(|(_, _, dir)| dir)
-                .collect::<Vec<_>>(),
-        );
-        self.with(|s| s.stop())
+        self.with(|s| {
+            stop_in_process(&s.running_dirs());
+            s.stop()
+        })
     }
 
     /// The counts: done, failed, interrupted, running, total, skipped.

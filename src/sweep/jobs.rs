@@ -379,4 +379,16 @@ impl JobSweep {
     pub fn running(&self) -> usize {
         self.running.len()
     }
+
+    /// The run directories of the jobs handed out and not recorded yet (points' and
+    /// neighbour-pass attempts'), as their [`PointJob::run_dir`]s named them.
+    pub fn running_dirs(&self) -> Vec<PathBuf> {
+        let points = self
+            .running
+            .iter()
+            .filter_map(|&i| self.points.get(i))
+            .map(|p| self.runs.join(p.run_name()));
+        let attempts = self.running_attempts.iter().map(|d| self.out.join(d));
+        points.chain(attempts).collect()
+    }
 }

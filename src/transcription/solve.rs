@@ -157,13 +157,9 @@ fn configure(spec: &ProblemSpec, options: &SolveOptions) -> Result<Solver, Trans
     if spec.hessian == HessianMode::Lbfgs {
         solver.set_option("hessian_approximation", "limited-memory")?;
     }
-    let given = |name: &str| {
-        spec.solver_options
-            .iter()
-            .chain(&options.ipopt_options)
-            .any(|(n, _)| n == name)
-    };
-    if spec.slack_mode == SlackMode::Penalty && !given(PENALTY_BOUND_RELAX.0) {
+    if spec.slack_mode == SlackMode::Penalty
+        && given_option(spec, options, PENALTY_BOUND_RELAX.0).is_none()
+    {
         solver.set_option(PENALTY_BOUND_RELAX.0, PENALTY_BOUND_RELAX.1)?;
     }
     if let Some(flag) = &options.cancel {
@@ -522,16 +518,11 @@ fn polishable(solution: &Solution, spec: &ProblemSpec, options: &SolveOptions) -
     if solution.status.is_success() {
         return true;
     }
-    let tolerance = spec
-        .solver_options
-        .iter()
-        .chain(&options.ipopt_options)
-        .rev()
-        .find_map(|(n, v)| match (n.as_str(), v) {
-            ("constr_viol_tol", OptionValue::Num(x)) => Some(*x),
-            _ => None,
-        })
-        .unwrap_or(IPOPT_CONSTR_VIOL_TOL);
+    let tolerance = match given_option(spec, options, "constr_viol_tol") {
+        Some(OptionValue::Num(x)) => *x,
+        Some(OptionValue::Int(i)) => *i as f64,
+        _ => IPOPT_CONSTR_VIOL_TOL,
+    };
     solution.status == ipopt::Status::MaximumIterationsExceeded
         && solution.max_constraint_violation <= tolerance
 }
@@ -553,6 +544,21 @@ fn primal_dual_warm_start() -> Vec<(&'static str, OptionValue)> {
     ]
 }
 
+/// The value of Ipopt option `name` as the problem file's `[solver.ipopt]` or the caller
+/// gives it (the caller's last, which Ipopt applies last), if either does.
+fn given_option<'a>(
+    spec: &'a ProblemSpec,
+    options: &'a SolveOptions,
+    name: &str,
+) -> Option<&'a OptionValue> {
+    spec.solver_options
+        .iter()
+        .chain(&options.ipopt_options)
+        .rev()
+        .find(|(n, _)| n == name)
+        .map(|(_, v)| v)
+}
+
 /// Set each of `values` on `solver` unless the problem file or the caller gives it.
 fn set_unless_given(
     solver: &mut Solver,
@@ -561,12 +567,7 @@ fn set_unless_given(
     values: Vec<(&'static str, OptionValue)>,
 ) -> Result<(), TranscriptionError> {
     for (name, value) in values {
-        let given = spec
-            .solver_options
-            .iter()
-            .chain(&options.ipopt_options)
-            .any(|(n, _)| n == name);
-        if !given {
+        if given_option(spec, options, name).is_none() {
             solver.set_option(name, value)?;
         }
     }
@@ -646,14 +647,11 @@ pub(crate) fn bench_with<M: MechanicsDerivatives>(
 /// Whether Ipopt will drop the Hessian entries of variables fixed by their bounds: its default
 /// `fixed_variable_treatment make_parameter`, unless the problem or the caller sets another.
 fn ipopt_drops_fixed_variables(spec: &ProblemSpec, options: &SolveOptions) -> bool {
-    !spec
-        .solver_options
-        .iter()
-        .chain(&options.ipopt_options)
-        .any(|(name, value)| {
-            name == "fixed_variable_treatment"
-                && !matches!(value, OptionValue::Str(s) if s == "make_parameter")
-        })
+    match given_option(spec, options, "fixed_variable_treatment") {
+        Some(OptionValue::Str(s)) => s == "make_parameter",
+        Some(_) => false,
+        None => true,
+    }
 }
 
 /// Whether a solve that ended with `status` is worth continuing with a larger slack weight:
