@@ -43,7 +43,10 @@ DEFAULT_FILES = [
 # contact problems. `slip-10`, `slip-100`, `slip-1000`: `contacts.max_slip_speed` (m/s)
 # bounds ψ, and η with it, so that no product hidden by the relaxation exceeds 1e-7, 1e-6 or
 # 1e-5;
-# `homotopy-slip-100` the homotopy with that bound.
+# `homotopy-slip-100` the homotopy with that bound. `homotopy-tied`: the homotopy with
+# `[slack] tied_tolerances`, each round's Ipopt tolerance, initial and target barrier
+# parameter a tenth of the relaxation its weight stands for, then one solve at the file's
+# own tolerances; `homotopy-tied-slip-100` that with ψ bounded at 100 m/s.
 STRATEGIES = {
     "shipped": [],
     "no-polish": ["slack.polish=false"],
@@ -54,6 +57,9 @@ STRATEGIES = {
     "slip-100": ["contacts.max_slip_speed=100"],
     "slip-1000": ["contacts.max_slip_speed=1000"],
     "homotopy-slip-100": ["slack.homotopy=true", "contacts.max_slip_speed=100"],
+    "homotopy-tied": ["slack.homotopy=true", "slack.tied_tolerances=true"],
+    "homotopy-tied-slip-100": ["slack.homotopy=true", "slack.tied_tolerances=true",
+                               "contacts.max_slip_speed=100"],
 }
 
 

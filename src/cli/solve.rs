@@ -290,8 +290,18 @@ pub(super) fn print_summary(
     );
     out!("callbacks    {}", s.callback_split.describe());
     if contacts && s.solves > 1 {
+        // `[slack] tied_tolerances`: how many solves stopped at a looser tolerance.
+        let loose = s
+            .continuation
+            .iter()
+            .filter(|c| c.tied_tol.is_some())
+            .count();
+        let loose = match loose {
+            0 => String::new(),
+            n => format!("; {n} at tolerances tied to the relaxation"),
+        };
         out!(
-            "max slack    {:.3e} after {} solves (slack weight raised to {:e})",
+            "max slack    {:.3e} after {} solves (slack weight raised to {:e}{loose})",
             s.max_slack,
             s.solves,
             s.slack_weight

@@ -455,6 +455,12 @@ pub struct SlackSection {
     /// `growth` per warm-started solve until the largest slack is below `target` (default:
     /// a tenth of `tolerance`; `rounds` default 6, `restart` default `"primal_dual"`).
     pub homotopy: Option<bool>,
+    /// Each solve of the continuation only as tight as its relaxation (the practice of
+    /// nosnoc's multi-Ipopt homotopy): Ipopt's `tol`, `mu_init` and `mu_target` a tenth of the
+    /// relaxation σ that the solve's weight stands for (`tolerance` × `weight` / the solve's
+    /// weight), monotone μ, until that reaches the file's `tol`; then one solve at the file's
+    /// own tolerances from the last point (default false; needs `target` or `homotopy`).
+    pub tied_tolerances: Option<bool>,
     /// Finish with the contact modes fixed: from the solution, fix each complementarity
     /// pair's smaller side at zero (a foot touching or free of force, sticking or sliding),
     /// solve that regular NLP without slacks from there, and keep it if it is solved and the

@@ -269,6 +269,14 @@ pub struct SlackContinuation {
     pub rounds: usize,
     /// Where a raised-weight solve starts after an optimum.
     pub restart: SlackRestart,
+    /// `[slack] tied_tolerances`: the relaxation σ the first solve stands for, the slack the
+    /// problem accepts (`tolerance`) times the file's weight over the first solve's weight.
+    /// Solve r stands for σ / growth^r and stops at Ipopt tolerance 0.1 σ (`tol`, `mu_init`
+    /// and `mu_target`, monotone μ) while that is above the file's own `tol`; after such a
+    /// loose solve the continuation ends with one solve at the same weight and the file's
+    /// own tolerances, μ monotone from a tenth of the loose tolerance. `None`: every solve at
+    /// the file's tolerances.
+    pub tied_sigma: Option<f64>,
 }
 
 /// `[slack] restart`: the start of a raised-weight solve that follows an optimum.

@@ -313,6 +313,7 @@ mod tests {
             starts: Vec::new(),
             best_start: 0,
             polish: None,
+            continuation: Vec::new(),
         }
     }
 

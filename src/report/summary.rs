@@ -139,6 +139,9 @@ pub fn summary_json(problem: &LoadedProblem, solution: &Solution) -> Value {
     if let Some(p) = &s.polish {
         summary["polish"] = polish_json(p);
     }
+    if !s.continuation.is_empty() {
+        summary["continuation"] = continuation_json(&s.continuation);
+    }
     summary["metrics"] = metrics;
     summary["metric_units"] = metric_units;
     if !s.starts.is_empty() {
@@ -158,6 +161,7 @@ pub fn summary_json(problem: &LoadedProblem, solution: &Solution) -> Value {
                     "iterations": r.iterations,
                     "wall_time_s": num(r.wall_time_s),
                     "polish": r.polish.as_ref().map(polish_json),
+                    "continuation": continuation_json(&r.continuation),
                 })
             })
             .collect();
@@ -165,6 +169,24 @@ pub fn summary_json(problem: &LoadedProblem, solution: &Solution) -> Value {
         summary["best_start"] = json!(s.best_start);
     }
     summary
+}
+
+/// The slack continuation's solves as summary.json lists them, in order.
+fn continuation_json(solves: &[crate::transcription::ContinuationSolve]) -> Value {
+    solves
+        .iter()
+        .map(|c| {
+            json!({
+                "slack_weight": num(c.slack_weight),
+                "tied_tol": c.tied_tol.map(num),
+                "ipopt_status": status_name(c.status),
+                "objective": num(c.objective),
+                "max_slack": num(c.max_slack),
+                "iterations": c.iterations,
+                "wall_time_s": num(c.wall_time_s),
+            })
+        })
+        .collect()
 }
 
 /// The mode-fixed re-solve of `[slack] polish` as summary.json lists it.

@@ -93,6 +93,10 @@ pub struct Solution {
     /// The mode-fixed re-solve that ended the solve (`[slack] polish`), kept or not.
     #[serde(default)]
     pub polish: Option<super::PolishRecord>,
+    /// Each Ipopt solve of the slack continuation, in order (empty without `[slack] target`
+    /// or `homotopy`); `solves` counts them with the polish's.
+    #[serde(default)]
+    pub continuation: Vec<super::ContinuationSolve>,
 }
 
 impl Solution {
@@ -265,6 +269,7 @@ impl Solution {
             starts: Vec::new(),
             best_start: 0,
             polish: None,
+            continuation: Vec::new(),
         }
     }
 }

@@ -85,6 +85,43 @@ pub struct StartRecord {
     /// The start's mode-fixed re-solve, if `[slack] polish` asked for one.
     #[serde(default)]
     pub polish: Option<PolishRecord>,
+    /// The solves of its slack continuation (as [`Solution::continuation`]).
+    #[serde(default)]
+    pub continuation: Vec<ContinuationSolve>,
+}
+
+/// One Ipopt solve of the slack continuation (`[slack] target` or `homotopy`), in order.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ContinuationSolve {
+    /// The slack weight α of this solve.
+    pub slack_weight: f64,
+    /// Ipopt's `tol`, `mu_init` and `mu_target` when `[slack] tied_tolerances` loosened this
+    /// solve; `None`: the file's own tolerances.
+    pub tied_tol: Option<f64>,
+    /// Ipopt's status.
+    pub status: ipopt::Status,
+    /// Its objective.
+    pub objective: f64,
+    /// Its largest slack ([`Solution::max_slack`]).
+    pub max_slack: f64,
+    /// Its own Ipopt iterations.
+    pub iterations: usize,
+    /// Its own wall time [s].
+    pub wall_time_s: f64,
+}
+
+impl ContinuationSolve {
+    fn of(solution: &Solution, tied_tol: Option<f64>) -> Self {
+        ContinuationSolve {
+            slack_weight: solution.slack_weight,
+            tied_tol,
+            status: solution.status,
+            objective: solution.objective,
+            max_slack: solution.max_slack,
+            iterations: solution.iterations,
+            wall_time_s: solution.wall_time_s,
+        }
+    }
 }
 
 /// The mode-fixed re-solve that ends a solve under `[slack] polish`: from the relaxed
@@ -269,6 +306,7 @@ fn solve_from<M: MechanicsDerivatives>(
         iterations: solution.iterations,
         wall_time_s: solution.wall_time_s,
         polish: solution.polish.clone(),
+        continuation: solution.continuation.clone(),
     });
     Ok(solution)
 }
@@ -342,86 +380,210 @@ fn solve_transcription<M: MechanicsDerivatives>(
     options: &SolveOptions,
 ) -> Result<Solution, TranscriptionError> {
     transcription.set_skip_fixed_variables(ipopt_drops_fixed_variables(spec, options));
-    let (solution, report) = solve_relaxed(transcription, spec, options)?;
-    if spec.slack_polish {
-        polish(transcription, spec, options, solution, &report)
-    } else {
-        Ok(solution)
+    let polishing = spec.slack_polish && transcription.layout().nc > 0;
+    let (solution, report) = solve_relaxed(transcription, spec, options, polishing)?;
+    if !polishing {
+        return Ok(solution);
     }
+    let loose = solution
+        .continuation
+        .last()
+        .is_some_and(|c| c.tied_tol.is_some());
+    let polished = polish(transcription, spec, options, solution, &report)?;
+    if !loose || polished.polish.as_ref().is_some_and(|p| p.kept) || options.stopped() {
+        return Ok(polished);
+    }
+    // The polish did not replace a loose optimum (`[slack] tied_tolerances`; `polished` is
+    // that optimum with the polish's iterations and times added): solve the relaxed NLP once
+    // more at the file's tolerances from there, and polish that.
+    let (tight, tight_report) = next_solve(
+        transcription,
+        spec,
+        options,
+        polished,
+        &report,
+        Tolerances::Final,
+    )?;
+    polish(transcription, spec, options, tight, &tight_report)
 }
 
 /// Solve, then continue with a growing slack weight while `[slack] target` asks for it; the
-/// solution and Ipopt's report of the last solve.
+/// solution and Ipopt's report of the last solve. With `[slack] tied_tolerances`, a loose
+/// last solve is followed by one at the file's tolerances unless `polishing`: the polish
+/// is then the tight solve.
 fn solve_relaxed<M: MechanicsDerivatives>(
     transcription: &mut Transcription<M>,
     spec: &ProblemSpec,
     options: &SolveOptions,
+    polishing: bool,
 ) -> Result<(Solution, ipopt::SolveReport), TranscriptionError> {
     let mut solver = configure(spec, options)?;
+    let tied = tie_tolerances(&mut solver, spec, options, 0)?;
     let mut nlp = adapter(transcription, spec, options);
     let report = solver.solve(&mut nlp)?;
     let mut solution = Solution::read_off(transcription, spec, &report);
     let Some(continuation) = spec.slack_continuation else {
         return Ok((solution, report));
     };
-    // Exact-penalty continuation: a finite α can leave the solve at a relaxed point;
-    // raise α and restart from that point, near the central path (small μ and bound push, unless
-    // the problem file or the caller sets them), so that the complementarity pattern found is
-    // kept. A solve stopped by a limit is no such point (LittleDog with L-BFGS, stopped after
-    // 1500 iterations at violation 4: the α = 3000 solve from there was still at violation 4
-    // after 1100 more): the raised-α solve then starts afresh from the guess.
-    let guess = transcription.initial_point().to_vec();
+    solution.continuation = vec![ContinuationSolve::of(&solution, tied)];
     let mut report = report;
     let mut weight = spec.slack_weight;
-    for _ in 0..continuation.rounds {
-        // The slack the weight prices: the slack variables (in penalty mode the products).
-        if transcription.max_slack(&report.x) <= continuation.target
-            || !restartable(solution.status)
-            || options.stopped()
-        {
+    let mut round = 0;
+    loop {
+        if !restartable(solution.status) || options.stopped() {
             break;
         }
+        let loose = solution
+            .continuation
+            .last()
+            .is_some_and(|c| c.tied_tol.is_some());
+        // The slack the weight prices: the slack variables (in penalty mode the products).
+        let last = transcription.max_slack(&report.x) <= continuation.target
+            || round == continuation.rounds;
+        if last {
+            if loose && !polishing {
+                (solution, report) = next_solve(
+                    transcription,
+                    spec,
+                    options,
+                    solution,
+                    &report,
+                    Tolerances::Final,
+                )?;
+            }
+            break;
+        }
+        round += 1;
         weight *= continuation.growth;
         transcription.set_slack_weight(weight);
-        let restart = if solution.status.is_success() {
-            continuation.restart
-        } else {
-            SlackRestart::InitialGuess
-        };
-        let warm = restart != SlackRestart::InitialGuess;
-        transcription.set_initial_point(if warm { &report.x } else { &guess })?;
-        let mut solver = configure(spec, options)?;
-        let mut warm_options = vec![
-            ("bound_push", ipopt::OptionValue::Num(1e-6)),
-            ("bound_frac", ipopt::OptionValue::Num(1e-6)),
-        ];
-        match restart {
-            SlackRestart::InitialGuess => warm_options.clear(),
-            SlackRestart::Primal => warm_options.push(("mu_init", ipopt::OptionValue::Num(1e-4))),
-            SlackRestart::PrimalDual => {
-                warm_options = primal_dual_warm_start();
-                solver.set_starting_multipliers(Multipliers {
-                    g: report.mult_g.clone(),
-                    x_lower: report.mult_x_lower.clone(),
-                    x_upper: report.mult_x_upper.clone(),
-                });
-            }
-        }
-        set_unless_given(&mut solver, spec, options, warm_options)?;
-        let mut nlp = adapter(transcription, spec, options);
-        let next_report = solver.solve(&mut nlp)?;
-        let mut next = Solution::read_off(transcription, spec, &next_report);
-        next.iterations += solution.iterations;
-        next.wall_time_s += solution.wall_time_s;
-        next.callback_time_s += solution.callback_time_s;
-        next.callback_split = next.callback_split.plus(&solution.callback_split);
-        next.ipopt_time_s += solution.ipopt_time_s;
-        next.solves = solution.solves + 1;
-        solution = next;
-        report = next_report;
+        (solution, report) = next_solve(
+            transcription,
+            spec,
+            options,
+            solution,
+            &report,
+            Tolerances::Round(round),
+        )?;
     }
     Ok((solution, report))
 }
+
+/// The tolerances of a continuation solve after the first.
+#[derive(Debug, Clone, Copy)]
+enum Tolerances {
+    /// Solve `round` of the continuation: tied to its relaxation ([`tie_tolerances`]).
+    Round(usize),
+    /// The file's own, μ monotone from a tenth of the last loose solve's tolerance.
+    Final,
+}
+
+/// One more solve of the continuation at the transcription's current slack weight, after
+/// `solution` (Ipopt's `report`): the solution with every solve's iterations and times summed
+/// and the solve's [`ContinuationSolve`] appended, and Ipopt's report.
+///
+/// Exact-penalty continuation: a finite α can leave the solve at a relaxed point; raise α and
+/// restart from that point, near the central path (small μ and bound push, unless the problem
+/// file or the caller sets them), so that the complementarity pattern found is kept. A solve
+/// stopped by a limit is no such point (LittleDog with L-BFGS, stopped after 1500 iterations
+/// at violation 4: the α = 3000 solve from there was still at violation 4 after 1100 more):
+/// the raised-α solve then starts afresh from the guess.
+fn next_solve<M: MechanicsDerivatives>(
+    transcription: &mut Transcription<M>,
+    spec: &ProblemSpec,
+    options: &SolveOptions,
+    solution: Solution,
+    report: &ipopt::SolveReport,
+    tolerances: Tolerances,
+) -> Result<(Solution, ipopt::SolveReport), TranscriptionError> {
+    let restart = match spec.slack_continuation {
+        Some(c) if solution.status.is_success() => c.restart,
+        _ => SlackRestart::InitialGuess,
+    };
+    let start = transcription.initial_point().to_vec();
+    let warm = restart != SlackRestart::InitialGuess;
+    if warm {
+        transcription.set_initial_point(&report.x)?;
+    }
+    let mut solver = configure(spec, options)?;
+    let mut warm_options = vec![
+        ("bound_push", ipopt::OptionValue::Num(1e-6)),
+        ("bound_frac", ipopt::OptionValue::Num(1e-6)),
+    ];
+    match restart {
+        SlackRestart::InitialGuess => warm_options.clear(),
+        SlackRestart::Primal => warm_options.push(("mu_init", ipopt::OptionValue::Num(1e-4))),
+        SlackRestart::PrimalDual => {
+            warm_options = primal_dual_warm_start();
+            solver.set_starting_multipliers(Multipliers {
+                g: report.mult_g.clone(),
+                x_lower: report.mult_x_lower.clone(),
+                x_upper: report.mult_x_upper.clone(),
+            });
+        }
+    }
+    set_unless_given(&mut solver, spec, options, warm_options)?;
+    let tied = match tolerances {
+        Tolerances::Round(round) => tie_tolerances(&mut solver, spec, options, round)?,
+        Tolerances::Final => {
+            if let Some(loose) = solution.continuation.last().and_then(|c| c.tied_tol) {
+                solver.set_option("mu_init", OptionValue::Num(0.1 * loose))?;
+                solver.set_option("mu_strategy", OptionValue::Str("monotone".into()))?;
+            }
+            None
+        }
+    };
+    let mut nlp = adapter(transcription, spec, options);
+    let outcome = solver.solve(&mut nlp);
+    transcription.set_initial_point(&start)?;
+    let next_report = outcome?;
+    let mut next = Solution::read_off(transcription, spec, &next_report);
+    let record = ContinuationSolve::of(&next, tied);
+    next.iterations += solution.iterations;
+    next.wall_time_s += solution.wall_time_s;
+    next.callback_time_s += solution.callback_time_s;
+    next.callback_split = next.callback_split.plus(&solution.callback_split);
+    next.ipopt_time_s += solution.ipopt_time_s;
+    next.solves = solution.solves + 1;
+    next.continuation = solution.continuation;
+    next.continuation.push(record);
+    Ok((next, next_report))
+}
+
+/// `[slack] tied_tolerances`: solve `round` of the continuation (0 the first) stops at Ipopt
+/// tolerance 0.1 σ, σ the relaxation its weight stands for ([`SlackContinuation::tied_sigma`]):
+/// `tol`, `mu_init` and `mu_target` set to it and μ monotone (the file's `mu_strategy`
+/// notwithstanding: an adaptive μ leaves the barrier problem the tolerance is tied to), while
+/// it is above the `tol` the problem file or the caller gives (else Ipopt's 1e-8). The
+/// tolerance it set, if it did (a loose solve).
+///
+/// [`SlackContinuation::tied_sigma`]: crate::problem::SlackContinuation::tied_sigma
+fn tie_tolerances(
+    solver: &mut Solver,
+    spec: &ProblemSpec,
+    options: &SolveOptions,
+    round: usize,
+) -> Result<Option<f64>, TranscriptionError> {
+    let Some(continuation) = spec.slack_continuation else {
+        return Ok(None);
+    };
+    let Some(sigma) = continuation.tied_sigma else {
+        return Ok(None);
+    };
+    let tol = 0.1 * sigma / continuation.growth.powi(round as i32);
+    let own = given_number(spec, options, "tol").unwrap_or(IPOPT_TOL);
+    // Not looser than the file's `tol` (up to round-off: 0.1 · 0.1 / 10⁴ is 1.0000000000000002e-6).
+    if tol <= own * (1.0 + 1e-9) {
+        return Ok(None);
+    }
+    for name in ["tol", "mu_init", "mu_target"] {
+        solver.set_option(name, OptionValue::Num(tol))?;
+    }
+    solver.set_option("mu_strategy", OptionValue::Str("monotone".into()))?;
+    Ok(Some(tol))
+}
+
+/// Ipopt's default `tol`.
+const IPOPT_TOL: f64 = 1e-8;
 
 /// The mode-fixed re-solve of `[slack] polish` ([`PolishRecord`]) from `solution`, an
 /// optimum of the relaxed NLP or a feasible point at its iteration limit ([`polishable`];
@@ -492,6 +654,7 @@ fn polish<M: MechanicsDerivatives>(
     };
     // `solves` counts the relaxed NLP's solves (the continuation's), not the polish.
     polished.solves = solution.solves;
+    polished.continuation = solution.continuation.clone();
     let (mut kept_solution, other) = if kept {
         (polished, solution)
     } else {
@@ -518,11 +681,7 @@ fn polishable(solution: &Solution, spec: &ProblemSpec, options: &SolveOptions) -
     if solution.status.is_success() {
         return true;
     }
-    let tolerance = match given_option(spec, options, "constr_viol_tol") {
-        Some(OptionValue::Num(x)) => *x,
-        Some(OptionValue::Int(i)) => *i as f64,
-        _ => IPOPT_CONSTR_VIOL_TOL,
-    };
+    let tolerance = given_number(spec, options, "constr_viol_tol").unwrap_or(IPOPT_CONSTR_VIOL_TOL);
     solution.status == ipopt::Status::MaximumIterationsExceeded
         && solution.max_constraint_violation <= tolerance
 }
@@ -557,6 +716,15 @@ fn given_option<'a>(
         .rev()
         .find(|(n, _)| n == name)
         .map(|(_, v)| v)
+}
+
+/// [`given_option`] `name` as a number (an integer counts), if it is given as one.
+fn given_number(spec: &ProblemSpec, options: &SolveOptions, name: &str) -> Option<f64> {
+    match given_option(spec, options, name)? {
+        OptionValue::Num(x) => Some(*x),
+        OptionValue::Int(i) => Some(*i as f64),
+        OptionValue::Str(_) => None,
+    }
 }
 
 /// Set each of `values` on `solver` unless the problem file or the caller gives it.
@@ -715,7 +883,8 @@ mod tests {
         let mech = ModelMechanics::load(&spec).expect("the hopper's URDF loads");
         let mut t = Transcription::new(mech, &spec).expect("the hopper's NLP builds");
         let options = SolveOptions::default();
-        let (solution, report) = solve_relaxed(&mut t, &spec, &options).expect("the solve runs");
+        let (solution, report) =
+            solve_relaxed(&mut t, &spec, &options, false).expect("the solve runs");
         assert!(solution.verdict().is_solved(), "{:?}", solution.verdict());
         (spec, t, solution, report)
     }

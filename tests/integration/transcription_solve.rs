@@ -412,6 +412,7 @@ fn slack_continuation_reaches_the_target() {
             growth: 10.0,
             rounds: 4,
             restart,
+            tied_sigma: None,
         });
         let s = run("hopper, alpha 0.1 with target 1e-6", Hopper, &spec);
         assert!(s.status.is_success(), "{restart:?}: {:?}", s.status);
@@ -450,6 +451,7 @@ fn continuation_after_an_iteration_limit_starts_from_the_guess() {
         growth: 10.0,
         rounds: 1,
         restart: vito::problem::SlackRestart::Primal,
+        tied_sigma: None,
     });
     let continued = run("hopper, alpha 1 then 10, 15 iterations each", Hopper, &spec);
     assert_eq!(continued.solves, 2);
@@ -484,6 +486,7 @@ fn initial_guess_restart_repeats_a_direct_solve() {
         growth: 10.0,
         rounds: 1,
         restart: SlackRestart::InitialGuess,
+        tied_sigma: None,
     });
     let continued = run("hopper, alpha 0.1 then 1 from the guess", Hopper, &spec);
     assert_eq!(continued.solves, 2);

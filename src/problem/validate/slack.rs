@@ -53,11 +53,12 @@ pub(super) fn check_slack_continuation(
                 ("slack.growth", raw.slack.growth.is_some()),
                 ("slack.rounds", raw.slack.rounds.is_some()),
                 ("slack.restart", raw.slack.restart.is_some()),
+                ("slack.tied_tolerances", raw.slack.tied_tolerances.is_some()),
             ] {
                 if given {
                     return Err(ctx.invalid(
                         field,
-                        "has no effect without `slack.target`; give the target slack too",
+                        "has no effect without `slack.target` or `slack.homotopy = true`; give either",
                     ));
                 }
             }
@@ -95,6 +96,8 @@ pub(super) fn check_slack_continuation(
                     .slack
                     .rounds
                     .unwrap_or(if homotopy { HOMOTOPY_ROUNDS } else { 3 }),
+                tied_sigma: (raw.slack.tied_tolerances == Some(true))
+                    .then_some(tolerance * if homotopy { HOMOTOPY_SPAN } else { 1.0 }),
             })
         }
     };

@@ -216,6 +216,18 @@ fn bad_slack_target_and_slip_speed() {
         err.contains("field `slack.growth`: has no effect without `slack.target`"),
         "{err}"
     );
+    let text = hopper_text().replace(
+        "mode = \"per_interval\"",
+        "mode = \"per_interval\"\ntied_tolerances = true",
+    );
+    let err = solve_fails("slack_tied_tolerances_without_target", &text);
+    assert!(
+        err.contains(
+            "field `slack.tied_tolerances`: has no effect without `slack.target` or \
+             `slack.homotopy = true`"
+        ),
+        "{err}"
+    );
     let text = hopper_text().replace("friction = 0.8", "friction = 0.8\nmax_slip_speed = 0.0");
     let err = solve_fails("zero_slip_speed", &text);
     assert!(

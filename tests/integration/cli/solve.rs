@@ -495,3 +495,69 @@ fn slack_homotopy_climbs_from_a_thousandth_of_the_weight() {
     let value: f64 = line.split_whitespace().nth(1).unwrap().parse().unwrap();
     assert_eq!(value < 0.0, line.contains("relaxed bound −1e-8"), "{line}");
 }
+
+/// `[slack] tied_tolerances`: each solve of the homotopy stops at Ipopt tolerance a tenth of
+/// the relaxation its weight stands for (the hopper's `tolerance` 1e-4 × 1000 at weight 0.1:
+/// tol 1e-2, then 1e-3, 1e-4, 1e-5 at weights 1, 10, 100; its file's `tol` is Ipopt's 1e-8).
+/// With the polish, the polish is the tight solve; without it, one more relaxed solve at the
+/// last weight and the file's tolerances ends the continuation. From the file's guess the
+/// plain homotopy ends at 7.043 and the direct solve at 6.948567 (the optimum the independent
+/// implementation agrees on); the tied homotopy reaches 6.4728, and the polish, a regular
+/// NLP with the contact modes fixed and no slacks, confirms it.
+#[test]
+fn tied_tolerances_loosen_the_early_rounds_and_end_with_a_tight_solve() {
+    let t = TestDir::with_hopper("tied_tolerances_loosen_the_early_rounds");
+    t.write("p.toml", &crate::cli::util::hopper_text());
+    for polish in [true, false] {
+        let out = format!("out-{polish}");
+        t.vito()
+            .args(["solve", "p.toml", "--out", &out])
+            .args([
+                "--set",
+                "slack.homotopy=true",
+                "--set",
+                "slack.tied_tolerances=true",
+            ])
+            .args(["--set", &format!("slack.polish={polish}")])
+            .env("OPENBLAS_NUM_THREADS", "1")
+            .assert_exit(0);
+        let s = summary(&t.path().join(&out));
+        assert_eq!(s["status"], "solve_succeeded", "{s}");
+        let solves = s["continuation"].as_array().unwrap();
+        assert_eq!(solves.len() as u64, s["solves"].as_u64().unwrap());
+        // The loose solves: weight 0.1 · 10^r at tol 1e-2 · 10^-r.
+        let loose: Vec<_> = solves.iter().filter(|c| !c["tied_tol"].is_null()).collect();
+        assert!(loose.len() >= 3, "{solves:?}");
+        for (r, c) in loose.iter().enumerate() {
+            let weight = 0.1 * 10f64.powi(r as i32);
+            let tol = 1e-2 * 10f64.powi(-(r as i32));
+            let (w, t) = (
+                c["slack_weight"].as_f64().unwrap(),
+                c["tied_tol"].as_f64().unwrap(),
+            );
+            assert!((w - weight).abs() <= 1e-9 * weight, "solve {r}: weight {w}");
+            assert!((t - tol).abs() <= 1e-9 * tol, "solve {r}: tol {t}");
+        }
+        let last_loose = loose.last().unwrap();
+        assert!(
+            last_loose["max_slack"].as_f64().unwrap() <= 1e-5,
+            "{last_loose}"
+        );
+        if polish {
+            // The polish replaced the loose optimum: no relaxed solve at the file's tolerances.
+            assert_eq!(loose.len(), solves.len(), "{solves:?}");
+            assert_eq!(s["polish"]["kept"], true, "{s}");
+        } else {
+            let tight = solves.last().unwrap();
+            assert_eq!(solves.len(), loose.len() + 1, "{solves:?}");
+            assert!(tight["tied_tol"].is_null(), "{tight}");
+            assert_eq!(tight["slack_weight"], last_loose["slack_weight"]);
+        }
+        assert!(s["max_slack"].as_f64().unwrap() <= 1e-5, "{s}");
+        let objective = s["objective"].as_f64().unwrap();
+        assert!(
+            (objective - 6.4728).abs() <= 1e-3 * 6.4728,
+            "polish {polish}: objective {objective}, not the tied homotopy's 6.4728"
+        );
+    }
+}
