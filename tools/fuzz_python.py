@@ -27,7 +27,8 @@ HOPPER = str(ROOT / "problems" / "hopper_2d.toml")
 
 KEYS = [
     "contacts.friction", "robot.gravity", "horizon.knots", "horizon.time_step", "slack.weight",
-    "slack.mode", "slack.homotopy", "slack.growth", "slack.rounds", "solver.integrator",
+    "slack.mode", "slack.homotopy", "slack.tied_tolerances", "slack.growth", "slack.rounds",
+    "solver.integrator",
     "solver.ipopt.max_iter", "solver.ipopt.tol", "solver.ipopt.mu_strategy", "initial.q.x",
     "final.q.x", "name", "terrain.kind", "costs", "robot.units", "tracking.feedback",
 ]

@@ -111,6 +111,14 @@ impl Solution {
         }
     }
 
+    /// Whether the last solve of its continuation stopped at a tolerance that `[slack]
+    /// tied_tolerances` loosened.
+    pub fn ends_loose(&self) -> bool {
+        self.continuation
+            .last()
+            .is_some_and(|c| c.tied_tol.is_some())
+    }
+
     /// How many of the most violated rows a solution keeps.
     pub const WORST_ROWS: usize = 5;
 

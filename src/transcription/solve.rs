@@ -385,10 +385,7 @@ fn solve_transcription<M: MechanicsDerivatives>(
     if !polishing {
         return Ok(solution);
     }
-    let loose = solution
-        .continuation
-        .last()
-        .is_some_and(|c| c.tied_tol.is_some());
+    let loose = solution.ends_loose();
     let polished = polish(transcription, spec, options, solution, &report)?;
     if !loose || polished.polish.as_ref().is_some_and(|p| p.kept) || options.stopped() {
         return Ok(polished);
@@ -433,37 +430,24 @@ fn solve_relaxed<M: MechanicsDerivatives>(
         if !restartable(solution.status) || options.stopped() {
             break;
         }
-        let loose = solution
-            .continuation
-            .last()
-            .is_some_and(|c| c.tied_tol.is_some());
         // The slack the weight prices: the slack variables (in penalty mode the products).
         let last = transcription.max_slack(&report.x) <= continuation.target
             || round == continuation.rounds;
-        if last {
-            if loose && !polishing {
-                (solution, report) = next_solve(
-                    transcription,
-                    spec,
-                    options,
-                    solution,
-                    &report,
-                    Tolerances::Final,
-                )?;
+        let tolerances = match last {
+            true if solution.ends_loose() && !polishing => Tolerances::Final,
+            true => break,
+            false => {
+                round += 1;
+                weight *= continuation.growth;
+                transcription.set_slack_weight(weight);
+                Tolerances::Round(round)
             }
+        };
+        (solution, report) =
+            next_solve(transcription, spec, options, solution, &report, tolerances)?;
+        if last {
             break;
         }
-        round += 1;
-        weight *= continuation.growth;
-        transcription.set_slack_weight(weight);
-        (solution, report) = next_solve(
-            transcription,
-            spec,
-            options,
-            solution,
-            &report,
-            Tolerances::Round(round),
-        )?;
     }
     Ok((solution, report))
 }
