@@ -458,8 +458,9 @@ pub struct SlackSection {
     /// Each solve of the continuation only as tight as its relaxation (the practice of
     /// nosnoc's multi-Ipopt homotopy): Ipopt's `tol`, `mu_init` and `mu_target` a tenth of the
     /// relaxation σ that the solve's weight stands for (`tolerance` × `weight` / the solve's
-    /// weight), monotone μ, until that reaches the file's `tol`; then one solve at the file's
-    /// own tolerances from the last point (default false; needs `target` or `homotopy`).
+    /// weight), monotone μ, until that reaches the file's `tol`; the polish is then the tight
+    /// solve, and without it (or when it is not kept) one relaxed solve at the file's own
+    /// tolerances from the last point (default false; needs `target` or `homotopy`).
     pub tied_tolerances: Option<bool>,
     /// Finish with the contact modes fixed: from the solution, fix each complementarity
     /// pair's smaller side at zero (a foot touching or free of force, sticking or sliding),

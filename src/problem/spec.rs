@@ -272,10 +272,11 @@ pub struct SlackContinuation {
     /// `[slack] tied_tolerances`: the relaxation σ the first solve stands for, the slack the
     /// problem accepts (`tolerance`) times the file's weight over the first solve's weight.
     /// Solve r stands for σ / growth^r and stops at Ipopt tolerance 0.1 σ (`tol`, `mu_init`
-    /// and `mu_target`, monotone μ) while that is above the file's own `tol`; after such a
-    /// loose solve the continuation ends with one solve at the same weight and the file's
-    /// own tolerances, μ monotone from a tenth of the loose tolerance. `None`: every solve at
-    /// the file's tolerances.
+    /// and `mu_target`, monotone μ) while that is above the file's own `tol`. After such a
+    /// loose solve the polish is the tight solve; when the polish is off or not kept, one
+    /// relaxed solve at the same weight and the file's own tolerances (μ monotone from a
+    /// tenth of the loose tolerance) comes first. `None`: every solve at the file's
+    /// tolerances.
     pub tied_sigma: Option<f64>,
 }
 

@@ -94,7 +94,7 @@ pub struct Solution {
     #[serde(default)]
     pub polish: Option<super::PolishRecord>,
     /// Each Ipopt solve of the slack continuation, in order (empty without `[slack] target`
-    /// or `homotopy`); `solves` counts them with the polish's.
+    /// or `homotopy`; the polish is not one of them: `polish`); `solves` is their number.
     #[serde(default)]
     pub continuation: Vec<super::ContinuationSolve>,
 }
@@ -109,6 +109,16 @@ impl Solution {
             q: self.q.clone(),
             u: self.u.clone(),
         }
+    }
+
+    /// Add `other`'s Ipopt work (iterations, wall, callback and Ipopt time, the callbacks'
+    /// split) to this solution's: an answer's cost is that of every solve that led to it.
+    pub(super) fn add_work(&mut self, other: &Solution) {
+        self.iterations += other.iterations;
+        self.wall_time_s += other.wall_time_s;
+        self.callback_time_s += other.callback_time_s;
+        self.callback_split = self.callback_split.plus(&other.callback_split);
+        self.ipopt_time_s += other.ipopt_time_s;
     }
 
     /// Whether the last solve of its continuation stopped at a tolerance that `[slack]

@@ -415,7 +415,7 @@ fn solve_relaxed<M: MechanicsDerivatives>(
     polishing: bool,
 ) -> Result<(Solution, ipopt::SolveReport), TranscriptionError> {
     let mut solver = configure(spec, options)?;
-    let tied = tie_tolerances(&mut solver, spec, options, 0)?;
+    let tied = tie_tolerances(&mut solver, spec, options, Tolerances::Round(0), None)?;
     let mut nlp = adapter(transcription, spec, options);
     let report = solver.solve(&mut nlp)?;
     let mut solution = Solution::read_off(transcription, spec, &report);
@@ -506,64 +506,64 @@ fn next_solve<M: MechanicsDerivatives>(
         }
     }
     set_unless_given(&mut solver, spec, options, warm_options)?;
-    let tied = match tolerances {
-        Tolerances::Round(round) => tie_tolerances(&mut solver, spec, options, round)?,
-        Tolerances::Final => {
-            if let Some(loose) = solution.continuation.last().and_then(|c| c.tied_tol) {
-                solver.set_option("mu_init", OptionValue::Num(0.1 * loose))?;
-                solver.set_option("mu_strategy", OptionValue::Str("monotone".into()))?;
-            }
-            None
-        }
-    };
+    let loose = solution.continuation.last().and_then(|c| c.tied_tol);
+    let tied = tie_tolerances(&mut solver, spec, options, tolerances, loose)?;
     let mut nlp = adapter(transcription, spec, options);
     let outcome = solver.solve(&mut nlp);
     transcription.set_initial_point(&start)?;
     let next_report = outcome?;
     let mut next = Solution::read_off(transcription, spec, &next_report);
     let record = ContinuationSolve::of(&next, tied);
-    next.iterations += solution.iterations;
-    next.wall_time_s += solution.wall_time_s;
-    next.callback_time_s += solution.callback_time_s;
-    next.callback_split = next.callback_split.plus(&solution.callback_split);
-    next.ipopt_time_s += solution.ipopt_time_s;
+    next.add_work(&solution);
     next.solves = solution.solves + 1;
     next.continuation = solution.continuation;
     next.continuation.push(record);
     Ok((next, next_report))
 }
 
-/// `[slack] tied_tolerances`: solve `round` of the continuation (0 the first) stops at Ipopt
-/// tolerance 0.1 σ, σ the relaxation its weight stands for ([`SlackContinuation::tied_sigma`]):
-/// `tol`, `mu_init` and `mu_target` set to it and μ monotone (the file's `mu_strategy`
-/// notwithstanding: an adaptive μ leaves the barrier problem the tolerance is tied to), while
-/// it is above the `tol` the problem file or the caller gives (else Ipopt's 1e-8). The
-/// tolerance it set, if it did (a loose solve).
+/// `[slack] tied_tolerances` on a continuation solve; the tolerance it loosened, if any.
+///
+/// [`Tolerances::Round`] `r` (0 the first) stops at Ipopt tolerance 0.1 σ, σ the relaxation
+/// its weight stands for ([`SlackContinuation::tied_sigma`]): `tol`, `mu_init` and
+/// `mu_target` set to it and μ monotone (the file's `mu_strategy` notwithstanding: an adaptive
+/// μ leaves the barrier problem the tolerance is tied to), while it is above the `tol` the
+/// problem file or the caller gives (else Ipopt's 1e-8). [`Tolerances::Final`] after a loose
+/// solve (`loose`, its tolerance) keeps the file's tolerances, μ monotone from 0.1 `loose`.
 ///
 /// [`SlackContinuation::tied_sigma`]: crate::problem::SlackContinuation::tied_sigma
 fn tie_tolerances(
     solver: &mut Solver,
     spec: &ProblemSpec,
     options: &SolveOptions,
-    round: usize,
+    tolerances: Tolerances,
+    loose: Option<f64>,
 ) -> Result<Option<f64>, TranscriptionError> {
-    let Some(continuation) = spec.slack_continuation else {
+    let Some(sigma) = spec.slack_continuation.and_then(|c| c.tied_sigma) else {
         return Ok(None);
     };
-    let Some(sigma) = continuation.tied_sigma else {
-        return Ok(None);
+    let (mu_init, tol) = match tolerances {
+        Tolerances::Final => match loose {
+            Some(loose) => (0.1 * loose, None),
+            None => return Ok(None),
+        },
+        Tolerances::Round(round) => {
+            let growth = spec.slack_continuation.map_or(1.0, |c| c.growth);
+            let tol = 0.1 * sigma / growth.powi(round as i32);
+            let own = given_number(spec, options, "tol").unwrap_or(IPOPT_TOL);
+            // Not looser than the file's `tol` (up to round-off: 0.1 · 0.1 / 10⁴ is
+            // 1.0000000000000002e-6).
+            if tol <= own * (1.0 + 1e-9) {
+                return Ok(None);
+            }
+            for name in ["tol", "mu_target"] {
+                solver.set_option(name, OptionValue::Num(tol))?;
+            }
+            (tol, Some(tol))
+        }
     };
-    let tol = 0.1 * sigma / continuation.growth.powi(round as i32);
-    let own = given_number(spec, options, "tol").unwrap_or(IPOPT_TOL);
-    // Not looser than the file's `tol` (up to round-off: 0.1 · 0.1 / 10⁴ is 1.0000000000000002e-6).
-    if tol <= own * (1.0 + 1e-9) {
-        return Ok(None);
-    }
-    for name in ["tol", "mu_init", "mu_target"] {
-        solver.set_option(name, OptionValue::Num(tol))?;
-    }
+    solver.set_option("mu_init", OptionValue::Num(mu_init))?;
     solver.set_option("mu_strategy", OptionValue::Str("monotone".into()))?;
-    Ok(Some(tol))
+    Ok(tol)
 }
 
 /// Ipopt's default `tol`.
@@ -580,7 +580,7 @@ fn polish<M: MechanicsDerivatives>(
     transcription: &mut Transcription<M>,
     spec: &ProblemSpec,
     options: &SolveOptions,
-    solution: Solution,
+    mut solution: Solution,
     report: &ipopt::SolveReport,
 ) -> Result<Solution, TranscriptionError> {
     if transcription.layout().nc == 0 || !polishable(&solution, spec, options) || options.stopped()
@@ -636,19 +636,15 @@ fn polish<M: MechanicsDerivatives>(
         kept,
         fixed,
     };
-    // `solves` counts the relaxed NLP's solves (the continuation's), not the polish.
-    polished.solves = solution.solves;
-    polished.continuation = solution.continuation.clone();
     let (mut kept_solution, other) = if kept {
+        // `solves` and `continuation` are the relaxed NLP's solves, not the polish.
+        polished.solves = solution.solves;
+        polished.continuation = std::mem::take(&mut solution.continuation);
         (polished, solution)
     } else {
         (solution, polished)
     };
-    kept_solution.iterations += other.iterations;
-    kept_solution.wall_time_s += other.wall_time_s;
-    kept_solution.callback_time_s += other.callback_time_s;
-    kept_solution.callback_split = kept_solution.callback_split.plus(&other.callback_split);
-    kept_solution.ipopt_time_s += other.ipopt_time_s;
+    kept_solution.add_work(&other);
     kept_solution.polish = Some(record);
     Ok(kept_solution)
 }
