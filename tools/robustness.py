@@ -32,34 +32,40 @@ DEFAULT_FILES = [
 ]
 
 
-# Each strategy as `--set` overrides on the file as shipped (which ends with the polish, the
-# contact modes fixed; `no-polish` keeps the relaxed optimum; `exact-bounds` turns off Ipopt's
-# relaxation of the bounds by 1e-8, so that no factor of a product is negative and none can
-# cancel another in the rows' sums). `homotopy`: `[slack] homotopy =
-# true`, the first solve's slack weight 1000 times below the file's, raised tenfold per solve
-# from the last point and its multipliers until the largest slack is below the target (the
-# file's, else a tenth of the tolerance). `homotopy-slow`: the same with the weight raised
-# threefold per solve (up to ten solves), the slower shrinking NOSBENCH found better on
-# contact problems. `slip-10`, `slip-100`, `slip-1000`: `contacts.max_slip_speed` (m/s)
-# bounds ψ, and η with it, so that no product hidden by the relaxation exceeds 1e-7, 1e-6 or
-# 1e-5;
-# `homotopy-slip-100` the homotopy with that bound. `homotopy-tied`: the homotopy with
-# `[slack] tied_tolerances`, each round's Ipopt tolerance, initial and target barrier
-# parameter a tenth of the relaxation its weight stands for, then one solve at the file's
-# own tolerances; `homotopy-tied-slip-100` that with ψ bounded at 100 m/s.
+# Each strategy as `--set` overrides on the file as shipped, all ending with the polish (the
+# contact modes fixed) unless it says otherwise. `shipped`: the file as it is. Every other
+# strategy names the continuation it uses, so that it means the same on every file (Spring
+# Flamingo's and the HAMR jump's files ship with the tied homotopy). `relaxation`: one solve
+# at the file's slack weight, no continuation. `no-polish`: the file without the polish.
+# `exact-bounds`: the relaxation with Ipopt's relaxation of the bounds by 1e-8 off, so that no
+# factor of a product is negative and none can cancel another in the rows' sums. `homotopy`:
+# the first solve's slack weight 1000 times below the file's, raised tenfold per solve from
+# the last point and its multipliers until the largest slack is below the target (the file's,
+# else a tenth of the tolerance), each solve at the file's Ipopt tolerances.
+# `homotopy-slow`: that with the weight raised threefold per solve (up to ten solves), the
+# slower shrinking NOSBENCH found better on contact problems. `slip-10`, `slip-100`,
+# `slip-1000`: the relaxation with `contacts.max_slip_speed` (m/s) bounding ψ, and η with it,
+# so that no product hidden by Ipopt's relaxation exceeds 1e-7, 1e-6 or 1e-5;
+# `homotopy-slip-100`: the homotopy with that bound. `homotopy-tied`: the homotopy with
+# `[slack] tied_tolerances`, each solve's Ipopt tolerance, initial and target barrier
+# parameter a tenth of the relaxation its weight stands for, the polish the tight solve;
+# `homotopy-tied-slip-100`: that with ψ bounded at 100 m/s.
+RELAXATION = ["slack.homotopy=false", "slack.tied_tolerances=false"]
+HOMOTOPY = ["slack.homotopy=true", "slack.tied_tolerances=false"]
+TIED = ["slack.homotopy=true", "slack.tied_tolerances=true"]
 STRATEGIES = {
     "shipped": [],
+    "relaxation": RELAXATION,
     "no-polish": ["slack.polish=false"],
-    "exact-bounds": ["solver.ipopt.bound_relax_factor=0"],
-    "homotopy": ["slack.homotopy=true"],
-    "homotopy-slow": ["slack.homotopy=true", "slack.growth=3", "slack.rounds=10"],
-    "slip-10": ["contacts.max_slip_speed=10"],
-    "slip-100": ["contacts.max_slip_speed=100"],
-    "slip-1000": ["contacts.max_slip_speed=1000"],
-    "homotopy-slip-100": ["slack.homotopy=true", "contacts.max_slip_speed=100"],
-    "homotopy-tied": ["slack.homotopy=true", "slack.tied_tolerances=true"],
-    "homotopy-tied-slip-100": ["slack.homotopy=true", "slack.tied_tolerances=true",
-                               "contacts.max_slip_speed=100"],
+    "exact-bounds": RELAXATION + ["solver.ipopt.bound_relax_factor=0"],
+    "homotopy": HOMOTOPY,
+    "homotopy-slow": HOMOTOPY + ["slack.growth=3", "slack.rounds=10"],
+    "slip-10": RELAXATION + ["contacts.max_slip_speed=10"],
+    "slip-100": RELAXATION + ["contacts.max_slip_speed=100"],
+    "slip-1000": RELAXATION + ["contacts.max_slip_speed=1000"],
+    "homotopy-slip-100": HOMOTOPY + ["contacts.max_slip_speed=100"],
+    "homotopy-tied": TIED,
+    "homotopy-tied-slip-100": TIED + ["contacts.max_slip_speed=100"],
 }
 
 

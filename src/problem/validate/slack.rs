@@ -53,7 +53,10 @@ pub(super) fn check_slack_continuation(
                 ("slack.growth", raw.slack.growth.is_some()),
                 ("slack.rounds", raw.slack.rounds.is_some()),
                 ("slack.restart", raw.slack.restart.is_some()),
-                ("slack.tied_tolerances", raw.slack.tied_tolerances.is_some()),
+                (
+                    "slack.tied_tolerances",
+                    raw.slack.tied_tolerances == Some(true),
+                ),
             ] {
                 if given {
                     return Err(ctx.invalid(

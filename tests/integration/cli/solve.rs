@@ -170,7 +170,9 @@ fn solves_are_the_same_under_any_openblas_coretype() {
     }
 }
 
-/// The paper's tolerance for Spring Flamingo: max slack below 1e-4. Minutes: `--ignored`.
+/// The paper's tolerance for Spring Flamingo: max slack below 1e-4, from the file's tied
+/// relaxation homotopy. Seconds, but the record describes Debian 12's Ipopt (another release
+/// reaches another local optimum): `--ignored`, run by `make test-slow`.
 #[test]
 #[ignore = "slow: cargo test --release -- --ignored spring_flamingo"]
 fn spring_flamingo_walk_solves() {
