@@ -137,7 +137,8 @@ pub enum Command {
         #[arg(long, short)]
         quiet: bool,
         /// Also write Ipopt's own log (`file_print_level 5`) as `ipopt.log` in the output
-        /// directory (with a slack continuation, the last solve's).
+        /// directory (a slack continuation's solve k as `ipopt.solve<k>.log`, the polish's as
+        /// `ipopt.polish.log`).
         #[arg(long)]
         ipopt_log: bool,
         /// Solve from K starts (the file's guess, then K−1 seeded perturbations of it) and

@@ -506,6 +506,11 @@ fn next_solve<M: MechanicsDerivatives>(
         }
     }
     set_unless_given(&mut solver, spec, options, warm_options)?;
+    log_beside(
+        &mut solver,
+        options,
+        &format!("solve{}", solution.solves + 1),
+    )?;
     let loose = solution.continuation.last().and_then(|c| c.tied_tol);
     let tied = tie_tolerances(&mut solver, spec, options, tolerances, loose)?;
     let mut nlp = adapter(transcription, spec, options);
@@ -519,6 +524,28 @@ fn next_solve<M: MechanicsDerivatives>(
     next.continuation = solution.continuation;
     next.continuation.push(record);
     Ok((next, next_report))
+}
+
+/// `--ipopt-log` (Ipopt's `output_file` among the caller's options): a solve after the first
+/// (a continuation's solve k, the polish) writes its log beside the first's, which it would
+/// otherwise replace: `ipopt.log` → `ipopt.<tag>.log`.
+fn log_beside(
+    solver: &mut Solver,
+    options: &SolveOptions,
+    tag: &str,
+) -> Result<(), TranscriptionError> {
+    let log = options
+        .ipopt_options
+        .iter()
+        .find(|(n, _)| n == "output_file");
+    if let Some((_, OptionValue::Str(path))) = log {
+        let beside = match path.strip_suffix(".log") {
+            Some(stem) => format!("{stem}.{tag}.log"),
+            None => format!("{path}.{tag}"),
+        };
+        solver.set_option("output_file", OptionValue::Str(beside))?;
+    }
+    Ok(())
 }
 
 /// `[slack] tied_tolerances` on a continuation solve; the tolerance it loosened, if any.
@@ -602,19 +629,7 @@ fn polish<M: MechanicsDerivatives>(
             x_upper: report.mult_x_upper.clone(),
         });
         set_unless_given(&mut solver, spec, options, primal_dual_warm_start())?;
-        // `--ipopt-log`: the polish's log goes beside the relaxed solve's, which it would
-        // otherwise replace (ipopt.log → ipopt.polish.log).
-        let log = options
-            .ipopt_options
-            .iter()
-            .find(|(n, _)| n == "output_file");
-        if let Some((_, OptionValue::Str(path))) = log {
-            let polish_log = match path.strip_suffix(".log") {
-                Some(stem) => format!("{stem}.polish.log"),
-                None => format!("{path}.polish"),
-            };
-            solver.set_option("output_file", OptionValue::Str(polish_log))?;
-        }
+        log_beside(&mut solver, options, "polish")?;
         let mut nlp = adapter(transcription, spec, options);
         Ok::<_, TranscriptionError>(solver.solve(&mut nlp)?)
     })();

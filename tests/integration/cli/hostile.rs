@@ -63,7 +63,8 @@ fn ipopt_options_outside_the_allow_list_are_refused() {
 
 /// Ipopt never reads an `ipopt.opt` from the working directory (one that would stop
 /// the solve after one iteration changes nothing), and `--ipopt-log` writes Ipopt's log into
-/// the output directory (the polish's as `ipopt.polish.log`).
+/// the output directory (the polish's as `ipopt.polish.log`, a continuation's later solves'
+/// as `ipopt.solve<k>.log`).
 #[test]
 fn ipopt_log_goes_into_the_output_directory_and_cwd_ipopt_opt_is_ignored() {
     let t = TestDir::with_hopper("ipopt_log");
@@ -91,6 +92,32 @@ fn ipopt_log_goes_into_the_output_directory_and_cwd_ipopt_opt_is_ignored() {
     let polish = s["polish"]["iterations"].as_u64().unwrap();
     assert_eq!(iterations(&polish_log), polish);
     assert_eq!(iterations(&log) + polish, s["iterations"].as_u64().unwrap());
+    // A slack continuation's solves each keep their log: ipopt.log the first, then
+    // ipopt.solve2.log, …, each with the iterations `continuation` records for it.
+    t.vito()
+        .args(["solve", "p.toml", "--quiet", "--ipopt-log", "--out", "res"])
+        .args(["--set", "slack.homotopy=true"])
+        .assert_exit(0);
+    let s = crate::cli::util::summary(&t.path().join("res"));
+    let solves = s["continuation"].as_array().unwrap();
+    assert!(solves.len() >= 3, "{solves:?}");
+    for (k, solve) in solves.iter().enumerate() {
+        let name = match k {
+            0 => "ipopt.log".to_owned(),
+            _ => format!("ipopt.solve{}.log", k + 1),
+        };
+        let log = std::fs::read_to_string(t.path().join("res").join(&name)).unwrap();
+        assert_eq!(
+            iterations(&log),
+            solve["iterations"].as_u64().unwrap(),
+            "{name}"
+        );
+    }
+    assert!(
+        !t.path()
+            .join(format!("res/ipopt.solve{}.log", solves.len() + 1))
+            .exists()
+    );
     // Without the flag there is no log.
     t.vito()
         .args(["solve", "p.toml", "--quiet", "--out", "res"])

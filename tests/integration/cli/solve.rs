@@ -51,8 +51,15 @@ fn solve_and_check(name: &str, file: &str, max_slack: f64, record: &str) {
     }
 }
 
-/// `summary.json`'s callback split: Ipopt asks one exact Hessian per iteration and at least
-/// one g and one Jacobian, and the split's seconds add up to no more than the callback time.
+/// `summary.json`'s callback split: Ipopt asks one exact Hessian per iteration, but answers a
+/// request it has answered before from its own cache (Spring Flamingo's first solve, which
+/// passes through Ipopt's restoration phase: 396 calls in 397 iterations, where Ipopt's log
+/// counts 397 evaluations); at least one f, g and Jacobian per iteration; and the objective's
+/// gradient at every iteration but those of the restoration phase, which minimises the
+/// constraint violation alone (Spring Flamingo: 499 gradients in 516 iterations). The split's
+/// seconds add up to no more than the callback time. The split sums every solve of a
+/// continuation and the polish: a solve left out would miss far more than the 2 % (5 % for
+/// the gradient) allowed here.
 fn check_callback_split(s: &serde_json::Value) {
     let c = &s["callbacks"];
     let calls = |name: &str| {
@@ -61,10 +68,15 @@ fn check_callback_split(s: &serde_json::Value) {
             .unwrap_or_else(|| panic!("callbacks.{name}: {c}"))
     };
     let iterations = s["iterations"].as_u64().unwrap();
-    assert_eq!(calls("hessian"), iterations, "{c}");
-    for name in ["objective", "gradient", "constraints", "jacobian"] {
+    let hessians = calls("hessian");
+    assert!(
+        hessians <= iterations && 50 * (iterations - hessians) <= iterations,
+        "{hessians} Hessians for {iterations} iterations: {c}"
+    );
+    for name in ["objective", "constraints", "jacobian"] {
         assert!(calls(name) >= iterations, "{name}: {c}");
     }
+    assert!(20 * calls("gradient") >= 19 * iterations, "gradient: {c}");
     let seconds: f64 = [
         "objective",
         "gradient",
