@@ -59,8 +59,20 @@ pub(super) fn check(file: &Path, set: &[String]) -> Result<u8, CliError> {
         contacts.join(", ")
     );
     out!("  horizon:     {horizon}");
+    // The first solve's weight; a continuation raises it (a homotopy from a thousandth of
+    // the file's `slack.weight`).
+    let continuation = s.slack_continuation.map_or(String::new(), |c| {
+        let tied = match c.tied_sigma {
+            Some(_) => ", Ipopt's tolerances tied to the relaxation",
+            None => "",
+        };
+        format!(
+            ", then ×{} per solve while the largest slack exceeds {:e}, at most {} more{tied}",
+            c.growth, c.target, c.rounds
+        )
+    });
     out!(
-        "  costs:       {} terms, slack weight {}",
+        "  costs:       {} terms, slack weight {}{continuation}",
         s.costs.len(),
         s.slack_weight
     );

@@ -29,22 +29,32 @@ fn every_problem_file_checks() {
     );
 }
 
-/// The sizes `vito check` reports match docs/reference-problems.md for the two paper robots.
+/// The sizes `vito check` reports match docs/reference-problems.md for the two paper robots,
+/// and it names the slack weights each file's continuation solves at: Spring Flamingo's
+/// homotopy from a thousandth of its `slack.weight` 1e4, LittleDog's `slack.target` from 300.
 #[test]
 fn check_reports_spec_sizes() {
     let t = TestDir::new("check_reports_spec_sizes");
-    for (file, size) in [
+    for (file, size, weight) in [
         (
             "spring_flamingo_walk.toml",
             "954 variables, 695 constraints",
+            "slack weight 10, then ×10 per solve while the largest slack exceeds 1e-5, \
+             at most 6 more, Ipopt's tolerances tied to the relaxation\n",
         ),
-        ("littledog_step.toml", "2124 variables, 1333 constraints"),
+        (
+            "littledog_step.toml",
+            "2124 variables, 1333 constraints",
+            "slack weight 300, then ×10 per solve while the largest slack exceeds 1e-5, \
+             at most 3 more\n",
+        ),
     ] {
         let run = t
             .vito()
             .arg_path("check", &problems_dir().join(file))
             .assert_exit(0);
         assert!(run.stdout.contains(size), "{file}: {}", run.stdout);
+        assert!(run.stdout.contains(weight), "{file}: {}", run.stdout);
     }
 }
 
