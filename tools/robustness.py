@@ -35,8 +35,9 @@ DEFAULT_FILES = [
 # Each strategy as `--set` overrides on the file as shipped, all ending with the polish (the
 # contact modes fixed) unless it says otherwise. `shipped`: the file as it is. Every other
 # strategy names the continuation it uses, so that it means the same on every file (Spring
-# Flamingo's and the HAMR jump's files ship with the tied homotopy). `relaxation`: one solve
-# at the file's slack weight, no continuation. `no-polish`: the file without the polish.
+# Flamingo's and the HAMR jump's files ship with the tied homotopy). `relaxation`: the file's
+# slack weight without a homotopy (one solve, or the continuation of a file's `slack.target`,
+# as LittleDog's). `no-polish`: the file without the polish.
 # `exact-bounds`: the relaxation with Ipopt's relaxation of the bounds by 1e-8 off, so that no
 # factor of a product is negative and none can cancel another in the rows' sums. `homotopy`:
 # the first solve's slack weight 1000 times below the file's, raised tenfold per solve from
