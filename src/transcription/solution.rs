@@ -121,12 +121,10 @@ impl Solution {
         self.ipopt_time_s += other.ipopt_time_s;
     }
 
-    /// Whether the last solve of its continuation stopped at a tolerance that `[slack]
-    /// tied_tolerances` loosened.
-    pub fn ends_loose(&self) -> bool {
-        self.continuation
-            .last()
-            .is_some_and(|c| c.tied_tol.is_some())
+    /// The tolerance `[slack] tied_tolerances` loosened for the last solve of its
+    /// continuation, if it did (the solve ended loose).
+    pub fn loose_tol(&self) -> Option<f64> {
+        self.continuation.last().and_then(|c| c.tied_tol)
     }
 
     /// How many of the most violated rows a solution keeps.

@@ -385,9 +385,12 @@ fn solve_transcription<M: MechanicsDerivatives>(
     if !polishing {
         return Ok(solution);
     }
-    let loose = solution.ends_loose();
+    let loose = solution.loose_tol();
     let polished = polish(transcription, spec, options, solution, &report)?;
-    if !loose || polished.polish.as_ref().is_some_and(|p| p.kept) || options.stopped() {
+    let Some(loose) = loose else {
+        return Ok(polished);
+    };
+    if polished.polish.as_ref().is_some_and(|p| p.kept) || options.stopped() {
         return Ok(polished);
     }
     // The polish did not replace a loose optimum (`[slack] tied_tolerances`; `polished` is
@@ -399,7 +402,7 @@ fn solve_transcription<M: MechanicsDerivatives>(
         options,
         polished,
         &report,
-        Tolerances::Final,
+        Tolerances::Final(loose),
     )?;
     polish(transcription, spec, options, tight, &tight_report)
 }
@@ -415,7 +418,7 @@ fn solve_relaxed<M: MechanicsDerivatives>(
     polishing: bool,
 ) -> Result<(Solution, ipopt::SolveReport), TranscriptionError> {
     let mut solver = configure(spec, options)?;
-    let tied = tie_tolerances(&mut solver, spec, options, Tolerances::Round(0), None)?;
+    let tied = tie_tolerances(&mut solver, spec, options, Tolerances::Round(0))?;
     let mut nlp = adapter(transcription, spec, options);
     let report = solver.solve(&mut nlp)?;
     let mut solution = Solution::read_off(transcription, spec, &report);
@@ -433,10 +436,10 @@ fn solve_relaxed<M: MechanicsDerivatives>(
         // The slack the weight prices: the slack variables (in penalty mode the products).
         let last = transcription.max_slack(&report.x) <= continuation.target
             || round == continuation.rounds;
-        let tolerances = match last {
-            true if solution.ends_loose() && !polishing => Tolerances::Final,
-            true => break,
-            false => {
+        let tolerances = match (last, solution.loose_tol()) {
+            (true, Some(loose)) if !polishing => Tolerances::Final(loose),
+            (true, _) => break,
+            (false, _) => {
                 round += 1;
                 weight *= continuation.growth;
                 transcription.set_slack_weight(weight);
@@ -457,8 +460,8 @@ fn solve_relaxed<M: MechanicsDerivatives>(
 enum Tolerances {
     /// Solve `round` of the continuation: tied to its relaxation ([`tie_tolerances`]).
     Round(usize),
-    /// The file's own, μ monotone from a tenth of the last loose solve's tolerance.
-    Final,
+    /// The file's own, μ monotone from a tenth of the last loose solve's tolerance (this).
+    Final(f64),
 }
 
 /// One more solve of the continuation at the transcription's current slack weight, after
@@ -511,8 +514,7 @@ fn next_solve<M: MechanicsDerivatives>(
         options,
         &format!("solve{}", solution.solves + 1),
     )?;
-    let loose = solution.continuation.last().and_then(|c| c.tied_tol);
-    let tied = tie_tolerances(&mut solver, spec, options, tolerances, loose)?;
+    let tied = tie_tolerances(&mut solver, spec, options, tolerances)?;
     let mut nlp = adapter(transcription, spec, options);
     let outcome = solver.solve(&mut nlp);
     transcription.set_initial_point(&start)?;
@@ -555,7 +557,7 @@ fn log_beside(
 /// `mu_target` set to it and μ monotone (the file's `mu_strategy` notwithstanding: an adaptive
 /// μ leaves the barrier problem the tolerance is tied to), while it is above the `tol` the
 /// problem file or the caller gives (else Ipopt's 1e-8). [`Tolerances::Final`] after a loose
-/// solve (`loose`, its tolerance) keeps the file's tolerances, μ monotone from 0.1 `loose`.
+/// solve keeps the file's tolerances, μ monotone from a tenth of the loose solve's.
 ///
 /// [`SlackContinuation::tied_sigma`]: crate::problem::SlackContinuation::tied_sigma
 fn tie_tolerances(
@@ -563,19 +565,17 @@ fn tie_tolerances(
     spec: &ProblemSpec,
     options: &SolveOptions,
     tolerances: Tolerances,
-    loose: Option<f64>,
 ) -> Result<Option<f64>, TranscriptionError> {
-    let Some(sigma) = spec.slack_continuation.and_then(|c| c.tied_sigma) else {
+    let Some(continuation) = spec.slack_continuation else {
+        return Ok(None);
+    };
+    let Some(sigma) = continuation.tied_sigma else {
         return Ok(None);
     };
     let (mu_init, tol) = match tolerances {
-        Tolerances::Final => match loose {
-            Some(loose) => (0.1 * loose, None),
-            None => return Ok(None),
-        },
+        Tolerances::Final(loose) => (0.1 * loose, None),
         Tolerances::Round(round) => {
-            let growth = spec.slack_continuation.map_or(1.0, |c| c.growth);
-            let tol = 0.1 * sigma / growth.powi(round as i32);
+            let tol = 0.1 * sigma / continuation.growth.powi(round as i32);
             let own = given_number(spec, options, "tol").unwrap_or(IPOPT_TOL);
             // Not looser than the file's `tol` (up to round-off: 0.1 · 0.1 / 10⁴ is
             // 1.0000000000000002e-6).
