@@ -9,7 +9,7 @@ import pathlib
 import pytest
 
 import vito
-from conftest import HOPPER
+from conftest import ENDLESS, HOPPER
 
 GRID = {"contacts.friction": [0.5, 0.8], "slack.weight": [100, 1000]}
 # What must agree between two runs of the same point (wall time and notes may differ).
@@ -65,9 +65,11 @@ def test_neighbour_warm_starts_on_an_executor_match_the_processes(tmp_path, hopp
 
 
 def test_a_point_stopped_at_the_time_limit_is_a_timeout_row(tmp_path, hopper):
+    # A solve that never ends by itself: only the time limit stops it.
+    endless = hopper.with_set(ENDLESS)
     with concurrent.futures.ThreadPoolExecutor(1) as pool:
-        table = vito.sweep(hopper, grid={"contacts.friction": [0.5]}, out=tmp_path / "s",
-                           executor=pool, time_limit=1e-3, progress=False)
+        table = vito.sweep(endless, grid={"contacts.friction": [0.5]}, out=tmp_path / "s",
+                           executor=pool, time_limit=0.5, progress=False)
     assert table["status"].tolist() == ["timeout"]
     assert "time limit" in table["note"][0]
 

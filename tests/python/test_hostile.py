@@ -11,7 +11,7 @@ import time
 
 import pytest
 
-from conftest import HOPPER, ROOT
+from conftest import ENDLESS, HOPPER, ROOT
 
 
 def run_python(code, timeout=120):
@@ -164,17 +164,18 @@ def test_ctrl_c_stops_a_simulation():
 
 @pytest.mark.parametrize("how", ["processes", "executor"])
 def test_ctrl_c_stops_a_sweep_and_it_resumes(tmp_path, how):
-    # Six points of a long problem (12 s a solve here), one at a time: SIGINT a second into the
-    # first stops the sweep (no new point starts) and the first point's solve at its next
+    # Six points of a solve that never ends by itself, one at a time: SIGINT once the first
+    # runs stops the sweep (no new point starts) and the first point's solve at its next
     # iteration, also on a thread of this process (an executor's task the interpreter would
-    # wait for at exit), and the table marks the rest not run.
+    # wait for at exit), and the table marks the rest not run. No point can finish first,
+    # whatever the machine's speed.
     sweep_dir = tmp_path / "sweep"
     executor = "executor=ThreadPoolExecutor(1)," if how == "executor" else ""
     script = f"""
         import signal, sys, vito
         from concurrent.futures import ThreadPoolExecutor
         signal.signal(signal.SIGINT, signal.default_int_handler)
-        p = vito.Problem({str(HOPPER)!r}, set={{"horizon.knots": 161, "horizon.time_step": 0.00625}})
+        p = vito.Problem({str(HOPPER)!r}, set={ENDLESS!r})
         ready = []
         def progress(counts):
             if counts["running"] and not ready:

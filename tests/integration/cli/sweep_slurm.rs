@@ -93,7 +93,7 @@ fn sweep_runs_as_a_slurm_array_and_collects() {
         t.path(),
     );
     let job = job.trim().to_owned();
-    let deadline = Instant::now() + Duration::from_secs(300);
+    let deadline = Instant::now() + Duration::from_secs(900);
     let states = loop {
         let out = slurm(
             &cluster,

@@ -153,3 +153,52 @@ pub fn assert_recorded(record: &str, file: &str, objective: f64) {
         "objective {objective} vs recorded {recorded} (tolerance {tolerance})"
     );
 }
+
+/// `--set` arguments under which a solve never ends by itself: Ipopt's tolerances far below
+/// what any iterate reaches, its acceptable-point and tiny-step exits off (a failed line
+/// search at an acceptable point ends a solve too, so `acceptable_tol` goes down as well), and
+/// an iteration limit no test reaches (measured: the brick ran 914 iterations and the hopper
+/// 8,726 in 60 s without ending). A test that stops such a
+/// solve (a signal, a time limit) decides its outcome by that stop alone, whatever the
+/// machine's speed.
+pub const ENDLESS_SOLVE: [&str; 16] = [
+    "--set",
+    "solver.ipopt.max_iter=100000000",
+    "--set",
+    "solver.ipopt.tol=1e-300",
+    "--set",
+    "solver.ipopt.dual_inf_tol=1e-300",
+    "--set",
+    "solver.ipopt.constr_viol_tol=1e-300",
+    "--set",
+    "solver.ipopt.compl_inf_tol=1e-300",
+    "--set",
+    "solver.ipopt.acceptable_iter=0",
+    "--set",
+    "solver.ipopt.acceptable_tol=1e-300",
+    "--set",
+    "solver.ipopt.tiny_step_tol=0",
+];
+
+/// Whether a progress line is an iteration's (it starts with the iteration number).
+pub fn is_iteration_line(line: &str) -> bool {
+    line.trim_start().starts_with(|c: char| c.is_ascii_digit())
+}
+
+/// Waits for a child that was asked to stop; one still running after 10 min is killed and
+/// fails the test (a broken stop is a failure, never a stuck suite). The bound decides no
+/// outcome: a stop takes one iteration.
+pub fn wait_after_stop(child: &mut std::process::Child) -> std::process::ExitStatus {
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(600);
+    loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            return status;
+        }
+        if std::time::Instant::now() > deadline {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("the process did not stop within 10 min of the stop request");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+}
