@@ -49,6 +49,12 @@ pub(super) fn simulate(
             std::process::exit(1);
         },
     );
+    if !quiet {
+        eprintln!(
+            "simulating {}: {steps} steps of h = {} {} (Ctrl-C stops after the current step and writes the steps made)",
+            problem.spec.name, prepared.options.h, problem.units.time
+        );
+    }
     let run = pipeline::simulation::simulate_prepared(&problem, &prepared, |_| {
         bar.inc(1);
         if stop.load(Ordering::SeqCst) {
