@@ -203,7 +203,8 @@ pub enum Command {
         /// Poses in the strip (with --svg).
         #[arg(long, requires = "svg")]
         strip: Option<usize>,
-        /// Write the strip as SVG (an orthographic side view) to this file.
+        /// Write the strip of the one result directory given as SVG (an orthographic side
+        /// view) to this file.
         #[arg(long, requires = "strip")]
         svg: Option<PathBuf>,
         /// Draw the strip in one world frame: each pose at its true x over one terrain, earlier

@@ -3,7 +3,6 @@
 use std::path::{Path, PathBuf};
 
 use vito::problem::{LoadedProblem, load};
-use vito::report;
 
 use super::args::parse_overrides;
 use super::error::CliError;
@@ -44,21 +43,10 @@ fn read_result(dir: &Path) -> Result<Result_, CliError> {
     })
 }
 
-/// The problem of a result: `--problem`, else the summary's `problem_file`, with the
-/// summary's `parameters` as `--set` overrides.
+/// The problem of a result: `--problem` (read as it is: an error names it), else the
+/// summary's `problem_file`, else (where that is not found or cannot be read, said on stderr)
+/// the copy the result carries; with the summary's `parameters` as `--set` overrides.
 fn problem_of(result: &Result_, problem: Option<&Path>) -> Result<LoadedProblem, CliError> {
-    let file = match problem {
-        Some(p) => p.to_owned(),
-        None => {
-            let named = result.summary["problem_file"].as_str().ok_or_else(|| {
-                CliError::Input(format!(
-                    "{}: no `problem_file`; name the problem with --problem",
-                    result.dir.join("summary.json").display()
-                ))
-            })?;
-            PathBuf::from(named)
-        }
-    };
     let mut set = Vec::new();
     if let Some(parameters) = result.summary["parameters"].as_object() {
         for (path, value) in parameters {
@@ -67,28 +55,41 @@ fn problem_of(result: &Result_, problem: Option<&Path>) -> Result<LoadedProblem,
             set.push(format!("{path}={value}"));
         }
     }
-    if file.is_file() {
-        return Ok(load(&file, &parse_overrides(&set)?)?);
+    if let Some(file) = problem {
+        return Ok(load(file, &parse_overrides(&set)?)?);
     }
-    // Not found from here (the folder was copied elsewhere): the copies the result carries,
-    // the URDF named by its copy and a warm start (read when the problem loads) by the
-    // result's own trajectory.
+    let named = result.summary["problem_file"].as_str().ok_or_else(|| {
+        CliError::Input(format!(
+            "{}: no `problem_file`; name the problem with --problem",
+            result.dir.join("summary.json").display()
+        ))
+    })?;
+    let file = PathBuf::from(named);
+    // Its type from its metadata: a FIFO or device is never opened.
+    let why = match vito::files::input::read_regular_head(&file, 0) {
+        Ok(_) => return Ok(load(&file, &parse_overrides(&set)?)?),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => "is not found from here".to_owned(),
+        Err(e) => format!("cannot be read ({e})"),
+    };
+    // The copies the result carries, the URDF named by its copy and a warm start (read when
+    // the problem loads) by the result's own trajectory, both relative to the copy (so that
+    // no name passes through text: any file name of the result's path stays as it is).
     let copy = &result.summary["problem_copy"];
     let (Some(copy_file), Some(copy_urdf)) = (copy["file"].as_str(), copy["urdf"].as_str()) else {
         return Err(CliError::Input(format!(
-            "{}: the problem file {} is not found from here and the result carries no copy of \
-             it; run from the directory the result was made in, or name it with --problem",
+            "{}: the problem file {} {why} and the result carries no copy of it; run from the \
+             directory the result was made in, or name it with --problem",
             result.dir.display(),
             file.display()
         )));
     };
-    let inside = |relative: &str| -> Result<PathBuf, CliError> {
-        let path = Path::new(relative);
-        if path
-            .components()
+    let inside = |relative: &str| -> Result<usize, CliError> {
+        let components = Path::new(relative).components();
+        if components
+            .clone()
             .all(|c| matches!(c, std::path::Component::Normal(_)))
         {
-            Ok(result.dir.join(path))
+            Ok(components.count())
         } else {
             Err(CliError::Input(format!(
                 "{}: `problem_copy` names {relative}, outside the result folder",
@@ -96,14 +97,16 @@ fn problem_of(result: &Result_, problem: Option<&Path>) -> Result<LoadedProblem,
             )))
         }
     };
-    let (copy_file, copy_urdf) = (inside(copy_file)?, inside(copy_urdf)?);
-    let absolute = |p: &Path| std::path::absolute(p).unwrap_or_else(|_| p.to_owned());
-    let quoted = |p: &Path| toml::Value::String(absolute(p).display().to_string());
+    inside(copy_urdf)?;
+    // From the copy's directory up to the result folder.
+    let up = "../".repeat(inside(copy_file)?.saturating_sub(1));
+    let copy_file = result.dir.join(copy_file);
+    let quoted = |relative: &str| toml::Value::String(format!("{up}{relative}"));
     let warm_override = set
         .iter()
         .any(|s| s.starts_with("initial_guess.warm_start="));
     set.retain(|s| !s.starts_with("robot.urdf=") && !s.starts_with("initial_guess.warm_start="));
-    set.push(format!("robot.urdf={}", quoted(&copy_urdf)));
+    set.push(format!("robot.urdf={}", quoted(copy_urdf)));
     let warm_in_file =
         vito::files::input::read_regular_text(&copy_file, vito::files::input::MAX_TEXT_BYTES)
             .ok()
@@ -116,11 +119,11 @@ fn problem_of(result: &Result_, problem: Option<&Path>) -> Result<LoadedProblem,
     if warm_override || warm_in_file {
         set.push(format!(
             "initial_guess.warm_start={}",
-            quoted(&result.dir.join("trajectory.csv"))
+            quoted("trajectory.csv")
         ));
     }
     note!(
-        "{}: the problem file {} is not found from here; drawn from the copy in {}",
+        "{}: the problem file {} {why}; drawn from the copy in {}",
         result.dir.display(),
         file.display(),
         copy_file.display()
@@ -233,6 +236,17 @@ pub(super) fn view(
         )));
     }
     if let Some(svg) = svg {
+        if let [_, others @ ..] = dirs
+            && !others.is_empty()
+        {
+            let others: Vec<String> = others.iter().map(|d| d.display().to_string()).collect();
+            return Err(CliError::Input(format!(
+                "--svg {}: a strip draws one result, and {} would not be in it; give one \
+                 directory per strip (several are overlaid on a page with --out alone)",
+                svg.display(),
+                vito::files::names::list_names(&others, 8)
+            )));
+        }
         replaceable(svg, "--svg", vito::view::is_vito_strip)?;
     }
     if let Some(out) = out {
@@ -270,13 +284,47 @@ pub(super) fn view(
     let scene = vito::view::scene(&loaded).map_err(|e| CliError::Input(e.to_string()))?;
     let start = std::time::Instant::now();
     let drawing = vito::view::drawing(&scene, &motions);
+    vito::view::check_drawable(&scene, &motions, &drawing).map_err(|(motion, e)| {
+        let file = match motion {
+            Some(i) => results[i].dir.join("trajectory.csv"),
+            None => loaded.file.clone(),
+        };
+        CliError::Input(format!(
+            "{}: {e}; nothing was drawn (vito view draws values within these ranges)",
+            file.display()
+        ))
+    })?;
     for w in &drawing.body.warnings {
         eprintln!(
             "{}",
             vito::files::names::escape_controls(&format!("warning: {w}"))
         );
     }
-    let write_err = |e: vito::view::ViewError| CliError::Report(report::ReportError::View(e));
+    // A full disk or a file too large: the user's environment, nothing replaced.
+    let write_err = |e: vito::view::ViewError| {
+        let text = match e {
+            // The operating system's words, without the temporary file's name.
+            vito::view::ViewError::Io { path, source } => {
+                use std::io::ErrorKind::{
+                    FileTooLarge, PermissionDenied, QuotaExceeded, ReadOnlyFilesystem, StorageFull,
+                };
+                let source = match (source.raw_os_error(), source.kind()) {
+                    (Some(code), _) => std::io::Error::from_raw_os_error(code),
+                    (
+                        None,
+                        kind @ (StorageFull | FileTooLarge | QuotaExceeded | ReadOnlyFilesystem
+                        | PermissionDenied),
+                    ) => kind.into(),
+                    _ => source,
+                };
+                format!("{}: {source}", path.display())
+            }
+            other => other.to_string(),
+        };
+        CliError::Input(format!(
+            "cannot write {text}; nothing there was replaced: free some space or choose another file"
+        ))
+    };
     if let (Some(n), Some(svg)) = (strip, svg) {
         vito::view::write_atomically(
             svg,

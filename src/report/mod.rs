@@ -204,27 +204,32 @@ pub const PROBLEM_COPY: &str = "problem";
 
 /// Copies the problem file and its URDF into `dir/problem/` and returns the summary's
 /// `problem_copy` (`file`, `urdf`: paths relative to the result folder); None when the
-/// problem has no file on disk (nothing to copy).
+/// problem has no file on disk (nothing to copy). Each copy is written under the name the
+/// summary records: the file's own name, any bytes of it that are not UTF-8 replaced by
+/// U+FFFD (JSON holds only text), so that the recorded name always finds the copy.
 fn copy_problem(dir: &Path, problem: &LoadedProblem) -> std::io::Result<Option<serde_json::Value>> {
     let (Some(file_name), Some(urdf_name)) =
         (problem.file.file_name(), problem.robot.urdf.file_name())
     else {
         return Ok(None);
     };
+    let (file_name, urdf_name) = (file_name.to_string_lossy(), urdf_name.to_string_lossy());
     if file_name == urdf_name || !problem.file.is_file() || !problem.robot.urdf.is_file() {
         return Ok(None);
     }
     let copy = dir.join(PROBLEM_COPY);
     std::fs::create_dir(&copy)?;
     let limit = crate::files::input::MAX_TEXT_BYTES;
-    for (from, name) in [(&problem.file, file_name), (&problem.robot.urdf, urdf_name)] {
+    for (from, name) in [
+        (&problem.file, &file_name),
+        (&problem.robot.urdf, &urdf_name),
+    ] {
         let text = crate::files::input::read_regular_text(from, limit)?;
-        std::fs::write(copy.join(name), text)?;
+        std::fs::write(copy.join(name.as_ref()), text)?;
     }
-    let relative = |name: &std::ffi::OsStr| format!("{PROBLEM_COPY}/{}", name.to_string_lossy());
     Ok(Some(serde_json::json!({
-        "file": relative(file_name),
-        "urdf": relative(urdf_name),
+        "file": format!("{PROBLEM_COPY}/{file_name}"),
+        "urdf": format!("{PROBLEM_COPY}/{urdf_name}"),
     })))
 }
 

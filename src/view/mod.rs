@@ -11,10 +11,15 @@
 #![warn(missing_docs)]
 
 mod body;
+mod limits;
 mod stl;
 mod svg;
 
 pub use body::{Body, Part, base_link, body, frames_only, package_root, resolve_mesh};
+pub use limits::{
+    MAX_ANGLE, MAX_DISTANCE_IN_SIZES, MAX_DURATION_S, MAX_TIME_IN_DURATIONS, Place, Undrawable,
+    check_drawable, robot_size,
+};
 pub use svg::{StripLayout, strip_svg};
 
 use std::path::{Path, PathBuf};
@@ -301,18 +306,24 @@ fn extent(frame: &Frame) -> f64 {
         .map(|l| l.0)
         .chain(frame.contacts.iter().copied())
         .collect();
-    let mut size: f64 = 0.0;
-    for a in &points {
-        for b in &points {
-            let d = ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt();
-            size = size.max(d);
-        }
-    }
+    let size = largest_distance(&points);
     if size.is_finite() {
         size.max(1e-6)
     } else {
         1.0
     }
+}
+
+/// The largest distance between two of `points` (0 for fewer than two).
+fn largest_distance(points: &[[f64; 3]]) -> f64 {
+    let mut size: f64 = 0.0;
+    for a in points {
+        for b in points {
+            let d = ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt();
+            size = size.max(d);
+        }
+    }
+    size
 }
 
 /// `x` rounded to `decimals` places (so that the JSON holds short numbers).
@@ -362,6 +373,27 @@ fn terrain_profile(terrain: &Terrain, x0: f64, x1: f64) -> (Vec<f64>, Vec<f64>) 
     (xs, zs)
 }
 
+/// The ground a page draws, [x0, x1, y0, y1]: the frames' links and contact points with a
+/// margin of 3/4 of the robot's size around them.
+fn ground_extent(drawing: &Drawing) -> [f64; 4] {
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+    for frame in drawing.frames.iter().flatten() {
+        for p in frame.links.iter().map(|l| &l.0).chain(&frame.contacts) {
+            if p[0].is_finite() && p[1].is_finite() {
+                x0 = x0.min(p[0]);
+                x1 = x1.max(p[0]);
+                y0 = y0.min(p[1]);
+                y1 = y1.max(p[1]);
+            }
+        }
+    }
+    if x0 > x1 {
+        (x0, x1, y0, y1) = (0.0, 0.0, 0.0, 0.0);
+    }
+    let margin = drawing.size * 0.75;
+    [x0 - margin, x1 + margin, y0 - margin, y1 + margin]
+}
+
 /// The page's data: scene, parts and every motion's frames.
 pub fn page_data(scene: &Scene, motions: &[Motion], drawing: &Drawing) -> Value {
     let d = length_decimals(drawing.size);
@@ -380,22 +412,8 @@ pub fn page_data(scene: &Scene, motions: &[Motion], drawing: &Drawing) -> Value 
             })
         })
         .collect();
-    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
-    for frame in drawing.frames.iter().flatten() {
-        for p in frame.links.iter().map(|l| &l.0).chain(&frame.contacts) {
-            if p[0].is_finite() && p[1].is_finite() {
-                x0 = x0.min(p[0]);
-                x1 = x1.max(p[0]);
-                y0 = y0.min(p[1]);
-                y1 = y1.max(p[1]);
-            }
-        }
-    }
-    if x0 > x1 {
-        (x0, x1, y0, y1) = (0.0, 0.0, 0.0, 0.0);
-    }
-    let margin = drawing.size * 0.75;
-    let (xs, zs) = terrain_profile(&scene.terrain, x0 - margin, x1 + margin);
+    let [x0, x1, y0, y1] = ground_extent(drawing);
+    let (xs, zs) = terrain_profile(&scene.terrain, x0, x1);
     let max_impulse = drawing
         .frames
         .iter()
@@ -440,7 +458,7 @@ pub fn page_data(scene: &Scene, motions: &[Motion], drawing: &Drawing) -> Value 
         "terrain": {
             "x": xs.iter().map(|&x| round(x, d)).collect::<Vec<_>>(),
             "z": zs.iter().map(|&z| round(z, d)).collect::<Vec<_>>(),
-            "y": [round(y0 - margin, d), round(y1 + margin, d)],
+            "y": [round(y0, d), round(y1, d)],
         },
         "max_impulse": max_impulse,
         "warnings": drawing.body.warnings,

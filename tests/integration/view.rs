@@ -24,9 +24,31 @@ fn chromium() -> Option<PathBuf> {
     })
 }
 
-/// Runs headless Chromium on `url` with `args`; returns (stdout, stderr).
+/// Longest a Chromium run may take: a page that never finishes loading fails the test
+/// instead of stopping the suite.
+const BROWSER_DEADLINE: std::time::Duration = std::time::Duration::from_secs(300);
+
+/// Chromium for a test's browser half; None (the half skipped, with a message) where it is
+/// not installed, except under CI (`CI` set), where that fails.
+fn chromium_for_the_browser_half() -> Option<PathBuf> {
+    let found = chromium();
+    if found.is_none() {
+        assert!(
+            std::env::var_os("CI").is_none(),
+            "chromium is missing under CI"
+        );
+        eprintln!("skipped the browser half: chromium is not installed");
+    }
+    found
+}
+
+/// Runs headless Chromium on `url` with `args`; returns (stdout, stderr). A run past
+/// [`BROWSER_DEADLINE`] is killed with its process group and fails.
 fn browse(browser: &Path, profile: &Path, url: &str, args: &[String]) -> (String, String) {
-    let out = Command::new(browser)
+    use std::os::unix::process::CommandExt;
+    let logs = tempfile::tempdir().unwrap();
+    let (stdout, stderr) = (logs.path().join("stdout"), logs.path().join("stderr"));
+    let mut child = Command::new(browser)
         .args([
             "--headless",
             "--no-sandbox",
@@ -44,12 +66,26 @@ fn browse(browser: &Path, profile: &Path, url: &str, args: &[String]) -> (String
         ])
         .args(args)
         .arg(url)
-        .output()
+        .process_group(0)
+        .stdin(std::process::Stdio::null())
+        .stdout(std::fs::File::create(&stdout).unwrap())
+        .stderr(std::fs::File::create(&stderr).unwrap())
+        .spawn()
         .expect("chromium runs");
-    (
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+    let start = std::time::Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if start.elapsed() > BROWSER_DEADLINE {
+            let _ = rustix::process::kill_process_group(
+                rustix::process::Pid::from_child(&child),
+                rustix::process::Signal::KILL,
+            );
+            let _ = child.wait();
+            panic!("{url}: chromium did not finish within {BROWSER_DEADLINE:?}");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    let read = |p: &Path| String::from_utf8_lossy(&std::fs::read(p).unwrap()).into_owned();
+    (read(&stdout), read(&stderr))
 }
 
 /// Console lines (the page logs nothing; an error shows as a console line).
@@ -562,12 +598,7 @@ fn markup_in_names_neither_stops_the_page_nor_runs() {
     let title = doc.descendants().find(|n| n.has_tag_name("title")).unwrap();
     assert_eq!(title.text(), Some(format!("{name}: 3 poses").as_str()));
 
-    let Some(browser) = chromium() else {
-        assert!(
-            std::env::var_os("CI").is_none(),
-            "chromium is missing under CI"
-        );
-        eprintln!("skipped the browser half: chromium is not installed");
+    let Some(browser) = chromium_for_the_browser_half() else {
         return;
     };
     let profile = t.path().join("profile");
@@ -778,4 +809,102 @@ fn drop_lines_reach_the_terrain_and_trails_follow_the_feet() {
         "{later} of {} later contact points drawn",
         away.len()
     );
+}
+
+/// The brick's simulation moved to the edge of what `vito view` draws: from its first pose
+/// at the origin, every later pose at ±0.99 of the largest distance accepted (10,000 robot
+/// sizes) along x and y, so that the page's terrain and grid span the widest range there is.
+/// The page loads in headless Chromium (status ready, no error); 1.01 of the distance is
+/// refused (exit 2).
+#[test]
+fn a_page_at_the_edge_of_the_drawable_range_loads() {
+    let t = tempfile::tempdir().unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let problem_file = root.join("problems/brick_3d.toml");
+    let vito = |args: &[&std::ffi::OsStr]| {
+        let out = Command::new(env!("CARGO_BIN_EXE_vito"))
+            .current_dir(t.path())
+            .args(args)
+            .output()
+            .unwrap();
+        (
+            out.status.code(),
+            String::from_utf8_lossy(&out.stderr).into_owned(),
+        )
+    };
+    let os = |s: &str| std::ffi::OsString::from(s);
+    let (code, stderr) = vito(&[
+        &os("simulate"),
+        problem_file.as_os_str(),
+        &os("--duration"),
+        &os("0.5"),
+        &os("--out"),
+        &os("r"),
+        &os("--quiet"),
+    ]);
+    assert_eq!(code, Some(0), "{stderr}");
+    // The largest distance accepted, from the library's own measure of the brick.
+    let problem = vito::problem::load(&problem_file, &[]).unwrap();
+    let scene = scene(&problem).unwrap();
+    let csv = std::fs::read_to_string(t.path().join("r/trajectory.csv")).unwrap();
+    let recorded = read_trajectory(&csv, &problem.robot.coordinates, &[]).unwrap();
+    let motion = vito::view::Motion {
+        name: "r".into(),
+        detail: String::new(),
+        standing: vito::view::Standing::Simulation,
+        times: recorded.times.clone(),
+        q: recorded.q.clone(),
+        normal: Vec::new(),
+        friction: Vec::new(),
+    };
+    let drawing = vito::view::drawing(&scene, std::slice::from_ref(&motion));
+    let far = vito::view::MAX_DISTANCE_IN_SIZES * vito::view::robot_size(&scene, &drawing);
+    assert!((far - 2291.0).abs() < 1.0, "the brick's diagonal: {far}");
+    let moved = |name: &str, reach: f64| {
+        let dir = t.path().join(name);
+        std::fs::create_dir(&dir).unwrap();
+        std::fs::copy(t.path().join("r/summary.json"), dir.join("summary.json")).unwrap();
+        let mut lines: Vec<String> = csv.lines().map(str::to_owned).collect();
+        for (k, line) in lines.iter_mut().enumerate().skip(2) {
+            let mut cells: Vec<String> = line.split(',').map(str::to_owned).collect();
+            let side = if k % 2 == 0 { 1.0 } else { -1.0 };
+            cells[1] = format!("{}", side * reach * far);
+            cells[2] = format!("{}", -side * reach * far);
+            *line = cells.join(",");
+        }
+        std::fs::write(dir.join("trajectory.csv"), lines.join("\n") + "\n").unwrap();
+        let page = dir.join("page.html");
+        let (code, stderr) = vito(&[
+            &os("view"),
+            &os(name),
+            &os("--problem"),
+            problem_file.as_os_str(),
+            &os("--out"),
+            page.as_os_str(),
+        ]);
+        (code, stderr, page)
+    };
+    let (code, stderr, _) = moved("beyond", 1.01);
+    assert_eq!(code, Some(2), "{stderr}");
+    assert!(stderr.contains("column `base_x`"), "{stderr}");
+    let (code, stderr, page) = moved("edge", 0.99);
+    assert_eq!(code, Some(0), "{stderr}");
+    let data = page_data_of(&std::fs::read_to_string(&page).unwrap());
+    let terrain_x = data["terrain"]["x"].as_array().unwrap();
+    let span = terrain_x.last().unwrap().as_f64().unwrap() - terrain_x[0].as_f64().unwrap();
+    assert!(span > 1.9 * far, "the terrain spans {span}");
+
+    let Some(browser) = chromium_for_the_browser_half() else {
+        return;
+    };
+    let (dom, stderr) = browse(
+        &browser,
+        &t.path().join("profile"),
+        &format!("file://{}#size={WIDTH}x{HEIGHT}", page.display()),
+        &["--dump-dom".into()],
+    );
+    assert_no_console_lines(&stderr, "page.html");
+    let s = status(&dom);
+    assert_eq!(s["errors"], serde_json::json!([]));
+    assert_eq!(s["ready"], true);
 }
