@@ -68,13 +68,14 @@ pub(crate) fn _restore_problem(
 impl Problem {
     /// Problem(path, set=None)
     ///
-    /// Loads and checks a problem file (`path`: a str, bytes or os.PathLike), with `set` (a dict `{"key.path": value}`) applied as
-    /// `vito solve FILE --set key.path=value` applies it: a str value is taken as the
-    /// command line takes it (TOML, a bare word a string), bool, int, float and lists as
-    /// TOML (values nest at most 64 deep and take at most 128 KiB as TOML; ValueError
-    /// beyond). Raises `FileNotFoundError` (as `ProblemFileNotFoundError`, also a
-    /// `ProblemError`) when the file does not exist, `ProblemError` (file, line, field,
-    /// message) when the file, an override or a `[solver.ipopt]` option cannot be used.
+    /// Loads and checks a problem file (`path`: a str, bytes or os.PathLike), with `set` (a
+    /// dict `{"key.path": value}`) applied as `vito solve FILE --set key.path=value` applies
+    /// it: a str value is taken as the command line takes it (TOML, a bare word a string),
+    /// bool, int, float and lists as TOML (values nest at most 64 deep and take at most
+    /// 128 KiB as TOML; ValueError beyond). Raises `FileNotFoundError` (as
+    /// `ProblemFileNotFoundError`, also a `ProblemError`) when the file does not exist,
+    /// `ProblemError` (file, line, field, message) when the file, an override or a
+    /// `[solver.ipopt]` option cannot be used.
     #[new]
     #[pyo3(signature = (path, set = None))]
     fn new(py: Python<'_>, path: PathArg, set: Option<&Bound<'_, PyAny>>) -> PyResult<Problem> {

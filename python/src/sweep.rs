@@ -348,10 +348,11 @@ impl SweepJobs {
     /// next_job() -> dict | None
     ///
     /// The next point as a job: `index`, `problem` (the file, absolute), `problem_sha256`
-    /// (its SHA-256 when the sweep opened), `sets` (the overrides to load it with), `run_dir` (absolute), `warm_start` (the trajectory it
-    /// starts from, or None), `attempt` (a neighbour-pass attempt's directory, given back
-    /// to `record`, or None for a point's own run); None when no job is ready (the jobs
-    /// handed out must come back first) or the sweep is done.
+    /// (its SHA-256 when the sweep opened), `sets` (the overrides to load it with),
+    /// `run_dir` (absolute), `warm_start` (the trajectory it starts from, or None), `attempt`
+    /// (a neighbour-pass attempt's directory, given back to `record`, or None for a point's
+    /// own run); None when no job is ready (the jobs handed out must come back first) or the
+    /// sweep is done.
     fn next_job<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
         let Some(job) = self.with(|s| s.next_job())? else {
             return Ok(None);
