@@ -12,7 +12,7 @@
 #   make bench-casadi  `vito bench` beside the independent CasADi implementation (CasADi 3.8.2
 #                   from PyPI into .venv-casadi; nothing else needs it)
 #   make fuzz       1,000,000 generated and mutated inputs (problems, URDFs, expressions, chains, attributes, trajectory CSVs, names) through loading, the CSV readers and the writers of names (FUZZ_COUNT, FUZZ_SEED)
-#   make fuzz-python 100,000 generated Python values through vito.Problem and the solve options (FUZZ_PYTHON_COUNT)
+#   make fuzz-python 100,000 generated Python values through vito.Problem, the solve options, paths and pickles (FUZZ_PYTHON_COUNT)
 #   make test-debian13  `make demo` and `make test` in a fresh Debian 13 chroot (Ipopt 3.14; root)
 
 CARGO ?= cargo

@@ -1,13 +1,17 @@
 //! Conversions between Python values and the library's: `set={...}` values as the text of a
 //! `--set` value (bounded in depth and size, as the command line bounds an argument), the
 //! overrides back as Python literals (for `repr`), JSON as Python objects, rows as arrays,
-//! and the columns of a trajectory CSV.
+//! the columns of a trajectory CSV, and path arguments (str, bytes or os.PathLike).
+
+use std::ffi::OsString;
+use std::os::unix::ffi::{OsStrExt, OsStringExt};
+use std::path::{Path, PathBuf};
 
 use numpy::ndarray::{Array1, Array2};
 use numpy::{IntoPyArray, PyArray1};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
+use pyo3::types::{PyBool, PyBytes, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 
 use vito::problem::Override;
 use vito::report;
@@ -297,5 +301,42 @@ pub(crate) fn check_progress(py: Python<'_>, progress: Option<&Py<PyAny>>) -> Py
                 .map_or_else(|_| "?".into(), |r| r.to_string())
         ))),
         _ => Ok(()),
+    }
+}
+
+/// A path argument, taken as Python's own file functions take one: a str, bytes or
+/// os.PathLike, through `os.fsencode` (a str with the file-system encoding and its error
+/// handler, so a name that is not UTF-8, read from the OS as a str with surrogates, names
+/// the same file; bytes as the name's bytes). Anything else is a TypeError.
+pub(crate) struct PathArg(pub(crate) PathBuf);
+
+impl<'a, 'py> FromPyObject<'a, 'py> for PathArg {
+    type Error = PyErr;
+
+    fn extract(obj: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
+        let encoded = obj.py().import("os")?.call_method1("fsencode", (obj,))?;
+        let bytes = encoded.cast::<PyBytes>()?.as_bytes().to_vec();
+        Ok(PathArg(PathBuf::from(OsString::from_vec(bytes))))
+    }
+}
+
+/// A path as a Python literal that gives it again: a str, or bytes when the name is not
+/// UTF-8.
+pub(crate) fn python_path(path: &Path) -> String {
+    match path.to_str() {
+        Some(text) => python_str(text),
+        None => {
+            let mut out = String::from("b'");
+            for &b in path.as_os_str().as_bytes() {
+                match b {
+                    b'\\' => out.push_str("\\\\"),
+                    b'\'' => out.push_str("\\'"),
+                    0x20..=0x7e => out.push(char::from(b)),
+                    _ => out.push_str(&format!("\\x{b:02x}")),
+                }
+            }
+            out.push('\'');
+            out
+        }
     }
 }

@@ -113,7 +113,7 @@ pub(crate) fn problem_error(py: Python<'_>, e: &LibProblemError) -> PyErr {
         LibProblemError::Io { path, source } if source.kind() == std::io::ErrorKind::NotFound => {
             not_found_type(py).and_then(|t| {
                 let errno = source.raw_os_error().unwrap_or(2);
-                let value = t.call1((errno, message.clone(), path.display().to_string()))?;
+                let value = t.call1((errno, message.clone(), path.as_os_str()))?;
                 Ok(PyErr::from_value(value))
             })
         }
@@ -123,9 +123,10 @@ pub(crate) fn problem_error(py: Python<'_>, e: &LibProblemError) -> PyErr {
         Ok(err) => err,
         Err(e) => return e,
     };
+    // The file as Python names it (os.fsdecode's str, also for a name that is not UTF-8).
     let file = match (e, location) {
-        (_, Some(l)) => Some(l.file.display().to_string()),
-        (LibProblemError::Io { path, .. }, None) => Some(path.display().to_string()),
+        (_, Some(l)) => Some(l.file.as_os_str()),
+        (LibProblemError::Io { path, .. }, None) => Some(path.as_os_str()),
         _ => None,
     };
     let value = err.value(py);

@@ -3,8 +3,6 @@
 //! orientation, for one configuration q (shape (n,)) or one per row (shape (N, n), e.g. a
 //! Solution's `q`).
 
-use std::path::PathBuf;
-
 use numpy::IntoPyArray;
 use numpy::ndarray::{Array1, Array2};
 use pyo3::exceptions::PyValueError;
@@ -63,7 +61,8 @@ fn positions<'py>(
 impl Kinematics {
     /// The robot of the problem file `path` (its URDF, base and contacts).
     #[new]
-    fn new(py: Python<'_>, path: PathBuf) -> PyResult<Kinematics> {
+    fn new(py: Python<'_>, path: crate::convert::PathArg) -> PyResult<Kinematics> {
+        let path = path.0;
         let loaded =
             vito::problem::load(&path, &[]).map_err(|e| crate::errors::problem_error(py, &e))?;
         let robot = Robot::new(&loaded.spec)

@@ -8,9 +8,9 @@
 //!
 //! One file per topic: `errors.rs` (exceptions), `convert.rs` (Python values ↔ the
 //! library's), `watch.rs` (long calls, signals, progress), `problem.rs` (`Problem`),
-//! `solve.rs` (a solve), `solution.rs` (`Trajectory`, `Solution`, pickling),
-//! `simulation.rs` (`simulate`, `Simulation`), `sweep.rs` (sweeps, executor jobs),
-//! `html.rs` (notebook display).
+//! `solve.rs` (a solve), `solution.rs` (`Trajectory`, `Solution`), `pickle.rs` (the state
+//! results pickle with, checked on restoring), `simulation.rs` (`simulate`, `Simulation`),
+//! `sweep.rs` (sweeps, executor jobs), `html.rs` (notebook display).
 
 use pyo3::prelude::*;
 
@@ -19,6 +19,7 @@ mod errors;
 mod html;
 mod kinematics;
 mod load;
+mod pickle;
 mod problem;
 mod simulation;
 mod solution;
@@ -31,6 +32,13 @@ mod watch;
 #[pyfunction]
 fn pinned_coretype() -> Option<&'static str> {
     vito::ipopt::blas_kernels::coretype()
+}
+
+/// How many problem files this process has been asked to load (`vito::problem::loads`):
+/// what the tests count a set-up's work by.
+#[pyfunction]
+fn _problem_loads() -> usize {
+    vito::problem::loads()
 }
 
 /// The native module `vito._vito`; the package `vito` re-exports it.
@@ -50,6 +58,7 @@ fn _vito(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(solution::_restore_solution, m)?)?;
     m.add_function(wrap_pyfunction!(simulation::_restore_simulation, m)?)?;
     m.add_function(wrap_pyfunction!(pinned_coretype, m)?)?;
+    m.add_function(wrap_pyfunction!(_problem_loads, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("IPOPT_VERSION", vito::ipopt::VERSION)?;
     Ok(())

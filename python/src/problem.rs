@@ -12,7 +12,7 @@ use vito::problem::{InitialGuess, LoadedProblem};
 use vito::report;
 use vito::transcription::MultiStart;
 
-use crate::convert::{check_progress, python_str, set_args, set_literal};
+use crate::convert::{PathArg, check_progress, python_path, set_args, set_literal};
 use crate::errors::{VitoError, vito_error};
 use crate::load::{load_problem, reload_pickled};
 use crate::solution::Solution;
@@ -46,14 +46,17 @@ impl Problem {
 }
 
 /// Rebuilds a pickled `Problem`: the file must still be where it was, with the overrides
-/// still valid.
+/// still valid, and unchanged (its SHA-256 `sha256`).
 #[pyfunction]
+#[pyo3(signature = (path, sets, sha256 = None))]
 pub(crate) fn _restore_problem(
     py: Python<'_>,
-    path: PathBuf,
+    path: PathArg,
     sets: Vec<String>,
+    sha256: Option<String>,
 ) -> PyResult<Problem> {
-    let loaded = reload_pickled(py, &path, &sets)?;
+    let path = path.0;
+    let loaded = reload_pickled(py, "Problem", &path, &sets, sha256.as_deref())?;
     Ok(Problem {
         path,
         sets,
@@ -65,17 +68,18 @@ pub(crate) fn _restore_problem(
 impl Problem {
     /// Problem(path, set=None)
     ///
-    /// Loads and checks a problem file, with `set` (a dict `{"key.path": value}`) applied as
-    /// `vito solve FILE --set key.path=value` applies it: a str value is taken as the
-    /// command line takes it (TOML, a bare word a string), bool, int, float and lists as
-    /// TOML (values nest at most 64 deep and take at most 128 KiB as TOML; ValueError
-    /// beyond). Raises `FileNotFoundError` (as `ProblemFileNotFoundError`, also a
-    /// `ProblemError`) when the file does not exist, `ProblemError` (file, line, field,
-    /// message) when the file, an override or a `[solver.ipopt]` option cannot be used.
+    /// Loads and checks a problem file (`path`: a str, bytes or os.PathLike), with `set` (a
+    /// dict `{"key.path": value}`) applied as `vito solve FILE --set key.path=value` applies
+    /// it: a str value is taken as the command line takes it (TOML, a bare word a string),
+    /// bool, int, float and lists as TOML (values nest at most 64 deep and take at most
+    /// 128 KiB as TOML; ValueError beyond). Raises `FileNotFoundError` (as
+    /// `ProblemFileNotFoundError`, also a `ProblemError`) when the file does not exist,
+    /// `ProblemError` (file, line, field, message) when the file, an override or a
+    /// `[solver.ipopt]` option cannot be used.
     #[new]
     #[pyo3(signature = (path, set = None))]
-    fn new(py: Python<'_>, path: PathBuf, set: Option<&Bound<'_, PyAny>>) -> PyResult<Problem> {
-        Problem::open(py, path, set_args(set)?)
+    fn new(py: Python<'_>, path: PathArg, set: Option<&Bound<'_, PyAny>>) -> PyResult<Problem> {
+        Problem::open(py, path.0, set_args(set)?)
     }
 
     /// The problem's name (`name` in the file).
@@ -169,7 +173,7 @@ impl Problem {
     fn solve(
         &self,
         py: Python<'_>,
-        out: Option<PathBuf>,
+        out: Option<PathArg>,
         starts: usize,
         seed: u64,
         warm_start: Option<&Bound<'_, PyAny>>,
@@ -193,17 +197,25 @@ impl Problem {
                     problem.spec.initial_guess = InitialGuess::WarmStart(warm);
                     Arc::new(problem)
                 } else {
-                    let path: PathBuf = w.extract()?;
+                    let path = w.extract::<PathArg>()?.0;
                     let path = std::path::absolute(&path)
                         .map_err(|e| VitoError::new_err(format!("{}: {e}", path.display())))?;
-                    let value = toml::Value::String(path.display().to_string());
+                    // Given to the problem as `initial_guess.warm_start`, a TOML string.
+                    let text = path.to_str().ok_or_else(|| {
+                        pyo3::exceptions::PyValueError::new_err(format!(
+                            "warm_start={}: the path is not UTF-8, so it cannot be a problem's \
+                             `initial_guess.warm_start`; rename the file, or pass the Solution",
+                            python_path(&path)
+                        ))
+                    })?;
+                    let value = toml::Value::String(text.to_owned());
                     let mut sets = self.sets.clone();
                     sets.push(format!("initial_guess.warm_start={value}"));
                     Arc::new(load_problem(py, &self.path, &sets)?)
                 }
             }
         };
-        let target = match &out {
+        let target = match out.as_ref().map(|dir| &dir.0) {
             Some(dir) => Some(
                 pipeline::output::checked_output_dir(&problem, Some(dir))
                     .map_err(|e| vito_error(&report::ReportError::from(e)))?,
@@ -240,15 +252,21 @@ impl Problem {
         }
     }
 
-    /// Pickled as its file (absolute) and overrides: unpickling loads the file again.
+    /// Pickled as its file (absolute), overrides and the file's SHA-256: unpickling loads
+    /// the file again, and refuses it when it has changed.
     fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
         let restore = py.import("vito._vito")?.getattr("_restore_problem")?;
-        let args = (self.absolute_path()?, self.sets.clone()).into_pyobject(py)?;
+        let args = (
+            self.absolute_path()?,
+            self.sets.clone(),
+            self.loaded.sha256.clone(),
+        )
+            .into_pyobject(py)?;
         PyTuple::new(py, [restore, args.into_any()])
     }
 
     fn __repr__(&self) -> String {
-        let path = python_str(&self.path.display().to_string());
+        let path = python_path(&self.path);
         if self.sets.is_empty() {
             format!("vito.Problem({path})")
         } else {

@@ -14,10 +14,11 @@ use vito::pipeline;
 use vito::problem::LoadedProblem;
 use vito::report;
 
-use crate::convert::{json_to_py, matrix, vector};
+use crate::convert::{PathArg, json_to_py, matrix, vector};
 use crate::errors::{VitoError, vito_error};
+use crate::pickle::{check_trajectory, friction_directions, pickled, refused, unpickled};
 use crate::problem::Problem;
-use crate::solution::{Solution, Trajectory, pickled, unpickled};
+use crate::solution::{Solution, Trajectory};
 use crate::watch::run_watched;
 
 /// A forward simulation's result (`vito simulate`): its summary and trajectory.
@@ -51,6 +52,45 @@ impl Simulation {
         )
     }
 
+    /// Whether the simulation fits its problem: its trajectory one of the problem's (with the
+    /// problem's friction directions), with one record per step in each per-step list (what
+    /// a restored simulation is checked with).
+    fn check(&self) -> PyResult<()> {
+        let nd = friction_directions(&self.problem)?;
+        if self.nd != nd {
+            return Err(refused(
+                "Simulation",
+                &format!(
+                    "it has {} friction directions per contact, its problem {nd}",
+                    self.nd
+                ),
+            ));
+        }
+        let steps = self.sim.times.len().saturating_sub(1);
+        let s = &self.sim;
+        let counts = [
+            ("impulses", s.impulses.len()),
+            ("iterations", s.iterations.len()),
+            ("complementarity", s.complementarity.len()),
+            ("dynamics_residual", s.dynamics_residual.len()),
+            ("residual", s.residual.len()),
+        ];
+        let per_step = counts
+            .iter()
+            .find(|(_, len)| *len != steps)
+            .map(|(name, len)| format!("`{name}` has {len} records, for {steps} steps"));
+        let relaxed = s
+            .relaxed_steps
+            .iter()
+            .find(|&&k| k >= steps)
+            .map(|k| format!("`relaxed_steps` names step {k} of {steps}"));
+        match per_step.or(relaxed) {
+            Some(why) => Err(refused("Simulation", &why)),
+            None => check_trajectory(&self.problem, nd, &self.columns().trajectory(&self.sim))
+                .map_err(|why| refused("Simulation", &why)),
+        }
+    }
+
     /// Writes into a checked target as `vito simulate` does (staged, then committed).
     fn write_to(&self, target: report::OutputTarget) -> PyResult<PathBuf> {
         let columns = self.columns();
@@ -79,27 +119,35 @@ struct SimulationState {
     inputs: Vec<PathBuf>,
 }
 
-/// Rebuilds a pickled `Simulation`.
+/// Rebuilds a pickled `Simulation`: its problem file loaded again (unchanged: SHA-256
+/// `sha256`), its numbers checked against it.
 #[pyfunction]
+#[pyo3(signature = (path, sets, text, sha256 = None))]
 pub(crate) fn _restore_simulation(
     py: Python<'_>,
-    path: PathBuf,
+    path: PathArg,
     sets: Vec<String>,
     text: &str,
-    _extra: Bound<'_, PyAny>,
+    sha256: Option<String>,
 ) -> PyResult<Py<Simulation>> {
-    let (problem, state): (_, SimulationState) = unpickled(py, path.clone(), sets.clone(), text)?;
-    let summary = serde_json::from_str(&state.summary)
-        .map_err(|e| VitoError::new_err(format!("not a pickled vito result: {e}")))?;
-    Simulation {
+    let path = path.0;
+    let (problem, state): (_, SimulationState) =
+        unpickled(py, "Simulation", &path, &sets, text, sha256.as_deref())?;
+    let summary: serde_json::Value = serde_json::from_str(&state.summary)
+        .map_err(|e| refused("Simulation", &format!("its summary is not JSON text: {e}")))?;
+    if !summary.is_object() {
+        return Err(refused("Simulation", "its summary is not a JSON object"));
+    }
+    let simulation = Simulation {
         source: (path, sets),
-        problem,
+        problem: Arc::new(problem),
         sim: state.sim,
         nd: state.nd,
         summary,
         inputs: state.inputs,
-    }
-    .into_py(py)
+    };
+    simulation.check()?;
+    simulation.into_py(py)
 }
 
 #[pymethods]
@@ -150,13 +198,14 @@ impl Simulation {
     ///
     /// Writes what `vito simulate --out DIR` writes, atomically, with the command's rules
     /// for the directory. Returns the directory.
-    fn write(&self, py: Python<'_>, dir: PathBuf) -> PyResult<PathBuf> {
-        let target = output_target(&dir, &self.inputs)?;
+    fn write(&self, py: Python<'_>, dir: PathArg) -> PyResult<PathBuf> {
+        let target = output_target(&dir.0, &self.inputs)?;
         py.detach(|| self.write_to(target))
     }
 
-    /// Pickled as its problem (file and overrides, loaded again on unpickling) and its
-    /// numbers.
+    /// Pickled as its problem (file, overrides and the file's SHA-256; loaded again on
+    /// unpickling, and refused when the file has changed or the numbers do not fit it) and
+    /// its numbers.
     fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
         let state = SimulationState {
             sim: self.sim.clone(),
@@ -168,8 +217,8 @@ impl Simulation {
             py,
             "_restore_simulation",
             &self.source,
+            &self.problem,
             &state,
-            py.None().into_bound(py),
         )
     }
 
@@ -252,7 +301,7 @@ fn trajectory_path(
             .map_err(|e| VitoError::new_err(format!("{}: {e}", path.display())))?;
         return Ok(Some(path));
     }
-    Ok(Some(value.extract()?))
+    Ok(Some(value.extract::<PathArg>()?.0))
 }
 
 /// A duration or rate as the command checks it (positive, at most 1e9): ValueError.
@@ -289,14 +338,14 @@ pub(crate) fn simulate(
     duration: Option<f64>,
     rate: Option<f64>,
     integrator: Option<String>,
-    out: Option<PathBuf>,
+    out: Option<PathArg>,
     set: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Py<Simulation>> {
     let opened;
     let problem: &Problem = match problem.cast::<Problem>() {
         Ok(p) => p.get(),
         Err(_) => {
-            let path: PathBuf = problem.extract()?;
+            let path = problem.extract::<PathArg>()?.0;
             opened = Problem::open(py, path, crate::convert::set_args(set)?)?;
             &opened
         }
@@ -337,7 +386,7 @@ pub(crate) fn simulate(
         .detach(|| pipeline::simulation::prepare_simulation(&loaded, &request))
         .map_err(|e| vito_error(&e))?;
     let target = match &out {
-        Some(dir) => Some(output_target(dir, &prepared.inputs)?),
+        Some(dir) => Some(output_target(&dir.0, &prepared.inputs)?),
         None => None,
     };
     let stop = Arc::new(AtomicBool::new(false));

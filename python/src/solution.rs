@@ -14,9 +14,9 @@ use vito::pipeline;
 use vito::problem::LoadedProblem;
 use vito::report;
 
-use crate::convert::{csv_columns, csv_dataframe, json_to_py, matrix, vector};
-use crate::errors::{VitoError, vito_error};
-use crate::load::reload_pickled;
+use crate::convert::{PathArg, csv_columns, csv_dataframe, json_to_py, matrix, vector};
+use crate::errors::vito_error;
+use crate::pickle::{check_trajectory, friction_directions, pickled, refused, unpickled};
 
 /// What a solve or a simulation writes as `trajectory.csv`, kept as its text: the base class
 /// of `Solution` and `Simulation`.
@@ -51,37 +51,6 @@ impl Trajectory {
     fn to_pandas<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         csv_dataframe(py, &self.csv)
     }
-}
-
-/// The state a result is pickled with: its problem's file (absolute) and overrides, and the
-/// result itself as TOML (which keeps NaN and infinities).
-pub(crate) fn pickled<'py, T: serde::Serialize>(
-    py: Python<'py>,
-    restore: &str,
-    source: &(PathBuf, Vec<String>),
-    value: &T,
-    extra: Bound<'py, PyAny>,
-) -> PyResult<Bound<'py, PyTuple>> {
-    let text = toml::to_string(value)
-        .map_err(|e| VitoError::new_err(format!("cannot pickle this result: {e}")))?;
-    let path = std::path::absolute(&source.0)
-        .map_err(|e| VitoError::new_err(format!("{}: {e}", source.0.display())))?;
-    let restore = py.import("vito._vito")?.getattr(restore)?;
-    let args = (path, source.1.clone(), text, extra).into_pyobject(py)?;
-    PyTuple::new(py, [restore, args.into_any()])
-}
-
-/// The problem and value of a pickled result.
-pub(crate) fn unpickled<T: serde::de::DeserializeOwned>(
-    py: Python<'_>,
-    path: PathBuf,
-    sets: Vec<String>,
-    text: &str,
-) -> PyResult<(Arc<LoadedProblem>, T)> {
-    let value = toml::from_str(text)
-        .map_err(|e| VitoError::new_err(format!("not a pickled vito result: {e}")))?;
-    let problem = reload_pickled(py, &path, &sets)?;
-    Ok((Arc::new(problem), value))
 }
 
 /// A solve's result: the verdict, the numbers of `summary.json`, and the trajectory as
@@ -124,22 +93,54 @@ impl Solution {
     }
 }
 
-/// Rebuilds a pickled `Solution`.
+/// Rebuilds a pickled `Solution`: its problem file loaded again (unchanged: SHA-256
+/// `sha256`), its numbers checked against it ([`check_solution`]).
 #[pyfunction]
+#[pyo3(signature = (path, sets, text, sha256 = None))]
 pub(crate) fn _restore_solution(
     py: Python<'_>,
-    path: PathBuf,
+    path: PathArg,
     sets: Vec<String>,
     text: &str,
-    _extra: Bound<'_, PyAny>,
+    sha256: Option<String>,
 ) -> PyResult<Py<Solution>> {
-    let (problem, solution) = unpickled(py, path.clone(), sets.clone(), text)?;
+    let path = path.0;
+    let (problem, solution): (_, vito::transcription::Solution) =
+        unpickled(py, "Solution", &path, &sets, text, sha256.as_deref())?;
+    check_solution(&problem, &solution)?;
     Solution {
         source: (path, sets),
-        problem,
+        problem: Arc::new(problem),
         solution,
     }
     .into_py(py)
+}
+
+/// Whether `s` is a solution of `problem`: its trajectory one of the problem's
+/// ([`check_trajectory`]), with the problem's knots and a finite, positive step between
+/// each two.
+fn check_solution(problem: &LoadedProblem, s: &vito::transcription::Solution) -> PyResult<()> {
+    let nd = friction_directions(problem)?;
+    let knots = problem.spec.knots;
+    check_trajectory(problem, nd, &report::solution_trajectory(s))
+        .and_then(|()| {
+            if s.times.len() != knots {
+                return Err(format!(
+                    "it has {} knots, its problem {knots}",
+                    s.times.len()
+                ));
+            }
+            if s.time_steps.len() + 1 != knots
+                || s.time_steps.iter().any(|h| !(h.is_finite() && *h > 0.0))
+            {
+                return Err(format!(
+                    "its `time_steps` are not {} positive numbers",
+                    knots - 1
+                ));
+            }
+            Ok(())
+        })
+        .map_err(|why| refused("Solution", &why))
 }
 
 #[pymethods]
@@ -304,21 +305,22 @@ impl Solution {
     /// Writes what `vito solve --out DIR` writes (trajectory.csv, summary.json, the plots,
     /// animation.html), atomically; only vito's own results or an empty directory are
     /// replaced. Returns the directory.
-    fn write(&self, py: Python<'_>, dir: PathBuf) -> PyResult<PathBuf> {
-        let target = pipeline::output::checked_output_dir(&self.problem, Some(&dir))
+    fn write(&self, py: Python<'_>, dir: PathArg) -> PyResult<PathBuf> {
+        let target = pipeline::output::checked_output_dir(&self.problem, Some(&dir.0))
             .map_err(|e| vito_error(&report::ReportError::from(e)))?;
         py.detach(|| self.write_to(target))
     }
 
-    /// Pickled as its problem (file and overrides, loaded again on unpickling) and its
-    /// numbers: a round trip gives an equal solution.
+    /// Pickled as its problem (file, overrides and the file's SHA-256; loaded again on
+    /// unpickling, and refused when the file has changed or the numbers do not fit it) and
+    /// its numbers: a round trip gives an equal solution.
     fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
         pickled(
             py,
             "_restore_solution",
             &self.source,
+            &self.problem,
             &self.solution,
-            py.None().into_bound(py),
         )
     }
 

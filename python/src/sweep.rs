@@ -21,9 +21,9 @@ use vito::sweep::{
 };
 use vito::transcription::MultiStart;
 
-use crate::convert::value_text;
+use crate::convert::{PathArg, value_text};
 use crate::errors::{problem_error, vito_error};
-use crate::load::load_problem;
+use crate::load::{load_problem, same_file};
 use crate::problem::Problem;
 use crate::solution::Solution;
 use crate::solve::solve_loaded;
@@ -132,6 +132,24 @@ fn overrides_of(py: Python<'_>, sets: &[String]) -> PyResult<Vec<Override>> {
         .map_err(|e| problem_error(py, &e))
 }
 
+/// A sweep directory `out` whose runs start from others' trajectories (`warm_starts`: the
+/// neighbour warm starts or the neighbour pass): each is named in the problem's
+/// `initial_guess.warm_start`, a TOML string, so the directory's absolute name must be UTF-8;
+/// else a ValueError saying so (before anything runs).
+fn check_out_name(out: &std::path::Path, warm_starts: bool) -> PyResult<()> {
+    let absolute = std::path::absolute(out).unwrap_or_else(|_| out.to_path_buf());
+    if !warm_starts || absolute.to_str().is_some() {
+        return Ok(());
+    }
+    Err(PyValueError::new_err(format!(
+        "out={}: the directory's name is not UTF-8, and a sweep's neighbour warm starts and \
+         neighbour pass give each run the trajectory it starts from as the problem's \
+         `initial_guess.warm_start`, a TOML string (UTF-8 only); choose a directory whose \
+         name is UTF-8, or give warm_start=None and neighbour_rounds=0",
+        crate::convert::python_path(&absolute)
+    )))
+}
+
 /// A per-run time limit as the command checks it (positive, at most 1e9 s): ValueError.
 fn time_limit_of(time_limit: Option<f64>) -> PyResult<Option<f64>> {
     time_limit
@@ -171,8 +189,8 @@ pub(crate) fn _sweep(
     py: Python<'_>,
     problem: &Problem,
     grid: &Bound<'_, PyDict>,
-    exe: Option<PathBuf>,
-    out: PathBuf,
+    exe: Option<PathArg>,
+    out: PathArg,
     jobs: usize,
     time_limit: Option<f64>,
     neighbour: bool,
@@ -191,13 +209,17 @@ pub(crate) fn _sweep(
     let time_limit = time_limit_of(time_limit)?.map(Duration::from_secs_f64);
     let grid = grid_of(py, problem, grid)?;
     // Looked up once the arguments are known to be good.
+    let out = out.0;
+    check_out_name(&out, neighbour || neighbour_rounds > 0)?;
     let exe = match exe {
-        Some(exe) => exe,
-        None => py
-            .import("vito")?
-            .getattr("find_executable")?
-            .call0()?
-            .extract()?,
+        Some(exe) => exe.0,
+        None => {
+            py.import("vito")?
+                .getattr("find_executable")?
+                .call0()?
+                .extract::<PathArg>()?
+                .0
+        }
     };
     let stop = Arc::new(AtomicBool::new(false));
     let options = SweepOptions {
@@ -258,6 +280,8 @@ pub(crate) fn _sweep(
 pub(crate) struct SweepJobs {
     sweep: Mutex<JobSweep>,
     problem: PathBuf,
+    /// The problem file's SHA-256 (each job carries it: its worker refuses a changed file).
+    sha256: String,
     out: PathBuf,
     /// The per-run time limit [s], checked (each job carries it).
     time_limit: Option<f64>,
@@ -279,7 +303,7 @@ impl SweepJobs {
         py: Python<'_>,
         problem: &Problem,
         grid: &Bound<'_, PyDict>,
-        out: PathBuf,
+        out: PathArg,
         neighbour: bool,
         time_limit: Option<f64>,
         neighbour_rounds: usize,
@@ -289,8 +313,10 @@ impl SweepJobs {
                 "neighbour_rounds={neighbour_rounds}: give 0 to 1000"
             )));
         }
+        let out = out.0;
         let time_limit = time_limit_of(time_limit)?;
         let grid = grid_of(py, problem, grid)?;
+        check_out_name(&out, neighbour || neighbour_rounds > 0)?;
         let path = problem.absolute_path()?;
         let warm = if neighbour {
             WarmStart::Neighbour
@@ -313,6 +339,7 @@ impl SweepJobs {
         Ok(SweepJobs {
             sweep: Mutex::new(sweep),
             problem: path,
+            sha256: problem.loaded.sha256.clone(),
             out,
             time_limit,
         })
@@ -320,11 +347,12 @@ impl SweepJobs {
 
     /// next_job() -> dict | None
     ///
-    /// The next point as a job: `index`, `problem` (the file, absolute), `sets` (the
-    /// overrides to load it with), `run_dir` (absolute), `warm_start` (the trajectory it
-    /// starts from, or None), `attempt` (a neighbour-pass attempt's directory, given back
-    /// to `record`, or None for a point's own run); None when no job is ready (the jobs
-    /// handed out must come back first) or the sweep is done.
+    /// The next point as a job: `index`, `problem` (the file, absolute), `problem_sha256`
+    /// (its SHA-256 when the sweep opened), `sets` (the overrides to load it with),
+    /// `run_dir` (absolute), `warm_start` (the trajectory it starts from, or None), `attempt`
+    /// (a neighbour-pass attempt's directory, given back to `record`, or None for a point's
+    /// own run); None when no job is ready (the jobs handed out must come back first) or the
+    /// sweep is done.
     fn next_job<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
         let Some(job) = self.with(|s| s.next_job())? else {
             return Ok(None);
@@ -334,6 +362,7 @@ impl SweepJobs {
         let d = PyDict::new(py);
         d.set_item("index", job.index)?;
         d.set_item("problem", &self.problem)?;
+        d.set_item("problem_sha256", &self.sha256)?;
         d.set_item("sets", job.sets)?;
         d.set_item("run_dir", job.run_dir)?;
         d.set_item("warm_start", job.warm_start)?;
@@ -406,29 +435,44 @@ impl SweepJobs {
     }
 }
 
-/// _solve_point(problem, sets, run_dir, time_limit=None, starts=1, seed=0) -> float | None
+/// _solve_point(problem, sets, run_dir, time_limit=None, starts=1, seed=0, sha256=None)
+///     -> float | None
 ///
 /// One sweep point, as `vito solve PROBLEM --set ... --out RUN_DIR` solves it, in this
-/// process: loads the problem with `sets`, solves, writes the run directory (also the
+/// process: loads the problem with `sets` (refused when `sha256` is given and the file's
+/// differs: it changed since the sweep opened), solves, writes the run directory (also the
 /// iterate of a solve stopped at `time_limit` seconds, by Ctrl-C or by its sweep's `stop()`
 /// when it runs in the sweep's process). Returns the time limit
 /// when it stopped the solve, else None. Raises what loading or writing raises.
 #[pyfunction]
-#[pyo3(signature = (problem, sets, run_dir, time_limit = None, starts = 1, seed = 0))]
+#[pyo3(signature = (problem, sets, run_dir, time_limit = None, starts = 1, seed = 0,
+                    sha256 = None))]
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn _solve_point(
     py: Python<'_>,
-    problem: PathBuf,
+    problem: PathArg,
     sets: Vec<String>,
-    run_dir: PathBuf,
+    run_dir: PathArg,
     time_limit: Option<f64>,
     starts: usize,
     seed: u64,
+    sha256: Option<String>,
 ) -> PyResult<Option<f64>> {
+    let (problem, run_dir) = (problem.0, run_dir.0);
     let time_limit = time_limit_of(time_limit)?;
     if starts == 0 {
         return Err(PyValueError::new_err("starts=0: give at least 1"));
     }
     let loaded = Arc::new(load_problem(py, &problem, &sets)?);
+    if let Some(sha256) = &sha256 {
+        same_file(
+            &loaded,
+            sha256,
+            "this sweep job cannot run",
+            "its sweep opened",
+            "rerun the sweep (the points solved with the file as it was are solved again)",
+        )?;
+    }
     let target = pipeline::output::checked_output_dir(&loaded, Some(&run_dir))
         .map_err(|e| vito_error(&report::ReportError::from(e)))?;
     let deadline = time_limit.map(|t| Instant::now() + Duration::from_secs_f64(t));

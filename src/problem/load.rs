@@ -4,6 +4,7 @@
 #![warn(missing_docs)]
 
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 use sha2::{Digest, Sha256};
 
@@ -58,8 +59,19 @@ impl LoadedProblem {
     }
 }
 
+/// Problem files this process has been asked to load ([`load`], [`load_from_str`]), whether
+/// they loaded or not.
+static LOADS: AtomicUsize = AtomicUsize::new(0);
+
+/// How many problem files this process has been asked to load so far: the work a caller's
+/// set-up did (a sweep's checks load a few per axis, not one per value).
+pub fn loads() -> usize {
+    LOADS.load(Ordering::Relaxed)
+}
+
 /// Reads, overrides and checks a problem file (a regular file; see [`crate::files::input`]).
 pub fn load(path: &Path, overrides: &[Override]) -> Result<LoadedProblem, ProblemError> {
+    LOADS.fetch_add(1, Ordering::Relaxed);
     let bytes = read_regular_file(path, MAX_TEXT_BYTES).map_err(|source| ProblemError::Io {
         path: path.to_owned(),
         source,
@@ -85,6 +97,7 @@ pub fn load_from_str(
     urdf: &str,
     overrides: &[Override],
 ) -> Result<LoadedProblem, ProblemError> {
+    LOADS.fetch_add(1, Ordering::Relaxed);
     check_text(path, text.to_owned(), Some(urdf.to_owned()), overrides)
 }
 

@@ -23,7 +23,7 @@ pub use crate::model::CoordinateKind;
 pub use constraints::Constraint;
 pub use costs::CostTerm;
 pub use error::{Location, ProblemError};
-pub use load::{LoadedProblem, load, load_from_str};
+pub use load::{LoadedProblem, load, load_from_str, loads};
 pub use overrides::Override;
 pub use robot::{RobotError, RobotInfo, UrdfContact};
 pub use source::{edit_distance, nearest};

@@ -99,11 +99,19 @@ pub enum SweepError {
     Internal(String),
 }
 
-/// Checks every value of every axis against the problem before any run: the problem `file`
-/// with `overrides` is loaded once per value of each axis (the other axes at their first
-/// values), so the work grows with the sum of the axes' lengths, not with their product. A
-/// key the problem does not have or a value its checks reject is a usage error naming the
-/// `--grid` argument (and, for a key, the full keys and `[parameters]` it may have meant).
+/// Most values of one axis that are not numbers (names, booleans, lists) [`check_grid`] loads
+/// the problem with; the others are read as `--set` values, and checked by their own runs.
+pub const MAX_CHECKED_OTHERS: usize = 100;
+
+/// Checks a grid against the problem before any run, with work that does not grow with the
+/// number of points and only a few loads per axis however long it is: every value of every
+/// axis has been read as a `--set` value ([`Axis::new`]), and the problem `file` with
+/// `overrides` is loaded with the values [`checked_values`] picks from each axis (the other
+/// axes at their first values). A key the problem does not have or a value its checks reject
+/// is a usage error naming the `--grid` argument (and, for a key, the full keys and
+/// `[parameters]` it may have meant). A value not loaded that the problem's checks reject
+/// (one between two accepted numbers that a family's expression cannot take) fails its own
+/// run, with the reason in the table.
 pub fn check_grid(
     file: &std::path::Path,
     overrides: &[crate::problem::Override],
@@ -112,14 +120,19 @@ pub fn check_grid(
     use crate::problem::{Override, ProblemError, load};
     let usage = |e: ProblemError| SweepError::Usage(e.to_string());
     for (a, axis) in grid.axes.iter().enumerate() {
-        for value in &axis.values {
+        for i in checked_values(axis) {
+            // The first values of every axis together: loaded once, with the first axis.
+            if i == 0 && a > 0 {
+                continue;
+            }
+            let value = &axis.values[i];
             let mut all = overrides.to_vec();
             for (b, other) in grid.axes.iter().enumerate() {
                 let v = if a == b { value } else { &other.values[0] };
                 all.push(Override::parse(&format!("{}={v}", other.key)).map_err(usage)?);
             }
             let Err(e) = load(file, &all) else { continue };
-            let argument = format!("--grid {}={}", axis.key, axis.values.join(","));
+            let argument = format!("--grid {}={}", axis.key, values_shown(&axis.values));
             let unknown_key = matches!(e, ProblemError::UnknownKey { .. })
                 && e.to_string()
                     .contains(&format!("`{}`", last_part(&axis.key)));
@@ -136,6 +149,71 @@ pub fn check_grid(
         }
     }
     Ok(())
+}
+
+/// An axis's values as a message shows them: all of a short axis, the first few of a long
+/// one with their count.
+fn values_shown(values: &[String]) -> String {
+    const SHOWN: usize = 8;
+    if values.len() <= SHOWN {
+        values.join(",")
+    } else {
+        format!("{},… ({} values)", values[..SHOWN].join(","), values.len())
+    }
+}
+
+/// The values of `axis` (indices, ascending) [`check_grid`] loads the problem with: the
+/// first; of its numbers, for the integers and for the finite floats each, the smallest and
+/// the largest (a problem's checks on a number are bounds), and each infinity or NaN; and
+/// each other value (a name, a boolean, a list), up to [`MAX_CHECKED_OTHERS`] of them.
+pub fn checked_values(axis: &Axis) -> Vec<usize> {
+    use toml::Value;
+    // (index, value) of the smallest and largest integer and finite float.
+    let mut ints: Option<((usize, i64), (usize, i64))> = None;
+    let mut floats: Option<((usize, f64), (usize, f64))> = None;
+    let mut picked = vec![0];
+    let mut others = 0;
+    for (i, text) in axis.values.iter().enumerate() {
+        let Ok(o) = crate::problem::Override::parse(&format!("{}={text}", axis.key)) else {
+            picked.push(i);
+            continue;
+        };
+        match o.value {
+            Value::Integer(x) => {
+                let (lo, hi) = ints.get_or_insert(((i, x), (i, x)));
+                if x < lo.1 {
+                    *lo = (i, x);
+                }
+                if x > hi.1 {
+                    *hi = (i, x);
+                }
+            }
+            Value::Float(x) if x.is_finite() => {
+                let (lo, hi) = floats.get_or_insert(((i, x), (i, x)));
+                if x < lo.1 {
+                    *lo = (i, x);
+                }
+                if x > hi.1 {
+                    *hi = (i, x);
+                }
+            }
+            Value::Float(_) => picked.push(i),
+            _ if others < MAX_CHECKED_OTHERS => {
+                others += 1;
+                picked.push(i);
+            }
+            _ => {}
+        }
+    }
+    if let Some(((lo, _), (hi, _))) = ints {
+        picked.extend([lo, hi]);
+    }
+    if let Some(((lo, _), (hi, _))) = floats {
+        picked.extend([lo, hi]);
+    }
+    picked.sort_unstable();
+    picked.dedup();
+    picked
 }
 
 fn last_part(key: &str) -> &str {
@@ -190,5 +268,44 @@ fn leaf_paths(table: &toml::Table, prefix: &str, out: &mut Vec<String>) {
             toml::Value::Table(t) => leaf_paths(t, &path, out),
             _ => out.push(path),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 100,000-value axis is checked at a few values, not one load per value: the first,
+    /// the smallest and largest integer and float, each infinity or NaN, and the names (at
+    /// most [`MAX_CHECKED_OTHERS`] of them).
+    #[test]
+    fn a_long_axis_is_checked_at_a_few_values() {
+        let mut values: Vec<String> = (0..100_000)
+            .map(|i| format!("{}", 0.5 + i as f64 * 1e-6))
+            .collect();
+        values[7] = "0.25".into(); // the smallest float
+        values[10] = "3".into(); // the only integer
+        values[20] = "nan".into();
+        values[30] = "-inf".into();
+        values[40] = "midpoint".into();
+        let axis = Axis::new("contacts.friction", values).unwrap();
+        assert_eq!(checked_values(&axis), [0, 7, 10, 20, 30, 40, 99_999]);
+
+        let names: Vec<String> = (0..1000).map(|i| format!("name{i}")).collect();
+        let axis = Axis::new("name", names).unwrap();
+        let checked = checked_values(&axis);
+        assert_eq!(checked.len(), MAX_CHECKED_OTHERS);
+        assert_eq!(checked[..3], [0, 1, 2]);
+
+        let knots = Axis::new("horizon.knots", vec!["21".into(), "5".into(), "41".into()]);
+        assert_eq!(checked_values(&knots.unwrap()), [0, 1, 2]);
+    }
+
+    /// A message names a long axis by its first values and its length, not all of them.
+    #[test]
+    fn a_long_axis_is_shown_short_in_messages() {
+        let values: Vec<String> = (0..100_000).map(|i| i.to_string()).collect();
+        assert_eq!(values_shown(&values), "0,1,2,3,4,5,6,7,… (100000 values)");
+        assert_eq!(values_shown(&values[..3]), "0,1,2");
     }
 }

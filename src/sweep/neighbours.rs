@@ -13,7 +13,7 @@ use std::collections::BTreeSet;
 use std::path::Path;
 
 use crate::sweep::grid::fnv1a;
-use crate::sweep::table::{OnDisk, Row, RunStatus, expected_parameters, read_result};
+use crate::sweep::table::{OnDisk, Row, RunStatus, expected_parameters, read_result, row_position};
 use crate::sweep::{Point, SweepError};
 use crate::transcription::SolveVerdict;
 
@@ -91,7 +91,7 @@ pub fn neighbours<'a>(point: &'a Point, points: &'a [Point]) -> impl Iterator<It
 /// current plan it has not tried yet (`tried` holds the attempt directories already folded
 /// in). In grid order of the target, then of the source.
 pub fn plan_round(points: &[Point], rows: &[Row], tried: &BTreeSet<String>) -> Vec<Attempt> {
-    let row_of = |index: usize| rows.iter().find(|r| r.index == index);
+    let row_of = |index: usize| row_position(rows, index).map(|i| &rows[i]);
     let mut attempts = Vec::new();
     for p in points {
         let Some(row) = row_of(p.index) else { continue };
@@ -124,7 +124,7 @@ pub fn plan_round(points: &[Point], rows: &[Row], tried: &BTreeSet<String>) -> V
 
 /// Whether `row`'s point has tried the current plan of every solved neighbour.
 pub fn settled(point: &Point, points: &[Point], rows: &[Row], tried: &BTreeSet<String>) -> bool {
-    let row_of = |index: usize| rows.iter().find(|r| r.index == index);
+    let row_of = |index: usize| row_position(rows, index).map(|i| &rows[i]);
     neighbours(point, points).all(|n| {
         row_of(n.index).is_none_or(|source| {
             rank(source) != 0 || tried.contains(&attempt_dir(point, n.index, &source.dir))
@@ -178,7 +178,7 @@ pub fn fold_round(
             continue;
         };
         let source_label = label_of_dir(points, &a.source_dir);
-        let Some(row) = rows.iter_mut().find(|r| r.index == a.target) else {
+        let Some(row) = row_position(rows, a.target).map(|i| &mut rows[i]) else {
             continue;
         };
         if improves(&candidate, row) {

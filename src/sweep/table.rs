@@ -298,6 +298,15 @@ pub struct TableWrites {
     last: Option<(std::time::Instant, std::time::Duration)>,
 }
 
+/// Where the row of point `index` is in `rows`: found by bisection in a table's rows (in
+/// grid order, so that a sweep's bookkeeping stays proportional to its points), by a scan in
+/// any other order.
+pub(crate) fn row_position(rows: &[Row], index: usize) -> Option<usize> {
+    rows.binary_search_by_key(&index, |r| r.index)
+        .ok()
+        .or_else(|| rows.iter().position(|r| r.index == index))
+}
+
 /// See [`TableWrites`].
 pub const REWRITE_SPACING: u32 = 10;
 
@@ -320,9 +329,8 @@ impl TableWrites {
 impl Table {
     /// The row of point `index` (every point of the table has one).
     pub(crate) fn row_mut(&mut self, index: usize) -> Result<&mut Row, SweepError> {
-        self.rows
-            .iter_mut()
-            .find(|r| r.index == index)
+        row_position(&self.rows, index)
+            .map(|i| &mut self.rows[i])
             .ok_or_else(|| SweepError::Internal("a point without a row".into()))
     }
 
@@ -585,6 +593,24 @@ mod tests {
         assert_eq!(lines[2], "1,2,pending,,,,,,,,,x,\"error: a, \"\"b\"\"\"");
         assert_eq!(t.rows[0].metric("metrics.slip"), Some(0.25));
         assert_eq!(t.rows[0].metric("objective"), Some(2.5));
+    }
+
+    /// A row is found by its point's index in a shard's rows (every third point), in rows of
+    /// another order, and not found when absent.
+    #[test]
+    fn rows_are_found_by_their_points_index() {
+        let grid = Grid::new(vec![Axis::parse("k=1,2,3,4,5,6,7,8,9").unwrap()]).unwrap();
+        let mut rows: Vec<Row> = grid
+            .points()
+            .filter(|p| p.index % 3 == 1)
+            .map(|p| Row::pending(&p, "x".into()))
+            .collect();
+        assert_eq!(row_position(&rows, 4), Some(1));
+        assert_eq!(row_position(&rows, 7), Some(2));
+        assert_eq!(row_position(&rows, 3), None);
+        rows.reverse();
+        assert_eq!(row_position(&rows, 1), Some(2));
+        assert_eq!(row_position(&rows, 7), Some(0));
     }
 
     /// A rewrite is due once ten times the last one's duration has passed; forced always.

@@ -1,7 +1,9 @@
 """Errors in Python's terms; repr that round-trips; the module-level functions; notebooks."""
 
 import html
+import os
 import re
+import shutil
 
 import pytest
 
@@ -107,3 +109,74 @@ def test_notebook_display_shows_the_summary_and_the_motion_page(hopper, hopper_s
     sim_page = sim._repr_html_()
     assert "simulation" in sim_page and "<iframe srcdoc=" in sim_page
     assert "midpoint" in sim_page
+
+
+class PathLike:
+    def __init__(self, path):
+        self.path = path
+
+    def __fspath__(self):
+        return self.path
+
+
+@pytest.mark.parametrize("path", [
+    bytes(HOPPER), PathLike(str(HOPPER)), PathLike(bytes(HOPPER)), HOPPER,
+])
+def test_bytes_and_path_like_paths_are_paths(path, tmp_path):
+    # As open() takes them: str, bytes and os.PathLike, everywhere a path goes.
+    p = vito.Problem(path)
+    assert p.name == "hopper-2d" and str(p.path) == str(HOPPER)
+    assert vito.Kinematics(path).contact_names == ["foot_contact"]
+    sim = vito.simulate(path, duration=0.1)
+    out = os.path.join(os.fsencode(tmp_path), b"sim")
+    assert sim.write(out) and (tmp_path / "sim" / "trajectory.csv").is_file()
+    s = vito.solve(path, set={"solver.ipopt.max_iter": 1}, out=PathLike(bytes(tmp_path / "s")))
+    assert (tmp_path / "s" / "summary.json").is_file()
+    s.write(bytes(tmp_path / "again"))
+    csv = bytes(tmp_path / "s" / "trajectory.csv")
+    warm = p.with_set({"solver.ipopt.max_iter": 1}).solve(warm_start=csv)
+    assert warm.summary["iterations"] == 1
+    assert vito.simulate(p, inputs=csv, duration=0.1).time[-1] == pytest.approx(0.1)
+    for bad in [3, None, bytearray(bytes(HOPPER)), PathLike(3)]:
+        with pytest.raises(TypeError, match="str, bytes or os.PathLike|str or bytes"):
+            vito.Problem(bad)
+
+
+def test_a_path_that_is_not_utf8_works(tmp_path):
+    # A name of bytes that are not UTF-8 (as Linux allows), given as bytes or as the str
+    # Python reads it as (os.fsdecode): the file loads, its repr and pickle give it back,
+    # results are written under such names; a missing one is FileNotFoundError naming it.
+    import pickle
+
+    shutil.copytree(ROOT / "problems" / "robots", tmp_path / "robots")
+    name = os.path.join(os.fsencode(tmp_path), b"hop\xffper.toml")
+    with open(name, "wb") as f:
+        f.write(HOPPER.read_bytes())
+    for given in (name, os.fsdecode(name)):
+        p = vito.Problem(given, set={"solver.ipopt.max_iter": 1})
+        assert os.fsencode(p.path) == name
+        assert os.fsencode(eval(repr(p), {"vito": vito}).path) == name
+        assert os.fsencode(pickle.loads(pickle.dumps(p)).path) == name
+    assert "b'" in repr(vito.Problem(name))
+    out = os.path.join(os.fsencode(tmp_path), b"out-\xfe")
+    s = p.solve(out=out)
+    assert os.path.isfile(os.path.join(out, b"summary.json"))
+    assert pickle.loads(pickle.dumps(s)).trajectory_csv() == s.trajectory_csv()
+    # A warm start is named in the problem's TOML, which holds UTF-8 only: a clear error.
+    with pytest.raises(ValueError, match="warm_start=b'.*': the path is not UTF-8"):
+        p.solve(warm_start=os.path.join(out, b"trajectory.csv"))
+    # A sweep writes under such a name; its warm starts would need to name it in TOML.
+    from concurrent.futures import ThreadPoolExecutor
+
+    sweep = os.path.join(os.fsencode(tmp_path), b"sweep-\xfe")
+    with pytest.raises(ValueError, match="out=b'.*': the directory's name is not UTF-8"):
+        vito.sweep(p, grid={"contacts.friction": [0.5]}, out=sweep, progress=False)
+    with ThreadPoolExecutor(1) as pool:
+        table = vito.sweep(p, grid={"contacts.friction": [0.5]}, out=sweep, executor=pool,
+                           neighbour_rounds=0, progress=False)
+    assert table["status"].tolist() == ["finished"]
+    missing = os.path.join(os.fsencode(tmp_path), b"no\xff.toml")
+    with pytest.raises(FileNotFoundError) as caught:
+        vito.Problem(missing)
+    assert os.fsencode(caught.value.filename) == missing
+    assert os.fsencode(caught.value.file) == missing

@@ -216,3 +216,58 @@ def test_generated_python_values_raise_ordinary_exceptions():
     assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
     assert "findings 0" in r.stdout, r.stdout[-3000:]
     assert "ProblemError" in r.stdout and "TypeError" in r.stdout, r.stdout[-3000:]
+
+
+def test_a_pickled_solution_claiming_a_trillion_friction_directions_is_refused():
+    # Its names of friction directions were built before anything was checked: 10^12 of
+    # them aborted the interpreter.
+    code, out, err = run_python(f"""
+        import pickle, vito
+        s = vito.Problem({str(HOPPER)!r}, set={{"solver.ipopt.max_iter": 2}}).solve()
+        restore, (path, sets, text, sha) = s.__reduce__()
+        text = text.replace("friction_directions = 2", "friction_directions = 1000000000000")
+        try:
+            restore(path, sets, text, sha)
+        except vito.VitoError as e:
+            print("VitoError:", e)
+    """)
+    assert code == 0, err
+    assert out.startswith("VitoError: cannot unpickle this vito.Solution: it has "
+                          "1000000000000 friction directions per contact, its problem 2"), out
+
+
+class NoTasks:
+    """An executor given no task: the test stops its sweep at the first progress."""
+
+    def submit(self, fn, *args, **kwargs):
+        raise AssertionError("no task was to be submitted")
+
+
+@pytest.mark.parametrize("how", ["processes", "executor"])
+def test_a_100000_value_axis_is_checked_with_a_few_loads(tmp_path, hopper, how):
+    # Before the first run, a sweep checks its grid against the problem: a few loads of the
+    # problem file per axis (its first, smallest and largest numbers), not one per value.
+    import vito
+
+    values = [0.3 + i * 1e-6 for i in range(100_000)]
+    seen = []
+
+    class Stop(Exception):
+        pass
+
+    def progress(counts):
+        seen.append((vito._vito._problem_loads() - before, counts["total"]))
+        raise Stop
+
+    before = vito._vito._problem_loads()
+    options = {"executor": NoTasks()} if how == "executor" else {"jobs": 1, "exe": "/bin/true"}
+    with pytest.raises(Stop):
+        vito.sweep(hopper, grid={"contacts.friction": values}, out=tmp_path / "s",
+                   progress=progress, **options)
+    assert seen[0][1] == 100_000
+    assert seen[0][0] <= 3, seen[0]
+    # The smallest value is among those loaded: a negative friction is still found up front.
+    with pytest.raises(ValueError, match=r"the value `-0.5` is not valid here"):
+        vito.sweep(hopper, grid={"contacts.friction": values[1:] + [-0.5]},
+                   out=tmp_path / "t", progress=False, **options)
+    assert not (tmp_path / "t").exists()

@@ -19,7 +19,9 @@ class SweepJob:
     ``run_dir``: the point's run directory (absolute); ``warm_start``: that neighbour's
     trajectory, or None; ``time_limit``: seconds, or None; ``starts``/``seed``: as for
     :meth:`Problem.solve`; ``attempt``: for a re-solve of the neighbour pass, its directory
-    in the sweep (None for the point's own run).
+    in the sweep (None for the point's own run); ``problem_sha256``: the problem file's
+    SHA-256 when the sweep opened (the worker refuses a file that has changed since; None:
+    not checked).
     """
 
     index: int
@@ -31,6 +33,7 @@ class SweepJob:
     starts: int = 1
     seed: int = 0
     attempt: str = None
+    problem_sha256: str = None
 
 
 def run_job(job):
@@ -38,7 +41,8 @@ def run_job(job):
     the problem with the job's overrides, solves, writes the run directory. Returns the time
     limit when it stopped the solve, else None. Needs no ``vito`` command."""
     return _vito._solve_point(
-        job.problem, list(job.sets), job.run_dir, job.time_limit, job.starts, job.seed
+        job.problem, list(job.sets), job.run_dir, job.time_limit, job.starts, job.seed,
+        job.problem_sha256,
     )
 
 
@@ -113,6 +117,7 @@ def run_on_executor(problem, grid, out, executor, jobs, time_limit, neighbour, p
                     sets=tuple(job["sets"]), run_dir=_os.fspath(job["run_dir"]),
                     warm_start=None if job["warm_start"] is None else _os.fspath(job["warm_start"]),
                     time_limit=time_limit, starts=starts, seed=seed, attempt=job["attempt"],
+                    problem_sha256=job["problem_sha256"],
                 )
                 pending[executor.submit(run_job, task)] = task
                 show(sweep.counts)

@@ -401,8 +401,9 @@ fn sweep_refuses_foreign_directories_and_bad_grids() {
     assert!(!t.path().join("all").exists());
 }
 
-/// A 10⁶-point grid is checked axis by axis (the problem loaded once per value, not once per
-/// point): a bad value on the last axis is found before anything runs, also with --shard.
+/// A 10⁶-point grid is checked axis by axis (the problem loaded with a few values of each
+/// axis, not once per point): a bad value on the last axis is found before anything runs,
+/// also with --shard.
 /// Grids of 10^6 and 2^64 points (a product that wraps to 0) are refused before anything is
 /// loaded, run or written (exit 2, naming the limit); a bad value in a grid within the limit
 /// is found axis by axis.
