@@ -292,6 +292,13 @@ pub(crate) fn csv_dataframe<'py>(py: Python<'py>, csv: &str) -> PyResult<Bound<'
 }
 
 /// `progress=`: None or a callable, checked before anything runs (a TypeError naming it).
+/// A count argument (`starts=`, `jobs=`), checked as the command checks its option: 1 to
+/// `max`.
+pub(crate) fn count(name: &str, value: usize, max: usize) -> PyResult<usize> {
+    vito::files::input::checked_count(value, max)
+        .map_err(|m| PyValueError::new_err(format!("{name}={value}: {m}")))
+}
+
 pub(crate) fn check_progress(py: Python<'_>, progress: Option<&Py<PyAny>>) -> PyResult<()> {
     match progress {
         Some(p) if !p.bind(py).is_callable() => Err(PyTypeError::new_err(format!(

@@ -179,11 +179,7 @@ impl Problem {
         warm_start: Option<&Bound<'_, PyAny>>,
         progress: Option<Py<PyAny>>,
     ) -> PyResult<Py<Solution>> {
-        if starts == 0 {
-            return Err(pyo3::exceptions::PyValueError::new_err(
-                "starts=0: give at least 1",
-            ));
-        }
+        let starts = crate::convert::count("starts", starts, vito::transcription::MAX_STARTS)?;
         check_progress(py, progress.as_ref())?;
         let problem = match warm_start {
             None => self.loaded.clone(),

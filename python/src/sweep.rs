@@ -199,13 +199,9 @@ pub(crate) fn _sweep(
     seed: u64,
     neighbour_rounds: usize,
 ) -> PyResult<PathBuf> {
-    if jobs == 0 {
-        return Err(PyValueError::new_err("jobs=0: give at least 1"));
-    }
+    let jobs = crate::convert::count("jobs", jobs, vito::sweep::MAX_JOBS)?;
     crate::convert::check_progress(py, progress.as_ref())?;
-    if starts == 0 {
-        return Err(PyValueError::new_err("starts=0: give at least 1"));
-    }
+    let starts = crate::convert::count("starts", starts, vito::transcription::MAX_STARTS)?;
     let time_limit = time_limit_of(time_limit)?.map(Duration::from_secs_f64);
     let grid = grid_of(py, problem, grid)?;
     // Looked up once the arguments are known to be good.
@@ -460,9 +456,7 @@ pub(crate) fn _solve_point(
 ) -> PyResult<Option<f64>> {
     let (problem, run_dir) = (problem.0, run_dir.0);
     let time_limit = time_limit_of(time_limit)?;
-    if starts == 0 {
-        return Err(PyValueError::new_err("starts=0: give at least 1"));
-    }
+    let starts = crate::convert::count("starts", starts, vito::transcription::MAX_STARTS)?;
     let loaded = Arc::new(load_problem(py, &problem, &sets)?);
     if let Some(sha256) = &sha256 {
         same_file(

@@ -141,15 +141,15 @@ pub enum Command {
         /// `ipopt.polish.log`).
         #[arg(long)]
         ipopt_log: bool,
-        /// Solve from K starts (the file's guess, then K−1 seeded perturbations of it) and
-        /// keep the best feasible; summary.json lists all under `starts`.
+        /// Solve from K starts (1 to 10000: the file's guess, then K−1 seeded perturbations of
+        /// it) and keep the best feasible; summary.json lists all under `starts`.
         #[arg(long, value_name = "K", default_value_t = 1)]
         starts: usize,
         /// Seed of the multi-start perturbations.
         #[arg(long, default_value_t = 0)]
         seed: u64,
-        /// Starts solved at a time, each in its own process (default: the number of cores);
-        /// the result is the same as with --jobs 1.
+        /// Starts solved at a time (1 to 1024), each in its own process (default: the number
+        /// of cores); the result is the same as with --jobs 1.
         #[arg(long, value_name = "J")]
         jobs: Option<usize>,
         /// Internal: solve only this start of the --starts (a parallel multi-start's share).
@@ -278,7 +278,7 @@ pub enum Command {
     },
     /// Solve a problem over a grid of values, each run in its own process; resumable.
     #[command(
-        after_help = "Examples:\n  vito sweep problems/hopper_2d.toml --grid contacts.friction=0.3,0.8 --grid slack.weight=10,100 --out out/sweep\n  vito sweep report out/sweep --metric objective\n  vito sweep collect out/shard-0 out/shard-1 --out out/all\n\nExit codes: 0 every run finished and solved, 1 some run failed, timed out, did not solve or was stopped by a signal (collect: points missing, without --partial), 2 input or usage error, 3 internal error",
+        after_help = "Examples:\n  vito sweep problems/hopper_2d.toml --grid contacts.friction=0.3,0.8 --grid slack.weight=10,100 --out out/sweep\n  vito sweep report out/sweep --metric objective\n  vito sweep collect out/shard-0 out/shard-1 --out out/all\n\nExit codes: 0 every run finished and solved, 1 some run failed, timed out, did not solve or was stopped by a signal (collect: points missing, without --partial), 2 input or usage error, 3 internal error, 4 output could not be written (standard output or error, or a table or plot on a full or read-only disk)",
         args_conflicts_with_subcommands = true,
         subcommand_negates_reqs = true
     )]
@@ -438,7 +438,7 @@ pub struct SweepRunArgs {
     /// Overrides for every run, as for `solve` (repeatable).
     #[arg(long = "set", value_name = "KEY.PATH=VALUE")]
     pub(super) set: Vec<String>,
-    /// Runs at a time (default: the number of cores).
+    /// Runs at a time (1 to 1024; default: the number of cores).
     #[arg(long)]
     pub(super) jobs: Option<usize>,
     /// Sweep directory: the table and each run's own directory (default: out/sweep-<file stem>).
@@ -454,8 +454,8 @@ pub struct SweepRunArgs {
     /// `neighbour`: start each run from the trajectory of its nearest finished grid point.
     #[arg(long, value_enum, default_value = "none")]
     pub(super) warm_start: WarmStartArg,
-    /// Solve each point from K starts and keep its best (as `vito solve --starts`); the table
-    /// gets the solved starts' objectives (objective_starts_min, _max).
+    /// Solve each point from K starts (1 to 10000) and keep its best (as `vito solve
+    /// --starts`); the table gets the solved starts' objectives (objective_starts_min, _max).
     #[arg(long, value_name = "K", default_value_t = 1)]
     pub(super) starts: usize,
     /// Seed of the starts' perturbations (as `vito solve --seed`).
@@ -475,6 +475,22 @@ pub(super) fn time_limit(seconds: Option<f64>) -> Result<Option<std::time::Durat
         .transpose()
         .map_err(CliError::Input)
         .map(|t| t.map(std::time::Duration::from_secs_f64))
+}
+
+/// A count given on the command line (`--starts`, `--jobs`), checked: 1 to `max`.
+pub(super) fn count(option: &str, value: usize, max: usize) -> Result<usize, CliError> {
+    vito::files::input::checked_count(value, max)
+        .map_err(|m| CliError::Input(format!("{option} {value}: {m}")))
+}
+
+/// `--jobs`, checked ([`vito::sweep::MAX_JOBS`]); default: the number of cores.
+pub(super) fn jobs(jobs: Option<usize>) -> Result<usize, CliError> {
+    match jobs {
+        Some(j) => count("--jobs", j, vito::sweep::MAX_JOBS),
+        None => Ok(std::thread::available_parallelism()
+            .map_or(1, std::num::NonZero::get)
+            .min(vito::sweep::MAX_JOBS)),
+    }
 }
 
 /// How often `vito solve` prints a progress line.

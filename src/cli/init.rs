@@ -77,7 +77,7 @@ pub(super) fn init(urdf: &Path, base: BaseType, out: Option<&Path>) -> Result<u8
             if let Err(e) = file.write_all(text.as_bytes()) {
                 // The half-written file is the one just created.
                 let _ = std::fs::remove_file(path);
-                return Err(cannot(e));
+                return Err(CliError::io(path)(e));
             }
             note!("wrote {}", path.display());
         }

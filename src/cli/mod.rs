@@ -84,12 +84,8 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
             progress,
             sweep_parent,
         } => {
-            if starts == 0 {
-                return Err(CliError::Input("--starts 0: give at least 1".into()));
-            }
-            if jobs == Some(0) {
-                return Err(CliError::Input("--jobs 0: give at least 1".into()));
-            }
+            let starts = args::count("--starts", starts, vito::transcription::MAX_STARTS)?;
+            let jobs = args::jobs(jobs)?;
             if only_start.is_some_and(|k| k >= starts) {
                 return Err(CliError::Input(format!(
                     "--only-start {}: give a start below --starts {starts}",
@@ -105,9 +101,7 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
                     seed,
                     only: only_start,
                 },
-                jobs: jobs.unwrap_or_else(|| {
-                    std::thread::available_parallelism().map_or(1, std::num::NonZero::get)
-                }),
+                jobs,
                 start_result,
                 time_limit,
                 progress: solve::ProgressMode::from_arg(progress),

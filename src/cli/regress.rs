@@ -17,15 +17,9 @@ pub(super) fn record_path(record: Option<&Path>, files: &[PathBuf]) -> PathBuf {
 }
 
 pub(super) fn regress(record_path: &Path, files: &[PathBuf], bless: bool) -> Result<u8, CliError> {
-    use vito::regress::{RegressError, Verdict};
+    use vito::regress::Verdict;
     let exe = std::env::current_exe().map_err(|e| CliError::Internal(e.to_string()))?;
-    let rows = vito::regress::regress(&exe, record_path, files, bless).map_err(|e| match e {
-        RegressError::Record(e) => CliError::Golden(e),
-        e @ (RegressError::NoProblems { .. }
-        | RegressError::Setup { .. }
-        | RegressError::Scratch { .. }) => CliError::Input(e.to_string()),
-        e @ RegressError::Spawn { .. } => CliError::Internal(e.to_string()),
-    })?;
+    let rows = vito::regress::regress(&exe, record_path, files, bless)?;
     out!(
         "{:<32} {:<28} {:>18} {:>18} {:>10}  result",
         "problem",

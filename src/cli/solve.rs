@@ -331,14 +331,19 @@ pub(super) fn print_summary(
         );
     }
     for (k, r) in s.starts.iter().enumerate() {
-        out!(
-            "  start {k:<3} {:<28} objective {:.10e}  max slack {:.3e}  {} iterations{}",
-            r.verdict.name(),
-            r.objective,
-            r.max_slack,
-            r.iterations,
-            if k == s.best_start { "  (best)" } else { "" }
-        );
+        match &r.outcome {
+            vito::transcription::StartOutcome::Ended(e) => out!(
+                "  start {k:<3} {:<28} objective {:.10e}  max slack {:.3e}  {} iterations{}",
+                e.verdict.name(),
+                e.objective,
+                e.max_slack,
+                e.iterations,
+                if k == s.best_start { "  (best)" } else { "" }
+            ),
+            vito::transcription::StartOutcome::Lost(lost) => {
+                out!("  start {k:<3} {:<28} {}", lost.status(), lost.how)
+            }
+        }
     }
     if contacts {
         out!("max compl.   {:.3e}", s.max_complementarity);

@@ -9,7 +9,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-use vito::transcription::{MultiStart, Solution};
+use vito::transcription::{LostStart, MultiStart, Solution, StartOutcome, StartRecord};
 
 use super::error::CliError;
 
@@ -20,8 +20,7 @@ pub(super) const START_RESULT_FLAG: &str = "--start-result";
 /// Writes the solution of one start for the process that runs the starts in parallel.
 pub(super) fn write_start_result(path: &Path, solution: &Solution) -> Result<(), CliError> {
     let text = serde_json::to_string(solution).map_err(|e| CliError::Internal(e.to_string()))?;
-    vito::files::output::write_atomic(path, text.as_bytes())
-        .map_err(|e| CliError::Internal(format!("{}: {e}", path.display())))
+    vito::files::output::write_atomic(path, text.as_bytes()).map_err(CliError::io(path))
 }
 
 struct Running {
@@ -31,8 +30,10 @@ struct Running {
 }
 
 /// Solves the starts of `multi` in `jobs` processes at a time and returns the best, with
-/// every start's record. A stop request (`cancel`) is passed on to the running starts (they
-/// stop after their current iteration and report their iterates); no new start begins.
+/// every start's record: a start whose process ended without a result (killed, or failing)
+/// is recorded as lost, and said so on the terminal. A stop request (`cancel`) is passed on
+/// to the running starts (they stop after their current iteration and report their
+/// iterates); no new start begins.
 pub(super) fn solve_in_parallel(
     file: &Path,
     set: &[String],
@@ -53,13 +54,13 @@ pub(super) fn solve_in_parallel(
         })?;
     let result_path = |k: usize| scratch.path().join(format!("start-{k}.json"));
     let log_path = |k: usize| scratch.path().join(format!("start-{k}.log"));
-    let mut queue: Vec<usize> = (0..multi.starts).rev().collect();
+    let mut next = 0;
     let mut running: Vec<Running> = Vec::new();
     let mut results: Vec<(usize, Solution)> = Vec::new();
-    let mut failures: Vec<String> = Vec::new();
+    let mut lost: Vec<(usize, StartRecord)> = Vec::new();
     let began = Instant::now();
     let mut stopping = false;
-    while (!queue.is_empty() && !stopping) || !running.is_empty() {
+    while (next < multi.starts && !stopping) || !running.is_empty() {
         if !stopping && cancel.load(Ordering::SeqCst) {
             stopping = true;
             for r in &running {
@@ -69,9 +70,17 @@ pub(super) fn solve_in_parallel(
                 );
             }
         }
-        while running.len() < jobs && !stopping {
-            let Some(k) = queue.pop() else { break };
+        while running.len() < jobs && next < multi.starts && !stopping {
+            let k = next;
+            next += 1;
             let child = spawn(&exe, file, set, multi, k, &result_path(k), &log_path(k))?;
+            if !quiet {
+                note!(
+                    "start {k}/{}: running as process {}",
+                    multi.starts,
+                    child.id()
+                );
+            }
             running.push(Running {
                 start: k,
                 child,
@@ -81,63 +90,102 @@ pub(super) fn solve_in_parallel(
         std::thread::sleep(Duration::from_millis(20));
         let mut i = 0;
         while i < running.len() {
-            let done = match running[i].child.try_wait() {
-                Ok(Some(_)) => true,
-                Ok(None) => false,
+            let status = match running[i].child.try_wait() {
+                Ok(Some(status)) => status,
+                Ok(None) => {
+                    i += 1;
+                    continue;
+                }
                 Err(e) => return Err(CliError::Internal(format!("waiting for a start: {e}"))),
             };
-            if !done {
-                i += 1;
-                continue;
-            }
             let r = running.swap_remove(i);
             let read = std::fs::read_to_string(result_path(r.start))
                 .ok()
                 .and_then(|t| serde_json::from_str::<Solution>(&t).ok());
-            match read {
-                Some(s) => {
-                    if !quiet {
-                        let ended = results.len() + failures.len() + 1;
-                        let left = multi.starts - ended;
-                        let eta = if left > 0 && !stopping {
-                            let per = began.elapsed().as_secs_f64() / ended as f64;
-                            format!(", ETA {:.0} s", per * left as f64)
-                        } else {
-                            String::new()
-                        };
-                        note!(
-                            "start {}/{}: {}, objective {:.6e}, max slack {:.1e}, {} iterations, {:.1} s{eta}",
-                            r.start,
-                            multi.starts,
-                            s.verdict().name(),
-                            s.objective,
-                            s.max_slack,
-                            s.iterations,
-                            r.started.elapsed().as_secs_f64()
-                        );
-                    }
-                    results.push((r.start, s));
-                }
-                None => {
-                    let log = std::fs::read_to_string(log_path(r.start)).unwrap_or_default();
-                    let why = log
-                        .lines()
-                        .rev()
-                        .find(|l| l.starts_with("error:"))
-                        .unwrap_or("it ended without a result")
-                        .to_owned();
-                    note!("start {}/{}: failed: {why}", r.start, multi.starts);
-                    failures.push(why);
-                }
+            let Some(s) = read else {
+                let ended = lost_start(status, &log_path(r.start));
+                note!("start {}/{}: {}", r.start, multi.starts, ended.how);
+                lost.push((
+                    r.start,
+                    StartRecord {
+                        seed: multi.seed_of(r.start),
+                        outcome: StartOutcome::Lost(ended),
+                    },
+                ));
+                continue;
+            };
+            if !quiet {
+                let ended = results.len() + lost.len() + 1;
+                let left = multi.starts - ended;
+                let eta = if left > 0 && !stopping {
+                    let per = began.elapsed().as_secs_f64() / ended as f64;
+                    format!(", ETA {:.0} s", per * left as f64)
+                } else {
+                    String::new()
+                };
+                note!(
+                    "start {}/{}: {}, objective {:.6e}, max slack {:.1e}, {} iterations, {:.1} s{eta}",
+                    r.start,
+                    multi.starts,
+                    s.verdict().name(),
+                    s.objective,
+                    s.max_slack,
+                    s.iterations,
+                    r.started.elapsed().as_secs_f64()
+                );
             }
+            results.push((r.start, s));
         }
     }
-    vito::transcription::best_of(results).ok_or_else(|| {
-        CliError::Internal(format!(
-            "no start returned a result: {}",
-            failures.first().map_or("stopped before any ended", |s| s)
+    let why: Vec<String> = lost
+        .iter()
+        .map(|(k, r)| match &r.outcome {
+            StartOutcome::Lost(l) => format!("start {k}: {}", l.how),
+            StartOutcome::Ended(_) => format!("start {k}"),
+        })
+        .collect();
+    vito::transcription::best_of(results, lost).ok_or_else(|| {
+        CliError::NoResult(format!(
+            "no start returned a result ({}); nothing was written",
+            if why.is_empty() {
+                "stopped before any ended".to_owned()
+            } else {
+                why.join("; ")
+            }
         ))
     })
+}
+
+/// How the process of a start that wrote no result ended: the signal that killed it, or its
+/// exit code and the last error line of its log.
+fn lost_start(status: std::process::ExitStatus, log: &Path) -> LostStart {
+    use std::os::unix::process::ExitStatusExt;
+    if let Some(signal) = status.signal() {
+        use rustix::process::Signal;
+        let names = [
+            (Signal::HUP, "SIGHUP"),
+            (Signal::INT, "SIGINT"),
+            (Signal::ABORT, "SIGABRT"),
+            (Signal::KILL, "SIGKILL"),
+            (Signal::SEGV, "SIGSEGV"),
+            (Signal::TERM, "SIGTERM"),
+        ];
+        let name = names
+            .iter()
+            .find(|(s, _)| s.as_raw() == signal)
+            .map_or(String::new(), |(_, n)| format!(" ({n})"));
+        return LostStart {
+            signal: Some(signal),
+            how: format!("killed by signal {signal}{name}"),
+        };
+    }
+    let code = status.code().unwrap_or(-1);
+    let log = std::fs::read_to_string(log).unwrap_or_default();
+    let how = match log.lines().rev().find(|l| l.starts_with("error:")) {
+        Some(error) => format!("failed (exit {code}): {error}"),
+        None => format!("failed (exit {code}) without a result"),
+    };
+    LostStart { signal: None, how }
 }
 
 fn spawn(
@@ -153,10 +201,8 @@ fn spawn(
         .write(true)
         .create_new(true)
         .open(log)
-        .map_err(|e| CliError::Internal(format!("{}: {e}", log.display())))?;
-    let log_err = log_file
-        .try_clone()
-        .map_err(|e| CliError::Internal(e.to_string()))?;
+        .map_err(CliError::io(log))?;
+    let log_err = log_file.try_clone().map_err(CliError::io(log))?;
     let mut cmd = Command::new(exe);
     cmd.arg("solve").arg(file).arg("--quiet");
     for s in set {
@@ -177,5 +223,8 @@ fn spawn(
         .stdout(log_file)
         .stderr(log_err)
         .spawn()
-        .map_err(|e| CliError::Internal(format!("cannot run {}: {e}", exe.display())))
+        .map_err(|source| CliError::Io {
+            what: format!("cannot run {}", exe.display()),
+            source,
+        })
 }

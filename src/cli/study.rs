@@ -111,14 +111,13 @@ pub(super) fn tracking(
     let staged = target.stage().map_err(report::ReportError::from)?;
     let plans_csv = staged.path().join("tracking_plans.csv");
     vito::files::output::write_atomic(&plans_csv, result.plans_csv().as_bytes())
-        .map_err(|e| CliError::Internal(format!("{}: {e}", plans_csv.display())))?;
+        .map_err(CliError::io(&plans_csv))?;
     let plans_dir = staged.path().join("plans");
-    std::fs::create_dir_all(&plans_dir)
-        .map_err(|e| CliError::Internal(format!("{}: {e}", plans_dir.display())))?;
+    std::fs::create_dir_all(&plans_dir).map_err(CliError::io(&plans_dir))?;
     for p in &result.plans {
         let path = plans_dir.join(vito::study::tracking::TrackingResult::plan_file_name(p));
         vito::files::output::write_atomic(&path, p.trajectory_csv.as_bytes())
-            .map_err(|e| CliError::Internal(format!("{}: {e}", path.display())))?;
+            .map_err(CliError::io(&path))?;
     }
     for (measure, table) in result.tables() {
         table.write(
@@ -183,8 +182,7 @@ pub(super) fn tracking_collect(
     let staged = target.stage().map_err(report::ReportError::from)?;
     let write = |name: &str, text: &str| {
         let path = staged.path().join(name);
-        vito::files::output::write_atomic(&path, text.as_bytes())
-            .map_err(|e| CliError::Internal(format!("{}: {e}", path.display())))
+        vito::files::output::write_atomic(&path, text.as_bytes()).map_err(CliError::io(&path))
     };
     write("tracking_plans.csv", &set.plans_csv())?;
     let gaits = dirs.len();

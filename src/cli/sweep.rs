@@ -26,12 +26,8 @@ pub(super) fn sweep(args: SweepRunArgs) -> Result<u8, CliError> {
         .transpose()?
         .unwrap_or(Shard::ALL);
     let time_limit = super::args::time_limit(args.time_limit)?;
-    if args.jobs == Some(0) {
-        return Err(CliError::Input("--jobs 0: give at least 1".into()));
-    }
-    if args.starts == 0 {
-        return Err(CliError::Input("--starts 0: give at least 1".into()));
-    }
+    let jobs = super::args::jobs(args.jobs)?;
+    let starts = super::args::count("--starts", args.starts, vito::transcription::MAX_STARTS)?;
     let overrides = parse_overrides(&args.set)?;
     let problem = load(&file, &overrides)?;
     vito::sweep::check_grid(&file, &overrides, &grid)?;
@@ -62,9 +58,7 @@ pub(super) fn sweep(args: SweepRunArgs) -> Result<u8, CliError> {
         sets: args.set.clone(),
         grid,
         shard,
-        jobs: args.jobs.unwrap_or_else(|| {
-            std::thread::available_parallelism().map_or(1, std::num::NonZero::get)
-        }),
+        jobs,
         time_limit,
         out: out.clone(),
         warm_start: match args.warm_start {
@@ -72,7 +66,7 @@ pub(super) fn sweep(args: SweepRunArgs) -> Result<u8, CliError> {
             WarmStartArg::Neighbour => WarmStart::Neighbour,
         },
         stop: Some(stop),
-        starts: args.starts,
+        starts,
         seed: args.seed,
         neighbour_rounds: args.neighbour_rounds,
     };

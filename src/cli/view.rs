@@ -300,8 +300,11 @@ pub(super) fn view(
             vito::files::names::escape_controls(&format!("warning: {w}"))
         );
     }
-    // A full disk or a file too large: the user's environment, nothing replaced.
+    // A full disk or a file too large: unwritable output (exit 4), as for every command's
+    // results; another refusal (no permission, a missing directory) is the user's path.
     let write_err = |e: vito::view::ViewError| {
+        let full = matches!(&e, vito::view::ViewError::Io { source, .. }
+            if super::error::io_exit_code(source) == super::error::EXIT_OUTPUT);
         let text = match e {
             // The operating system's words, without the temporary file's name.
             vito::view::ViewError::Io { path, source } => {
@@ -321,9 +324,14 @@ pub(super) fn view(
             }
             other => other.to_string(),
         };
-        CliError::Input(format!(
+        let message = format!(
             "cannot write {text}; nothing there was replaced: free some space or choose another file"
-        ))
+        );
+        if full {
+            CliError::Output(message)
+        } else {
+            CliError::Input(message)
+        }
     };
     if let (Some(n), Some(svg)) = (strip, svg) {
         vito::view::write_atomically(

@@ -116,6 +116,18 @@ pub fn checked_span(option: &str, value: f64) -> Result<f64, String> {
     }
 }
 
+/// Checks a count given on the command line (`--starts`, `--jobs`) before anything is
+/// allocated for it: 1 to `max`; the message says which bound it breaks.
+pub fn checked_count(value: usize, max: usize) -> Result<usize, String> {
+    if value == 0 {
+        Err("give at least 1".into())
+    } else if value > max {
+        Err(format!("give at most {max}"))
+    } else {
+        Ok(value)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -39,23 +39,21 @@ pub fn write_atomic(path: &Path, contents: &[u8]) -> io::Result<()> {
 /// writers that open a path themselves, as plotters does): that path lies in a fresh private
 /// directory (mode 0700, created exclusively beside `path`), so no planted link can be there;
 /// the file is then renamed over `path` and the directory removed. `write`'s error is
-/// returned as it is; an I/O error as its text, naming `path`.
-pub fn write_atomic_with(
+/// returned as it is, and so is an I/O error (the caller names `path`).
+pub fn write_atomic_with<E: From<io::Error>>(
     path: &Path,
-    write: impl FnOnce(&Path) -> Result<(), String>,
-) -> Result<(), String> {
+    write: impl FnOnce(&Path) -> Result<(), E>,
+) -> Result<(), E> {
     let dir = match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
     };
-    let fail = |e: io::Error| format!("{}: {e}", path.display());
     let private = tempfile::Builder::new()
         .prefix(".vito-write-")
-        .tempdir_in(dir)
-        .map_err(fail)?;
+        .tempdir_in(dir)?;
     let staged = private.path().join("file");
     write(&staged)?;
-    std::fs::rename(&staged, path).map_err(fail)
+    Ok(std::fs::rename(&staged, path)?)
 }
 
 #[cfg(test)]
@@ -86,10 +84,7 @@ mod tests {
         assert_eq!(std::fs::read_to_string(&link).unwrap(), "replaced");
         assert_eq!(std::fs::read_to_string(&victim).unwrap(), "precious");
         let svg = dir.path().join("page.svg");
-        write_atomic_with(&svg, |p| {
-            std::fs::write(p, "svg").map_err(|e| e.to_string())
-        })
-        .unwrap();
+        write_atomic_with(&svg, |p| std::fs::write(p, "svg")).unwrap();
         assert_eq!(std::fs::read_to_string(&svg).unwrap(), "svg");
         assert_eq!(std::fs::read_to_string(&victim).unwrap(), "precious");
         // Nothing else is left behind: the victim, three links, three files.

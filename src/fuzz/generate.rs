@@ -450,6 +450,7 @@ pub(super) fn generate(
         problem: None,
         urdf: String::new(),
         set: Vec::new(),
+        counts: Vec::new(),
         base,
         csv: None,
         name: None,
@@ -520,5 +521,36 @@ pub(super) fn generate(
             input.urdf = mutate(&s.urdf, rng);
         }
     }
+    if input.kind == Kind::Problem {
+        // Drawn after the input's own draws, so the file and URDF are what they were.
+        input.counts = generated_counts(rng);
+    }
     input
+}
+
+/// `--starts` and `--jobs` as a command line gives them: at, around and far past their
+/// limits ([`super::COUNTS`]), 0, and any 64-bit number.
+pub(super) fn generated_counts(rng: &mut SeededRng) -> Vec<(&'static str, usize)> {
+    super::COUNTS
+        .iter()
+        .map(|&(option, max)| {
+            let value = match rng.index(4) {
+                0 => [
+                    0,
+                    1,
+                    2,
+                    max - 1,
+                    max,
+                    max + 1,
+                    2 * max,
+                    1_000_000_000,
+                    usize::MAX,
+                ][rng.index(9)],
+                1 => rng.index(max + 2),
+                2 => max.saturating_add(1 + rng.index(1 << 20)),
+                _ => rng.next_u64() as usize,
+            };
+            (option, value)
+        })
+        .collect()
 }

@@ -5,7 +5,9 @@
 //!   (byte changes, token swaps, numbers replaced by NaN, ±inf, 1e308, −0 or huge integers,
 //!   lines deleted or repeated, deep nesting, hostile snippets), through problem loading
 //!   ([`crate::problem::load_from_str`], parsing and every validation check, the URDF
-//!   included) and URDF loading ([`crate::model::Model::from_urdf_str`]);
+//!   included) and URDF loading ([`crate::model::Model::from_urdf_str`]); each `problem`
+//!   input also carries `--starts` and `--jobs` counts at and past their limits ([`COUNTS`]),
+//!   through the commands' count check (accepted exactly within the limits, else a panic);
 //! - `expression`: deep expressions (up to 50,000 nested parentheses, unary minus or
 //!   functions) in numeric fields, in the file and through `--set`, `--set` key paths of up
 //!   to 20,000 parts, and TOML arrays, inline tables, table headers and dotted keys nested
@@ -123,6 +125,27 @@ fn process_cpu_time() -> Duration {
 /// An input taking more CPU time than this is a hang.
 pub const HANG: Duration = Duration::from_secs(10);
 
+/// The counts a command line gives (`vito solve`'s and `vito sweep`'s `--starts` and `--jobs`)
+/// with the limit the commands check each against before anything is allocated for it.
+pub const COUNTS: [(&str, usize); 2] = [
+    ("--starts", crate::transcription::MAX_STARTS),
+    ("--jobs", crate::sweep::MAX_JOBS),
+];
+
+/// Checks `counts` as the commands do ([`crate::files::input::checked_count`]); panics (a
+/// finding) when a count is accepted past its limit or refused within it.
+fn check_counts(counts: &[(&str, usize)]) {
+    for &(option, value) in counts {
+        let max = COUNTS.iter().find(|(o, _)| *o == option).map_or(0, |c| c.1);
+        let accepted = crate::files::input::checked_count(value, max).is_ok();
+        assert_eq!(
+            accepted,
+            (1..=max).contains(&value),
+            "{option} {value} (limit {max})"
+        );
+    }
+}
+
 /// What an input is made of and which library calls it goes through.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Kind {
@@ -196,6 +219,8 @@ pub struct Input {
     pub urdf: String,
     /// `--set` arguments, for `problem`.
     pub set: Vec<String>,
+    /// Command-line counts (`--starts`, `--jobs`) and their values, for `problem`.
+    pub counts: Vec<(&'static str, usize)>,
     /// The base the URDF alone is loaded with.
     pub base: BaseType,
     /// A trajectory CSV, the reader it goes through and the CSV target (problem) it is for.
@@ -216,6 +241,14 @@ impl Input {
         }
         if !self.set.is_empty() {
             out.push(("set.txt".to_owned(), self.set.join("\n")));
+        }
+        if !self.counts.is_empty() {
+            let lines: Vec<String> = self
+                .counts
+                .iter()
+                .map(|(o, v)| format!("{o} {v}"))
+                .collect();
+            out.push(("counts.txt".to_owned(), lines.join("\n")));
         }
         if let Some((reader, _, text)) = &self.csv {
             out.push((format!("{reader:?}.csv"), text.clone()));
@@ -389,6 +422,7 @@ fn load_once(input: &Input, targets: &[CsvTarget]) -> bool {
     match (input.kind, &input.problem, &input.csv) {
         (_, _, Some((reader, t, text))) => read_csv_once(*reader, &targets[*t], text),
         (_, Some(problem), _) => {
+            check_counts(&input.counts);
             let Ok(set) = input
                 .set
                 .iter()
@@ -676,6 +710,30 @@ pub fn run(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The generated `--starts` and `--jobs` fall on both sides of each limit, and the
+    /// commands' check refuses exactly those past it.
+    #[test]
+    fn generated_counts_cross_their_limits() {
+        let mut rng = SeededRng::new(7);
+        let mut seen = std::collections::BTreeSet::new();
+        for _ in 0..400 {
+            let counts = generate::generated_counts(&mut rng);
+            check_counts(&counts);
+            for (option, value) in counts {
+                let max = COUNTS.iter().find(|(o, _)| *o == option).map_or(0, |c| c.1);
+                seen.insert((option, value == 0, value > max));
+            }
+        }
+        for (option, _) in COUNTS {
+            for side in [(true, false), (false, false), (false, true)] {
+                assert!(
+                    seen.contains(&(option, side.0, side.1)),
+                    "{option} {side:?}"
+                );
+            }
+        }
+    }
 
     /// The mutator repeats for a seed and changes its input.
     #[test]

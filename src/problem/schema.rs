@@ -89,7 +89,7 @@ pub struct ProblemFile {
 pub struct TrackingSection {
     /// `NAME = [kp, kd]` per input, or `all = [kp, kd]` (a named input overrides `all`):
     /// kp in input units per coordinate unit (N·m/rad), kd per coordinate rate (N·m·s/rad).
-    #[serde(default)]
+    #[serde(default, deserialize_with = "exact_map")]
     pub gains: BTreeMap<String, [f64; 2]>,
     /// `explicit` (default) or `implicit`: PD on the step's start or end state.
     #[serde(default)]
@@ -106,6 +106,7 @@ pub struct RobotSection {
     #[serde(default)]
     pub base: BaseName,
     /// Gravity in world coordinates, robot units (default [0, 0, −9.81] m/s²).
+    #[serde(default, deserialize_with = "exact_option")]
     pub gravity: Option<[f64; 3]>,
     /// Unit system, for the reader: `"SI"` (default) or e.g. `"mm g ms"`. Informational only:
     /// vito never converts; every number in the file is in these units.
@@ -201,6 +202,7 @@ pub struct ContactPointEntry {
     /// URDF link name.
     pub link: String,
     /// Point in the link frame [length]: the sphere's centre when `radius` is given.
+    #[serde(deserialize_with = "exact")]
     pub point: [f64; 3],
     /// Radius of a sphere around `point` [length] (default 0: a point).
     pub radius: Option<f64>,
@@ -228,6 +230,7 @@ pub struct HorizonSection {
     /// Fixed time step h [time] (exclusive with `total_time`).
     pub time_step: Option<f64>,
     /// Free, equal time steps with total time T in [min, max] [time].
+    #[serde(default, deserialize_with = "exact_option")]
     pub total_time: Option<[f64; 2]>,
 }
 
@@ -330,6 +333,63 @@ pub struct FinalSection {
     pub free: Option<bool>,
 }
 
+/// A fixed-length array of numbers that refuses a longer one: serde reads a `[f64; N]` as
+/// its first N elements and ignores the rest (`window = [0.1, 0.2, 0.3]` would be read as
+/// [0.1, 0.2]), so every fixed-length field of a problem file is read through this
+/// ([`exact`], [`exact_option`], [`exact_map`]).
+struct Exact<const N: usize>([f64; N]);
+
+impl<'de, const N: usize> Deserialize<'de> for Exact<N> {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct ExactVisitor<const N: usize>;
+        impl<'de, const N: usize> Visitor<'de> for ExactVisitor<N> {
+            type Value = Exact<N>;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                write!(f, "an array of length {N}")
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Self::Value, A::Error> {
+                let mut out = [0.0; N];
+                for (i, slot) in out.iter_mut().enumerate() {
+                    *slot = seq
+                        .next_element()?
+                        .ok_or_else(|| de::Error::invalid_length(i, &self))?;
+                }
+                let mut len = N;
+                while seq.next_element::<de::IgnoredAny>()?.is_some() {
+                    len += 1;
+                }
+                if len > N {
+                    return Err(de::Error::invalid_length(len, &self));
+                }
+                Ok(Exact(out))
+            }
+        }
+        deserializer.deserialize_seq(ExactVisitor::<N>)
+    }
+}
+
+/// A `[f64; N]` field, exactly N numbers long ([`Exact`]).
+pub(crate) fn exact<'de, D: Deserializer<'de>, const N: usize>(
+    deserializer: D,
+) -> Result<[f64; N], D::Error> {
+    Exact::deserialize(deserializer).map(|e| e.0)
+}
+
+/// An optional `[f64; N]` field, exactly N numbers long when given ([`Exact`]).
+pub(crate) fn exact_option<'de, D: Deserializer<'de>, const N: usize>(
+    deserializer: D,
+) -> Result<Option<[f64; N]>, D::Error> {
+    Option::<Exact<N>>::deserialize(deserializer).map(|o| o.map(|e| e.0))
+}
+
+/// A table of `[f64; N]` by name, each exactly N numbers long ([`Exact`]).
+pub(crate) fn exact_map<'de, D: Deserializer<'de>, const N: usize>(
+    deserializer: D,
+) -> Result<BTreeMap<String, [f64; N]>, D::Error> {
+    BTreeMap::<String, Exact<N>>::deserialize(deserializer)
+        .map(|m| m.into_iter().map(|(k, e)| (k, e.0)).collect())
+}
+
 /// A vector over coordinates, inputs or contacts: a table by name or a full-length array.
 #[derive(Debug, Clone, PartialEq)]
 pub enum NamedVector {
@@ -425,7 +485,7 @@ pub struct InputsSection {
     /// Bound |u_j| ≤ URDF effort (default true; an infinite effort means no bound).
     pub effort_limits: Option<bool>,
     /// Explicit bounds by input name, `name = [lower, upper]`, replacing the effort limit.
-    #[serde(default)]
+    #[serde(default, deserialize_with = "exact_map")]
     pub bounds: BTreeMap<String, [f64; 2]>,
 }
 

@@ -15,6 +15,20 @@ pub fn line_of_offset(text: &str, offset: usize) -> usize {
         + 1
 }
 
+/// A TOML parser's or schema's error on `text` as `line N: message`, without the quote of the
+/// text around it that its `Display` shows (the file may not be what it was named as: a link
+/// to another file must not be shown).
+pub fn toml_error_message(text: &str, e: &toml::de::Error) -> String {
+    match e.span() {
+        Some(span) => format!(
+            "line {}: {}",
+            line_of_offset(text, span.start),
+            e.message().trim()
+        ),
+        None => e.message().trim().to_owned(),
+    }
+}
+
 /// One step of a TOML path: a key or an array index.
 #[derive(Debug, Clone, PartialEq)]
 enum Segment {
@@ -111,9 +125,11 @@ fn walk_table(table: &DeTable, offset: usize, path: &mut String) -> bool {
 
 fn container_contains(value: &Spanned<DeValue>, offset: usize) -> bool {
     match value.get_ref() {
-        DeValue::Table(t) => t
-            .iter()
-            .any(|(k, v)| k.span().contains(&offset) || container_contains(v, offset)),
+        DeValue::Table(t) => t.iter().any(|(k, v)| {
+            k.span().contains(&offset)
+                || v.span().contains(&offset)
+                || container_contains(v, offset)
+        }),
         DeValue::Array(a) => a
             .iter()
             .any(|v| v.span().contains(&offset) || container_contains(v, offset)),

@@ -79,10 +79,12 @@ impl GoldenRecord {
     pub fn read(path: &Path) -> Result<GoldenRecord, GoldenError> {
         match crate::files::input::read_regular_text(path, crate::files::input::MAX_TEXT_BYTES) {
             Ok(text) => {
+                // The parser's message and line, never its quote of the file: a record
+                // named by mistake (a link to another file) is not shown.
                 let record: GoldenRecord =
                     toml::from_str(&text).map_err(|e| GoldenError::Parse {
                         path: path.to_owned(),
-                        message: e.to_string(),
+                        message: crate::problem::toml_error_message(&text, &e),
                     })?;
                 record.check().map_err(|message| GoldenError::Parse {
                     path: path.to_owned(),
@@ -102,8 +104,16 @@ impl GoldenRecord {
     /// finite tolerance ≥ 0, and a status Ipopt can return (snake case).
     fn check(&self) -> Result<(), String> {
         for (i, e) in self.problem.iter().enumerate() {
-            let at =
-                |field: &str, what: String| format!("problem[{i}].{field} ({}): {what}", e.file);
+            let shown = crate::files::names::escape_controls(&e.file);
+            let at = |field: &str, what: String| format!("problem[{i}].{field} ({shown}): {what}");
+            if e.file.is_empty() || e.file.chars().any(crate::files::names::is_hidden_char) {
+                return Err(at(
+                    "file",
+                    "a problem file's path is printable text, not empty and without control \
+                     characters (such as a NUL byte)"
+                        .into(),
+                ));
+            }
             if !(e.objective.is_finite() && e.objective.abs() <= 1e300) {
                 return Err(at(
                     "objective",

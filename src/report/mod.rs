@@ -17,7 +17,9 @@ pub use golden::*;
 pub use metrics::{MetricInputs, metric_unit, metric_value, metrics_json};
 pub use modes::*;
 pub use outdir::*;
-pub use plot::{Panel, contact_modes_svg, coordinates_svg, inputs_svg, line_plot, panel_plot};
+pub use plot::{
+    Panel, PlotError, contact_modes_svg, coordinates_svg, inputs_svg, line_plot, panel_plot,
+};
 pub use simulation::{SimulationColumns, simulation_summary_json};
 pub use summary::*;
 
@@ -44,13 +46,13 @@ pub enum ReportError {
     /// The animation could not be made.
     #[error(transparent)]
     View(#[from] crate::view::ViewError),
-    /// plotters failed to draw.
-    #[error("cannot draw {path}: {message}")]
+    /// A plot could not be drawn or written.
+    #[error("cannot draw {path}: {source}")]
     Plot {
         /// The plot file.
         path: PathBuf,
-        /// plotters' message.
-        message: String,
+        /// Why.
+        source: PlotError,
     },
 }
 
@@ -162,7 +164,7 @@ pub fn write_trajectory_outputs(
     std::fs::write(&json_path, text + "\n").map_err(io(&json_path))?;
     let plot_err = |name: &str| {
         let path = target.join(name);
-        move |message| ReportError::Plot { path, message }
+        move |source| ReportError::Plot { path, source }
     };
     coordinates_svg(
         &dir.join("coordinates.svg"),

@@ -25,6 +25,10 @@ pub const MARKER: &str = ".vito-output";
 /// Linux allows 255 per component.
 const MAX_NAME_BYTES: usize = 200;
 
+/// Longest output directory path (bytes, made absolute): Linux allows 4,095 (`PATH_MAX`), and
+/// the staging sibling and the files inside add about 60.
+const MAX_PATH_BYTES: usize = 4000;
+
 /// Why a directory cannot receive a run's results.
 #[derive(Debug, thiserror::Error)]
 pub enum OutputDirError {
@@ -110,6 +114,13 @@ impl OutputTarget {
         }
         let cwd = std::env::current_dir().map_err(io_error(Path::new(".")))?;
         let absolute = cwd.join(target);
+        if absolute.as_os_str().len() > MAX_PATH_BYTES {
+            return Err(invalid(format!(
+                "the path is {} bytes long (from the root); keep it under {MAX_PATH_BYTES} \
+                 (Linux allows 4,095): choose a shorter path",
+                absolute.as_os_str().len()
+            )));
+        }
         let path = resolve_existing_prefix(&absolute, target)?;
         let parent = path.parent().unwrap_or(Path::new("/"));
         check_parent(parent, target)?;

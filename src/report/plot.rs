@@ -4,12 +4,34 @@ use std::path::Path;
 
 use plotters::coord::ranged1d::AsRangedCoord;
 use plotters::prelude::*;
+use plotters_backend::DrawingErrorKind;
 
 use crate::files::trajectory_csv::Trajectory;
 use crate::report::modes::ContactMode;
 
-/// A plotting failure (plotters' error, as text).
-pub type PlotError = String;
+/// Why a plot was not written.
+#[derive(Debug, thiserror::Error)]
+pub enum PlotError {
+    /// The file could not be written (a full disk, a file-size limit, …).
+    #[error("{0}")]
+    Io(#[from] std::io::Error),
+    /// plotters could not draw it (its message).
+    #[error("{0}")]
+    Draw(String),
+}
+
+impl From<DrawingAreaErrorKind<std::io::Error>> for PlotError {
+    /// The SVG backend's error is the writing of its file; plotters' own (layout, fonts) is
+    /// its message.
+    fn from(e: DrawingAreaErrorKind<std::io::Error>) -> Self {
+        match e {
+            DrawingAreaErrorKind::BackendError(DrawingErrorKind::DrawingError(io)) => {
+                PlotError::Io(io)
+            }
+            other => PlotError::Draw(other.to_string()),
+        }
+    }
+}
 
 const PALETTE: [RGBColor; 10] = [
     RGBColor(31, 119, 180),
@@ -84,16 +106,14 @@ pub(crate) fn study_chart<'a, X: AsRangedCoord, Y: AsRangedCoord>(
     x: X,
     y: Y,
 ) -> Result<StudyChart<'a, X::CoordDescType, Y::CoordDescType>, PlotError> {
-    let e = |e: &dyn std::fmt::Display| e.to_string();
     let root = SVGBackend::new(path, (800, 480)).into_drawing_area();
-    root.fill(&WHITE).map_err(|x| e(&x))?;
+    root.fill(&WHITE)?;
     let chart = ChartBuilder::on(&root)
         .caption(title, ("sans-serif", 20))
         .margin(12)
         .x_label_area_size(40)
         .y_label_area_size(70)
-        .build_cartesian_2d(x, y)
-        .map_err(|x| e(&x))?;
+        .build_cartesian_2d(x, y)?;
     Ok((root, chart))
 }
 
@@ -103,15 +123,13 @@ pub(crate) fn legend_and_present<'a, CT: plotters::coord::CoordTranslate>(
     chart: &mut ChartContext<'a, SVGBackend<'a>, CT>,
     root: &DrawingArea<SVGBackend<'a>, plotters::coord::Shift>,
 ) -> Result<(), PlotError> {
-    let e = |e: &dyn std::fmt::Display| e.to_string();
     chart
         .configure_series_labels()
         .background_style(WHITE.mix(0.8))
         .border_style(BLACK)
         .position(SeriesLabelPosition::UpperRight)
-        .draw()
-        .map_err(|x| e(&x))?;
-    root.present().map_err(|x| e(&x))
+        .draw()?;
+    Ok(root.present()?)
 }
 
 /// One panel of a small-multiples figure: its title, its y-axis label and its series.
@@ -134,14 +152,13 @@ const LEGEND_ROW: u32 = 18;
 /// Draws `panels` stacked, one chart each, sharing the time axis label, into an SVG file;
 /// each panel's legend is drawn in a column to the right of its plotting area.
 pub fn panel_plot(path: &Path, x_label: &str, panels: &[Panel]) -> Result<(), PlotError> {
-    let e = |e: &dyn std::fmt::Display| e.to_string();
     let heights: Vec<u32> = panels
         .iter()
         .map(|p| (70 + LEGEND_ROW * p.series.len() as u32).max(230))
         .collect();
     let height = heights.iter().sum::<u32>().max(1);
     let root = SVGBackend::new(path, (FIGURE_WIDTH, height)).into_drawing_area();
-    root.fill(&WHITE).map_err(|x| e(&x))?;
+    root.fill(&WHITE)?;
     let (x0, x1) = range(
         panels
             .iter()
@@ -158,41 +175,33 @@ pub fn panel_plot(path: &Path, x_label: &str, panels: &[Panel]) -> Result<(), Pl
             .margin(10)
             .x_label_area_size(36)
             .y_label_area_size(64)
-            .build_cartesian_2d(x0..x1, y0..y1)
-            .map_err(|x| e(&x))?;
+            .build_cartesian_2d(x0..x1, y0..y1)?;
         chart
             .configure_mesh()
             .x_desc(x_label)
             .y_desc(panel.y_label.as_str())
-            .draw()
-            .map_err(|x| e(&x))?;
+            .draw()?;
         for (i, (label, points)) in panel.series.iter().enumerate() {
             let color = PALETTE[i % PALETTE.len()];
-            chart
-                .draw_series(LineSeries::new(
-                    points
-                        .iter()
-                        .filter_map(|&(x, y)| Some((plottable(x)?, plottable(y)?))),
-                    color.stroke_width(2),
-                ))
-                .map_err(|x| e(&x))?;
+            chart.draw_series(LineSeries::new(
+                points
+                    .iter()
+                    .filter_map(|&(x, y)| Some((plottable(x)?, plottable(y)?))),
+                color.stroke_width(2),
+            ))?;
             let y = 40 + LEGEND_ROW as i32 * i as i32;
-            legend_area
-                .draw(&PathElement::new(
-                    vec![(8, y), (28, y)],
-                    color.stroke_width(2),
-                ))
-                .map_err(|x| e(&x))?;
-            legend_area
-                .draw(&Text::new(
-                    label.clone(),
-                    (34, y - 7),
-                    ("sans-serif", 13).into_font(),
-                ))
-                .map_err(|x| e(&x))?;
+            legend_area.draw(&PathElement::new(
+                vec![(8, y), (28, y)],
+                color.stroke_width(2),
+            ))?;
+            legend_area.draw(&Text::new(
+                label.clone(),
+                (34, y - 7),
+                ("sans-serif", 13).into_font(),
+            ))?;
         }
     }
-    root.present().map_err(|x| e(&x))
+    Ok(root.present()?)
 }
 
 /// Coordinates q_k over time as small multiples: `panels[j]` names the panel of coordinate
@@ -271,11 +280,10 @@ pub fn contact_modes_svg(
     modes: &[Vec<ContactMode>],
     time_unit: &str,
 ) -> Result<(), PlotError> {
-    let e = |e: &dyn std::fmt::Display| e.to_string();
     let nc = s.contact_names.len();
     let height = 140 + 40 * nc.max(1) as u32;
     let root = SVGBackend::new(path, (900, height)).into_drawing_area();
-    root.fill(&WHITE).map_err(|x| e(&x))?;
+    root.fill(&WHITE)?;
     let t_end = s
         .times
         .last()
@@ -290,8 +298,7 @@ pub fn contact_modes_svg(
         .margin(12)
         .x_label_area_size(40)
         .y_label_area_size(160)
-        .build_cartesian_2d(0.0..t_end, 0.0..nc.max(1) as f64)
-        .map_err(|x| e(&x))?;
+        .build_cartesian_2d(0.0..t_end, 0.0..nc.max(1) as f64)?;
     let names = s.contact_names.to_vec();
     chart
         .configure_mesh()
@@ -307,8 +314,7 @@ pub fn contact_modes_svg(
                 String::new()
             }
         })
-        .draw()
-        .map_err(|x| e(&x))?;
+        .draw()?;
     for (k, row) in modes.iter().enumerate() {
         let (Some(t0), Some(t1)) = (
             s.times.get(k).and_then(|&t| plottable(t)),
@@ -318,15 +324,13 @@ pub fn contact_modes_svg(
         };
         for (i, &mode) in row.iter().enumerate() {
             let y = (nc - 1 - i) as f64;
-            chart
-                .draw_series(std::iter::once(Rectangle::new(
-                    [(t0, y + 0.15), (t1, y + 0.85)],
-                    mode_color(mode).filled(),
-                )))
-                .map_err(|x| e(&x))?;
+            chart.draw_series(std::iter::once(Rectangle::new(
+                [(t0, y + 0.15), (t1, y + 0.85)],
+                mode_color(mode).filled(),
+            )))?;
         }
     }
-    root.present().map_err(|x| e(&x))?;
+    root.present()?;
     Ok(())
 }
 

@@ -5,7 +5,7 @@ use serde_json::{Map, Value, json};
 use crate::ipopt::Status;
 use crate::problem::LoadedProblem;
 use crate::report::modes::{FLIGHT_RELATIVE, SLIDE_CONE_FRACTION};
-use crate::transcription::{Solution, SolveVerdict};
+use crate::transcription::{Solution, SolveVerdict, StartOutcome};
 
 /// Ipopt's return status in snake case, e.g. `solve_succeeded`.
 pub fn status_name(status: Status) -> &'static str {
@@ -149,20 +149,25 @@ pub fn summary_json(problem: &LoadedProblem, solution: &Solution) -> Value {
         let starts: Vec<Value> = s
             .starts
             .iter()
-            .map(|r| {
-                json!({
+            .map(|r| match &r.outcome {
+                StartOutcome::Ended(e) => json!({
                     "seed": r.seed,
-                    "status": r.verdict.name(),
-                    "ipopt_status": status_name(r.status),
-                    "objective": num(r.objective),
-                    "objective_terms": terms_json(&r.objective_terms),
-                    "max_slack": num(r.max_slack),
-                    "max_constraint_violation": num(r.max_constraint_violation),
-                    "iterations": r.iterations,
-                    "wall_time_s": num(r.wall_time_s),
-                    "polish": r.polish.as_ref().map(polish_json),
-                    "continuation": continuation_json(&r.continuation),
-                })
+                    "status": e.verdict.name(),
+                    "ipopt_status": status_name(e.status),
+                    "objective": num(e.objective),
+                    "objective_terms": terms_json(&e.objective_terms),
+                    "max_slack": num(e.max_slack),
+                    "max_constraint_violation": num(e.max_constraint_violation),
+                    "iterations": e.iterations,
+                    "wall_time_s": num(e.wall_time_s),
+                    "polish": e.polish.as_ref().map(polish_json),
+                    "continuation": continuation_json(&e.continuation),
+                }),
+                StartOutcome::Lost(lost) => json!({
+                    "seed": r.seed,
+                    "status": lost.status(),
+                    "ended": lost.how,
+                }),
             })
             .collect();
         summary["starts"] = Value::Array(starts);

@@ -43,13 +43,9 @@ pub fn frontier_csv(plans: &[PlanRecord]) -> String {
 /// Writes `tracking_frontier.csv`, `tracking_frontier_time.svg` (knot error against solve wall
 /// time) and `tracking_frontier_size.svg` (against NLP variables) into `dir`, log-log.
 pub fn write_frontier(dir: &Path, plans: &[PlanRecord], title: &str) -> Result<(), StudyError> {
-    let fail = |path: &Path, e: &dyn std::fmt::Display| StudyError::Write {
-        path: path.to_owned(),
-        message: e.to_string(),
-    };
     let csv = dir.join("tracking_frontier.csv");
     crate::files::output::write_atomic(&csv, frontier_csv(plans).as_bytes())
-        .map_err(|e| fail(&csv, &e))?;
+        .map_err(StudyError::write(&csv))?;
     let axes: [(&str, &str, PlanMeasure); 2] = [
         ("time", "solve wall time (s)", |p| p.wall_time_s),
         ("size", "NLP variables", |p| p.variables as f64),
@@ -59,7 +55,7 @@ pub fn write_frontier(dir: &Path, plans: &[PlanRecord], title: &str) -> Result<(
         crate::files::output::write_atomic_with(&svg, |staged| {
             frontier_svg(staged, plans, title, x_label, x)
         })
-        .map_err(|e| fail(&svg, &e))?;
+        .map_err(StudyError::plot(&svg))?;
     }
     Ok(())
 }
@@ -72,8 +68,7 @@ fn frontier_svg(
     title: &str,
     x_label: &str,
     x: PlanMeasure,
-) -> Result<(), String> {
-    let e = |e: &dyn std::fmt::Display| e.to_string();
+) -> Result<(), crate::report::PlotError> {
     let points: Vec<(&PlanRecord, f64, f64)> = plans
         .iter()
         .filter_map(|p| Some((p, x(p), p.knot_error?)))
@@ -104,8 +99,7 @@ fn frontier_svg(
         .y_label_formatter(&|v| format!("{v:.1e}"))
         .x_desc(x_label)
         .y_desc("RMS configuration error at the plan's knots")
-        .draw()
-        .map_err(|x| e(&x))?;
+        .draw()?;
     let mut methods: Vec<_> = points.iter().map(|p| p.0.method).collect();
     methods.sort_by_key(|&m| super::table_order(0, m));
     methods.dedup();
@@ -119,19 +113,16 @@ fn frontier_svg(
         line.sort_by_key(|p| p.0);
         let xy: Vec<(f64, f64)> = line.iter().map(|p| (p.1, p.2)).collect();
         chart
-            .draw_series(LineSeries::new(xy.clone(), colour.stroke_width(2)))
-            .map_err(|x| e(&x))?
+            .draw_series(LineSeries::new(xy.clone(), colour.stroke_width(2)))?
             .label(method.study_label())
             .legend(move |(x, y)| {
                 PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(2))
             });
-        chart
-            .draw_series(line.iter().map(|&(k, a, b)| {
-                EmptyElement::at((a, b))
-                    + Circle::new((0, 0), 3, colour.filled())
-                    + Text::new(format!("K={k}"), (5, -12), ("sans-serif", 11))
-            }))
-            .map_err(|x| e(&x))?;
+        chart.draw_series(line.iter().map(|&(k, a, b)| {
+            EmptyElement::at((a, b))
+                + Circle::new((0, 0), 3, colour.filled())
+                + Text::new(format!("K={k}"), (5, -12), ("sans-serif", 11))
+        }))?;
     }
     crate::report::plot::legend_and_present(&mut chart, &root)
 }

@@ -49,12 +49,36 @@ pub enum StudyError {
         /// Why.
         message: String,
     },
-    /// Writing the table or plot failed.
-    #[error("{path}: {message}")]
+    /// A table could not be written.
+    #[error("{path}: {source}")]
     Write {
         /// The file.
         path: std::path::PathBuf,
-        /// Why.
-        message: String,
+        /// The operating-system error.
+        source: std::io::Error,
     },
+    /// A plot could not be drawn or written.
+    #[error("{path}: {source}")]
+    Plot {
+        /// The file.
+        path: std::path::PathBuf,
+        /// Why.
+        source: crate::report::PlotError,
+    },
+}
+
+impl StudyError {
+    /// The error of a table `path` that could not be written.
+    pub(crate) fn write(path: &std::path::Path) -> impl FnOnce(std::io::Error) -> StudyError {
+        let path = path.to_owned();
+        move |source| StudyError::Write { path, source }
+    }
+
+    /// The error of a plot `path` that could not be drawn or written.
+    pub(crate) fn plot(
+        path: &std::path::Path,
+    ) -> impl FnOnce(crate::report::PlotError) -> StudyError {
+        let path = path.to_owned();
+        move |source| StudyError::Plot { path, source }
+    }
 }

@@ -173,13 +173,9 @@ impl StudyTable {
         title: &str,
         y_label: &str,
     ) -> Result<(), StudyError> {
-        let fail = |path: &Path, e: &dyn std::fmt::Display| StudyError::Write {
-            path: path.to_owned(),
-            message: e.to_string(),
-        };
         let csv = dir.join(format!("{stem}.csv"));
         crate::files::output::write_atomic(&csv, self.csv().as_bytes())
-            .map_err(|e| fail(&csv, &e))?;
+            .map_err(StudyError::write(&csv))?;
         let mut runs = String::from("knots,method,run,rms\n");
         for r in &self.rows {
             for (i, x) in r.runs.iter().enumerate() {
@@ -188,16 +184,15 @@ impl StudyTable {
         }
         let runs_path = dir.join(format!("{stem}_runs.csv"));
         crate::files::output::write_atomic(&runs_path, runs.as_bytes())
-            .map_err(|e| fail(&runs_path, &e))?;
+            .map_err(StudyError::write(&runs_path))?;
         let svg = dir.join(format!("{stem}.svg"));
         crate::files::output::write_atomic_with(&svg, |staged| self.svg(staged, title, y_label))
-            .map_err(|e| fail(&svg, &e))?;
+            .map_err(StudyError::plot(&svg))?;
         Ok(())
     }
 
     /// Mean per knot count with ±std bars, one colour per method (the paper's figures).
-    fn svg(&self, path: &Path, title: &str, y_label: &str) -> Result<(), String> {
-        let e = |e: &dyn std::fmt::Display| e.to_string();
+    fn svg(&self, path: &Path, title: &str, y_label: &str) -> Result<(), crate::report::PlotError> {
         let finite = |x: &f64| x.is_finite();
         let x_max = self.rows.iter().map(|r| r.knots).max().unwrap_or(2) as f64 + 1.0;
         let x_min = (self.rows.iter().map(|r| r.knots).min().unwrap_or(1) as f64 - 1.0).max(0.0);
@@ -215,8 +210,7 @@ impl StudyTable {
             .configure_mesh()
             .x_desc("knot points")
             .y_desc(y_label)
-            .draw()
-            .map_err(|x| e(&x))?;
+            .draw()?;
         let methods = self.methods();
         for (index, &method) in methods.iter().enumerate() {
             // Bars side by side at each knot count, 0.16 apart.
@@ -230,25 +224,20 @@ impl StudyTable {
                 .collect();
             let label = method.study_label();
             chart
-                .draw_series(LineSeries::new(points.clone(), colour.stroke_width(2)))
-                .map_err(|x| e(&x))?
+                .draw_series(LineSeries::new(points.clone(), colour.stroke_width(2)))?
                 .label(label)
                 .legend(move |(x, y)| {
                     PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(2))
                 });
-            chart
-                .draw_series(points.iter().map(|&p| Circle::new(p, 3, colour.filled())))
-                .map_err(|x| e(&x))?;
-            chart
-                .draw_series(rows.iter().filter(|r| r.mean().is_finite()).map(|r| {
-                    let x = r.knots as f64 + offset;
-                    let (m, s) = (r.mean(), r.std());
-                    PathElement::new(
-                        vec![(x, (m - s).max(0.0)), (x, m + s)],
-                        colour.stroke_width(1),
-                    )
-                }))
-                .map_err(|x| e(&x))?;
+            chart.draw_series(points.iter().map(|&p| Circle::new(p, 3, colour.filled())))?;
+            chart.draw_series(rows.iter().filter(|r| r.mean().is_finite()).map(|r| {
+                let x = r.knots as f64 + offset;
+                let (m, s) = (r.mean(), r.std());
+                PathElement::new(
+                    vec![(x, (m - s).max(0.0)), (x, m + s)],
+                    colour.stroke_width(1),
+                )
+            }))?;
         }
         crate::report::plot::legend_and_present(&mut chart, &root)
     }

@@ -46,6 +46,14 @@ impl Axis {
         if key.is_empty() {
             return Err(SweepError::Usage("the key is empty".into()));
         }
+        // `--set` and `--grid` read `key=value` up to the first `=`: such a key could never be
+        // given on the command line, and each run's `--set` would set another key.
+        if key.contains('=') {
+            return Err(SweepError::Usage(format!(
+                "the key `{key}` holds `=`; a key ends at the first `=` (as --set and --grid \
+                 read key=value): name a key without it"
+            )));
+        }
         if values.is_empty() {
             return Err(SweepError::Usage(format!("{key}: no values")));
         }
@@ -316,6 +324,22 @@ mod tests {
         assert_eq!(p.distance(&g.point(0)), 2);
         let names: std::collections::BTreeSet<_> = g.points().map(|p| p.run_name()).collect();
         assert_eq!(names.len(), 6);
+    }
+
+    /// A key holding `=` (which `--grid` and `--set` never give: a key ends at the first `=`)
+    /// is refused by name, as the Python package's `grid={key: values}` would give it.
+    #[test]
+    fn keys_holding_an_equals_sign_are_refused() {
+        let err = Axis::new("contacts.friction=2", vec!["0.5".into()]).unwrap_err();
+        assert!(
+            err.to_string().contains("`contacts.friction=2` holds `=`"),
+            "{err}"
+        );
+        let axis = Axis::parse("contacts.friction==0.5").unwrap();
+        assert_eq!(
+            (axis.key.as_str(), &axis.values[..]),
+            ("contacts.friction", &["=0.5".to_owned()][..])
+        );
     }
 
     /// Grids of 2^64 points (which a product wraps to 0) and of 10^6 points are refused

@@ -23,7 +23,7 @@ pub use jobs::{JobOutcome, JobSweep, PointJob};
 pub use neighbours::{ATTEMPTS, DEFAULT_ROUNDS, SETTLE_RATIO};
 pub use plot::{PointClass, metric_svg, metric_svg_text};
 pub use run::{
-    Event, LOGS, Outcome, PARENT_FLAG, Progress, SWEEP_MARKER, SweepOptions, WarmStart,
+    Event, LOGS, MAX_JOBS, Outcome, PARENT_FLAG, Progress, SWEEP_MARKER, SweepOptions, WarmStart,
     die_with_sweep, prepare_dir, run_sweep,
 };
 pub use table::{OnDisk, RUNS, Row, RunStatus, TABLE_CSV, TABLE_JSON, Table, collect, read_result};

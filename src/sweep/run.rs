@@ -25,6 +25,10 @@ pub const SWEEP_MARKER: &str = ".vito-sweep";
 /// cannot turn it on by accident.)
 pub const PARENT_FLAG: &str = "--sweep-parent";
 
+/// Most processes run at a time (`--jobs` of `vito sweep` and of a parallel `vito solve
+/// --starts`): more than any one machine runs well; a cluster spreads a sweep with `--shard`.
+pub const MAX_JOBS: usize = 1024;
+
 /// How long after its time limit a run that has not stopped by itself (a long iteration, a
 /// simulated initial guess) is killed.
 pub const KILL_GRACE: Duration = Duration::from_secs(30);

@@ -9,7 +9,7 @@ use serde_json::Value;
 
 use crate::files::output::write_atomic;
 use crate::problem::Override;
-use crate::sweep::{Grid, Point, Shard, SweepError};
+use crate::sweep::{Axis, Grid, Point, Shard, SweepError};
 
 /// The table's JSON file.
 pub const TABLE_JSON: &str = "sweep.json";
@@ -490,10 +490,16 @@ impl Table {
             path: path.clone(),
             message: e.to_string(),
         })?;
-        table.grid.check_size().map_err(|e| SweepError::Table {
-            path,
+        let invalid = |e: SweepError| SweepError::Table {
+            path: path.clone(),
             message: e.to_string(),
-        })?;
+        };
+        table.grid.check_size().map_err(invalid)?;
+        // Its axes as `--grid` would give them: a key or value `--set` cannot take is not a
+        // sweep's.
+        for axis in &table.grid.axes {
+            Axis::new(&axis.key, axis.values.clone()).map_err(invalid)?;
+        }
         Ok(table)
     }
 }
@@ -569,7 +575,6 @@ pub(crate) fn test_table(grid: Grid, rows: Vec<Row>) -> Table {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sweep::Axis;
 
     #[test]
     fn csv_quotes_what_needs_it_and_lists_metrics() {

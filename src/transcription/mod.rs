@@ -44,8 +44,8 @@ pub use program::{InitialGuessReport, Transcription};
 pub use scaling::{units_scaling, variable_units};
 pub use solution::{NlpSize, Solution};
 pub use solve::{
-    BenchRow, ContinuationSolve, MultiStart, PENALTY_BOUND_RELAX, PERTURBATION, PolishRecord,
-    SolveOptions, StartRecord, best_of,
+    BenchRow, ContinuationSolve, LostStart, MAX_STARTS, MultiStart, PENALTY_BOUND_RELAX,
+    PERTURBATION, PolishRecord, SolveOptions, StartOutcome, StartRecord, StartSolve, best_of,
 };
 pub(crate) use solve::{bench_with, solve_with};
 pub use verdict::{

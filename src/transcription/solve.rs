@@ -58,14 +58,41 @@ pub struct MultiStart {
     pub only: Option<usize>,
 }
 
+impl MultiStart {
+    /// The perturbation seed of start `k` (None for start 0, the problem's own guess).
+    pub fn seed_of(&self, k: usize) -> Option<u64> {
+        (k > 0).then(|| self.seed.wrapping_add(k as u64))
+    }
+}
+
 /// Relative size of a multi-start perturbation.
 pub const PERTURBATION: f64 = 0.1;
+
+/// Most starts of a multi-start solve (`--starts`): each is a whole solve with its record in
+/// `summary.json`, checked before anything is allocated for them.
+pub const MAX_STARTS: usize = 10_000;
 
 /// One start of a multi-start solve, as `summary.json` lists it.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct StartRecord {
-    /// 0 for the problem's own guess, else the perturbation's seed.
+    /// None for the problem's own guess, else the perturbation's seed.
     pub seed: Option<u64>,
+    /// Its solve, or how its process ended without one.
+    pub outcome: StartOutcome,
+}
+
+/// How a start of a multi-start solve ended.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub enum StartOutcome {
+    /// Its solve ended (with any status).
+    Ended(Box<StartSolve>),
+    /// It ran in a process of its own, which ended without a result.
+    Lost(LostStart),
+}
+
+/// The solve of one start.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct StartSolve {
     /// Ipopt's status.
     pub status: ipopt::Status,
     /// The start's verdict (Ipopt's status and its slack).
@@ -88,6 +115,26 @@ pub struct StartRecord {
     /// The solves of its slack continuation (as [`Solution::continuation`]).
     #[serde(default)]
     pub continuation: Vec<ContinuationSolve>,
+}
+
+/// How the process of a start ended without a result.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct LostStart {
+    /// The signal that ended the process, if one did (`killed`, else `failed`).
+    pub signal: Option<i32>,
+    /// How it ended: `killed by signal 9 (SIGKILL)`, or its exit code and error.
+    pub how: String,
+}
+
+impl LostStart {
+    /// `killed` (by a signal) or `failed`: the start's status in `summary.json`.
+    pub fn status(&self) -> &'static str {
+        if self.signal.is_some() {
+            "killed"
+        } else {
+            "failed"
+        }
+    }
 }
 
 /// One Ipopt solve of the slack continuation (`[slack] target` or `homotopy`), in order.
@@ -231,12 +278,8 @@ pub(crate) fn solve_with<M: MechanicsDerivatives>(
     let guess = transcription.initial_point().to_vec();
     if let Some(k) = multi.only {
         let mut records = Vec::new();
-        let (start, seed) = if k == 0 {
-            (guess, None)
-        } else {
-            let seed = multi.seed.wrapping_add(k as u64);
-            (perturbed(&transcription, &guess, seed), Some(seed))
-        };
+        let seed = multi.seed_of(k);
+        let start = start_point(&transcription, &guess, seed);
         let mut solution = solve_from(
             &mut transcription,
             spec,
@@ -263,14 +306,14 @@ pub(crate) fn solve_with<M: MechanicsDerivatives>(
         if options.stopped() {
             break;
         }
-        let seed = multi.seed.wrapping_add(k as u64);
-        let start = perturbed(&transcription, &guess, seed);
+        let seed = multi.seed_of(k);
+        let start = start_point(&transcription, &guess, seed);
         let solution = solve_from(
             &mut transcription,
             spec,
             options,
             &start,
-            Some(seed),
+            seed,
             &mut records,
         )?;
         if better(&solution, &best) {
@@ -281,6 +324,19 @@ pub(crate) fn solve_with<M: MechanicsDerivatives>(
     best.starts = records;
     best.best_start = best_index;
     Ok(best)
+}
+
+/// The initial point of the start with this perturbation seed (the guess itself for None:
+/// start 0).
+fn start_point<M: MechanicsDerivatives>(
+    transcription: &Transcription<M>,
+    guess: &[f64],
+    seed: Option<u64>,
+) -> Vec<f64> {
+    match seed {
+        None => guess.to_vec(),
+        Some(seed) => perturbed(transcription, guess, seed),
+    }
 }
 
 /// One start of a multi-start solve, recorded.
@@ -297,38 +353,46 @@ fn solve_from<M: MechanicsDerivatives>(
     let solution = solve_transcription(transcription, spec, options)?;
     records.push(StartRecord {
         seed,
-        status: solution.status,
-        verdict: solution.verdict(),
-        objective: solution.objective,
-        objective_terms: solution.objective_terms.clone(),
-        max_slack: solution.max_slack,
-        max_constraint_violation: solution.max_constraint_violation,
-        iterations: solution.iterations,
-        wall_time_s: solution.wall_time_s,
-        polish: solution.polish.clone(),
-        continuation: solution.continuation.clone(),
+        outcome: StartOutcome::Ended(Box::new(StartSolve {
+            status: solution.status,
+            verdict: solution.verdict(),
+            objective: solution.objective,
+            objective_terms: solution.objective_terms.clone(),
+            max_slack: solution.max_slack,
+            max_constraint_violation: solution.max_constraint_violation,
+            iterations: solution.iterations,
+            wall_time_s: solution.wall_time_s,
+            polish: solution.polish.clone(),
+            continuation: solution.continuation.clone(),
+        })),
     });
     Ok(solution)
 }
 
 /// The best of starts solved one by one (each with `only` set, listing its own record): all
-/// their records in start order and the best solution, as one multi-start solve of them all
-/// returns it (ties go to the earlier start). None when `solutions` is empty.
-pub fn best_of(mut solutions: Vec<(usize, Solution)>) -> Option<Solution> {
+/// their records and those of the `lost` starts (their process ended without a result) in
+/// start order, and the best solution, as one multi-start solve of them all returns it (ties
+/// go to the earlier start). None when `solutions` is empty.
+pub fn best_of(
+    mut solutions: Vec<(usize, Solution)>,
+    lost: Vec<(usize, StartRecord)>,
+) -> Option<Solution> {
     solutions.sort_by_key(|(k, _)| *k);
-    let records: Vec<StartRecord> = solutions
+    let mut records: Vec<(usize, StartRecord)> = solutions
         .iter()
-        .flat_map(|(_, s)| s.starts.iter().cloned())
+        .flat_map(|(k, s)| s.starts.iter().map(|r| (*k, r.clone())))
+        .chain(lost)
         .collect();
+    records.sort_by_key(|(k, _)| *k);
     let mut best: Option<(usize, Solution)> = None;
-    for (i, (_, s)) in solutions.into_iter().enumerate() {
+    for (k, s) in solutions {
         if best.as_ref().is_none_or(|(_, b)| better(&s, b)) {
-            best = Some((i, s));
+            best = Some((k, s));
         }
     }
-    best.map(|(i, mut s)| {
-        s.starts = records;
-        s.best_start = i;
+    best.map(|(k, mut s)| {
+        s.best_start = records.iter().position(|(j, _)| *j == k).unwrap_or(0);
+        s.starts = records.into_iter().map(|(_, r)| r).collect();
         s
     })
 }
@@ -1070,9 +1134,11 @@ mod tests {
             .starts
             .iter()
             .enumerate()
-            .filter(|(_, r)| matches!(r.verdict, SolveVerdict::Solved(_)))
-            .min_by(|a, b| a.1.objective.total_cmp(&b.1.objective))
-            .map(|(k, r)| (k, r.objective));
+            .filter_map(|(k, r)| match &r.outcome {
+                StartOutcome::Ended(e) if e.verdict.is_solved() => Some((k, e.objective)),
+                _ => None,
+            })
+            .min_by(|a, b| a.1.total_cmp(&b.1));
         assert_eq!(best, Some((s.best_start, s.objective)));
         // Each start solved on its own and merged gives the same answer.
         let alone: Vec<(usize, Solution)> = (0..3)
@@ -1088,10 +1154,24 @@ mod tests {
                 (k, solve(&spec, &only))
             })
             .collect();
-        let merged = best_of(alone).expect("three starts");
+        let merged = best_of(alone.clone(), Vec::new()).expect("three starts");
         assert_eq!(merged.best_start, s.best_start);
         assert_eq!(merged.objective.to_bits(), s.objective.to_bits());
         assert_eq!(merged.starts.len(), 3);
+        // A start whose process was lost keeps its place: the best is still found by number.
+        let lost = StartRecord {
+            seed: Some(6),
+            outcome: StartOutcome::Lost(LostStart {
+                signal: Some(9),
+                how: "killed by signal 9 (SIGKILL)".into(),
+            }),
+        };
+        let kept: Vec<(usize, Solution)> = alone.into_iter().filter(|(k, _)| *k != 1).collect();
+        let merged = best_of(kept, vec![(1, lost.clone())]).expect("two starts");
+        assert_eq!(merged.starts.len(), 3);
+        assert_eq!(merged.starts[1], lost);
+        assert_eq!(merged.starts[0].seed, None);
+        assert_eq!(merged.starts[2].seed, Some(7));
     }
 
     #[test]

@@ -25,6 +25,7 @@ pub struct ContactWindowEntry {
     /// `"flight"` or `"stance"`.
     pub phase: String,
     /// [t0, t1] in seconds: the knots whose nominal time lies in it.
+    #[serde(deserialize_with = "crate::problem::schema::exact")]
     pub window: [f64; 2],
     /// Flight only: the distance to the terrain kept at every knot of the window [length]
     /// (default 0).
@@ -130,6 +131,23 @@ fn gait_windows(scope: &FrameScope, gait: &GaitEntry) -> Result<Vec<Window>, Pro
     if period <= 0.0 {
         return Err(ctx.invalid("gait.period", format!("must be > 0 s, got {period}")));
     }
+    // Below two steps the knots cannot tell stance from swing: at one step (or a fraction of
+    // one) every knot has the same phase, and in between the phases alias to a slower gait.
+    let step = scope.times.get(1).copied().unwrap_or(0.0);
+    if period < 2.0 * step {
+        use crate::files::trajectory_csv::number;
+        return Err(ctx.invalid(
+            "gait.period",
+            format!(
+                "{} s is shorter than two time steps (2 × {} s): the knots cannot tell its \
+                 stance from its swing (at one step or less every knot has the same phase); \
+                 give a period of at least {} s, or more knots",
+                number(period),
+                number(step),
+                number(2.0 * step)
+            ),
+        ));
+    }
     let duty = finite(ctx, "gait.duty", gait.duty)?;
     if !(duty > 0.0 && duty < 1.0) {
         return Err(ctx.invalid(
@@ -222,24 +240,50 @@ fn gait_windows(scope: &FrameScope, gait: &GaitEntry) -> Result<Vec<Window>, Pro
 
 /// A contact in stance and flight at one knot is impossible: the error names both windows.
 fn refuse_overlaps(ctx: &Context, windows: &[Window]) -> Result<(), ProblemError> {
-    for (b, wb) in windows.iter().enumerate() {
-        for wa in &windows[..b] {
-            if wa.contact != wb.contact || wa.flight == wb.flight {
-                continue;
-            }
-            if let Some(k) = wb.knots.iter().find(|k| wa.knots.contains(k)) {
-                return Err(ctx.invalid(
-                    &wb.field,
-                    format!(
-                        "{} overlaps {} at knot {k}: a contact cannot be in stance and in \
-                         flight at once; shorten one of them",
-                        wb.name, wa.name
-                    ),
-                ));
-            }
+    let knots: Vec<(usize, bool, &[usize])> = windows
+        .iter()
+        .map(|w| (w.contact, w.flight, w.knots.as_slice()))
+        .collect();
+    let Some((b, a, k)) = first_overlap(&knots) else {
+        return Ok(());
+    };
+    let (wb, wa) = (&windows[b], &windows[a]);
+    Err(ctx.invalid(
+        &wb.field,
+        format!(
+            "{} overlaps {} at knot {k}: a contact cannot be in stance and in flight at once; \
+             shorten one of them",
+            wb.name, wa.name
+        ),
+    ))
+}
+
+/// The first overlap of windows given as (contact, flight, knots): the first window b that
+/// shares a knot with an earlier window a of its contact in the other phase, the first such
+/// a, and the first knot of b in a. Each window's knots are looked up in, then added to, a
+/// map from (contact, knot, phase) to the first window there: the work grows with the
+/// windows' knots, never with their pairs.
+fn first_overlap(windows: &[(usize, bool, &[usize])]) -> Option<(usize, usize, usize)> {
+    let mut first: std::collections::HashMap<(usize, usize, bool), usize> =
+        std::collections::HashMap::new();
+    for (b, &(contact, flight, knots)) in windows.iter().enumerate() {
+        let seen = &first;
+        let earlier = || {
+            knots
+                .iter()
+                .filter_map(move |&k| seen.get(&(contact, k, !flight)).map(|&a| (a, k)))
+        };
+        // At every knot b shares with the first overlapping window a, a is the first window
+        // there (any earlier one would overlap first): its first such knot is b's first in a.
+        if let Some(a) = earlier().map(|(a, _)| a).min() {
+            let k = earlier().find(|&(x, _)| x == a).map(|(_, k)| k)?;
+            return Some((b, a, k));
+        }
+        for &k in knots {
+            first.entry((contact, k, flight)).or_insert(b);
         }
     }
-    Ok(())
+    None
 }
 
 /// The windows as clearance terms and zero impulses.
@@ -278,4 +322,42 @@ fn expand(windows: &[Window]) -> Windows {
     out.zero_impulse.sort_unstable();
     out.zero_impulse.dedup();
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The overlap found is the one the definition names: the first window b with an earlier
+    /// window a of its contact and the other phase sharing a knot, the first such a, the first
+    /// knot of b in a (checked pair by pair here, over seeded random windows).
+    #[test]
+    fn first_overlap_is_the_pairwise_definitions() {
+        let mut rng = crate::random::SeededRng::new(3);
+        let mut found = 0;
+        for _ in 0..2000 {
+            let windows: Vec<(usize, bool, Vec<usize>)> = (0..1 + rng.index(8))
+                .map(|_| {
+                    let start = rng.index(30);
+                    let knots = (start..start + 1 + rng.index(5)).collect();
+                    (rng.index(2), rng.index(2) == 0, knots)
+                })
+                .collect();
+            let pairwise = windows.iter().enumerate().find_map(|(b, wb)| {
+                windows[..b].iter().enumerate().find_map(|(a, wa)| {
+                    if wa.0 != wb.0 || wa.1 == wb.1 {
+                        return None;
+                    }
+                    wb.2.iter().find(|k| wa.2.contains(k)).map(|&k| (b, a, k))
+                })
+            });
+            let given: Vec<(usize, bool, &[usize])> = windows
+                .iter()
+                .map(|(c, f, k)| (*c, *f, k.as_slice()))
+                .collect();
+            assert_eq!(first_overlap(&given), pairwise, "{windows:?}");
+            found += usize::from(pairwise.is_some());
+        }
+        assert!((200..1800).contains(&found), "{found} of 2000 overlap");
+    }
 }

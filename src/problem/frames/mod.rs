@@ -48,6 +48,7 @@ pub struct FrameEntry {
     /// … a URDF link, with `point` in its frame (default its origin).
     pub link: Option<String>,
     /// The point in the link's frame [length].
+    #[serde(default, deserialize_with = "crate::problem::schema::exact_option")]
     pub point: Option<[f64; 3]>,
     /// `"x"`, `"y"`, `"z"` (position, velocity) or `"roll"`, `"pitch"`, `"yaw"` (orientation).
     pub axis: Option<String>,
@@ -55,6 +56,7 @@ pub struct FrameEntry {
     pub knots: Option<KnotsName>,
     /// A time window [t0, t1] in seconds instead of `knots`: the knots whose nominal time
     /// lies in it.
+    #[serde(default, deserialize_with = "crate::problem::schema::exact_option")]
     pub window: Option<[f64; 2]>,
     /// The cost's target value (with `weight`).
     pub target: Option<f64>,

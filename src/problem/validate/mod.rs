@@ -25,6 +25,7 @@ use std::path::Path;
 
 pub(crate) use context::Context;
 pub(crate) use initial_guess::warm_start_from_text;
+pub(crate) use size::memory_available;
 
 use crate::problem::schema::ProblemFile;
 use crate::problem::{LoadedProblem, ProblemError, ProblemSpec};

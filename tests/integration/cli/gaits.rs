@@ -29,6 +29,105 @@ fn stance_overlapping_flight_is_refused_naming_both() {
     );
 }
 
+/// A gait whose period is under two time steps (0.05 s, the hopper's one step: every knot
+/// then has the same phase; 0.09 s; a subnormal number) is refused naming `gait.period`; a
+/// period of two steps is accepted.
+#[test]
+fn a_gait_period_under_two_steps_is_refused_by_name() {
+    let t = TestDir::with_hopper("gait-period-under-two-steps");
+    let gait = |period: &str| {
+        hopper_text()
+            + &format!(
+                "\n[gait]\nperiod = {period}\nduty = 0.5\noffsets = {{ foot_contact = 0.0 }}\n"
+            )
+    };
+    for (period, shown) in [
+        ("0.05", "0.05 s"),
+        ("0.09", "0.09 s"),
+        ("5e-324", "5e-324 s"),
+    ] {
+        t.write("p.toml", &gait(period));
+        let run = says(&t, &["check", "p.toml"], 2, "field `gait.period`");
+        assert!(
+            run.stderr
+                .contains(&format!("{shown} is shorter than two time steps"))
+                && run.stderr.contains("at least 0.1 s"),
+            "{}",
+            run.stderr
+        );
+    }
+    t.write("p.toml", &gait("0.1"));
+    t.vito().args(["check", "p.toml"]).assert_exit(0);
+}
+
+/// A fixed-length field given too many numbers (a contact window or a frame term's window of
+/// three, gravity of four) is refused naming the field, as one given too few is; serde read
+/// the first numbers and dropped the rest.
+#[test]
+fn fixed_length_fields_given_too_many_numbers_are_refused_by_name() {
+    let t = TestDir::with_hopper("fixed-length-fields-too-long");
+    for (entry, field, length) in [
+        (
+            "[[contact_window]]\ncontact = \"foot_contact\"\nphase = \"flight\"\nwindow = [0.3, 0.4, 0.5]\n",
+            "contact_window[0].window",
+            "invalid length 3, expected an array of length 2",
+        ),
+        (
+            "[[contact_window]]\ncontact = \"foot_contact\"\nphase = \"flight\"\nwindow = [0.3]\n",
+            "contact_window[0].window",
+            "invalid length 1, expected an array of length 2",
+        ),
+        (
+            "[[frame]]\ntype = \"position\"\ncontact = \"foot_contact\"\naxis = \"z\"\nwindow = [0.1, 0.2, 0.3]\nlower = -1.0\n",
+            "frame[0].window",
+            "invalid length 3, expected an array of length 2",
+        ),
+    ] {
+        t.write("p.toml", &(hopper_text() + "\n" + entry));
+        let run = says(&t, &["check", "p.toml"], 2, &format!("field `{field}`"));
+        assert!(run.stderr.contains(length), "{}", run.stderr);
+    }
+    t.write("p.toml", &hopper_text());
+    let run = says(
+        &t,
+        &["check", "p.toml", "--set", "robot.gravity=[0, 0, -9.81, 1]"],
+        2,
+        "field `robot.gravity`",
+    );
+    assert!(run.stderr.contains("invalid length 4"), "{}", run.stderr);
+}
+
+/// 100,000 contact windows, stance and flight by turns on disjoint knots, then one flight
+/// window over an early stance: the overlap is found naming both windows and the knot.
+/// The check looks each window's knots up once (it compared every pair of windows, 2.5·10⁹
+/// pairs here, each knot against each).
+#[test]
+fn many_contact_windows_are_checked_knot_by_knot() {
+    let t = TestDir::with_hopper("many-contact-windows");
+    let pair = "[[contact_window]]\ncontact=\"foot_contact\"\nphase=\"stance\"\nwindow=[0.1,0.2]\n\
+                [[contact_window]]\ncontact=\"foot_contact\"\nphase=\"flight\"\nwindow=[0.5,0.6]\n";
+    let mut text = hopper_text() + &pair.repeat(50_000);
+    t.write("p.toml", &text);
+    t.vito().args(["check", "p.toml"]).assert_exit(0);
+    text.push_str(
+        "[[contact_window]]\ncontact=\"foot_contact\"\nphase=\"flight\"\nwindow=[0.15,0.3]\n",
+    );
+    t.write("p.toml", &text);
+    let run = says(
+        &t,
+        &["check", "p.toml"],
+        2,
+        "field `contact_window[100000].window`",
+    );
+    assert!(
+        run.stderr.contains(
+            "overlaps contact_window[0] (foot_contact stance over [0.1, 0.2] s) at knot 3"
+        ),
+        "{}",
+        run.stderr
+    );
+}
+
 #[test]
 fn a_flight_window_lifts_the_foot() {
     let t = TestDir::with_hopper("flight-window");

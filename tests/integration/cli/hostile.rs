@@ -814,6 +814,115 @@ fn csv_errors_never_echo_another_files_contents() {
     );
 }
 
+/// A regression record that is another file (a link to a passwd-like file, or a copy of
+/// one) is refused naming its line, quoting none of it, also with `--bless`.
+#[test]
+fn regression_record_errors_never_echo_the_file() {
+    let t = TestDir::with_hopper("regression_record_errors_never_echo_the_file");
+    t.write("p.toml", &hopper_text());
+    let secret = "root:x:0:0:SECRET-ONE:/root:/bin/bash\nuser:x:1:1:SECRET-TWO:/:/bin/sh\n";
+    t.write("passwd", secret);
+    std::os::unix::fs::symlink("passwd", t.path().join("linked.toml")).unwrap();
+    t.write("copied.toml", secret);
+    for (record, bless) in [
+        ("linked.toml", false),
+        ("copied.toml", false),
+        ("copied.toml", true),
+    ] {
+        let mut args = vec!["regress", "--record", record];
+        if bless {
+            args.extend(["--bless", "p.toml"]);
+        }
+        let run = t.vito().args(&args).assert_exit(2);
+        assert!(
+            run.stderr.contains(&format!("{record}: line 1:")),
+            "{args:?}: {}",
+            run.stderr
+        );
+        assert!(
+            !run.stderr.contains("SECRET") && !run.stderr.contains("root:x"),
+            "{args:?}: {}",
+            run.stderr
+        );
+    }
+    assert_eq!(
+        std::fs::read_to_string(t.path().join("copied.toml")).unwrap(),
+        secret
+    );
+}
+
+/// What the system refuses is never an "internal error" (exit 3): a record naming a file
+/// with a NUL byte and an `--out` longer than PATH_MAX are input errors (exit 2, naming the
+/// field or the length); a disk that takes no more while `solve`, `simulate`, a sweep's
+/// resume and `sweep report` write their files (here a file-size limit, which fails a write
+/// as a full disk does) is exit 4, every file already there kept.
+#[test]
+fn system_refusals_are_input_or_output_errors_never_internal() {
+    let t = TestDir::with_hopper("system_refusals");
+    t.write("p.toml", &hopper_text());
+    t.write(
+        "nul.toml",
+        "[[problem]]\nfile = \"a\\u0000b.toml\"\nobjective = 1.0\ntolerance = 1e-6\nstatus = \"solve_succeeded\"\niterations = 1\nmax_slack = 0.0\n",
+    );
+    for bless in [&[][..], &["--bless"]] {
+        let run = t
+            .vito()
+            .args(["regress", "--record", "nul.toml"])
+            .args(bless)
+            .assert_exit(2);
+        assert!(
+            run.stderr.contains("problem[0].file") && run.stderr.contains("NUL"),
+            "{}",
+            run.stderr
+        );
+    }
+    let long = vec!["d".repeat(200); 25].join("/");
+    for command in ["solve", "simulate"] {
+        let run = t
+            .vito()
+            .args([command, "p.toml", "--quiet", "--out", &long])
+            .assert_exit(2);
+        assert!(run.stderr.contains("bytes long"), "{}", run.stderr);
+    }
+    // Results of earlier runs, then each command again on a full disk.
+    let quiet = ["--quiet", "--set", "solver.ipopt.max_iter=3"];
+    t.vito()
+        .args(["solve", "p.toml", "--out", "plan"])
+        .args(quiet)
+        .assert_exit(1);
+    t.vito()
+        .args(["simulate", "p.toml", "--out", "sim", "--quiet"])
+        .assert_exit(0);
+    let sweep = crate::cli::sweep::one_point_sweep("sw");
+    t.vito().args(sweep).assert_exit(1);
+    t.vito().args(["sweep", "report", "sw"]).assert_exit(1);
+    let files = |dir: &str| -> Vec<(std::path::PathBuf, Vec<u8>)> {
+        let mut out: Vec<_> = std::fs::read_dir(t.path().join(dir))
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.is_file())
+            .map(|p| (p.clone(), std::fs::read(&p).unwrap()))
+            .collect();
+        out.sort();
+        out
+    };
+    let before: Vec<_> = ["plan", "sim", "sw"].map(files).to_vec();
+    for args in [
+        &["solve", "p.toml", "--out", "plan", "--quiet"][..],
+        &["simulate", "p.toml", "--out", "sim", "--quiet"],
+        &sweep,
+        &["sweep", "report", "sw"],
+    ] {
+        let run = t.vito_on_a_full_disk().args(args).assert_exit(4);
+        assert!(
+            run.stderr.contains("File too large") && !run.stderr.contains("internal error"),
+            "{args:?}: {}",
+            run.stderr
+        );
+    }
+    assert_eq!(["plan", "sim", "sw"].map(files).to_vec(), before);
+}
+
 /// `vito init --out` onto a dangling symbolic link writes nothing through it.
 #[test]
 fn init_never_writes_through_a_dangling_link() {
@@ -967,6 +1076,26 @@ fn column_index(text: &str, name: &str) -> usize {
         .split(',')
         .position(|h| h.starts_with(name))
         .unwrap_or_else(|| panic!("no column {name} in {header}"))
+}
+
+/// A simulation whose steps cannot fit in the memory the process may use (10⁶ hopper steps
+/// under a 600 MB address space) is refused before its first step, naming the memory it
+/// would need (it ran until an allocation failed and the process aborted).
+#[test]
+fn simulations_too_long_for_memory_are_refused() {
+    let t = TestDir::with_hopper("simulations_too_long_for_memory_are_refused");
+    t.write("p.toml", &hopper_text());
+    let run = t
+        .vito_with_address_space(600_000)
+        .args(["simulate", "p.toml", "--quiet", "--out", "sim"])
+        .args(["--duration", "10000", "--rate", "100"])
+        .assert_exit(2);
+    assert!(
+        run.stderr.contains("1000000 steps") && run.stderr.contains("this process may use"),
+        "{}",
+        run.stderr
+    );
+    assert!(!t.path().join("sim").exists());
 }
 
 /// NaN and infinite inputs, an empty input cell and a `--track` file missing an

@@ -451,6 +451,118 @@ fn solve_parallel_starts_equal_sequential_starts() {
     );
 }
 
+/// `--starts` and `--jobs` of `solve` and `sweep` past their limits (10,000 starts, 1,024
+/// processes) are input errors (exit 2) naming the option and the limit, before anything is
+/// allocated for them (a billion starts aborted on an 8 GB queue, under `ulimit -v` in
+/// 0.2 s), also under a 4 GB address-space limit; `--help` states the limits.
+#[test]
+fn start_and_job_counts_past_their_limits_are_input_errors() {
+    let t = TestDir::with_hopper("start_and_job_counts_past_their_limits");
+    t.write("p.toml", &crate::cli::util::hopper_text());
+    for (command, option, value, limit) in [
+        ("solve", "--starts", "1000000000", "give at most 10000"),
+        ("solve", "--starts", "10001", "give at most 10000"),
+        ("solve", "--jobs", "1000000000000", "give at most 1024"),
+        ("sweep", "--starts", "1000000000", "give at most 10000"),
+        ("sweep", "--jobs", "1025", "give at most 1024"),
+    ] {
+        let mut args = vec![command, "p.toml", option, value, "--out", "o"];
+        args.extend(["--set", "solver.ipopt.max_iter=1"]);
+        if command == "sweep" {
+            args.extend(["--grid", "contacts.friction=0.5"]);
+        }
+        let run = t
+            .vito_with_address_space(4_000_000)
+            .args(&args)
+            .assert_exit(2);
+        assert!(
+            run.stderr.contains(&format!("{option} {value}: {limit}")),
+            "{args:?}: {}",
+            run.stderr
+        );
+        assert!(!t.path().join("o").exists());
+    }
+    for command in ["solve", "sweep"] {
+        let help = t.vito().args([command, "--help"]).assert_exit(0).stdout;
+        let help = help.split_whitespace().collect::<Vec<_>>().join(" ");
+        assert!(
+            help.contains("1 to 10000") && help.contains("1 to 1024"),
+            "{help}"
+        );
+    }
+}
+
+/// A start of a parallel multi-start whose process is killed (SIGKILL) is listed in
+/// `summary.json`'s `starts`, marked killed, and the terminal says so; the others' result is
+/// written. The test kills the process the solve names for start 1 as soon as it names it (a
+/// 401-knot hopper is seconds from its 40th iteration then), and stops the solve once it has
+/// reported the kill: no timing decides anything.
+#[test]
+#[cfg(unix)]
+fn a_killed_start_is_listed_as_killed() {
+    use std::io::{BufRead, BufReader};
+    let t = TestDir::with_hopper("a_killed_start_is_listed_as_killed");
+    t.write("p.toml", &crate::cli::util::hopper_text());
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_vito"))
+        .current_dir(t.path())
+        .args([
+            "solve", "p.toml", "--out", "out", "--starts", "2", "--jobs", "2",
+        ])
+        .args([
+            "--set",
+            "horizon.knots=401",
+            "--set",
+            "solver.ipopt.max_iter=40",
+        ])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut lines = BufReader::new(child.stderr.take().unwrap())
+        .lines()
+        .map(Result::unwrap);
+    let mut seen = Vec::new();
+    let mut wait_for = |prefix: &str| -> String {
+        for line in lines.by_ref() {
+            seen.push(line.clone());
+            if let Some(rest) = line.strip_prefix(prefix) {
+                return rest.to_owned();
+            }
+        }
+        panic!("no line {prefix:?} in\n{}", seen.join("\n"));
+    };
+    let pid = wait_for("start 1/2: running as process ");
+    let kill = |args: &[&str]| {
+        assert!(
+            std::process::Command::new("kill")
+                .args(args)
+                .status()
+                .unwrap()
+                .success()
+        )
+    };
+    kill(&["-KILL", &pid]);
+    assert_eq!(wait_for("start 1/2: "), "killed by signal 9 (SIGKILL)");
+    kill(&["-TERM", &child.id().to_string()]);
+    let stdout = std::io::read_to_string(child.stdout.take().unwrap()).unwrap();
+    let status = child.wait().unwrap();
+    assert_eq!(status.code(), Some(1), "{stdout}");
+    assert!(
+        stdout.contains("start 1   killed                       killed by signal 9 (SIGKILL)"),
+        "{stdout}"
+    );
+    let s = summary(&t.path().join("out"));
+    let starts = s["starts"].as_array().unwrap();
+    assert_eq!(starts.len(), 2, "{s}");
+    assert_eq!(
+        starts[1],
+        serde_json::json!({"seed": 1, "status": "killed", "ended": "killed by signal 9 (SIGKILL)"})
+    );
+    // Start 0 ended with its own iterate (stopped, or at its iteration limit).
+    assert!(starts[0]["iterations"].is_u64(), "{s}");
+    assert_eq!(s["best_start"], 0);
+}
+
 /// `[metrics]` on the hopper (forward = x, vertical = z): `summary.json` holds each metric
 /// with its unit, equal to what trajectory.csv gives by hand: the forward distance, over T,
 /// the highest z above its start, and eq. 38's slip of the foot at (x + r sin θ, z − r cos θ).

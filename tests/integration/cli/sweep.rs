@@ -19,6 +19,23 @@ pub fn hopper_family() -> String {
         + "\n[parameters]\nn = 21\n"
 }
 
+/// A one-point sweep of the hopper (`p.toml` of the test directory) into `out` whose run
+/// stops after two iterations: quick, not solved (exit 1), no neighbour pass.
+pub fn one_point_sweep(out: &str) -> [&str; 10] {
+    [
+        "sweep",
+        "p.toml",
+        "--grid",
+        "contacts.friction=0.5",
+        "--out",
+        out,
+        "--neighbour-rounds",
+        "0",
+        "--set",
+        "solver.ipopt.max_iter=2",
+    ]
+}
+
 /// The grid of the resume test: finished, timeout (on the resumed sweep), failed (its run
 /// directory holds a file that is not vito's), finished.
 const GRID: [&str; 6] = ["sweep", "fam.toml", "--grid", "n=5,2000,7,6", "--out", "sw"];
@@ -398,6 +415,32 @@ fn sweep_refuses_foreign_directories_and_bad_grids() {
         2,
         "is not a sweep directory",
     );
+    assert!(!t.path().join("all").exists());
+}
+
+/// A swept key holding `=` is not a sweep's: `--set` and `--grid` read `key=value` up to the
+/// first `=`, so no command line gives one and each run's `--set` would set another key. A
+/// table whose axis has one (an edited `sweep.json`) is refused by `sweep report` and
+/// `sweep collect` naming the key (exit 2); it was shown and merged verbatim.
+#[test]
+fn swept_keys_holding_an_equals_sign_are_refused() {
+    let t = TestDir::with_hopper("swept_keys_holding_an_equals_sign");
+    t.write("p.toml", &hopper_text());
+    t.vito().args(one_point_sweep("sw")).assert_exit(1);
+    let path = t.path().join("sw/sweep.json");
+    let edited = std::fs::read_to_string(&path).unwrap().replace(
+        "\"key\": \"contacts.friction\"",
+        "\"key\": \"contacts.friction=2\"",
+    );
+    assert!(edited.contains("contacts.friction=2"));
+    std::fs::write(&path, &edited).unwrap();
+    for args in [
+        &["sweep", "report", "sw"][..],
+        &["sweep", "collect", "sw", "--out", "all"],
+    ] {
+        let run = says(&t, args, 2, "the key `contacts.friction=2` holds `=`");
+        assert!(run.stdout.is_empty(), "{}", run.stdout);
+    }
     assert!(!t.path().join("all").exists());
 }
 

@@ -49,6 +49,29 @@ impl TestDir {
         cmd.current_dir(self.path());
         VitoCmd { cmd }
     }
+
+    /// A `vito` command running in this directory after the shell commands `limits`
+    /// (`ulimit …`, `trap …`).
+    fn vito_after(&self, limits: &str) -> VitoCmd {
+        let mut cmd = Command::new("sh");
+        cmd.current_dir(self.path())
+            .args(["-c", &format!("{limits} && exec \"$0\" \"$@\"")])
+            .arg(env!("CARGO_BIN_EXE_vito"));
+        VitoCmd { cmd }
+    }
+
+    /// A `vito` command running in this directory on what behaves as a full disk: a file-size
+    /// limit of one block (`ulimit -f 1`, with SIGXFSZ ignored), so that every write past it
+    /// fails with "File too large" as a write to a full disk fails with "No space left".
+    pub fn vito_on_a_full_disk(&self) -> VitoCmd {
+        self.vito_after("ulimit -f 1 && trap '' XFSZ")
+    }
+
+    /// A `vito` command running in this directory with an address space of `kib` KiB
+    /// (`ulimit -v`): an allocation past it fails.
+    pub fn vito_with_address_space(&self, kib: u64) -> VitoCmd {
+        self.vito_after(&format!("ulimit -v {kib}"))
+    }
 }
 
 /// The hopper problem file's text (to be edited into bad inputs).

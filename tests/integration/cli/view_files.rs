@@ -319,12 +319,12 @@ fn run_with_small_files(dir: &Path, args: &[&str]) -> (i32, String) {
     )
 }
 
-/// A page or strip that cannot be written (the disk full, the file too large) is the user's
-/// environment, not an internal error: exit 2 naming the file and why, the file already
-/// there kept as it was, no temporary file left.
+/// A page or strip that cannot be written (the disk full, the file too large) is unwritable
+/// output, not an internal error: exit 4 naming the file and why, the file already there
+/// kept as it was, no temporary file left.
 #[test]
-fn view_on_a_full_disk_exits_2_and_keeps_what_was_there() {
-    let t = simulated("view_on_a_full_disk_exits_2_and_keeps_what_was_there");
+fn view_on_a_full_disk_exits_4_and_keeps_what_was_there() {
+    let t = simulated("view_on_a_full_disk_exits_4_and_keeps_what_was_there");
     let (code, stderr) = run_within(t.path(), &["view", "r", "--strip", "3", "--svg", "s.svg"]);
     assert_eq!(code, 0, "{stderr}");
     let before = |p: &str| std::fs::read(t.path().join(p)).unwrap();
@@ -342,7 +342,7 @@ fn view_on_a_full_disk_exits_2_and_keeps_what_was_there() {
         ),
     ] {
         let (code, stderr) = run_with_small_files(t.path(), args);
-        assert_eq!(code, 2, "{args:?}: {stderr}");
+        assert_eq!(code, 4, "{args:?}: {stderr}");
         assert!(
             stderr.contains(&format!("cannot write {file}")) && stderr.contains("file too large"),
             "{args:?}: {stderr}"
