@@ -430,7 +430,7 @@ fn signals_keep_the_simulated_part_and_exit_1() {
         // more is written however soon the signal arrives.
         rustix::process::kill_process(rustix::process::Pid::from_child(&child), signal).unwrap();
         let reader = std::thread::spawn(move || lines.map(|l| l.unwrap()).collect::<Vec<_>>());
-        let status = crate::cli::util::wait_after_stop(&mut child);
+        let status = crate::cli::util::wait_after_stop(child);
         let stderr = reader.join().unwrap().join("\n");
         assert_eq!(status.code(), Some(1), "{name}: {stderr}");
         assert!(

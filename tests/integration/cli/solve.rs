@@ -280,7 +280,7 @@ fn signal_writes_the_iterate(name: &str, signals: &[(rustix::process::Signal, To
         .unwrap();
     }
     let reader = std::thread::spawn(move || lines.map(|l| l.unwrap()).collect::<Vec<_>>());
-    let status = crate::cli::util::wait_after_stop(&mut child);
+    let status = crate::cli::util::wait_after_stop(child);
     let rest = reader.join().unwrap();
     assert_eq!(status.code(), Some(1), "{}", rest.join("\n"));
     assert!(

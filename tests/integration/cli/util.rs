@@ -210,18 +210,17 @@ pub fn is_iteration_line(line: &str) -> bool {
 
 /// Waits for a child that was asked to stop; one still running after 10 min is killed and
 /// fails the test (a broken stop is a failure, never a stuck suite). The bound decides no
-/// outcome: a stop takes one iteration.
-pub fn wait_after_stop(child: &mut std::process::Child) -> std::process::ExitStatus {
-    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(600);
-    loop {
-        if let Some(status) = child.try_wait().unwrap() {
-            return status;
-        }
-        if std::time::Instant::now() > deadline {
-            let _ = child.kill();
-            let _ = child.wait();
+/// outcome: a stop takes one iteration. The wait itself blocks on the child's exit, no
+/// polling.
+pub fn wait_after_stop(mut child: std::process::Child) -> std::process::ExitStatus {
+    let pid = rustix::process::Pid::from_child(&child);
+    let (sent, exited) = std::sync::mpsc::channel();
+    std::thread::spawn(move || sent.send(child.wait()));
+    match exited.recv_timeout(std::time::Duration::from_secs(600)) {
+        Ok(status) => status.unwrap(),
+        Err(_) => {
+            let _ = rustix::process::kill_process(pid, rustix::process::Signal::KILL);
             panic!("the process did not stop within 10 min of the stop request");
         }
-        std::thread::sleep(std::time::Duration::from_millis(50));
     }
 }
