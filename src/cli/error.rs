@@ -31,7 +31,7 @@ pub const EXIT_CODE_TABLE: [(u8, &str); 5] = [
     (EXIT_INTERNAL, "internal error"),
     (
         EXIT_OUTPUT,
-        "output could not be written: standard output or error (`> /dev/full`; the result files were written), or a result file (a full disk or quota, a file-size limit, a read-only file system; the results already there are kept)",
+        "output could not be written: standard output or error (`> /dev/full`; the result files were written; a reader that goes away, as in `| head`, only ends that output), or a result file (a full disk or quota, a file-size limit, a read-only file system; the results already there are kept)",
     ),
 ];
 

@@ -8,7 +8,7 @@ use vito::problem::RobotInfo;
 use vito::report;
 
 use super::error::CliError;
-use super::output::exit_quietly_on_broken_pipe;
+use super::output::is_broken_pipe;
 
 /// The regular file standard output is redirected to, if it is one (Linux's /proc).
 pub(super) fn stdout_file() -> Option<PathBuf> {
@@ -44,8 +44,9 @@ pub(super) fn init(urdf: &Path, base: BaseType, out: Option<&Path>) -> Result<u8
             let written = stdout
                 .write_all(vito::files::names::escape_controls(&text).as_bytes())
                 .and_then(|()| stdout.flush());
-            if let Err(e) = written {
-                exit_quietly_on_broken_pipe(&e);
+            if let Err(e) = written
+                && !is_broken_pipe(&e)
+            {
                 return Err(CliError::Output(e.to_string()));
             }
         }

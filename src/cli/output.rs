@@ -8,23 +8,26 @@ use vito::problem::RobotInfo;
 
 use super::error::CliError;
 
-/// A closed stdout (`vito check x | head -1`) ends the command quietly with success,
-/// like ripgrep; any other write error is left to the caller.
-pub(super) fn exit_quietly_on_broken_pipe(e: &std::io::Error) {
-    if e.kind() == std::io::ErrorKind::BrokenPipe {
-        std::process::exit(0);
-    }
+/// Whether a write failed because its reader has gone (`vito check x | head -1`): the
+/// rest of that stream's output is dropped, and the command still does its work and exits
+/// with its own code (a broken pipe is neither a success nor a failure of the command).
+pub(super) fn is_broken_pipe(e: &std::io::Error) -> bool {
+    e.kind() == std::io::ErrorKind::BrokenPipe
 }
 
-/// Set when standard output or standard error could not be written.
+/// Set when standard output or standard error could not be written (other than a closed
+/// pipe).
 pub(super) static OUTPUT_FAILED: AtomicBool = AtomicBool::new(false);
+
+/// Set once standard output's reader has gone.
+static STDOUT_CLOSED: AtomicBool = AtomicBool::new(false);
 
 /// Writes one line to stderr (see [`note!`]).
 pub(crate) fn write_stderr(line: &str) {
     let mut stderr = std::io::stderr().lock();
-    if writeln!(stderr, "{}", vito::files::names::escape_controls(line))
+    if let Err(e) = writeln!(stderr, "{}", vito::files::names::escape_controls(line))
         .and_then(|()| stderr.flush())
-        .is_err()
+        && !is_broken_pipe(&e)
     {
         OUTPUT_FAILED.store(true, Ordering::SeqCst);
     }
@@ -32,14 +35,23 @@ pub(crate) fn write_stderr(line: &str) {
 
 /// Writes one line to stdout (see [`out!`]).
 pub(super) fn write_stdout(line: &str) -> Result<(), CliError> {
+    if STDOUT_CLOSED.load(Ordering::SeqCst) {
+        return Ok(());
+    }
     let mut stdout = std::io::stdout().lock();
     let result = writeln!(stdout, "{}", vito::files::names::escape_controls(line))
         .and_then(|()| stdout.flush());
-    result.map_err(|e| {
-        exit_quietly_on_broken_pipe(&e);
-        OUTPUT_FAILED.store(true, Ordering::SeqCst);
-        CliError::Output(e.to_string())
-    })
+    match result {
+        Ok(()) => Ok(()),
+        Err(e) if is_broken_pipe(&e) => {
+            STDOUT_CLOSED.store(true, Ordering::SeqCst);
+            Ok(())
+        }
+        Err(e) => {
+            OUTPUT_FAILED.store(true, Ordering::SeqCst);
+            Err(CliError::Output(e.to_string()))
+        }
+    }
 }
 
 /// The URDF's warnings; with `has_contacts` (the problem gives its contacts) without the

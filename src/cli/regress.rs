@@ -95,7 +95,7 @@ pub(super) fn regress(record_path: &Path, files: &[PathBuf], bless: bool) -> Res
     if bless {
         let blessed = rows.iter().filter(|r| r.blessed).count();
         if blessed == 0 {
-            eprintln!(
+            note!(
                 "error: nothing blessed: none of the {} problem(s) solved; {} is unchanged",
                 rows.len(),
                 record_path.display()

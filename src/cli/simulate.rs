@@ -43,16 +43,18 @@ pub(super) fn simulate(
     // SIGINT, SIGTERM, SIGHUP: the simulation stops after its current step and writes the
     // steps it has made (exit 1); a later request quits at once.
     let stop = on_stop_request(
-        || eprintln!("interrupted: stopping after the current step and writing the steps made"),
+        || note!("interrupted: stopping after the current step and writing the steps made"),
         || {
-            eprintln!("interrupted again: exiting without writing");
+            note!("interrupted again: exiting without writing");
             std::process::exit(1);
         },
     );
     if !quiet {
-        eprintln!(
+        note!(
             "simulating {}: {steps} steps of h = {} {} (Ctrl-C stops after the current step and writes the steps made)",
-            problem.spec.name, prepared.options.h, problem.units.time
+            problem.spec.name,
+            prepared.options.h,
+            problem.units.time
         );
     }
     let run = pipeline::simulation::simulate_prepared(&problem, &prepared, |_| {
@@ -74,7 +76,7 @@ pub(super) fn simulate(
     let made = sim.iterations.len();
     let stopped = stop.load(Ordering::SeqCst) && made < steps;
     if stopped && made == 0 {
-        eprintln!("interrupted before the first step: nothing written");
+        note!("interrupted before the first step: nothing written");
         return Ok(EXIT_NOT_SOLVED);
     }
     if stopped {

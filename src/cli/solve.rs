@@ -99,7 +99,7 @@ pub(super) fn solve(
     if let Some(parent) = run.sweep_parent
         && !vito::sweep::die_with_sweep(parent)
     {
-        eprintln!(
+        note!(
             "error: {} {parent}: the sweep that started this run has ended; not solving",
             vito::sweep::PARENT_FLAG
         );
@@ -111,6 +111,7 @@ pub(super) fn solve(
     if let Some(result) = &run.start_result {
         // One start of a parallel multi-start: its solution to the file, nothing else.
         let cancel = on_stop_request(|| {}, || std::process::exit(1));
+        vito::sweep::stop_when_the_parent_asks(cancel.clone());
         let solution = run_solver(&problem, cancel, run, Vec::new(), None)?;
         super::starts::write_start_result(result, &solution)?;
         return Ok(0);
@@ -150,6 +151,9 @@ pub(super) fn solve(
             std::process::exit(1);
         },
     );
+    if run.sweep_parent.is_some() {
+        vito::sweep::stop_when_the_parent_asks(cancel.clone());
+    }
     if !quiet {
         if let vito::problem::InitialGuess::Simulation(g) = &problem.spec.initial_guess {
             note!(

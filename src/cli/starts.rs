@@ -63,11 +63,8 @@ pub(super) fn solve_in_parallel(
     while (next < multi.starts && !stopping) || !running.is_empty() {
         if !stopping && cancel.load(Ordering::SeqCst) {
             stopping = true;
-            for r in &running {
-                let _ = rustix::process::kill_process(
-                    rustix::process::Pid::from_child(&r.child),
-                    rustix::process::Signal::TERM,
-                );
+            for r in &mut running {
+                vito::sweep::ask_to_stop(&mut r.child);
             }
         }
         while running.len() < jobs && next < multi.starts && !stopping {
@@ -219,7 +216,10 @@ fn spawn(
     if std::env::var_os("OPENBLAS_NUM_THREADS").is_none() {
         cmd.env("OPENBLAS_NUM_THREADS", "1");
     }
-    cmd.stdin(Stdio::null())
+    // The starts run in a process group of their own, so that a terminal's Ctrl-C reaches
+    // this process alone, which passes it on through the pipe each start listens to.
+    std::os::unix::process::CommandExt::process_group(&mut cmd, 0);
+    cmd.stdin(Stdio::piped())
         .stdout(log_file)
         .stderr(log_err)
         .spawn()

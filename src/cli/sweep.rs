@@ -41,12 +41,12 @@ pub(super) fn sweep(args: SweepRunArgs) -> Result<u8, CliError> {
     // iteration and write their iterates (a rerun redoes them); a later request quits at once.
     let stop = on_stop_request(
         || {
-            eprintln!(
+            note!(
                 "interrupted: stopping the running runs after their current iteration (interrupt again to quit now)"
             )
         },
         || {
-            eprintln!(
+            note!(
                 "interrupted again: exiting; the running runs are killed, the table holds every run finished so far"
             );
             std::process::exit(1);
@@ -187,10 +187,9 @@ impl SweepDisplay {
     }
 
     fn line(&self, text: &str) {
-        let text = vito::files::names::escape_controls(text);
         match &self.bar {
-            Some(bar) => bar.println(text),
-            None => eprintln!("{text}"),
+            Some(bar) => bar.println(vito::files::names::escape_controls(text)),
+            None => note!("{text}"),
         }
     }
 
@@ -241,7 +240,7 @@ impl SweepDisplay {
                     } else {
                         String::new()
                     };
-                    eprintln!("progress: {ended}/{total} runs, {counts}{eta}");
+                    note!("progress: {ended}/{total} runs, {counts}{eta}");
                 }
             }
         }
@@ -369,7 +368,7 @@ pub(super) fn sweep_collect(dirs: &[PathBuf], out: &Path, partial: bool) -> Resu
         return Ok(0);
     }
     const SHOWN: usize = 20;
-    eprintln!(
+    note!(
         "error: {} of {} points have no result (a shard not run, not finished or not named): {}{}; \
          give every shard's directory, rerun the missing shards, or pass --partial to accept a partial table",
         missing.len(),

@@ -295,7 +295,7 @@ pub(super) fn view(
         ))
     })?;
     for w in &drawing.body.warnings {
-        eprintln!(
+        note!(
             "{}",
             vito::files::names::escape_controls(&format!("warning: {w}"))
         );

@@ -354,13 +354,9 @@ impl<F: FnMut(Event)> SweepRun<'_, F> {
             if !self.stopping && self.stop_requested() {
                 self.stopping = true;
                 // Runs in the sweep's process group heard a terminal's Ctrl-C already; the
-                // request counts once whoever sends it twice (vito solve takes signals within
-                // a second as one).
-                for r in &running {
-                    let _ = rustix::process::kill_process(
-                        rustix::process::Pid::from_child(&r.child),
-                        rustix::process::Signal::TERM,
-                    );
+                // request counts once whoever sends it twice.
+                for r in &mut running {
+                    ask_to_stop(&mut r.child);
                 }
                 (self.on_event)(Event::Stopping {
                     running: running.len(),
@@ -609,7 +605,8 @@ fn spawn(options: &SweepOptions, job: &Job) -> Result<Child, SweepError> {
         .arg(out.join(&job.dir))
         .arg(PARENT_FLAG)
         .arg(std::process::id().to_string())
-        .stdin(Stdio::null())
+        // The pipe the sweep closes to stop the run (`ask_to_stop`).
+        .stdin(Stdio::piped())
         .stdout(log)
         .stderr(log_err);
     cmd.spawn().map_err(|source| SweepError::Spawn {
@@ -698,4 +695,31 @@ pub fn die_with_sweep(parent: u32) -> bool {
     let _ = rustix::process::set_parent_process_death_signal(Some(rustix::process::Signal::KILL));
     // The sweep may have died before the request above took effect.
     rustix::process::getppid().is_some_and(|p| p.as_raw_nonzero().get() as u32 == parent)
+}
+
+/// In a run started by a sweep or by a parallel multi-start: sets `stop` when the parent
+/// asks the run to stop, which it does by closing the run's standard input (a pipe). The
+/// request waits in the pipe until it is read, so one made while the run is still starting
+/// is not lost, as a signal arriving before the run's handler would be.
+pub fn stop_when_the_parent_asks(stop: Arc<AtomicBool>) {
+    std::thread::spawn(move || {
+        use std::io::Read;
+        let mut stdin = std::io::stdin().lock();
+        let mut byte = [0u8; 1];
+        loop {
+            match stdin.read(&mut byte) {
+                // Closed, or written to: either is the request.
+                Ok(_) => break,
+                Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
+                // No pipe to listen on: only signals can stop this run.
+                Err(_) => return,
+            }
+        }
+        stop.store(true, Ordering::SeqCst);
+    });
+}
+
+/// Asks a run to stop after its current iteration (see [`stop_when_the_parent_asks`]).
+pub fn ask_to_stop(child: &mut Child) {
+    drop(child.stdin.take());
 }

@@ -195,6 +195,28 @@ fn broken_pipe_is_not_an_error() {
     );
 }
 
+/// A solve whose stdout and stderr readers have gone (`vito solve p.toml 2>&1 | head -1`)
+/// still writes its results and exits with its verdict's code: 1 for a solve stopped at its
+/// iteration limit, neither a success nor an output failure.
+#[test]
+fn closed_pipes_leave_the_verdicts_exit_code() {
+    let t = TestDir::with_hopper("closed_pipes_leave_the_verdicts_exit_code");
+    t.write("p.toml", &hopper_text());
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_vito"))
+        .args(["solve", "p.toml", "--out", "out"])
+        .args(["--set", "solver.ipopt.max_iter=2"])
+        .current_dir(t.path())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    drop(child.stderr.take());
+    assert_eq!(child.wait().unwrap().code(), Some(1));
+    let s = crate::cli::util::summary(&t.path().join("out"));
+    assert_eq!(s["status"], "maximum_iterations_exceeded", "{s}");
+}
+
 /// The continuation's and the ψ bound's settings are checked like every other field.
 #[test]
 fn bad_slack_target_and_slip_speed() {

@@ -494,9 +494,9 @@ fn start_and_job_counts_past_their_limits_are_input_errors() {
 
 /// A start of a parallel multi-start whose process is killed (SIGKILL) is listed in
 /// `summary.json`'s `starts`, marked killed, and the terminal says so; the others' result is
-/// written. The test kills the process the solve names for start 1 as soon as it names it (a
-/// 401-knot hopper is seconds from its 40th iteration then), and stops the solve once it has
-/// reported the kill: no timing decides anything.
+/// written. The starts cannot end by themselves ([`ENDLESS_SOLVE`]): the test kills the
+/// process the solve names for start 1 as soon as it names it, and stops the solve once it
+/// has reported the kill; start 0 hears the request through its pipe, however early.
 #[test]
 #[cfg(unix)]
 fn a_killed_start_is_listed_as_killed() {
@@ -508,12 +508,7 @@ fn a_killed_start_is_listed_as_killed() {
         .args([
             "solve", "p.toml", "--out", "out", "--starts", "2", "--jobs", "2",
         ])
-        .args([
-            "--set",
-            "horizon.knots=401",
-            "--set",
-            "solver.ipopt.max_iter=40",
-        ])
+        .args(crate::cli::util::ENDLESS_SOLVE)
         .stdout(std::process::Stdio::piped())
         .stderr(std::process::Stdio::piped())
         .spawn()
@@ -544,8 +539,9 @@ fn a_killed_start_is_listed_as_killed() {
     kill(&["-KILL", &pid]);
     assert_eq!(wait_for("start 1/2: "), "killed by signal 9 (SIGKILL)");
     kill(&["-TERM", &child.id().to_string()]);
-    let stdout = std::io::read_to_string(child.stdout.take().unwrap()).unwrap();
-    let status = child.wait().unwrap();
+    let out = child.stdout.take().unwrap();
+    let status = crate::cli::util::wait_after_stop(child);
+    let stdout = std::io::read_to_string(out).unwrap();
     assert_eq!(status.code(), Some(1), "{stdout}");
     assert!(
         stdout.contains("start 1   killed                       killed by signal 9 (SIGKILL)"),
@@ -558,9 +554,63 @@ fn a_killed_start_is_listed_as_killed() {
         starts[1],
         serde_json::json!({"seed": 1, "status": "killed", "ended": "killed by signal 9 (SIGKILL)"})
     );
-    // Start 0 ended with its own iterate (stopped, or at its iteration limit).
+    // Start 0 was stopped and kept its iterate.
+    assert_eq!(starts[0]["status"], "user_requested_stop", "{s}");
     assert!(starts[0]["iterations"].is_u64(), "{s}");
     assert_eq!(s["best_start"], 0);
+}
+
+/// A stop request that arrives while the parallel starts are still loading their problem
+/// reaches every start (it waits in the pipe each start listens to, where a signal would
+/// have found no handler yet): each start ends `user_requested_stop` with its iterate, none
+/// is lost, and the solve exits 1 with the best of them written.
+#[test]
+#[cfg(unix)]
+fn a_stop_while_the_starts_load_reaches_every_start() {
+    use std::io::{BufRead, BufReader};
+    let t = TestDir::with_hopper("a_stop_while_the_starts_load_reaches_every_start");
+    t.write("p.toml", &crate::cli::util::hopper_text());
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_vito"))
+        .current_dir(t.path())
+        .args([
+            "solve", "p.toml", "--out", "out", "--starts", "4", "--jobs", "4",
+        ])
+        .args(crate::cli::util::ENDLESS_SOLVE)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut seen = Vec::new();
+    for line in BufReader::new(child.stderr.take().unwrap()).lines() {
+        let line = line.unwrap();
+        let last = line.starts_with("start 3/4: running as process ");
+        seen.push(line);
+        if last {
+            break;
+        }
+    }
+    assert!(
+        seen.last()
+            .is_some_and(|l| l.starts_with("start 3/4: running")),
+        "{}",
+        seen.join("\n")
+    );
+    rustix::process::kill_process(
+        rustix::process::Pid::from_child(&child),
+        rustix::process::Signal::TERM,
+    )
+    .unwrap();
+    let out = child.stdout.take().unwrap();
+    let status = crate::cli::util::wait_after_stop(child);
+    let stdout = std::io::read_to_string(out).unwrap();
+    assert_eq!(status.code(), Some(1), "{stdout}");
+    let s = summary(&t.path().join("out"));
+    let starts = s["starts"].as_array().unwrap();
+    assert_eq!(starts.len(), 4, "{s}");
+    for start in starts {
+        assert_eq!(start["status"], "user_requested_stop", "{s}");
+    }
+    assert_eq!(s["status"], "user_requested_stop", "{s}");
 }
 
 /// `[metrics]` on the hopper (forward = x, vertical = z): `summary.json` holds each metric
