@@ -313,6 +313,22 @@ pub(super) fn print_summary(
     } else if contacts {
         out!("max slack    {:.3e}", s.max_slack);
     }
+    if let Some(start) = &s.simulation_start {
+        out!(
+            "simulation   {} steps ({:.3} s, step residual up to {:.1e}), solved with its contact modes fixed: {} after {} iterations, q within {:.1e} of the simulation{}",
+            start.steps,
+            start.simulation_time_s,
+            start.simulation_residual,
+            start.verdict.name(),
+            start.iterations,
+            start.max_q_difference,
+            if start.kept {
+                ""
+            } else {
+                "; not kept, the usual solve followed"
+            },
+        );
+    }
     if let Some(p) = &s.polish {
         out!(
             "polish       {} from objective {:.10e} (max slack {:.3e}{}): {} {:.10e} after {} iterations{}",

@@ -321,6 +321,7 @@ mod tests {
             best_start: 0,
             polish: None,
             continuation: Vec::new(),
+            simulation_start: None,
         }
     }
 

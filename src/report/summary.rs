@@ -142,6 +142,17 @@ pub fn summary_json(problem: &LoadedProblem, solution: &Solution) -> Value {
     if !s.continuation.is_empty() {
         summary["continuation"] = continuation_json(&s.continuation);
     }
+    if let Some(start) = &s.simulation_start {
+        summary["simulation_start"] = json!({
+            "steps": start.steps,
+            "simulation_time_s": num(start.simulation_time_s),
+            "simulation_residual": num(start.simulation_residual),
+            "status": start.verdict.name(),
+            "iterations": start.iterations,
+            "max_q_difference": num(start.max_q_difference),
+            "kept": start.kept,
+        });
+    }
     summary["metrics"] = metrics;
     summary["metric_units"] = metric_units;
     if !s.starts.is_empty() {

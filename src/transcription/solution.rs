@@ -97,6 +97,10 @@ pub struct Solution {
     /// or `homotopy`; the polish is not one of them: `polish`); `solves` is their number.
     #[serde(default)]
     pub continuation: Vec<super::ContinuationSolve>,
+    /// A passive problem's solve from its simulation, kept or not
+    /// ([`super::passive::SimulationStart`]).
+    #[serde(default)]
+    pub simulation_start: Option<super::SimulationStart>,
 }
 
 impl Solution {
@@ -286,6 +290,7 @@ impl Solution {
             best_start: 0,
             polish: None,
             continuation: Vec::new(),
+            simulation_start: None,
         }
     }
 }

@@ -35,7 +35,7 @@ pub struct SolveOptions {
 impl SolveOptions {
     /// Whether the caller asked to stop (the cancel flag) or the deadline has passed: no
     /// further solve starts.
-    fn stopped(&self) -> bool {
+    pub(super) fn stopped(&self) -> bool {
         self.cancel
             .as_ref()
             .is_some_and(|c| c.load(std::sync::atomic::Ordering::Relaxed))
@@ -232,7 +232,10 @@ pub struct BenchRow {
     pub derivative_eval_s: f64,
 }
 
-fn configure(spec: &ProblemSpec, options: &SolveOptions) -> Result<Solver, TranscriptionError> {
+pub(super) fn configure(
+    spec: &ProblemSpec,
+    options: &SolveOptions,
+) -> Result<Solver, TranscriptionError> {
     let mut solver = Solver::new();
     for (name, value) in spec.solver_options.iter().chain(&options.ipopt_options) {
         let value = ipopt::OptionValue::from(value);
@@ -444,6 +447,27 @@ fn solve_transcription<M: MechanicsDerivatives>(
     options: &SolveOptions,
 ) -> Result<Solution, TranscriptionError> {
     transcription.set_skip_fixed_variables(ipopt_drops_fixed_variables(spec, options));
+    // A passive problem: its simulation, solved with its contact modes fixed, when that is
+    // solved; else the usual solve, with the attempt's record and work.
+    match super::passive::solve_from_simulation(transcription, spec, options)? {
+        Some(s) if s.verdict().is_solved() || options.stopped() => Ok(s),
+        attempt => {
+            let mut solution = solve_usually(transcription, spec, options)?;
+            if let Some(attempt) = attempt {
+                solution.add_work(&attempt);
+                solution.simulation_start = attempt.simulation_start;
+            }
+            Ok(solution)
+        }
+    }
+}
+
+/// The relaxed solve with its continuation, then the polish ([`solve_transcription`]).
+fn solve_usually<M: MechanicsDerivatives>(
+    transcription: &mut Transcription<M>,
+    spec: &ProblemSpec,
+    options: &SolveOptions,
+) -> Result<Solution, TranscriptionError> {
     let polishing = spec.slack_polish && transcription.layout().nc > 0;
     let (solution, report) = solve_relaxed(transcription, spec, options, polishing)?;
     if !polishing {
@@ -787,7 +811,7 @@ fn given_number(spec: &ProblemSpec, options: &SolveOptions, name: &str) -> Optio
 }
 
 /// Set each of `values` on `solver` unless the problem file or the caller gives it.
-fn set_unless_given(
+pub(super) fn set_unless_given(
     solver: &mut Solver,
     spec: &ProblemSpec,
     options: &SolveOptions,
@@ -803,7 +827,7 @@ fn set_unless_given(
 
 /// The transcription as Ipopt's problem from its current starting point, with the scaling
 /// `[solver] scaling` asks for (from units: taken at that point, as Ipopt's gradient rule is).
-fn adapter<'a, M: MechanicsDerivatives>(
+pub(super) fn adapter<'a, M: MechanicsDerivatives>(
     transcription: &'a Transcription<M>,
     spec: &ProblemSpec,
     options: &'a SolveOptions,

@@ -206,10 +206,18 @@ fn brick_comes_to_rest_on_a_face() {
     );
     // A nearby local point (objective ≈ 5.1, slack ≈ 3e-3) also reports Solve_Succeeded.
     assert!(s.max_slack < 1e-4, "max slack {}", s.max_slack);
+    assert_brick_optimum(s.objective, objective);
+    assert!(max_q_difference(&s.q, &q) < 1e-5);
+}
+
+/// The brick's optimum is 0 (its motion, no slack). The independent solve's −4.0e-4 is
+/// Ipopt's bound relaxation: its 40 slacks at −1e-8 times α = 1000. vito's solve starts from
+/// the simulated motion and returns 0; either is within that relaxation of the other.
+fn assert_brick_optimum(objective: f64, independent: f64) {
+    let relaxation = 1000.0 * 40.0 * 1e-8 * 1.01;
     assert!(
-        (s.objective - objective).abs() < 1e-6,
-        "objective {} vs independent {objective}",
-        s.objective
+        objective.abs() <= relaxation && (objective - independent).abs() <= relaxation,
+        "objective {objective} vs independent {independent}"
     );
 }
 
@@ -220,12 +228,9 @@ fn brick_from_urdf_matches_the_independent_optimum() {
     report("brick-3d (URDF)", &s);
     assert_eq!(s.status, Status::SolveSucceeded);
     assert!(s.max_slack < 1e-4, "max slack {}", s.max_slack);
-    let objective = independent("brick_3d").objective;
-    assert!(
-        (s.objective - objective).abs() < 1e-6,
-        "objective {} vs independent {objective}",
-        s.objective
-    );
+    let Independent { objective, q, .. } = independent("brick_3d");
+    assert_brick_optimum(s.objective, objective);
+    assert!(max_q_difference(&s.q, &q) < 1e-5);
 }
 
 /// The paper's first-order baseline (eq. 1) on hopper-2d: converges with the slack driven

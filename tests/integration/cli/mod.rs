@@ -11,6 +11,7 @@ mod init;
 mod inputs;
 mod mode_blocks;
 mod output_dirs;
+mod passive;
 mod penalty;
 mod regression;
 mod simulate;

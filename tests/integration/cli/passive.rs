@@ -1,0 +1,91 @@
+//! A problem with no inputs is a simulation: `vito solve` returns the motion `vito simulate`
+//! computes from the same file with the same step, at any grid.
+
+use crate::cli::util::{TestDir, problems_dir, summary};
+
+/// The CSV's columns by name (units stripped), parsed here rather than by vito's reader.
+fn columns(path: &std::path::Path) -> Vec<(String, Vec<f64>)> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let header = lines.next().unwrap();
+    let mut cols: Vec<(String, Vec<f64>)> = header
+        .split(',')
+        .map(|h| (h.split(" [").next().unwrap().to_owned(), Vec::new()))
+        .collect();
+    for line in lines {
+        for (cell, col) in line.split(',').zip(cols.iter_mut()) {
+            col.1.push(cell.parse().unwrap_or(f64::NAN));
+        }
+    }
+    cols
+}
+
+/// The thrown brick on the grid ladder of its file (41 knots over 1 s) doubled and
+/// quadrupled: each solves with no slack, and its configurations at every knot are the
+/// ones `vito simulate` steps to at the same rate (within 1e-8 m or rad), as is its final
+/// rest. Before the solve started from the simulation, 81 knots ended at Ipopt's iteration
+/// limit with a slack of 3.2 after 300 s.
+#[test]
+fn a_passive_brick_solves_to_its_simulation_on_every_grid() {
+    let t = TestDir::new("a_passive_brick_solves_to_its_simulation_on_every_grid");
+    let file = problems_dir().join("brick_3d.toml");
+    for knots in [81usize, 161] {
+        let steps = knots - 1;
+        let plan = t.path().join(format!("plan-{knots}"));
+        let sim = t.path().join(format!("sim-{knots}"));
+        t.vito()
+            .args([std::ffi::OsStr::new("solve"), file.as_os_str()])
+            .args(["--quiet".as_ref(), "--out".as_ref(), plan.as_os_str()])
+            .args(["--set", &format!("horizon.knots={knots}")])
+            .args([
+                "--set",
+                &format!("horizon.time_step={}", 1.0 / steps as f64),
+            ])
+            .assert_exit(0);
+        let s = summary(&plan);
+        assert_eq!(s["status"], "solve_succeeded", "{s}");
+        assert_eq!(s["max_slack"].as_f64(), Some(0.0), "{s}");
+        assert_eq!(s["simulation_start"]["kept"], true, "{s}");
+        assert_eq!(s["simulation_start"]["steps"], steps, "{s}");
+        t.vito()
+            .args([std::ffi::OsStr::new("simulate"), file.as_os_str()])
+            .args(["--quiet".as_ref(), "--out".as_ref(), sim.as_os_str()])
+            .args(["--rate", &steps.to_string(), "--duration", "1"])
+            .assert_exit(0);
+        let planned = columns(&plan.join("trajectory.csv"));
+        let simulated = columns(&sim.join("trajectory.csv"));
+        let mut compared = 0;
+        for (name, values) in planned.iter().filter(|(n, _)| n.starts_with("base_")) {
+            if name.ends_with("_dot") {
+                continue;
+            }
+            let (_, other) = simulated
+                .iter()
+                .find(|(n, _)| n == name)
+                .unwrap_or_else(|| panic!("no column {name} in the simulation"));
+            assert_eq!(values.len(), knots, "{name}");
+            assert_eq!(other.len(), knots, "{name}");
+            for (k, (a, b)) in values.iter().zip(other).enumerate() {
+                assert!(
+                    (a - b).abs() < 1e-8,
+                    "{knots} knots: {name} at knot {k}: plan {a}, simulation {b}"
+                );
+            }
+            compared += 1;
+        }
+        assert_eq!(compared, 6);
+        // Thrown at 1 m/s, the brick has landed and stopped well before 1 s: at rest, a
+        // little downstream of where it was thrown, on the ground.
+        let col = |name: &str| &planned.iter().find(|(n, _)| n == name).unwrap().1;
+        let x = col("base_x");
+        let z = col("base_z");
+        assert!(
+            x[steps] > 0.05 && (x[steps] - x[steps - 1]).abs() < 1e-9,
+            "{x:?}"
+        );
+        assert!(
+            z[steps] < 0.1 && (z[steps] - z[steps - 1]).abs() < 1e-9,
+            "{z:?}"
+        );
+    }
+}
