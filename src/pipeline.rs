@@ -123,6 +123,7 @@ pub fn check_report(spec: &ProblemSpec) -> Result<CheckReport, TranscriptionErro
 pub mod feasibility;
 pub mod gains;
 pub mod kinematics;
+pub mod levels;
 pub mod output;
 pub mod simulation;
 pub mod trajectory_point;

@@ -169,6 +169,10 @@ pub enum Command {
         /// Internal: the process id of the sweep that started this run (the run dies with it).
         #[arg(long, hide = true, value_name = "PID")]
         sweep_parent: Option<u32>,
+        /// With `--set horizon.knots` finer than the file's: solve on the asked grid alone,
+        /// cold, instead of through the file's grid and its doublings (docs/solve.md).
+        #[arg(long)]
+        no_refine: bool,
     },
     /// Simulate a problem file's robot forward with the planner's mechanics and contact model.
     #[command(after_help = exit_codes_help())]

@@ -83,6 +83,7 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
             time_limit,
             progress,
             sweep_parent,
+            no_refine,
         } => {
             let starts = args::count("--starts", starts, vito::transcription::MAX_STARTS)?;
             let jobs = args::jobs(jobs)?;
@@ -106,6 +107,7 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
                 time_limit,
                 progress: solve::ProgressMode::from_arg(progress),
                 sweep_parent,
+                refine: !no_refine,
             };
             solve::solve(&file, &set, out.as_deref(), &run)
         }

@@ -59,6 +59,8 @@ pub(super) struct SolveRun {
     pub(super) progress: ProgressMode,
     /// The sweep that started this run.
     pub(super) sweep_parent: Option<u32>,
+    /// A grid finer than the file's is solved through the file's grid and its doublings.
+    pub(super) refine: bool,
 }
 
 /// The header above the progress lines.
@@ -108,6 +110,21 @@ pub(super) fn solve(
     let overrides = parse_overrides(set)?;
     let problem = pipeline::load_checked(file, &overrides)?;
     let multi_start = run.multi_start;
+    // The file's own grid, when --set asks for another: the first level of the grid
+    // continuation (`pipeline::levels`).
+    let file_knots = if run.refine && overrides.iter().any(|o| o.path == "horizon.knots") {
+        let own: Vec<_> = overrides
+            .iter()
+            .filter(|o| o.path != "horizon.knots" && o.path != "horizon.time_step")
+            .cloned()
+            .collect();
+        pipeline::load_checked(file, &own)
+            .map(|p| p.spec.knots)
+            .unwrap_or(problem.spec.knots)
+    } else {
+        problem.spec.knots
+    };
+    let levels = pipeline::levels::refines(&problem, file_knots);
     if let Some(result) = &run.start_result {
         // One start of a parallel multi-start: its solution to the file, nothing else.
         let cancel = on_stop_request(|| {}, || std::process::exit(1));
@@ -120,8 +137,11 @@ pub(super) fn solve(
     // Parallel starts run in processes of their own; Ipopt's log is one solve's and a time
     // limit is the whole solve's, so --ipopt-log and --time-limit keep the starts in this
     // process.
-    let parallel =
-        multi_start.starts > 1 && run.jobs > 1 && !run.ipopt_log && run.time_limit.is_none();
+    let parallel = multi_start.starts > 1
+        && run.jobs > 1
+        && !run.ipopt_log
+        && run.time_limit.is_none()
+        && !levels;
     let target =
         pipeline::output::checked_output_dir(&problem, out).map_err(report::ReportError::from)?;
     // With --ipopt-log, staged before solving so that Ipopt's log goes straight into the
@@ -192,6 +212,33 @@ pub(super) fn solve(
             );
         }
         super::starts::solve_in_parallel(file, set, multi_start, run.jobs, &cancel, quiet)?
+    } else if levels {
+        let ladder = pipeline::levels::ladder(file_knots, problem.spec.knots);
+        if !quiet {
+            let steps: Vec<String> = ladder.iter().map(|n| n.to_string()).collect();
+            note!(
+                "grid continuation: {} knots (the file's grid, doubled up to the one asked; --no-refine solves on {} knots alone)",
+                steps.join(" → "),
+                problem.spec.knots
+            );
+        }
+        let mut options = solve_options(cancel.clone(), run, ipopt_options, deadline);
+        pipeline::levels::solve_on_levels(
+            file,
+            &overrides,
+            &problem,
+            file_knots,
+            &mut options,
+            |level, count| {
+                if !quiet {
+                    note!("{}", level_line(level, count));
+                }
+            },
+        )
+        .map_err(|e| match e {
+            pipeline::levels::LevelError::Solve(e) => CliError::Transcription(e),
+            e @ pipeline::levels::LevelError::Problem { .. } => CliError::Input(e.to_string()),
+        })?
     } else {
         run_solver(&problem, cancel.clone(), run, ipopt_options, deadline)?
     };
@@ -219,6 +266,17 @@ fn run_solver(
     ipopt_options: Vec<(String, OptionValue)>,
     deadline: Option<std::time::Instant>,
 ) -> Result<Solution, CliError> {
+    let options = solve_options(cancel, run, ipopt_options, deadline);
+    pipeline::solve(&problem.spec, &options).map_err(CliError::Transcription)
+}
+
+/// The solve's options: live progress (stderr), the cancel flag, the deadline and the starts.
+fn solve_options(
+    cancel: Arc<AtomicBool>,
+    run: &SolveRun,
+    ipopt_options: Vec<(String, OptionValue)>,
+    deadline: Option<std::time::Instant>,
+) -> vito::transcription::SolveOptions {
     let (quiet, mode) = (run.quiet, run.progress);
     let started = std::time::Instant::now();
     let last_line = std::sync::Mutex::new(None::<std::time::Instant>);
@@ -240,14 +298,29 @@ fn run_solver(
             );
         }
     };
-    let options = vito::transcription::SolveOptions {
+    vito::transcription::SolveOptions {
         progress: Some(Box::new(progress)),
         cancel: Some(cancel),
         ipopt_options,
         multi_start: Some(run.multi_start),
         deadline,
-    };
-    pipeline::solve(&problem.spec, &options).map_err(CliError::Transcription)
+    }
+}
+
+/// A level of a grid continuation as the terminal shows it when it ends.
+fn level_line(level: &vito::transcription::GridLevel, count: usize) -> String {
+    let moved = level.max_q_difference.map_or(String::new(), |d| {
+        format!(", q moved up to {d:.2e} from the level below")
+    });
+    format!(
+        "level {} knots of {count}: {}, objective {:.6e}, max slack {:.1e}, {} iterations, {:.1} s{moved}",
+        level.knots,
+        level.verdict.name(),
+        level.objective,
+        level.max_slack,
+        level.iterations,
+        level.wall_time_s
+    )
 }
 
 pub(super) fn print_summary(
@@ -312,6 +385,23 @@ pub(super) fn print_summary(
         );
     } else if contacts {
         out!("max slack    {:.3e}", s.max_slack);
+    }
+    if !s.levels.is_empty() {
+        let steps: Vec<String> = s
+            .levels
+            .iter()
+            .map(|l| {
+                format!(
+                    "{} knots {} {:.6e} ({} it, {:.1} s)",
+                    l.knots,
+                    l.verdict.name(),
+                    l.objective,
+                    l.iterations,
+                    l.wall_time_s
+                )
+            })
+            .collect();
+        out!("levels       {}", steps.join(" → "));
     }
     if let Some(start) = &s.simulation_start {
         out!(

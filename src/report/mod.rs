@@ -322,6 +322,7 @@ mod tests {
             polish: None,
             continuation: Vec::new(),
             simulation_start: None,
+            levels: Vec::new(),
         }
     }
 

@@ -142,6 +142,24 @@ pub fn summary_json(problem: &LoadedProblem, solution: &Solution) -> Value {
     if !s.continuation.is_empty() {
         summary["continuation"] = continuation_json(&s.continuation);
     }
+    if !s.levels.is_empty() {
+        summary["levels"] = Value::Array(
+            s.levels
+                .iter()
+                .map(|l| {
+                    json!({
+                        "knots": l.knots,
+                        "status": l.verdict.name(),
+                        "objective": num(l.objective),
+                        "max_slack": num(l.max_slack),
+                        "iterations": l.iterations,
+                        "wall_time_s": num(l.wall_time_s),
+                        "max_q_difference": l.max_q_difference.map(num),
+                    })
+                })
+                .collect(),
+        );
+    }
     if let Some(start) = &s.simulation_start {
         summary["simulation_start"] = json!({
             "steps": start.steps,

@@ -44,7 +44,7 @@ pub use pattern::{Pattern, PatternBuilder};
 pub use program::{DerivativeCheck, DerivativeKind, EntryCheck, FixedModes};
 pub use program::{InitialGuessReport, Transcription};
 pub use scaling::{units_scaling, variable_units};
-pub use solution::{NlpSize, Solution};
+pub use solution::{GridLevel, NlpSize, Solution};
 pub use solve::{
     BenchRow, ContinuationSolve, LostStart, MAX_STARTS, MultiStart, PENALTY_BOUND_RELAX,
     PERTURBATION, PolishRecord, SolveOptions, StartOutcome, StartRecord, StartSolve, best_of,

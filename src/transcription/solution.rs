@@ -101,6 +101,26 @@ pub struct Solution {
     /// ([`super::passive::SimulationStart`]).
     #[serde(default)]
     pub simulation_start: Option<super::SimulationStart>,
+    /// The grid continuation that led to this plan, coarsest level first, this plan's level
+    /// last (empty when it was solved on its own grid alone).
+    #[serde(default)]
+    pub levels: Vec<GridLevel>,
+}
+
+/// One level of a grid continuation: a solve on a coarser grid whose plan started the next.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct GridLevel {
+    /// Knots N of the level.
+    pub knots: usize,
+    /// Its verdict.
+    pub verdict: super::SolveVerdict,
+    pub objective: f64,
+    pub max_slack: f64,
+    pub iterations: usize,
+    pub wall_time_s: f64,
+    /// The largest |q(t) − q_previous(t)| over the previous level's knot times (q of this
+    /// level interpolated linearly between its knots) and coordinates; None on the first.
+    pub max_q_difference: Option<f64>,
 }
 
 impl Solution {
@@ -291,6 +311,7 @@ impl Solution {
             polish: None,
             continuation: Vec::new(),
             simulation_start: None,
+            levels: Vec::new(),
         }
     }
 }

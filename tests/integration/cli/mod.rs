@@ -9,6 +9,7 @@ mod gaits;
 mod hostile;
 mod init;
 mod inputs;
+mod levels;
 mod mode_blocks;
 mod output_dirs;
 mod passive;

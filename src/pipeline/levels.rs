@@ -1,0 +1,179 @@
+//! Grid continuation. A problem asked for at more knots than its file gives (`--set
+//! horizon.knots=…`, with `horizon.time_step` where the horizon is fixed) is solved first on
+//! the file's own grid, then on grids with twice the intervals of the one before, each
+//! started from the plan of the level below (its q and u resampled at the finer knots'
+//! times), up to the grid asked for. A fine grid's relaxed NLP has far more poor local
+//! optima within reach of a cold start than a coarse one's: cold, the hopper at 41 knots
+//! ended `relaxed_contact` at 88.0, and at 161 knots at 30.6; started from the levels below
+//! it solves at every level.
+
+use crate::problem::{InitialGuess, LoadedProblem, Override, ProblemError, TimeSteps, WarmStart};
+use crate::transcription::{GridLevel, Solution, SolveOptions, TranscriptionError};
+
+/// Why a grid continuation stopped.
+#[derive(Debug, thiserror::Error)]
+pub enum LevelError {
+    /// A level's problem could not be loaded (e.g. a knot list beyond its knots).
+    #[error("the grid continuation's level of {knots} knots: {source}")]
+    Problem {
+        knots: usize,
+        #[source]
+        source: Box<ProblemError>,
+    },
+    /// A level's solve failed.
+    #[error(transparent)]
+    Solve(#[from] TranscriptionError),
+}
+
+/// The knots of the levels from the file's `file_knots` up to `knots`: the file's grid, its
+/// intervals doubled while still below `knots`, then `knots`; just `[knots]` when `knots` is
+/// not finer than the file's.
+pub fn ladder(file_knots: usize, knots: usize) -> Vec<usize> {
+    if file_knots < 2 || knots <= file_knots {
+        return vec![knots];
+    }
+    let mut levels = vec![file_knots];
+    let mut intervals = file_knots - 1;
+    loop {
+        intervals *= 2;
+        if intervals + 1 >= knots {
+            break;
+        }
+        levels.push(intervals + 1);
+    }
+    levels.push(knots);
+    levels
+}
+
+/// Whether `target` (the problem as asked) is solved through levels from the file's grid:
+/// finer than the file, with inputs (a problem without them is a simulation, solved
+/// directly at any grid), and not asked to start from a given plan.
+pub fn refines(target: &LoadedProblem, file_knots: usize) -> bool {
+    target.spec.knots > file_knots
+        && !target.spec.input_bounds.is_empty()
+        && !matches!(target.spec.initial_guess, InitialGuess::WarmStart(_))
+}
+
+/// The caller's `overrides` with the knots set to `knots` and, with fixed steps, the step
+/// that keeps `target`'s horizon.
+fn level_overrides(overrides: &[Override], target: &LoadedProblem, knots: usize) -> Vec<Override> {
+    let mut out: Vec<Override> = overrides
+        .iter()
+        .filter(|o| o.path != "horizon.knots" && o.path != "horizon.time_step")
+        .cloned()
+        .collect();
+    out.push(Override {
+        path: "horizon.knots".into(),
+        value: toml::Value::Integer(knots as i64),
+    });
+    if let TimeSteps::Fixed(h) = target.spec.time_steps {
+        let horizon = h * (target.spec.knots - 1) as f64;
+        out.push(Override {
+            path: "horizon.time_step".into(),
+            value: toml::Value::Float(horizon / (knots - 1) as f64),
+        });
+    }
+    out
+}
+
+/// Solves `target` (loaded from `file` with `overrides`) through the levels of
+/// [`ladder`]`(file_knots, target's knots)`: `solve` solves each level's problem (the caller's
+/// solver, progress and stop flag), `on_level` hears each level as it ends. Starts
+/// (`options.multi_start`) explore the first level only. The last level's solution is
+/// returned with every level recorded in [`Solution::levels`].
+pub fn solve_on_levels(
+    file: &std::path::Path,
+    overrides: &[Override],
+    target: &LoadedProblem,
+    file_knots: usize,
+    options: &mut SolveOptions,
+    mut on_level: impl FnMut(&GridLevel, usize),
+) -> Result<Solution, LevelError> {
+    let knots = ladder(file_knots, target.spec.knots);
+    let mut levels: Vec<GridLevel> = Vec::new();
+    let mut previous: Option<Solution> = None;
+    for (l, &n) in knots.iter().enumerate() {
+        let mut spec = if n == target.spec.knots {
+            target.spec.clone()
+        } else {
+            crate::pipeline::load_checked(file, &level_overrides(overrides, target, n))
+                .map_err(|e| LevelError::Problem {
+                    knots: n,
+                    source: Box::new(e),
+                })?
+                .spec
+        };
+        if let Some(p) = &previous {
+            spec.initial_guess = InitialGuess::WarmStart(WarmStart {
+                source: format!("the grid continuation's level of {} knots", p.times.len()).into(),
+                times: p.times.clone(),
+                q: p.q.clone(),
+                u: p.u.clone(),
+            });
+        }
+        let mut solution = crate::pipeline::solve(&spec, options)?;
+        if l == 0 {
+            options.multi_start = None;
+        }
+        let level = GridLevel {
+            knots: n,
+            verdict: solution.verdict(),
+            objective: solution.objective,
+            max_slack: solution.max_slack,
+            iterations: solution.iterations,
+            wall_time_s: solution.wall_time_s,
+            max_q_difference: previous.as_ref().map(|p| q_difference(&solution, p)),
+        };
+        on_level(&level, knots.len());
+        levels.push(level);
+        if l + 1 == knots.len() {
+            for earlier in &levels[..l] {
+                solution.iterations += earlier.iterations;
+                solution.wall_time_s += earlier.wall_time_s;
+            }
+            solution.levels = levels;
+            return Ok(solution);
+        }
+        previous = Some(solution);
+    }
+    unreachable!("a ladder has at least one level")
+}
+
+/// The largest |q_fine(t) − q_coarse(t)| over `coarse`'s knot times, `fine` interpolated
+/// linearly between its knots.
+fn q_difference(fine: &Solution, coarse: &Solution) -> f64 {
+    let mut worst = 0.0_f64;
+    for (t, qc) in coarse.times.iter().zip(&coarse.q) {
+        let k = fine
+            .times
+            .partition_point(|&s| s <= *t)
+            .clamp(1, fine.times.len().max(2) - 1);
+        let (t0, t1) = (fine.times[k - 1], fine.times[k]);
+        let w = if t1 > t0 {
+            ((t - t0) / (t1 - t0)).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        for (c, qc) in qc.iter().enumerate() {
+            let qf = fine.q[k - 1][c] * (1.0 - w) + fine.q[k][c] * w;
+            worst = worst.max((qf - qc).abs());
+        }
+    }
+    worst
+}
+
+#[cfg(test)]
+mod tests {
+    use super::ladder;
+
+    #[test]
+    fn ladders_double_the_intervals_from_the_files_grid() {
+        assert_eq!(ladder(21, 21), vec![21]);
+        assert_eq!(ladder(21, 11), vec![11]);
+        assert_eq!(ladder(21, 41), vec![21, 41]);
+        assert_eq!(ladder(21, 161), vec![21, 41, 81, 161]);
+        assert_eq!(ladder(21, 50), vec![21, 41, 50]);
+        assert_eq!(ladder(25, 97), vec![25, 49, 97]);
+        assert_eq!(ladder(30, 59), vec![30, 59]);
+    }
+}
