@@ -47,28 +47,12 @@ fn blocks_of_one_interval_are_the_spec_nlp() {
     );
 }
 
-/// The CSV's columns by name (units stripped), parsed here rather than by vito's reader.
-fn columns(text: &str) -> Vec<(String, Vec<f64>)> {
-    let mut lines = text.lines();
-    let header = lines.next().unwrap();
-    let mut cols: Vec<(String, Vec<f64>)> = header
-        .split(',')
-        .map(|h| (h.split(" [").next().unwrap().to_owned(), Vec::new()))
-        .collect();
-    for line in lines {
-        for (cell, col) in line.split(',').zip(cols.iter_mut()) {
-            col.1.push(cell.parse().unwrap_or(f64::NAN));
-        }
-    }
-    cols
-}
-
 /// Per block of `m` intervals: (whether some interval has a normal impulse above `tol`,
 /// whether the foot is above `tol` at some knot an impulse of the block acts on), with the
 /// foot height from q by the hand-written hopper, on flat ground.
 fn block_modes(dir: &std::path::Path, m: usize, tol: f64) -> Vec<(bool, bool)> {
     let text = std::fs::read_to_string(dir.join("trajectory.csv")).unwrap();
-    let cols = columns(&text);
+    let cols = crate::cli::util::csv_columns(&text);
     let col = |name: &str| &cols.iter().find(|c| c.0 == name).unwrap().1;
     let (x, z, theta, r) = (col("x"), col("z"), col("theta"), col("r"));
     let normal = col("foot_contact_normal");

@@ -1,24 +1,7 @@
 //! A problem with no inputs is a simulation: `vito solve` returns the motion `vito simulate`
 //! computes from the same file with the same step, at any grid.
 
-use crate::cli::util::{TestDir, problems_dir, summary};
-
-/// The CSV's columns by name (units stripped), parsed here rather than by vito's reader.
-fn columns(path: &std::path::Path) -> Vec<(String, Vec<f64>)> {
-    let text = std::fs::read_to_string(path).unwrap();
-    let mut lines = text.lines();
-    let header = lines.next().unwrap();
-    let mut cols: Vec<(String, Vec<f64>)> = header
-        .split(',')
-        .map(|h| (h.split(" [").next().unwrap().to_owned(), Vec::new()))
-        .collect();
-    for line in lines {
-        for (cell, col) in line.split(',').zip(cols.iter_mut()) {
-            col.1.push(cell.parse().unwrap_or(f64::NAN));
-        }
-    }
-    cols
-}
+use crate::cli::util::{TestDir, csv_columns, problems_dir, summary};
 
 /// The thrown brick on the grid ladder of its file (41 knots over 1 s) doubled and
 /// quadrupled: each solves with no slack, and its configurations at every knot are the
@@ -52,8 +35,8 @@ fn a_passive_brick_solves_to_its_simulation_on_every_grid() {
             .args(["--quiet".as_ref(), "--out".as_ref(), sim.as_os_str()])
             .args(["--rate", &steps.to_string(), "--duration", "1"])
             .assert_exit(0);
-        let planned = columns(&plan.join("trajectory.csv"));
-        let simulated = columns(&sim.join("trajectory.csv"));
+        let planned = csv_columns(&std::fs::read_to_string(plan.join("trajectory.csv")).unwrap());
+        let simulated = csv_columns(&std::fs::read_to_string(sim.join("trajectory.csv")).unwrap());
         let mut compared = 0;
         for (name, values) in planned.iter().filter(|(n, _)| n.starts_with("base_")) {
             if name.ends_with("_dot") {

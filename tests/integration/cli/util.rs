@@ -224,3 +224,20 @@ pub fn wait_after_stop(mut child: std::process::Child) -> std::process::ExitStat
         }
     }
 }
+
+/// A CSV's columns by name (units stripped), parsed here rather than by vito's reader; a
+/// cell that is not a number is NaN.
+pub fn csv_columns(text: &str) -> Vec<(String, Vec<f64>)> {
+    let mut lines = text.lines();
+    let header = lines.next().unwrap_or_default();
+    let mut cols: Vec<(String, Vec<f64>)> = header
+        .split(',')
+        .map(|h| (h.split(" [").next().unwrap_or(h).to_owned(), Vec::new()))
+        .collect();
+    for line in lines {
+        for (cell, col) in line.split(',').zip(cols.iter_mut()) {
+            col.1.push(cell.parse().unwrap_or(f64::NAN));
+        }
+    }
+    cols
+}
