@@ -1,5 +1,6 @@
-//! A solve from Python: `pipeline::solve` (the command's) on its own thread, with progress
-//! to a Python callable, Ctrl-C and an optional deadline as stop requests.
+//! A solve from Python: `pipeline::solve` (the command's; a grid finer than the file's
+//! through `pipeline::levels`) on its own thread, with progress to a Python callable, Ctrl-C
+//! and an optional deadline as stop requests.
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -52,7 +53,7 @@ pub(crate) fn solve_loaded(
         &cancel,
         |messages| {
             let (stop, late) = (cancel.clone(), timed_out.clone());
-            let options = SolveOptions {
+            let mut options = SolveOptions {
                 progress: Some(Box::new(move |p: &Progress| {
                     if deadline.is_some_and(|d| Instant::now() >= d) {
                         late.store(true, Ordering::SeqCst);
@@ -73,7 +74,13 @@ pub(crate) fn solve_loaded(
                 multi_start: Some(multi_start),
                 deadline: None,
             };
-            pipeline::solve(&problem.spec, &options)
+            // A grid finer than the file's goes through the file's grid, as `vito solve`.
+            match pipeline::levels::levels_for(problem) {
+                Some(knots) => {
+                    pipeline::levels::solve_on_levels(problem, &knots, &mut options, |_, _| {})
+                }
+                None => pipeline::solve(&problem.spec, &options),
+            }
         },
         |py, it: Iteration| {
             let Some(callable) = &progress else {

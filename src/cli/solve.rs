@@ -110,21 +110,12 @@ pub(super) fn solve(
     let overrides = parse_overrides(set)?;
     let problem = pipeline::load_checked(file, &overrides)?;
     let multi_start = run.multi_start;
-    // The file's own grid, when --set asks for another: the first level of the grid
-    // continuation (`pipeline::levels`).
-    let file_knots = if run.refine && overrides.iter().any(|o| o.path == "horizon.knots") {
-        let own: Vec<_> = overrides
-            .iter()
-            .filter(|o| o.path != "horizon.knots" && o.path != "horizon.time_step")
-            .cloned()
-            .collect();
-        pipeline::load_checked(file, &own)
-            .map(|p| p.spec.knots)
-            .unwrap_or(problem.spec.knots)
+    // A grid finer than the file's: solved through the file's grid (`pipeline::levels`).
+    let levels = if run.refine {
+        pipeline::levels::levels_for(&problem)
     } else {
-        problem.spec.knots
+        None
     };
-    let levels = pipeline::levels::refines(&problem, file_knots);
     if let Some(result) = &run.start_result {
         // One start of a parallel multi-start: its solution to the file, nothing else.
         let cancel = on_stop_request(|| {}, || std::process::exit(1));
@@ -141,7 +132,7 @@ pub(super) fn solve(
         && run.jobs > 1
         && !run.ipopt_log
         && run.time_limit.is_none()
-        && !levels;
+        && levels.is_none();
     let target =
         pipeline::output::checked_output_dir(&problem, out).map_err(report::ReportError::from)?;
     // With --ipopt-log, staged before solving so that Ipopt's log goes straight into the
@@ -212,8 +203,7 @@ pub(super) fn solve(
             );
         }
         super::starts::solve_in_parallel(file, set, multi_start, run.jobs, &cancel, quiet)?
-    } else if levels {
-        let ladder = pipeline::levels::ladder(file_knots, problem.spec.knots);
+    } else if let Some(ladder) = &levels {
         if !quiet {
             let steps: Vec<String> = ladder.iter().map(|n| n.to_string()).collect();
             note!(
@@ -223,21 +213,10 @@ pub(super) fn solve(
             );
         }
         let mut options = solve_options(cancel.clone(), run, ipopt_options, deadline);
-        pipeline::levels::solve_on_levels(
-            file,
-            &overrides,
-            &problem,
-            file_knots,
-            &mut options,
-            |level, count| {
-                if !quiet {
-                    note!("{}", level_line(level, count));
-                }
-            },
-        )
-        .map_err(|e| match e {
-            pipeline::levels::LevelError::Solve(e) => CliError::Transcription(e),
-            e @ pipeline::levels::LevelError::Problem { .. } => CliError::Input(e.to_string()),
+        pipeline::levels::solve_on_levels(&problem, ladder, &mut options, |level, count| {
+            if !quiet {
+                note!("{}", level_line(level, count));
+            }
         })?
     } else {
         run_solver(&problem, cancel.clone(), run, ipopt_options, deadline)?

@@ -7,23 +7,8 @@
 //! ended `relaxed_contact` at 88.0, and at 161 knots at 30.6; started from the levels below
 //! it solves at every level.
 
-use crate::problem::{InitialGuess, LoadedProblem, Override, ProblemError, TimeSteps, WarmStart};
+use crate::problem::{InitialGuess, LoadedProblem, Override, TimeSteps, WarmStart};
 use crate::transcription::{GridLevel, Solution, SolveOptions, TranscriptionError};
-
-/// Why a grid continuation stopped.
-#[derive(Debug, thiserror::Error)]
-pub enum LevelError {
-    /// A level's problem could not be loaded (e.g. a knot list beyond its knots).
-    #[error("the grid continuation's level of {knots} knots: {source}")]
-    Problem {
-        knots: usize,
-        #[source]
-        source: Box<ProblemError>,
-    },
-    /// A level's solve failed.
-    #[error(transparent)]
-    Solve(#[from] TranscriptionError),
-}
 
 /// The knots of the levels from the file's `file_knots` up to `knots`: the file's grid, its
 /// intervals doubled while still below `knots`, then `knots`; just `[knots]` when `knots` is
@@ -45,13 +30,36 @@ pub fn ladder(file_knots: usize, knots: usize) -> Vec<usize> {
     levels
 }
 
-/// Whether `target` (the problem as asked) is solved through levels from the file's grid:
-/// finer than the file, with inputs (a problem without them is a simulation, solved
-/// directly at any grid), and not asked to start from a given plan.
-pub fn refines(target: &LoadedProblem, file_knots: usize) -> bool {
-    target.spec.knots > file_knots
-        && !target.spec.input_bounds.is_empty()
-        && !matches!(target.spec.initial_guess, InitialGuess::WarmStart(_))
+/// The levels `target` (the problem as asked, its `--set` overrides in `parameters`) is
+/// solved through: [`ladder`] from the file's own grid when `target` asks for a finer one,
+/// has inputs (a problem without them is a simulation, solved directly at any grid) and is
+/// not asked to start from a given plan; else None (one solve on its own grid).
+pub fn levels_for(target: &LoadedProblem) -> Option<Vec<usize>> {
+    let overrides = overrides_of(target);
+    if !overrides.iter().any(|o| o.path == "horizon.knots")
+        || target.spec.input_bounds.is_empty()
+        || matches!(target.spec.initial_guess, InitialGuess::WarmStart(_))
+    {
+        return None;
+    }
+    let own: Vec<Override> = overrides
+        .into_iter()
+        .filter(|o| o.path != "horizon.knots" && o.path != "horizon.time_step")
+        .collect();
+    let file_knots = crate::pipeline::load_checked(&target.file, &own)
+        .ok()?
+        .spec
+        .knots;
+    (target.spec.knots > file_knots).then(|| ladder(file_knots, target.spec.knots))
+}
+
+/// `target`'s `--set` overrides, read back from what it records of them.
+fn overrides_of(target: &LoadedProblem) -> Vec<Override> {
+    target
+        .parameters
+        .iter()
+        .filter_map(|(path, value)| Override::parse(&format!("{path}={value}")).ok())
+        .collect()
 }
 
 /// The caller's `overrides` with the knots set to `knots` and, with fixed steps, the step
@@ -76,30 +84,28 @@ fn level_overrides(overrides: &[Override], target: &LoadedProblem, knots: usize)
     out
 }
 
-/// Solves `target` (loaded from `file` with `overrides`) through the levels of
-/// [`ladder`]`(file_knots, target's knots)`: `solve` solves each level's problem (the caller's
-/// solver, progress and stop flag), `on_level` hears each level as it ends. Starts
-/// (`options.multi_start`) explore the first level only. The last level's solution is
-/// returned with every level recorded in [`Solution::levels`].
+/// Solves `target` through `knots` ([`levels_for`]): `options` are the caller's (progress,
+/// stop flag, deadline), and its starts (`multi_start`) explore the first level only;
+/// `on_level` hears each level as it ends, with the number of levels. The last level's
+/// solution is returned with every level recorded in [`Solution::levels`], its iterations
+/// and wall time their sums.
 pub fn solve_on_levels(
-    file: &std::path::Path,
-    overrides: &[Override],
     target: &LoadedProblem,
-    file_knots: usize,
+    knots: &[usize],
     options: &mut SolveOptions,
     mut on_level: impl FnMut(&GridLevel, usize),
-) -> Result<Solution, LevelError> {
-    let knots = ladder(file_knots, target.spec.knots);
+) -> Result<Solution, TranscriptionError> {
+    let overrides = overrides_of(target);
     let mut levels: Vec<GridLevel> = Vec::new();
     let mut previous: Option<Solution> = None;
     for (l, &n) in knots.iter().enumerate() {
         let mut spec = if n == target.spec.knots {
             target.spec.clone()
         } else {
-            crate::pipeline::load_checked(file, &level_overrides(overrides, target, n))
-                .map_err(|e| LevelError::Problem {
-                    knots: n,
-                    source: Box::new(e),
+            crate::pipeline::load_checked(&target.file, &level_overrides(&overrides, target, n))
+                .map_err(|e| TranscriptionError::Invalid {
+                    field: "horizon.knots".into(),
+                    message: format!("the grid continuation's level of {n} knots: {e}"),
                 })?
                 .spec
         };
@@ -136,7 +142,10 @@ pub fn solve_on_levels(
         }
         previous = Some(solution);
     }
-    unreachable!("a ladder has at least one level")
+    Err(TranscriptionError::Invalid {
+        field: "horizon.knots".into(),
+        message: "a grid continuation needs a level".into(),
+    })
 }
 
 /// The largest |q_fine(t) − q_coarse(t)| over `coarse`'s knot times, `fine` interpolated

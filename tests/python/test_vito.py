@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import vito
-from conftest import HOPPER, ROOT
+from conftest import ENDLESS, HOPPER, ROOT
 
 
 def run_cli(*args):
@@ -229,9 +229,9 @@ def test_ctrl_c_from_another_thread_stops_the_solve_and_keeps_the_iterate(
 
 def test_ctrl_c_stops_a_solve_without_a_progress_callable(hopper, python_ctrl_c):
     # No Python code runs during this solve but vito's signal check at each iteration: the
-    # SIGINT sent from another thread after 0.3 s must stop it there (unstopped it runs for
-    # 784 iterations).
-    long = hopper.with_set({"horizon.knots": 81, "horizon.time_step": 0.0125})
+    # SIGINT sent from another thread must stop it there, whenever it arrives (the solve
+    # cannot end by itself: ENDLESS).
+    long = hopper.with_set({"horizon.knots": 81, "horizon.time_step": 0.0125, **ENDLESS})
     main = threading.main_thread().ident
     timer = threading.Timer(0.3, lambda: signal.pthread_kill(main, signal.SIGINT))
     timer.start()
@@ -242,8 +242,20 @@ def test_ctrl_c_stops_a_solve_without_a_progress_callable(hopper, python_ctrl_c)
         timer.cancel()
     solution = caught.value.solution
     assert solution.status == "user_requested_stop"
-    assert solution.iterations < 784
     assert solution.q.shape == (81, 4)
+
+
+def test_a_finer_grid_is_solved_through_the_files_grid(hopper):
+    # The hopper file (21 knots) at 41: through the 21-knot level, as `vito solve` does;
+    # cold at 41 knots the same NLP ends relaxed_contact at 88.0.
+    fine = hopper.with_set({"horizon.knots": 41, "horizon.time_step": 0.025}).solve()
+    assert fine.status == "solve_succeeded"
+    levels = fine.summary["levels"]
+    assert [level["knots"] for level in levels] == [21, 41]
+    assert all(level["status"] == "solve_succeeded" for level in levels)
+    assert fine.iterations == sum(level["iterations"] for level in levels)
+    assert fine.q.shape == (41, 4)
+    assert fine.objective == levels[-1]["objective"]
 
 
 def test_an_exception_in_progress_stops_the_solve(hopper):
