@@ -5,8 +5,8 @@ use crate::cli::util::{TestDir, csv_columns, problems_dir, summary};
 
 /// The thrown brick on the grid ladder of its file (41 knots over 1 s) doubled and
 /// quadrupled: each solves with no slack, and its configurations at every knot are the
-/// ones `vito simulate` steps to at the same rate (within 1e-8 m or rad), as is its final
-/// rest. Before the solve started from the simulation, 81 knots ended at Ipopt's iteration
+/// ones `vito simulate` steps to at the same rate (within the file's tolerance 1e-6 m or rad),
+/// as is its final rest. Before the solve started from the simulation, 81 knots ended at Ipopt's iteration
 /// limit with a slack of 3.2 after 300 s.
 #[test]
 fn a_passive_brick_solves_to_its_simulation_on_every_grid() {
@@ -49,8 +49,10 @@ fn a_passive_brick_solves_to_its_simulation_on_every_grid() {
             assert_eq!(values.len(), knots, "{name}");
             assert_eq!(other.len(), knots, "{name}");
             for (k, (a, b)) in values.iter().zip(other).enumerate() {
+                // Within the file's Ipopt tol (1e-6): Ipopt 3.11 takes the simulated point
+                // as it is (0 iterations), Ipopt 3.14 moves it by 1e-8.
                 assert!(
-                    (a - b).abs() < 1e-8,
+                    (a - b).abs() < 1e-6,
                     "{knots} knots: {name} at knot {k}: plan {a}, simulation {b}"
                 );
             }
@@ -63,11 +65,11 @@ fn a_passive_brick_solves_to_its_simulation_on_every_grid() {
         let x = col("base_x");
         let z = col("base_z");
         assert!(
-            x[steps] > 0.05 && (x[steps] - x[steps - 1]).abs() < 1e-9,
+            x[steps] > 0.05 && (x[steps] - x[steps - 1]).abs() < 1e-6,
             "{x:?}"
         );
         assert!(
-            z[steps] < 0.1 && (z[steps] - z[steps - 1]).abs() < 1e-9,
+            z[steps] < 0.1 && (z[steps] - z[steps - 1]).abs() < 1e-6,
             "{z:?}"
         );
     }
