@@ -77,7 +77,7 @@ pub(crate) fn solve_loaded(
             // A grid finer than the file's goes through the file's grid, as `vito solve`.
             match pipeline::levels::levels_for(problem) {
                 Some(knots) => {
-                    pipeline::levels::solve_on_levels(problem, &knots, &mut options, |_, _| {})
+                    pipeline::levels::solve_on_levels(problem, &knots, &mut options, |_, _, _| {})
                 }
                 None => pipeline::solve(&problem.spec, &options),
             }

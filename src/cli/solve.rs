@@ -213,9 +213,9 @@ pub(super) fn solve(
             );
         }
         let mut options = solve_options(cancel.clone(), run, ipopt_options, deadline);
-        pipeline::levels::solve_on_levels(&problem, ladder, &mut options, |level, count| {
+        pipeline::levels::solve_on_levels(&problem, ladder, &mut options, |level, l, count| {
             if !quiet {
-                note!("{}", level_line(level, count));
+                note!("{}", level_line(level, l, count));
             }
         })?
     } else {
@@ -287,12 +287,13 @@ fn solve_options(
 }
 
 /// A level of a grid continuation as the terminal shows it when it ends.
-fn level_line(level: &vito::transcription::GridLevel, count: usize) -> String {
+fn level_line(level: &vito::transcription::GridLevel, index: usize, count: usize) -> String {
     let moved = level.max_q_difference.map_or(String::new(), |d| {
         format!(", q moved up to {d:.2e} from the level below")
     });
     format!(
-        "level {} knots of {count}: {}, objective {:.6e}, max slack {:.1e}, {} iterations, {:.1} s{moved}",
+        "level {}/{count}, {} knots: {}, objective {:.6e}, max slack {:.1e}, {} iterations, {:.1} s{moved}",
+        index + 1,
         level.knots,
         level.verdict.name(),
         level.objective,

@@ -86,14 +86,14 @@ fn level_overrides(overrides: &[Override], target: &LoadedProblem, knots: usize)
 
 /// Solves `target` through `knots` ([`levels_for`]): `options` are the caller's (progress,
 /// stop flag, deadline), and its starts (`multi_start`) explore the first level only;
-/// `on_level` hears each level as it ends, with the number of levels. The last level's
+/// `on_level` hears each level as it ends, with its index and the number of levels. The last level's
 /// solution is returned with every level recorded in [`Solution::levels`], its iterations
 /// and wall time their sums.
 pub fn solve_on_levels(
     target: &LoadedProblem,
     knots: &[usize],
     options: &mut SolveOptions,
-    mut on_level: impl FnMut(&GridLevel, usize),
+    mut on_level: impl FnMut(&GridLevel, usize, usize),
 ) -> Result<Solution, TranscriptionError> {
     let overrides = overrides_of(target);
     let mut levels: Vec<GridLevel> = Vec::new();
@@ -130,7 +130,7 @@ pub fn solve_on_levels(
             wall_time_s: solution.wall_time_s,
             max_q_difference: previous.as_ref().map(|p| q_difference(&solution, p)),
         };
-        on_level(&level, knots.len());
+        on_level(&level, l, knots.len());
         levels.push(level);
         if l + 1 == knots.len() {
             for earlier in &levels[..l] {

@@ -29,6 +29,12 @@ fn a_finer_grid_is_solved_through_the_files_grid() {
         "{}",
         run.stderr
     );
+    assert!(
+        run.stderr.contains("level 1/2, 21 knots: solve_succeeded")
+            && run.stderr.contains("level 2/2, 41 knots: solve_succeeded"),
+        "{}",
+        run.stderr
+    );
     let s = summary(&t.path().join("fine"));
     assert_eq!(s["status"], "solve_succeeded", "{s}");
     assert_eq!(s["knots"], 41, "{s}");
