@@ -10,7 +10,7 @@
 //! The interior-point relaxation cannot find such a motion itself at fine grids: every
 //! complementarity pair of a simulation holds exactly, so its solution has no interior.
 
-use super::solve::{SolveOptions, adapter, configure, set_unless_given};
+use super::solve::{SolveOptions, set_unless_given, solve_modes_fixed};
 use super::{MechanicsDerivatives, Solution, Transcription, TranscriptionError};
 use crate::ipopt::OptionValue;
 use crate::problem::{ProblemSpec, TimeSteps};
@@ -70,14 +70,10 @@ pub(super) fn solve_from_simulation<M: MechanicsDerivatives>(
     };
     let simulation_time_s = started.elapsed().as_secs_f64();
     let x = point(t, &sim);
-    let (original, _) = t.fix_contact_modes(&x);
-    let start = t.initial_point().to_vec();
-    t.set_initial_point(&x)?;
-    let outcome = (|| {
-        let mut solver = configure(spec, options)?;
+    let (report, _) = solve_modes_fixed(t, spec, options, &x, |solver, _| {
         // The point satisfies the rows already: stay near it.
         set_unless_given(
-            &mut solver,
+            solver,
             spec,
             options,
             vec![
@@ -87,13 +83,8 @@ pub(super) fn solve_from_simulation<M: MechanicsDerivatives>(
                 ("slack_bound_frac", OptionValue::Num(1e-8)),
                 ("mu_init", OptionValue::Num(1e-8)),
             ],
-        )?;
-        let mut nlp = adapter(t, spec, options);
-        Ok::<_, TranscriptionError>(solver.solve(&mut nlp)?)
-    })();
-    t.restore_bounds(original);
-    t.set_initial_point(&start)?;
-    let report = outcome?;
+        )
+    })?;
     let mut solution = Solution::read_off(t, spec, &report);
     let max_q_difference = solution
         .q

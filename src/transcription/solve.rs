@@ -232,10 +232,7 @@ pub struct BenchRow {
     pub derivative_eval_s: f64,
 }
 
-pub(super) fn configure(
-    spec: &ProblemSpec,
-    options: &SolveOptions,
-) -> Result<Solver, TranscriptionError> {
+fn configure(spec: &ProblemSpec, options: &SolveOptions) -> Result<Solver, TranscriptionError> {
     let mut solver = Solver::new();
     for (name, value) in spec.solver_options.iter().chain(&options.ipopt_options) {
         let value = ipopt::OptionValue::from(value);
@@ -702,28 +699,20 @@ fn polish<M: MechanicsDerivatives>(
     {
         return Ok(solution);
     }
-    let (original, fixed) = transcription.fix_contact_modes(&report.x);
-    let start = transcription.initial_point().to_vec();
-    transcription.set_initial_point(&report.x)?;
-    let mut g = report.mult_g.clone();
-    for r in transcription.freed_rows() {
-        g[r] = 0.0;
-    }
-    let outcome = (|| {
-        let mut solver = configure(spec, options)?;
-        solver.set_starting_multipliers(Multipliers {
-            g,
-            x_lower: report.mult_x_lower.clone(),
-            x_upper: report.mult_x_upper.clone(),
-        });
-        set_unless_given(&mut solver, spec, options, primal_dual_warm_start())?;
-        log_beside(&mut solver, options, "polish")?;
-        let mut nlp = adapter(transcription, spec, options);
-        Ok::<_, TranscriptionError>(solver.solve(&mut nlp)?)
-    })();
-    transcription.restore_bounds(original);
-    transcription.set_initial_point(&start)?;
-    let polished_report = outcome?;
+    let (polished_report, fixed) =
+        solve_modes_fixed(transcription, spec, options, &report.x, |solver, t| {
+            let mut g = report.mult_g.clone();
+            for r in t.freed_rows() {
+                g[r] = 0.0;
+            }
+            solver.set_starting_multipliers(Multipliers {
+                g,
+                x_lower: report.mult_x_lower.clone(),
+                x_upper: report.mult_x_upper.clone(),
+            });
+            set_unless_given(solver, spec, options, primal_dual_warm_start())?;
+            log_beside(solver, options, "polish")
+        })?;
     let mut polished = Solution::read_off(transcription, spec, &polished_report);
     let kept = polished.verdict().is_solved()
         && (!solution.verdict().is_solved() || polished.objective <= solution.objective);
@@ -750,6 +739,31 @@ fn polish<M: MechanicsDerivatives>(
     kept_solution.add_work(&other);
     kept_solution.polish = Some(record);
     Ok(kept_solution)
+}
+
+/// Solves the NLP from `x` with the contact modes of `x` fixed
+/// ([`Transcription::fix_contact_modes`]), `prepare` setting the solver up for it (it sees
+/// the mode-fixed transcription); the bounds and the starting point are put back after.
+/// Ipopt's report and the modes fixed.
+pub(super) fn solve_modes_fixed<M: MechanicsDerivatives>(
+    transcription: &mut Transcription<M>,
+    spec: &ProblemSpec,
+    options: &SolveOptions,
+    x: &[f64],
+    prepare: impl FnOnce(&mut Solver, &Transcription<M>) -> Result<(), TranscriptionError>,
+) -> Result<(ipopt::SolveReport, FixedModes), TranscriptionError> {
+    let (original, fixed) = transcription.fix_contact_modes(x);
+    let start = transcription.initial_point().to_vec();
+    let outcome = transcription.set_initial_point(x).and_then(|()| {
+        let t: &Transcription<M> = transcription;
+        let mut solver = configure(spec, options)?;
+        prepare(&mut solver, t)?;
+        let mut nlp = adapter(t, spec, options);
+        Ok(solver.solve(&mut nlp)?)
+    });
+    transcription.restore_bounds(original);
+    transcription.set_initial_point(&start)?;
+    Ok((outcome?, fixed))
 }
 
 /// Ipopt's default `constr_viol_tol`: the largest constraint violation of a converged point.
@@ -827,7 +841,7 @@ pub(super) fn set_unless_given(
 
 /// The transcription as Ipopt's problem from its current starting point, with the scaling
 /// `[solver] scaling` asks for (from units: taken at that point, as Ipopt's gradient rule is).
-pub(super) fn adapter<'a, M: MechanicsDerivatives>(
+fn adapter<'a, M: MechanicsDerivatives>(
     transcription: &'a Transcription<M>,
     spec: &ProblemSpec,
     options: &'a SolveOptions,
