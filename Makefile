@@ -23,7 +23,7 @@ OUT ?= out/hopper_2d
 # solve lock already gives one solve per process); parallel work uses processes.
 export OPENBLAS_NUM_THREADS ?= 1
 
-.PHONY: deps build demo python test test-python test-wheel test-slow test-slurm lint pages bench bench-casadi robustness fuzz fuzz-python test-debian13
+.PHONY: deps build demo python test test-python test-wheel test-slow test-slurm lint pages bench bench-casadi robustness ladders fuzz fuzz-python test-debian13
 
 deps:
 	bash vendor-config/install-deps.sh
@@ -100,6 +100,13 @@ ROBUSTNESS_STARTS ?= 10
 ROBUSTNESS_ARGS ?=
 robustness: build
 	python3 tools/robustness.py --starts $(ROBUSTNESS_STARTS) $(ROBUSTNESS_ARGS)
+
+# The refinement ladders: each reference problem at its file's grid and finer ones, one
+# `vito solve` per grid (tools/ladders.py; BENCHMARKS.md). LADDERS_ARGS picks, e.g. 'hopper'
+# or '--cold hopper'.
+LADDERS_ARGS ?=
+ladders: build
+	python3 tools/ladders.py $(LADDERS_ARGS)
 
 FUZZ_COUNT ?= 1000000
 FUZZ_SEED ?= 1

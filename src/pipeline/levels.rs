@@ -1,13 +1,22 @@
 //! Grid continuation. A problem asked for at more knots than its file gives (`--set
 //! horizon.knots=…`, with `horizon.time_step` where the horizon is fixed) is solved first on
 //! the file's own grid, then on grids with twice the intervals of the one before, each
-//! started from the plan of the level below (its q and u resampled at the finer knots'
-//! times), up to the grid asked for. A fine grid's relaxed NLP has far more poor local
-//! optima within reach of a cold start than a coarse one's: cold, the hopper at 41 knots
-//! ended `relaxed_contact` at 88.0, and at 161 knots at 30.6; started from the levels below
-//! it solves at every level.
+//! started from the plan of the level below, up to the grid asked for: its q and u resampled
+//! at the finer knots' times, and its contact impulses as forces (each fine interval gets the
+//! force of the coarse interval holding its middle, times its own step), with the sliding
+//! speeds, their duals and the slacks that meet the rows there. A fine grid's relaxed NLP has
+//! far more poor local optima within reach of a cold start than a coarse one's: cold, the
+//! hopper at 41 knots ended `relaxed_contact` at 88.0, and at 161 knots at 30.6; started from
+//! the levels below it solves at every level (BENCHMARKS.md).
+//!
+//! A problem whose slack is solved by a continuation (`slack.target` or `slack.homotopy`)
+//! starts each level from q and u alone, its impulses at the guess's: from carried impulses
+//! those reached worse optima, where the hopper's single relaxed solve gains from them
+//! (BENCHMARKS.md: at 161 knots the median over ten seeded first levels fell from 6.669 to
+//! 6.035 in a quarter of the time; Spring Flamingo's homotopy at 49 knots rose from 20.53 to
+//! 24.22 over nine, LittleDog's step at 59 from 41.44 to 43.17 in one).
 
-use crate::problem::{InitialGuess, LoadedProblem, Override, TimeSteps, WarmStart};
+use crate::problem::{InitialGuess, LoadedProblem, Override, TimeSteps};
 use crate::transcription::{GridLevel, Solution, SolveOptions, TranscriptionError};
 
 /// The knots of the levels from the file's `file_knots` up to `knots`: the file's grid, its
@@ -110,11 +119,13 @@ pub fn solve_on_levels(
                 .spec
         };
         if let Some(p) = &previous {
-            spec.initial_guess = InitialGuess::WarmStart(WarmStart {
-                source: format!("the grid continuation's level of {} knots", p.times.len()).into(),
-                times: p.times.clone(),
-                q: p.q.clone(),
-                u: p.u.clone(),
+            let source = format!("the grid continuation's level of {} knots", p.times.len());
+            // A slack continuation starts from the guess's small impulses: from carried ones
+            // it reached worse optima (module docs).
+            spec.initial_guess = InitialGuess::WarmStart(if spec.slack_continuation.is_some() {
+                p.warm_start(source.into())
+            } else {
+                p.warm_start_with_forces(source.into())
             });
         }
         let mut solution = crate::pipeline::solve(&spec, options)?;

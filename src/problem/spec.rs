@@ -253,6 +253,10 @@ pub struct WarmStart {
     pub q: Vec<Vec<f64>>,
     /// Inputs per interval (N'−1 × m), empty when absent.
     pub u: Vec<Vec<f64>>,
+    /// Contact forces per interval (N'−1 × nc × (1 + nd), N): each contact's normal impulse
+    /// then its friction impulses, divided by the interval's step so that they keep their
+    /// size on another grid; empty when absent (a trajectory file or a simulation).
+    pub forces: Vec<Vec<Vec<f64>>>,
 }
 
 /// `[slack] target`: the exact-penalty continuation. While the largest slack exceeds

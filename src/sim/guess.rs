@@ -127,6 +127,7 @@ fn simulate_with<M: MechanicsDerivatives>(
             times: (0..=intervals).map(|k| (k * substeps) as f64 * h).collect(),
             q,
             u,
+            forces: Vec::new(),
         },
         periodicity_defect,
         steps,

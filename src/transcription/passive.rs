@@ -160,40 +160,8 @@ fn point<M: MechanicsDerivatives>(t: &Transcription<M>, sim: &Simulation) -> Vec
     for s in l.slacks() {
         x[s] = 0.0;
     }
-    // η: each tangential row is its rate + ψ e − η; read η off the rows at η = 0 and 1.
-    let at = |eta: f64, x: &mut Vec<f64>| {
-        for j in 0..l.intervals() {
-            for i in 0..l.nc {
-                for e in l.eta(j, i) {
-                    x[e] = eta;
-                }
-            }
-        }
-        let mut g = vec![0.0; l.num_constraints()];
-        t.constraints(x, &mut g);
-        g
-    };
-    let g0 = at(0.0, &mut x);
-    let g1 = at(1.0, &mut x);
-    for j in 0..l.intervals() {
-        let rows = l.rows_of("TangentialRate", j);
-        for i in 0..l.nc {
-            let eta: Vec<f64> = (0..l.nd)
-                .map(|d| {
-                    let r = rows.start + i * l.nd + d;
-                    let slope = g1[r] - g0[r];
-                    if slope != 0.0 { -g0[r] / slope } else { 0.0 }
-                })
-                .collect();
-            // Off the ground the simulation's ψ is 0, which leaves η negative in the
-            // directions the point moves away from: ψ (free there, as c = 0 and β = 0) is
-            // raised to the fastest of them, and every η with it.
-            let deficit = eta.iter().fold(0.0_f64, |m, &e| m.max(-e));
-            x[l.psi(j, i)] += deficit;
-            for (e, value) in l.eta(j, i).zip(eta) {
-                x[e] = (value + deficit).max(0.0);
-            }
-        }
-    }
+    // Off the ground the simulation's ψ is 0, which leaves η negative in the directions
+    // the point moves away from: ψ (free there, as c = 0 and β = 0) is raised.
+    super::start::sliding_from_rows(t, &mut x);
     x
 }

@@ -132,6 +132,34 @@ impl Solution {
             times: self.times.clone(),
             q: self.q.clone(),
             u: self.u.clone(),
+            forces: Vec::new(),
+        }
+    }
+
+    /// [`Solution::warm_start`] with its contact impulses as forces (each interval's
+    /// impulses divided by its step), for a start on another grid of the same problem.
+    pub fn warm_start_with_forces(&self, source: std::path::PathBuf) -> crate::problem::WarmStart {
+        let forces = self
+            .normal_impulse
+            .iter()
+            .zip(&self.friction_impulse)
+            .zip(&self.time_steps)
+            .map(|((normal, friction), &h)| {
+                normal
+                    .iter()
+                    .zip(friction)
+                    .map(|(&c, beta)| {
+                        std::iter::once(c)
+                            .chain(beta.iter().copied())
+                            .map(|impulse| impulse / h)
+                            .collect()
+                    })
+                    .collect()
+            })
+            .collect();
+        crate::problem::WarmStart {
+            forces,
+            ..self.warm_start(source)
         }
     }
 

@@ -6,7 +6,7 @@ use super::blocks::Context;
 use super::error::check_len;
 use super::layout::Layout;
 use crate::discrete::{MechanicsDerivatives, galerkin_interval};
-use crate::problem::{InitialGuess, Interval, KnotSet, ProblemSpec, TimeSteps};
+use crate::problem::{InitialGuess, Interval, KnotSet, ProblemSpec, TimeSteps, WarmStart};
 
 pub(super) fn intersect(a: Interval, b: Interval) -> Interval {
     Interval {
@@ -174,6 +174,8 @@ pub(super) fn initial_guess<M: MechanicsDerivatives>(
         TimeSteps::FreeEqual { t_max, .. } => t_max / l.intervals() as f64,
     };
     let last = l.knots - 1;
+    // A warm start's contact impulses, per interval, where it carries its forces.
+    let mut impulses: Vec<Option<Vec<Vec<f64>>>> = vec![None; l.intervals()];
     match &spec.initial_guess {
         InitialGuess::Linear { from, to } => {
             check_len("initial_guess.from", l.n, from.len())?;
@@ -227,6 +229,15 @@ pub(super) fn initial_guess<M: MechanicsDerivatives>(
                         x[i] = u[c];
                     }
                 }
+                if k < last {
+                    let middle = t + 0.5 * h_guess * stretch;
+                    impulses[k] = forces_at(w, middle, l).map(|forces| {
+                        forces
+                            .iter()
+                            .map(|f| f.iter().map(|f| f * h_guess).collect())
+                            .collect()
+                    });
+                }
             }
         }
     }
@@ -234,6 +245,12 @@ pub(super) fn initial_guess<M: MechanicsDerivatives>(
         x[l.h(j)] = h_guess;
         for i in l.contact_vars(j) {
             x[i] = 0.01;
+        }
+        if let Some(impulses) = &impulses[j] {
+            for (i, impulse) in impulses.iter().enumerate() {
+                x[l.c(j, i)] = impulse[0];
+                x[l.beta(j, i)].copy_from_slice(&impulse[1..]);
+            }
         }
     }
     for i in l.slacks() {
@@ -277,6 +294,92 @@ pub(super) fn interior_points<M: MechanicsDerivatives>(
             chord()
         };
         x[l.interior_points(j)].copy_from_slice(&interior);
+    }
+}
+
+/// The forces of the warm start's interval holding time `t` (nc × (1 + nd), each contact's
+/// normal then friction force), or None when it carries none or its sizes are not `l`'s.
+fn forces_at<'a>(w: &'a WarmStart, t: f64, l: &Layout) -> Option<&'a Vec<Vec<f64>>> {
+    let intervals = w.forces.len().min(w.times.len().saturating_sub(1));
+    if intervals == 0 {
+        return None;
+    }
+    let j = w.times[1..=intervals]
+        .partition_point(|&s| s <= t)
+        .min(intervals - 1);
+    let forces = &w.forces[j];
+    (forces.len() == l.nc && forces.iter().all(|f| f.len() == 1 + l.nd)).then_some(forces)
+}
+
+/// Sets the sliding speeds ψ and their duals η of `x` from its q and steps: each tangential
+/// row is linear in both (its rate + ψe − η), so η is read off the rows at η = 0 and η = 1,
+/// and where that leaves η negative (a point moving away in some direction, with ψ 0), ψ is
+/// raised to the fastest of them and every η with it.
+pub(super) fn sliding_from_rows<M: MechanicsDerivatives>(
+    t: &super::Transcription<M>,
+    x: &mut [f64],
+) {
+    let l = t.layout();
+    let at = |eta: f64, x: &mut [f64]| {
+        for j in 0..l.intervals() {
+            for i in 0..l.nc {
+                for e in l.eta(j, i) {
+                    x[e] = eta;
+                }
+            }
+        }
+        let mut g = vec![0.0; l.num_constraints()];
+        t.constraints(x, &mut g);
+        g
+    };
+    let g0 = at(0.0, x);
+    let g1 = at(1.0, x);
+    for j in 0..l.intervals() {
+        let rows = l.rows_of("TangentialRate", j);
+        for i in 0..l.nc {
+            let eta: Vec<f64> = (0..l.nd)
+                .map(|d| {
+                    let r = rows.start + i * l.nd + d;
+                    let slope = g1[r] - g0[r];
+                    if slope != 0.0 { -g0[r] / slope } else { 0.0 }
+                })
+                .collect();
+            let deficit = eta.iter().fold(0.0_f64, |m, &e| m.max(-e));
+            x[l.psi(j, i)] += deficit;
+            for (e, value) in l.eta(j, i).zip(eta) {
+                x[e] = (value + deficit).max(0.0);
+            }
+        }
+    }
+}
+
+/// Sets the slacks of `x` to the complementarity products they bound at `x` (at least 0),
+/// so that a start carrying its impulses meets its complementarity rows.
+pub(super) fn slacks_from_rows<M: MechanicsDerivatives>(
+    t: &super::Transcription<M>,
+    x: &mut [f64],
+) {
+    let l = t.layout();
+    if l.slacks().is_empty() {
+        return;
+    }
+    for s in l.slacks() {
+        x[s] = 0.0;
+    }
+    let mut g = vec![0.0; l.num_constraints()];
+    t.constraints(x, &mut g);
+    for j in 0..l.intervals() {
+        let rows = l.rows_of("Complementarity", j);
+        let slacks = l.slack(j);
+        if slacks.len() == 1 {
+            // Each row is s − (a product sum) ≥ 0.
+            let need = rows.clone().fold(0.0_f64, |m, r| m.max(-g[r]));
+            x[slacks.start] = need;
+        } else {
+            for (s, r) in slacks.zip(rows) {
+                x[s] = (-g[r]).max(0.0);
+            }
+        }
     }
 }
 

@@ -79,6 +79,7 @@ fn warm_start_into_free_steps_keeps_the_previous_duration() {
         times,
         q: q.clone(),
         u: Vec::new(),
+        forces: Vec::new(),
     });
     let t = Transcription::new(ModelMechanics::load(&spec).unwrap(), &spec).unwrap();
     let (x, l) = (t.initial_point(), t.layout());
@@ -97,6 +98,62 @@ fn warm_start_into_free_steps_keeps_the_previous_duration() {
             }
         }
     }
+}
+
+/// A warm start carrying contact forces (a coarser level's plan) gives each interval of the
+/// finer grid the forces of the coarse interval holding its middle, times its own step, and
+/// the sliding speeds, their duals and the slacks that meet the rows: tangential rows at
+/// zero, complementarity rows satisfied, every ψ, η and slack at least zero.
+#[test]
+fn a_warm_start_carries_its_forces_to_a_finer_grid() {
+    use vito::problem::{InitialGuess, TimeSteps, WarmStart};
+    let mut spec = hopper_2d();
+    let coarse: Vec<f64> = (0..21).map(|k| 0.05 * k as f64).collect();
+    let q: Vec<Vec<f64>> = coarse
+        .iter()
+        .map(|&t| vec![0.5 * t, 0.5 - 0.1 * (3.0 * t).sin(), 0.2 * t, 0.5])
+        .collect();
+    let forces: Vec<Vec<Vec<f64>>> = (0..20)
+        .map(|j| vec![vec![10.0 + j as f64, 2.0, 0.5 * j as f64]])
+        .collect();
+    spec.initial_guess = InitialGuess::WarmStart(WarmStart {
+        source: "memory".into(),
+        times: coarse,
+        q,
+        u: vec![vec![0.0, 0.0]; 20],
+        forces,
+    });
+    spec.knots = 41;
+    spec.time_steps = TimeSteps::Fixed(0.025);
+    let t = Transcription::new(Hopper, &spec).unwrap();
+    let (x, l) = (t.initial_point(), t.layout());
+    assert_eq!(l.intervals(), 40);
+    for j in 0..40 {
+        let coarse = (j / 2) as f64;
+        assert!(
+            close(x[l.c(j, 0)], (10.0 + coarse) * 0.025, 1e-12),
+            "c at {j}"
+        );
+        let beta = &x[l.beta(j, 0)];
+        assert!(close(beta[0], 2.0 * 0.025, 1e-12), "β at {j}");
+        assert!(close(beta[1], 0.5 * coarse * 0.025, 1e-12), "β at {j}");
+    }
+    let mut g = vec![0.0; l.num_constraints()];
+    t.constraints(x, &mut g);
+    let mut sliding = 0;
+    for j in 0..40 {
+        for r in l.rows_of("TangentialRate", j) {
+            assert!(g[r].abs() < 1e-12, "tangential row {r}: {}", g[r]);
+        }
+        for r in l.rows_of("Complementarity", j) {
+            assert!(g[r] > -1e-12, "complementarity row {r}: {}", g[r]);
+        }
+        assert!(x[l.psi(j, 0)] >= 0.0 && x[l.eta(j, 0)].iter().all(|&e| e >= 0.0));
+        assert!(x[l.slack(j)].iter().all(|&s| s >= 0.0));
+        sliding += usize::from(x[l.psi(j, 0)] > 0.0);
+    }
+    // The body moves forward at 0.5 m/s, so the foot slides wherever it is: ψ > 0.
+    assert!(sliding > 30, "{sliding} sliding intervals");
 }
 
 /// `contacts.max_slip_speed` bounds every ψ from above and nothing else.

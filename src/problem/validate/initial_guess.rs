@@ -122,6 +122,7 @@ fn read_warm_start(
         times: recorded.times,
         q: recorded.q,
         u: recorded.u,
+        forces: Vec::new(),
     })
 }
 

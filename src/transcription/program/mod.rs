@@ -22,7 +22,7 @@ use super::{NlpSize, TranscriptionError};
 use crate::discrete::{Mechanics, MechanicsDerivatives};
 use crate::problem::costs::{CostSizes, length_mismatch};
 use crate::problem::frames::FrameReads;
-use crate::problem::{HessianMode, ProblemSpec, TimeSteps};
+use crate::problem::{HessianMode, InitialGuess, ProblemSpec, TimeSteps};
 use evaluate::{ContactDerivatives, JetPools};
 
 /// From this many Jacobian nonzeros on, the Jacobian and Hessian blocks are evaluated on
@@ -158,7 +158,7 @@ impl<M: MechanicsDerivatives> Transcription<M> {
         // 127 ms a call against 63 and 170 serial) and costs on the brick's (32,546: callbacks
         // 6.4 s a solve against 3.9 s serial), whose J + H now take 5 ms.
         let parallel = jacobian.nnz() >= PARALLEL_FROM_JACOBIAN_NNZ;
-        Ok(Transcription {
+        let mut transcription = Transcription {
             ctx,
             layout,
             hessian_mode: spec.hessian,
@@ -177,7 +177,16 @@ impl<M: MechanicsDerivatives> Transcription<M> {
             skip_fixed: false,
             jets: JetPools::default(),
             mech,
-        })
+        };
+        // A start carrying its impulses (a coarser level's plan) gets the sliding speeds,
+        // their duals and the slacks that go with them.
+        if matches!(&spec.initial_guess, InitialGuess::WarmStart(w) if !w.forces.is_empty()) {
+            let mut x = std::mem::take(&mut transcription.x_initial);
+            super::start::sliding_from_rows(&transcription, &mut x);
+            super::start::slacks_from_rows(&transcription, &mut x);
+            transcription.x_initial = x;
+        }
+        Ok(transcription)
     }
 
     /// Slack weight α of the objective α Σ s.
