@@ -129,6 +129,13 @@ pub fn write_outputs(
     solution: &Solution,
 ) -> Result<PathBuf, ReportError> {
     let summary = summary_json(problem, solution);
+    if !solution.levels.is_empty() {
+        let path = staged.path().join("levels.svg");
+        plot::levels_svg(&path, &solution.levels).map_err(|source| ReportError::Plot {
+            path: staged.target().join("levels.svg"),
+            source,
+        })?;
+    }
     write_trajectory_outputs(staged, problem, &solution_trajectory(solution), &summary)
 }
 

@@ -8,6 +8,7 @@ use plotters_backend::DrawingErrorKind;
 
 use crate::files::trajectory_csv::Trajectory;
 use crate::report::modes::ContactMode;
+use crate::transcription::GridLevel;
 
 /// Why a plot was not written.
 #[derive(Debug, thiserror::Error)]
@@ -262,6 +263,52 @@ pub fn inputs_svg(
         }
     }
     panel_plot(path, &format!("time [{time_unit}]"), &out)
+}
+
+/// A grid continuation's levels against their knots, one panel each for the objective, the
+/// largest slack, the iterations, the wall time and how far q moved from the level below:
+/// how the answer and its cost change as the grid refines.
+pub fn levels_svg(path: &Path, levels: &[GridLevel]) -> Result<(), PlotError> {
+    let series = |label: &str, value: &dyn Fn(&GridLevel) -> Option<f64>| {
+        let points = levels
+            .iter()
+            .filter_map(|l| Some((l.knots as f64, value(l)?)))
+            .collect();
+        vec![(label.to_owned(), points)]
+    };
+    let panel = |title: &str, y_label: &str, series| Panel {
+        title: title.to_owned(),
+        y_label: y_label.to_owned(),
+        series,
+    };
+    let panels = [
+        panel(
+            "objective per level",
+            "objective",
+            series("objective", &|l| Some(l.objective)),
+        ),
+        panel(
+            "largest slack",
+            "max slack",
+            series("max slack", &|l| Some(l.max_slack)),
+        ),
+        panel(
+            "Ipopt iterations",
+            "iterations",
+            series("iterations", &|l| Some(l.iterations as f64)),
+        ),
+        panel(
+            "wall time [s]",
+            "time [s]",
+            series("wall time", &|l| Some(l.wall_time_s)),
+        ),
+        panel(
+            "largest |q − q of the level below| at its knots",
+            "|Δq| [m or rad]",
+            series("|Δq|", &|l| l.max_q_difference),
+        ),
+    ];
+    panel_plot(path, "knots", &panels)
 }
 
 /// Colour of a mode bar.

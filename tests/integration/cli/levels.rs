@@ -59,6 +59,16 @@ fn a_finer_grid_is_solved_through_the_files_grid() {
         "{s}"
     );
     assert_eq!(s["objective"], levels[1]["objective"], "{s}");
+    // The levels' plot: a panel per quantity, the knots along x.
+    let svg = std::fs::read_to_string(t.path().join("fine/levels.svg")).unwrap();
+    for panel in [
+        "objective per level",
+        "largest slack",
+        "Ipopt iterations",
+        "knots",
+    ] {
+        assert!(svg.contains(panel), "{panel}");
+    }
     // The 21-knot level is the file's own solve: its optimum is the golden one.
     crate::cli::util::assert_recorded(
         "golden.toml",
@@ -76,6 +86,7 @@ fn a_finer_grid_is_solved_through_the_files_grid() {
         assert!(!run.stderr.contains("grid continuation"), "{}", run.stderr);
         let s = summary(&t.path().join(name));
         assert!(s.get("levels").is_none(), "{s}");
+        assert!(!t.path().join(name).join("levels.svg").exists());
     }
 }
 
