@@ -107,6 +107,9 @@ pub fn solve_on_levels(
     let overrides = overrides_of(target);
     let mut levels: Vec<GridLevel> = Vec::new();
     let mut previous: Option<Solution> = None;
+    // The Ipopt work of the levels below the current one (iterations, wall, callback and
+    // Ipopt times), added to the last level's.
+    let mut below: Option<Solution> = None;
     for (l, &n) in knots.iter().enumerate() {
         let mut spec = if n == target.spec.knots {
             target.spec.clone()
@@ -144,12 +147,15 @@ pub fn solve_on_levels(
         on_level(&level, l, knots.len());
         levels.push(level);
         if l + 1 == knots.len() {
-            for earlier in &levels[..l] {
-                solution.iterations += earlier.iterations;
-                solution.wall_time_s += earlier.wall_time_s;
+            if let Some(below) = &below {
+                solution.add_work(below);
             }
             solution.levels = levels;
             return Ok(solution);
+        }
+        match &mut below {
+            Some(work) => work.add_work(&solution),
+            None => below = Some(solution.clone()),
         }
         previous = Some(solution);
     }

@@ -290,7 +290,13 @@ pub fn levels_svg(path: &Path, levels: &[GridLevel]) -> Result<(), PlotError> {
         panel(
             "largest slack",
             "max slack",
-            series("max slack", &|l| Some(l.max_slack)),
+            series(
+                &format!(
+                    "max slack (at most {:.1e})",
+                    levels.iter().map(|l| l.max_slack).fold(0.0, f64::max)
+                ),
+                &|l| Some(l.max_slack),
+            ),
         ),
         panel(
             "Ipopt iterations",

@@ -165,7 +165,7 @@ impl Solution {
 
     /// Add `other`'s Ipopt work (iterations, wall, callback and Ipopt time, the callbacks'
     /// split) to this solution's: an answer's cost is that of every solve that led to it.
-    pub(super) fn add_work(&mut self, other: &Solution) {
+    pub(crate) fn add_work(&mut self, other: &Solution) {
         self.iterations += other.iterations;
         self.wall_time_s += other.wall_time_s;
         self.callback_time_s += other.callback_time_s;

@@ -59,6 +59,15 @@ fn a_finer_grid_is_solved_through_the_files_grid() {
         "{s}"
     );
     assert_eq!(s["objective"], levels[1]["objective"], "{s}");
+    // The times are the levels' sums too, and vito's callbacks and Ipopt split them.
+    let wall = s["wall_time_s"].as_f64().unwrap();
+    let levels_wall: f64 = levels
+        .iter()
+        .map(|l| l["wall_time_s"].as_f64().unwrap())
+        .sum();
+    let split = s["callback_time_s"].as_f64().unwrap() + s["ipopt_time_s"].as_f64().unwrap();
+    assert!((wall - levels_wall).abs() <= 1e-9 * wall, "{s}");
+    assert!((wall - split).abs() <= 1e-6 * wall, "{s}");
     // The levels' plot: a panel per quantity, the knots along x.
     let svg = std::fs::read_to_string(t.path().join("fine/levels.svg")).unwrap();
     for panel in [
