@@ -64,6 +64,9 @@ pub enum ViewError {
     /// The input cannot be drawn (named file, field and fix in the message).
     #[error("{0}")]
     Input(String),
+    /// A value of the motion is beyond what a page draws ([`check_drawable`]).
+    #[error("{0}; the motion was not drawn (a page draws values within these ranges)")]
+    Undrawable(#[from] Undrawable),
 }
 
 /// What a motion is and whether it can be used: the legend's colour and word.
@@ -654,9 +657,23 @@ pub fn write_animation(
     trajectory: &crate::files::trajectory_csv::Trajectory<'_>,
     summary: &Value,
 ) -> Result<Vec<String>, ViewError> {
-    let (page, warnings) = animation_page(problem, trajectory, summary)?;
+    let (page, warnings) = match animation_page(problem, trajectory, summary) {
+        Ok(drawn) => drawn,
+        // The results are written all the same; the page says why it shows no motion.
+        Err(e @ ViewError::Undrawable(_)) => (not_drawn_page(&e.to_string()), vec![e.to_string()]),
+        Err(e) => return Err(e),
+    };
     write_atomically(&dir.join("animation.html"), &page)?;
     Ok(warnings)
+}
+
+/// The page written in place of a motion that cannot be drawn: why, in words.
+fn not_drawn_page(why: &str) -> String {
+    format!(
+        "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>vito: motion not drawn</title>\
+         </head><body><p>vito did not draw this motion: {}</p></body></html>\n",
+        crate::files::names::xml_escape(why)
+    )
 }
 
 /// The self-contained page of one trajectory (what `animation.html` holds) and the
@@ -669,6 +686,7 @@ pub fn animation_page(
     let scene = scene(problem)?;
     let motions = [motion(trajectory, &problem.spec.name, legend_of(summary))];
     let drawing = drawing(&scene, &motions);
+    check_drawable(&scene, &motions, &drawing).map_err(|(_, e)| e)?;
     Ok((page(&scene, &motions, &drawing), drawing.body.warnings))
 }
 

@@ -233,6 +233,44 @@ fn edited_result(t: &TestDir, name: &str, column: &str, value: impl Fn(usize, f6
     std::fs::write(dir.join("trajectory.csv"), lines.join("\n") + "\n").unwrap();
 }
 
+/// The page a simulation (or a solve) writes beside its results checks what it draws as
+/// `vito view` does: a hopper simulated 100 km from the origin keeps its results (exit 0) and
+/// its `animation.html` says why it shows no motion, naming the row, the column and the
+/// value; `vito view` of it refuses the same value.
+#[test]
+fn a_results_page_does_not_draw_what_view_refuses() {
+    let t = TestDir::with_hopper("a_results_page_does_not_draw_what_view_refuses");
+    t.write("p.toml", &hopper_text());
+    let (code, stderr) = run_within(
+        t.path(),
+        &[
+            "simulate",
+            "p.toml",
+            "--set",
+            "initial.q.x=1e5",
+            "--duration",
+            "0.2",
+            "--out",
+            "far",
+            "--quiet",
+        ],
+    );
+    assert_eq!(code, 0, "{stderr}");
+    assert!(t.path().join("far/trajectory.csv").exists());
+    let page = std::fs::read_to_string(t.path().join("far/animation.html")).unwrap();
+    assert!(
+        page.contains("vito did not draw this motion: row 2, column `x`: 100000 m is beyond"),
+        "{page}"
+    );
+    assert!(!page.contains("<script"), "{page}");
+    let (code, stderr) = run_within(t.path(), &["view", "far", "--out", "p.html"]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(
+        stderr.contains("row 2, column `x`: 100000 m is beyond"),
+        "{stderr}"
+    );
+}
+
 /// A trajectory or terrain `vito view` cannot draw (a page a browser never finishes, poses
 /// lost to rounding) is refused, exit 2, naming the file, the row, the column and the value,
 /// with nothing written: a coordinate of 1e15 m on one row (the page and the world strip), an
