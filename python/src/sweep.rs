@@ -137,10 +137,9 @@ fn overrides_of(py: Python<'_>, sets: &[String]) -> PyResult<Vec<Override>> {
 /// `initial_guess.warm_start`, a TOML string, so the directory's absolute name must be UTF-8;
 /// else a ValueError saying so (before anything runs).
 fn check_out_name(out: &std::path::Path, warm_starts: bool) -> PyResult<()> {
-    let absolute = std::path::absolute(out).unwrap_or_else(|_| out.to_path_buf());
-    if !warm_starts || absolute.to_str().is_some() {
+    let Some(absolute) = vito::sweep::out_name_without_utf8(out, warm_starts) else {
         return Ok(());
-    }
+    };
     Err(PyValueError::new_err(format!(
         "out={}: the directory's name is not UTF-8, and a sweep's neighbour warm starts and \
          neighbour pass give each run the trajectory it starts from as the problem's \

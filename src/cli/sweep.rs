@@ -52,6 +52,20 @@ pub(super) fn sweep(args: SweepRunArgs) -> Result<u8, CliError> {
             std::process::exit(1);
         },
     );
+    let warm_start = match args.warm_start {
+        WarmStartArg::None => WarmStart::None,
+        WarmStartArg::Neighbour => WarmStart::Neighbour,
+    };
+    let warm_starts = warm_start == WarmStart::Neighbour || args.neighbour_rounds > 0;
+    if let Some(absolute) = vito::sweep::out_name_without_utf8(&out, warm_starts) {
+        return Err(CliError::Input(format!(
+            "--out {}: the directory's name is not UTF-8, and a sweep's neighbour warm starts \
+             and neighbour pass give each run the trajectory it starts from as the problem's \
+             `initial_guess.warm_start`, a TOML string (UTF-8 only); choose a directory whose \
+             name is UTF-8, or give --warm-start none and --neighbour-rounds 0",
+            absolute.display()
+        )));
+    }
     let options = SweepOptions {
         exe: std::env::current_exe().map_err(|e| CliError::Internal(e.to_string()))?,
         problem: std::path::absolute(&file).map_err(|e| CliError::Internal(e.to_string()))?,
@@ -61,10 +75,7 @@ pub(super) fn sweep(args: SweepRunArgs) -> Result<u8, CliError> {
         jobs,
         time_limit,
         out: out.clone(),
-        warm_start: match args.warm_start {
-            WarmStartArg::None => WarmStart::None,
-            WarmStartArg::Neighbour => WarmStart::Neighbour,
-        },
+        warm_start,
         stop: Some(stop),
         starts,
         seed: args.seed,

@@ -24,7 +24,8 @@ pub use neighbours::{ATTEMPTS, DEFAULT_ROUNDS, SETTLE_RATIO};
 pub use plot::{PointClass, metric_svg, metric_svg_text};
 pub use run::{
     Event, LOGS, MAX_JOBS, Outcome, PARENT_FLAG, Progress, SWEEP_MARKER, SweepOptions, WarmStart,
-    ask_to_stop, die_with_sweep, prepare_dir, run_sweep, stop_when_the_parent_asks,
+    ask_to_stop, die_with_sweep, out_name_without_utf8, prepare_dir, run_sweep,
+    stop_when_the_parent_asks,
 };
 pub use table::{OnDisk, RUNS, Row, RunStatus, TABLE_CSV, TABLE_JSON, Table, collect, read_result};
 

@@ -261,6 +261,15 @@ struct SweepRun<'a, F: FnMut(Event)> {
     on_event: F,
 }
 
+/// The absolute name of `out` when a sweep into it cannot name its runs' warm starts, else
+/// None: with neighbour warm starts or the neighbour pass (`warm_starts`) each run is given
+/// the trajectory it starts from as the problem's `initial_guess.warm_start`, a TOML string,
+/// so the directory's absolute name must be UTF-8.
+pub fn out_name_without_utf8(out: &Path, warm_starts: bool) -> Option<PathBuf> {
+    let absolute = std::path::absolute(out).unwrap_or_else(|_| out.to_path_buf());
+    (warm_starts && absolute.to_str().is_none()).then_some(absolute)
+}
+
 /// Runs the shard's points that have no finished result yet, then (unless
 /// `neighbour_rounds` is 0) the neighbour pass, and returns the table (also written to `out`
 /// after each run) with the final counts. `on_event` hears of every run that starts or ends

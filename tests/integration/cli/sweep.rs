@@ -803,3 +803,49 @@ fn sweep_report_prints_a_cell_of_70000_characters() {
     assert!(lines[0].contains(&long));
     assert!(lines[1].contains(&"n".repeat(70_000)));
 }
+
+/// A sweep whose runs start from other runs' plans (neighbour warm starts, or the neighbour
+/// pass, on by default) names each plan in a TOML string, so an `--out` whose name is not
+/// UTF-8 is refused before anything runs (exit 2, saying how to fix it), where the runs got
+/// garbled paths; without warm starts such a directory is used as it is.
+#[test]
+fn a_sweep_with_warm_starts_refuses_an_out_that_is_not_utf8() {
+    use std::ffi::OsStr;
+    use std::os::unix::ffi::OsStrExt;
+    let t = TestDir::with_hopper("a_sweep_with_warm_starts_refuses_an_out_that_is_not_utf8");
+    t.write("p.toml", &hopper_text());
+    let out = OsStr::from_bytes(b"sweep\xff");
+    let sweep = |extra: &[&str]| {
+        t.vito()
+            .args([
+                "sweep",
+                "p.toml",
+                "--grid",
+                "contacts.friction=0.5",
+                "--out",
+            ])
+            .args([out])
+            .args(["--set", "solver.ipopt.max_iter=2"])
+            .args(extra)
+            .run()
+    };
+    for extra in [
+        &["--warm-start", "neighbour", "--neighbour-rounds", "0"][..],
+        &[][..],
+    ] {
+        let run = sweep(extra);
+        assert_eq!(run.code, 2, "{extra:?}: {}", run.stderr);
+        assert!(
+            run.stderr.contains("the directory's name is not UTF-8")
+                && run
+                    .stderr
+                    .contains("--warm-start none and --neighbour-rounds 0"),
+            "{}",
+            run.stderr
+        );
+        assert!(!t.path().join(out).exists());
+    }
+    let run = sweep(&["--neighbour-rounds", "0"]);
+    assert_eq!(run.code, 1, "{}", run.stderr);
+    assert!(t.path().join(out).join(vito::sweep::TABLE_CSV).exists());
+}
