@@ -420,6 +420,12 @@ pub(super) fn print_summary(
             },
         );
     }
+    if let (Some(first), false) = (s.levels.first(), s.starts.is_empty()) {
+        out!(
+            "starts       on the first level ({} knots); the levels above refined the best",
+            first.knots
+        );
+    }
     for (k, r) in s.starts.iter().enumerate() {
         match &r.outcome {
             vito::transcription::StartOutcome::Ended(e) => out!(

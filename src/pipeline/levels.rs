@@ -97,7 +97,8 @@ fn level_overrides(overrides: &[Override], target: &LoadedProblem, knots: usize)
 /// stop flag, deadline), and its starts (`multi_start`) explore the first level only;
 /// `on_level` hears each level as it ends, with its index and the number of levels. The last level's
 /// solution is returned with every level recorded in [`Solution::levels`], its iterations
-/// and wall time their sums.
+/// and times their sums, and the first level's starts as its `starts` (with the best of them,
+/// the one the levels above refined, as `best_start`).
 pub fn solve_on_levels(
     target: &LoadedProblem,
     knots: &[usize],
@@ -110,6 +111,8 @@ pub fn solve_on_levels(
     // The Ipopt work of the levels below the current one (iterations, wall, callback and
     // Ipopt times), added to the last level's.
     let mut below: Option<Solution> = None;
+    // The first level's starts (`--starts`), which the levels above refine the best of.
+    let mut explored = (Vec::new(), 0);
     for (l, &n) in knots.iter().enumerate() {
         let mut spec = if n == target.spec.knots {
             target.spec.clone()
@@ -134,6 +137,7 @@ pub fn solve_on_levels(
         let mut solution = crate::pipeline::solve(&spec, options)?;
         if l == 0 {
             options.multi_start = None;
+            explored = (solution.starts.clone(), solution.best_start);
         }
         let level = GridLevel {
             knots: n,
@@ -150,6 +154,7 @@ pub fn solve_on_levels(
             if let Some(below) = &below {
                 solution.add_work(below);
             }
+            (solution.starts, solution.best_start) = explored;
             solution.levels = levels;
             return Ok(solution);
         }

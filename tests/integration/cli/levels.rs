@@ -85,6 +85,32 @@ fn a_finer_grid_is_solved_through_the_files_grid() {
         levels[0]["objective"].as_f64().unwrap(),
     );
 
+    // Starts explore the first level; the summary lists them, and the best is the plan the
+    // level above refined.
+    let run = t
+        .vito()
+        .args([
+            "solve", "p.toml", "--out", "explored", "--starts", "3", "--jobs", "1",
+        ])
+        .args(fine)
+        .run();
+    assert!(run.code == 0 || run.code == 1, "{}", run.stderr);
+    assert!(
+        run.stdout.contains(
+            "starts       on the first level (21 knots); the levels above refined the best"
+        ),
+        "{}",
+        run.stdout
+    );
+    let s = summary(&t.path().join("explored"));
+    let starts = s["starts"].as_array().unwrap();
+    assert_eq!(starts.len(), 3, "{s}");
+    let best = s["best_start"].as_u64().unwrap() as usize;
+    assert_eq!(
+        starts[best]["objective"], s["levels"][0]["objective"],
+        "{s}"
+    );
+
     for (name, extra) in [("own", &[][..]), ("alone", &["--no-refine"][..])] {
         let mut cmd = t.vito().args(["solve", "p.toml", "-q", "--out", name]);
         if name == "alone" {
