@@ -15,11 +15,9 @@ solve on that grid alone, from the file's guess). Wall times are the commands' o
 
 import argparse
 import json
-import os
-import subprocess
-import sys
-import time
 from pathlib import Path
+
+from vito_solve import solve_summary
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -38,16 +36,7 @@ def solve(vito, file, knots, horizon, out, extra):
     if horizon is not None:
         cmd += ["--set", f"horizon.time_step={horizon / (knots - 1)!r}"]
     cmd += extra
-    env = dict(os.environ, OPENBLAS_NUM_THREADS="1")
-    start = time.monotonic()
-    done = subprocess.run(cmd, env=env, capture_output=True, text=True)
-    wall = time.monotonic() - start
-    if done.returncode not in (0, 1):
-        sys.stderr.write(f"{' '.join(cmd)}: exit {done.returncode}\n{done.stderr}\n")
-        return None
-    summary = json.loads((out / "summary.json").read_text())
-    summary["command_wall_s"] = wall
-    return summary
+    return solve_summary(cmd, out)[0]
 
 
 def levels_text(summary):

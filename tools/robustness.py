@@ -17,10 +17,9 @@ import argparse
 import json
 import os
 import statistics
-import subprocess
-import sys
-import time
 from pathlib import Path
+
+from vito_solve import solve_summary
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -82,14 +81,9 @@ def run(vito, file, strategy, args, out):
            str(args.seed), "--jobs", str(args.jobs), "--out", str(target)]
     for s in sets:
         cmd += ["--set", s]
-    env = dict(os.environ, OPENBLAS_NUM_THREADS="1")
-    start = time.monotonic()
-    done = subprocess.run(cmd, env=env, capture_output=True, text=True)
-    wall = time.monotonic() - start
-    if done.returncode not in (0, 1):
-        sys.stderr.write(f"{' '.join(cmd)}: exit {done.returncode}\n{done.stderr}\n")
+    summary, wall = solve_summary(cmd, target)
+    if summary is None:
         return None
-    summary = json.loads((target / "summary.json").read_text())
     starts = summary.get("starts") or [summary]
     solved = [s for s in starts if s["status"] in ("solve_succeeded", "solved_to_acceptable_level")]
     objectives = sorted(s["objective"] for s in solved)

@@ -107,10 +107,9 @@ pub fn solve_on_levels(
 ) -> Result<Solution, TranscriptionError> {
     let overrides = overrides_of(target);
     let mut levels: Vec<GridLevel> = Vec::new();
+    // The level below, its work (iterations, wall, callback and Ipopt times) summed with the
+    // work of every level below it.
     let mut previous: Option<Solution> = None;
-    // The Ipopt work of the levels below the current one (iterations, wall, callback and
-    // Ipopt times), added to the last level's.
-    let mut below: Option<Solution> = None;
     // The first level's starts (`--starts`), which the levels above refine the best of.
     let mut explored = (Vec::new(), 0);
     for (l, &n) in knots.iter().enumerate() {
@@ -137,7 +136,7 @@ pub fn solve_on_levels(
         let mut solution = crate::pipeline::solve(&spec, options)?;
         if l == 0 {
             options.multi_start = None;
-            explored = (solution.starts.clone(), solution.best_start);
+            explored = (std::mem::take(&mut solution.starts), solution.best_start);
         }
         let level = GridLevel {
             knots: n,
@@ -150,17 +149,13 @@ pub fn solve_on_levels(
         };
         on_level(&level, l, knots.len());
         levels.push(level);
+        if let Some(below) = &previous {
+            solution.add_work(below);
+        }
         if l + 1 == knots.len() {
-            if let Some(below) = &below {
-                solution.add_work(below);
-            }
             (solution.starts, solution.best_start) = explored;
             solution.levels = levels;
             return Ok(solution);
-        }
-        match &mut below {
-            Some(work) => work.add_work(&solution),
-            None => below = Some(solution.clone()),
         }
         previous = Some(solution);
     }
