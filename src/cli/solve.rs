@@ -291,8 +291,13 @@ fn level_line(level: &vito::transcription::GridLevel, index: usize, count: usize
     let moved = level.max_q_difference.map_or(String::new(), |d| {
         format!(", q moved up to {d:.2e} from the level below")
     });
+    let modes = match level.carried_modes_kept {
+        Some(true) => ", the contact modes of the level below kept (lower than the relaxed solve)",
+        Some(false) => ", the relaxed solve kept (lower than the contact modes of the level below)",
+        None => "",
+    };
     format!(
-        "level {}/{count}, {} knots: {}, objective {:.6e}, max slack {:.1e}, {} iterations, {:.1} s{moved}",
+        "level {}/{count}, {} knots: {}, objective {:.6e}, max slack {:.1e}, {} iterations, {:.1} s{modes}{moved}",
         index + 1,
         level.knots,
         level.verdict.name(),

@@ -146,6 +146,7 @@ pub fn solve_on_levels(
             iterations: solution.iterations,
             wall_time_s: solution.wall_time_s,
             max_q_difference: previous.as_ref().map(|p| q_difference(&solution, p)),
+            carried_modes_kept: solution.carried_modes.as_ref().map(|c| c.kept),
         };
         on_level(&level, l, knots.len());
         levels.push(level);

@@ -327,6 +327,7 @@ mod tests {
             starts: Vec::new(),
             best_start: 0,
             polish: None,
+            carried_modes: None,
             continuation: Vec::new(),
             simulation_start: None,
             levels: Vec::new(),

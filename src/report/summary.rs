@@ -139,6 +139,16 @@ pub fn summary_json(problem: &LoadedProblem, solution: &Solution) -> Value {
     if let Some(p) = &s.polish {
         summary["polish"] = polish_json(p);
     }
+    if let Some(c) = &s.carried_modes {
+        summary["carried_modes"] = json!({
+            "status": c.verdict.name(),
+            "objective": num(c.objective),
+            "iterations": c.iterations,
+            "wall_time_s": num(c.wall_time_s),
+            "kept": c.kept,
+            "fixed": c.fixed,
+        });
+    }
     if !s.continuation.is_empty() {
         summary["continuation"] = continuation_json(&s.continuation);
     }
@@ -155,6 +165,7 @@ pub fn summary_json(problem: &LoadedProblem, solution: &Solution) -> Value {
                         "iterations": l.iterations,
                         "wall_time_s": num(l.wall_time_s),
                         "max_q_difference": l.max_q_difference.map(num),
+                        "carried_modes_kept": l.carried_modes_kept,
                     })
                 })
                 .collect(),

@@ -13,11 +13,13 @@
 //! `evaluate`: values and derivatives, and `inspect`: what reports read at a point and the
 //! derivative check), `nlp` (the Ipopt callbacks' adapter), `scaling` (Ipopt's user scaling
 //! from the problem's units, `[solver] scaling = "units"`), `solve` (the solve driver:
-//! multi-start, slack continuation; the entry point is `crate::pipeline::solve`), `solution`
+//! multi-start, slack continuation; `carried`, a finer level's solve with the contact modes
+//! of the level below; the entry point is `crate::pipeline::solve`), `solution`
 //! (what a solve returns, read off Ipopt's final iterate), `robot` (a problem's URDF
 //! mechanics).
 
 mod blocks;
+mod carried;
 mod error;
 mod layout;
 mod nlp;
@@ -36,6 +38,7 @@ pub use crate::discrete::{
     Mechanics, MechanicsDerivatives, ModelMechanics, contact_jet_by_autodiff,
 };
 pub use blocks::Context;
+pub use carried::CarriedModes;
 pub use error::TranscriptionError;
 pub use layout::{Dims, EntryNames, IntervalRows, Layout};
 pub use nlp::{Progress, ProgressFn, TranscriptionNlp};

@@ -105,6 +105,10 @@ pub struct Solution {
     /// last (empty when it was solved on its own grid alone).
     #[serde(default)]
     pub levels: Vec<GridLevel>,
+    /// A finer level's solve with the contact modes of the level below fixed, kept or not
+    /// ([`super::CarriedModes`]).
+    #[serde(default)]
+    pub carried_modes: Option<super::CarriedModes>,
 }
 
 /// One level of a grid continuation: a solve on a coarser grid whose plan started the next.
@@ -121,6 +125,11 @@ pub struct GridLevel {
     /// The largest |q(t) − q_previous(t)| over the previous level's knot times (q of this
     /// level interpolated linearly between its knots) and coordinates; None on the first.
     pub max_q_difference: Option<f64>,
+    /// Whether its plan is the solve with the contact modes of the level below fixed
+    /// ([`super::CarriedModes`]) rather than the relaxed solve; None where that solve was not
+    /// made.
+    #[serde(default)]
+    pub carried_modes_kept: Option<bool>,
 }
 
 impl Solution {
@@ -337,6 +346,7 @@ impl Solution {
             starts: Vec::new(),
             best_start: 0,
             polish: None,
+            carried_modes: None,
             continuation: Vec::new(),
             simulation_start: None,
             levels: Vec::new(),

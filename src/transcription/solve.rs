@@ -449,7 +449,14 @@ fn solve_transcription<M: MechanicsDerivatives>(
     match super::passive::solve_from_simulation(transcription, spec, options)? {
         Some(s) if s.verdict().is_solved() || options.stopped() => Ok(s),
         attempt => {
-            let mut solution = solve_usually(transcription, spec, options)?;
+            let carried = super::carried::solve_with_carried_modes(transcription, spec, options)?;
+            let mut solution = match carried {
+                Some(c) if options.stopped() => c,
+                Some(c) => {
+                    super::carried::keep_better(solve_usually(transcription, spec, options)?, c)
+                }
+                None => solve_usually(transcription, spec, options)?,
+            };
             if let Some(attempt) = attempt {
                 solution.add_work(&attempt);
                 solution.simulation_start = attempt.simulation_start;

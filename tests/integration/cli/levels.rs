@@ -47,6 +47,21 @@ fn a_finer_grid_is_solved_through_the_files_grid() {
         assert!(level["max_slack"].as_f64().unwrap() <= 1e-6, "{s}");
     }
     assert!(levels[0]["max_q_difference"].is_null());
+    // The finer level also solved the NLP with the 21-knot plan's contact modes fixed, and
+    // kept the lower of that and the relaxed solve.
+    assert!(levels[0]["carried_modes_kept"].is_null(), "{s}");
+    let carried = &s["carried_modes"];
+    assert_eq!(carried["status"], "solve_succeeded", "{s}");
+    assert!(carried["fixed"]["touching"].as_u64().unwrap() > 0, "{s}");
+    let kept = carried["kept"].as_bool().unwrap();
+    assert_eq!(levels[1]["carried_modes_kept"], kept, "{s}");
+    let carried_objective = carried["objective"].as_f64().unwrap();
+    let objective = s["objective"].as_f64().unwrap();
+    if kept {
+        assert_eq!(objective, carried_objective, "{s}");
+    } else {
+        assert!(objective <= carried_objective, "{s}");
+    }
     // The hopper's plan shifts by centimetres between 21 and 41 knots, not metres.
     let moved = levels[1]["max_q_difference"].as_f64().unwrap();
     assert!(moved > 0.0 && moved < 0.5, "{moved}");
@@ -123,6 +138,49 @@ fn a_finer_grid_is_solved_through_the_files_grid() {
         assert!(s.get("levels").is_none(), "{s}");
         assert!(!t.path().join(name).join("levels.svg").exists());
     }
+}
+
+/// The hopper's ladder converges: asked for at 161 knots, its levels at 21, 41, 81 and 161
+/// knots all solve, each optimum below the one before by less than the step before it
+/// (measured: 6.9486, 6.3776, 6.0939, 5.9484; differences 0.571, 0.284, 0.146, first order as
+/// the contact timing is). Cold at 161 knots the same NLP ended `relaxed_contact` at 30.55.
+#[test]
+fn the_hoppers_ladder_converges() {
+    let t = TestDir::with_hopper("the_hoppers_ladder_converges");
+    t.write("p.toml", &hopper_text());
+    t.vito()
+        .args(["solve", "p.toml", "-q", "--out", "fine"])
+        .args([
+            "--set",
+            "horizon.knots=161",
+            "--set",
+            "horizon.time_step=0.00625",
+        ])
+        .assert_exit(0);
+    let s = summary(&t.path().join("fine"));
+    let levels = s["levels"].as_array().unwrap();
+    let knots: Vec<u64> = levels
+        .iter()
+        .map(|l| l["knots"].as_u64().unwrap())
+        .collect();
+    assert_eq!(knots, [21, 41, 81, 161], "{s}");
+    for level in levels {
+        assert_eq!(level["status"], "solve_succeeded", "{s}");
+        assert!(level["max_slack"].as_f64().unwrap() <= 1e-6, "{s}");
+    }
+    let optima: Vec<f64> = levels
+        .iter()
+        .map(|l| l["objective"].as_f64().unwrap())
+        .collect();
+    let steps: Vec<f64> = optima.windows(2).map(|w| w[0] - w[1]).collect();
+    assert!(steps.iter().all(|&d| d > 0.0), "{optima:?}");
+    assert!(
+        steps.windows(2).all(|w| w[1] < 0.75 * w[0]),
+        "successive differences do not shrink: {optima:?}"
+    );
+    // Within 3 % of the level before, and near the measured optimum.
+    assert!(steps[2] < 0.03 * optima[2], "{optima:?}");
+    assert!(optima[3] < 6.0, "{optima:?}");
 }
 
 /// A smooth problem's optimum converges at its integrator's order as the grid refines: the
