@@ -1,16 +1,20 @@
 //! Grid continuation. A problem asked for at more knots than its file gives (`--set
 //! horizon.knots=…`, with `horizon.time_step` where the horizon is fixed) is solved first on
 //! the file's own grid, then on grids with twice the intervals of the one before, each
-//! started from the plan of the level below, up to the grid asked for: its q and u resampled
-//! at the finer knots' times, and its contact impulses as forces (each fine interval gets the
-//! force of the coarse interval holding its middle, times its own step), with the sliding
-//! speeds, their duals and the slacks that meet the rows there. A fine grid's relaxed NLP has
-//! far more poor local optima within reach of a cold start than a coarse one's: cold, the
-//! hopper at 41 knots ended `relaxed_contact` at 88.0, and at 161 knots at 30.6; started from
-//! the levels below it solves at every level (BENCHMARKS.md).
+//! started from the plan of the level below, up to the grid asked for: its u resampled at the
+//! finer knots' times, and its contact impulses as forces (each fine interval gets the force
+//! of the coarse interval holding its middle, times its own step) with q on the cubic through
+//! its knots that keeps their accelerations, and the sliding speeds, their duals and the
+//! slacks that meet the rows there. Such a level is solved twice from that start, relaxed and
+//! with the contact modes of the level below fixed (`transcription::CarriedModes`), and keeps
+//! the lower solved plan. A fine grid's relaxed NLP has far more poor local optima within
+//! reach of a cold start than a coarse one's: cold, the hopper at 41 knots ended
+//! `relaxed_contact` at 88.0, and at 161 knots at 30.6; started from the levels below it
+//! solves at every level (BENCHMARKS.md).
 //!
 //! A problem whose slack is solved by a continuation (`slack.target` or `slack.homotopy`)
-//! starts each level from q and u alone, its impulses at the guess's: from carried impulses
+//! starts each level from q and u alone (q interpolated linearly), its impulses at the
+//! guess's, and is solved relaxed only: from carried impulses
 //! those reached worse optima, where the hopper's single relaxed solve gains from them
 //! (BENCHMARKS.md: at 161 knots the median over ten seeded first levels fell from 6.669 to
 //! 6.035 in a quarter of the time; Spring Flamingo's homotopy at 49 knots rose from 20.53 to

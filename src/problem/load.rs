@@ -143,6 +143,18 @@ fn check_text(
         toml::from_str(&rewritten).map_err(|e| ctx.serde_error(&e, &rewritten))?
     };
     let mut loaded = check(&ctx, raw)?;
+    let regridded = given.iter().any(|o| o.path.starts_with("horizon."));
+    if regridded {
+        // The slack numbers are stated at the file's own grid: the file with every override
+        // but the horizon's.
+        let own: Vec<Override> = given
+            .iter()
+            .filter(|o| !o.path.starts_with("horizon."))
+            .cloned()
+            .collect();
+        let file = check_text(path, ctx.text.clone(), ctx.urdf_text.clone(), &own)?;
+        loaded.spec.rescale_slack_to(&file.spec);
+    }
     loaded.sha256 = sha256;
     loaded.family_parameters = parameters;
     loaded.parameters = given
@@ -251,6 +263,51 @@ mod tests {
 
     fn hopper_text() -> String {
         std::fs::read_to_string(problems_dir().join("hopper_2d.toml")).unwrap()
+    }
+
+    /// The slack's tolerance and target are stated at the file's grid: asked for on a grid of
+    /// an eighth of its step, the hopper (fixed steps) allows an eighth of the slack, Spring
+    /// Flamingo (free steps, a homotopy) a quarter at four times its intervals; an override
+    /// that leaves the grid alone, or sets it to the file's, leaves them alone, and the
+    /// weight, a time integral's, never changes.
+    #[test]
+    fn the_slack_numbers_scale_with_the_step() {
+        let set = |s: &[&str]| -> Vec<Override> {
+            s.iter().map(|o| Override::parse(o).unwrap()).collect()
+        };
+        let hopper = problems_dir().join("hopper_2d.toml");
+        let file = load(&hopper, &[]).unwrap().spec;
+        let fine = load(
+            &hopper,
+            &set(&[
+                "horizon.knots=161",
+                "horizon.time_step=0.00625",
+                "slack.tolerance=2e-4",
+            ]),
+        )
+        .unwrap()
+        .spec;
+        assert_eq!(file.slack_tolerance, 1e-4);
+        assert!(
+            (fine.slack_tolerance - 2e-4 / 8.0).abs() < 1e-18,
+            "{}",
+            fine.slack_tolerance
+        );
+        assert_eq!(fine.slack_weight, file.slack_weight);
+        let same = load(&hopper, &set(&["horizon.knots=21", "slack.weight=7"])).unwrap();
+        assert_eq!(same.spec.slack_tolerance, 1e-4);
+
+        let flamingo = problems_dir().join("spring_flamingo_walk.toml");
+        let file = load(&flamingo, &[]).unwrap().spec;
+        let fine = load(&flamingo, &set(&["horizon.knots=97"])).unwrap().spec;
+        let ratio = fine.slack_tolerance / file.slack_tolerance;
+        assert!((ratio - 0.25).abs() < 1e-12, "{ratio}");
+        let (f, c) = (
+            file.slack_continuation.unwrap(),
+            fine.slack_continuation.unwrap(),
+        );
+        assert!((c.target / f.target - 0.25).abs() < 1e-12);
+        assert_eq!(c.tied_sigma, f.tied_sigma);
     }
 
     #[test]

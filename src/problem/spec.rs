@@ -367,6 +367,28 @@ impl ProblemSpec {
             self.terrain.clone(),
         )
     }
+
+    /// The step at the guess of this problem's grid ([`TimeSteps::guess_step`]).
+    pub fn guess_step(&self) -> f64 {
+        self.time_steps.guess_step(self.knots)
+    }
+
+    /// The slack's tolerance and continuation target, which `file` (this problem on the
+    /// grid its file gives) states, carried to this problem's grid. An interval's
+    /// complementarity products pair an impulse (force × h) with a distance or a speed, so a
+    /// grid of half the step holds the same force and distance at half the slack: the
+    /// numbers scale with the step at the guess. The weight needs nothing: α Σ s sums the
+    /// intervals' force × distance × h, an integral over time at every grid.
+    pub fn rescale_slack_to(&mut self, file: &ProblemSpec) {
+        let ratio = self.guess_step() / file.guess_step();
+        if !(ratio.is_finite() && ratio > 0.0) {
+            return;
+        }
+        self.slack_tolerance = file.slack_tolerance * ratio;
+        if let (Some(c), Some(f)) = (&mut self.slack_continuation, &file.slack_continuation) {
+            c.target = f.target * ratio;
+        }
+    }
 }
 
 /// `slack.tolerance` when the problem file gives none (problem units: the products c·φ, ηᵀβ,
