@@ -50,11 +50,17 @@ def levels_text(summary):
 
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("names", nargs="*", default=list(LADDERS), choices=list(LADDERS))
+    # No `choices`: argparse checks a `nargs="*"` default list against them as one value.
+    p.add_argument("names", nargs="*", metavar="NAME",
+                   help=f"ladders to run (default: all of {', '.join(LADDERS)})")
     p.add_argument("--vito", default=str(ROOT / "target/release/vito"))
     p.add_argument("--out", default="out/ladders")
     p.add_argument("--cold", action="store_true")
     args = p.parse_args()
+    unknown = [n for n in args.names if n not in LADDERS]
+    if unknown:
+        p.error(f"unknown ladder {unknown[0]!r}: choose from {', '.join(LADDERS)}")
+    args.names = args.names or list(LADDERS)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     print("| problem | knots | status | objective | max slack | iterations | time [s] "
