@@ -72,6 +72,20 @@ fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     (lo - pad, hi + pad)
 }
 
+/// A tick's label on an axis spanning `span`: as many decimals as the span needs (none on an
+/// axis of knots), in scientific notation on a span below 1e-3 or values from 1e5 (a slack
+/// of 0 to 1e-6 reads "2.0e-7", not "0.0").
+fn tick_label(value: f64, span: f64, largest: f64) -> String {
+    if value == 0.0 {
+        return "0".to_owned();
+    }
+    if span < 1e-3 || largest >= 1e5 {
+        return format!("{value:.1e}");
+    }
+    let decimals = (1.0 - span.log10().floor()).clamp(0.0, 6.0) as usize;
+    format!("{value:.decimals$}")
+}
+
 /// Draws named series `(label, points)` as lines into an SVG file (one panel, its legend
 /// beside it).
 pub fn line_plot(
@@ -177,10 +191,14 @@ pub fn panel_plot(path: &Path, x_label: &str, panels: &[Panel]) -> Result<(), Pl
             .x_label_area_size(36)
             .y_label_area_size(64)
             .build_cartesian_2d(x0..x1, y0..y1)?;
+        let x_label_of = |v: &f64| tick_label(*v, x1 - x0, x0.abs().max(x1.abs()));
+        let y_label_of = |v: &f64| tick_label(*v, y1 - y0, y0.abs().max(y1.abs()));
         chart
             .configure_mesh()
             .x_desc(x_label)
             .y_desc(panel.y_label.as_str())
+            .x_label_formatter(&x_label_of)
+            .y_label_formatter(&y_label_of)
             .draw()?;
         for (i, (label, points)) in panel.series.iter().enumerate() {
             let color = PALETTE[i % PALETTE.len()];
@@ -390,6 +408,20 @@ pub fn contact_modes_svg(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Ticks read as numbers at every scale: knots without decimals, an objective near 6
+    /// with one, a slack of zero to 1e-6 in scientific notation (not "0.0" at every tick),
+    /// large values too.
+    #[test]
+    fn tick_labels_have_the_digits_their_axis_needs() {
+        assert_eq!(tick_label(40.0, 140.0, 161.0), "40");
+        assert_eq!(tick_label(6.3, 1.1, 6.9), "6.3");
+        assert_eq!(tick_label(6.05, 0.2, 6.1), "6.05");
+        assert_eq!(tick_label(2e-7, 2e-6, 1e-6), "2.0e-7");
+        assert_eq!(tick_label(-4e-7, 2e-6, 1e-6), "-4.0e-7");
+        assert_eq!(tick_label(0.0, 2e-6, 1e-6), "0");
+        assert_eq!(tick_label(250000.0, 1e5, 3e5), "2.5e5");
+    }
 
     /// Numbers of attribute `name` in an SVG element's text (`x="12"` → 12).
     fn attribute(element: &str, name: &str) -> Option<f64> {
