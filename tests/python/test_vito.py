@@ -256,6 +256,14 @@ def test_a_finer_grid_is_solved_through_the_files_grid(hopper):
     assert fine.iterations == sum(level["iterations"] for level in levels)
     assert fine.q.shape == (41, 4)
     assert fine.objective == levels[-1]["objective"]
+    # The 41-knot level also solved the NLP with the 21-knot plan's contact modes fixed and
+    # kept the lower plan; its objective is the problem's at the fine grid's own tolerance.
+    carried = fine.summary["carried_modes"]
+    assert carried["status"] == "solve_succeeded"
+    assert levels[0]["carried_modes_kept"] is None
+    assert levels[1]["carried_modes_kept"] == carried["kept"]
+    assert fine.objective <= carried["objective"]
+    assert fine.summary["slack_tolerance"] == pytest.approx(1e-4 / 2, rel=1e-12)
 
 
 def test_an_exception_in_progress_stops_the_solve(hopper):
