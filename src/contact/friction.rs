@@ -1,14 +1,16 @@
 //! Friction directions: which world tangential coordinates the friction impulses act along.
 
+use super::Terrain;
 use crate::autodiff::Scalar;
 
-/// The polyhedral friction cone's directions, fixed in the world.
+/// The polyhedral friction cone's directions, fixed with the ground.
 ///
-/// With tangential coordinates t(q) (world x, and y when spatial) of a contact point, the
-/// rows of D = ∂t/∂q are the friction directions, P = [D; −D], and the friction impulses
-/// are ordered β = [+x, −x] (planar, nd = 2) or β = [+x, +y, −x, −y] (spatial, nd = 4).
-/// These are exact tangents wherever the terrain normal is +z (flat ground, flat parts of
-/// a step).
+/// With tangential coordinates t(q) ([`tangential_coordinates`]: world x, and y when
+/// spatial; on a slope the plane's tangents) of a contact point, the rows of D = ∂t/∂q are
+/// the friction directions, P = [D; −D], and the friction impulses are ordered β = [+x, −x]
+/// (planar, nd = 2) or β = [+x, +y, −x, −y] (spatial, nd = 4), x and y naming the plane's
+/// directions above them on a slope. These are exact tangents on flat ground, on a slope, and
+/// on the flat parts of a step; on a step's face they stay horizontal.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum FrictionBasis {
     /// One tangent direction, world x (planar robots moving in the x-z plane).
@@ -46,8 +48,23 @@ impl FrictionBasis {
 }
 
 /// Tangential coordinates of a world point: [p_x] (planar) or [p_x, p_y] (spatial), written
-/// into `out` (length `basis.num_tangents()`).
-pub fn tangential_coordinates<D: Scalar>(basis: FrictionBasis, p: &[D; 3], out: &mut [D]) {
+/// into `out` (length `basis.num_tangents()`); on a slope its coordinates along the plane's
+/// tangents [t₁·p (, t₂·p)] ([`crate::contact::Slope::frame`]), so that the friction
+/// directions lie in the plane. Linear in p, so the same map takes a direction (a rolling
+/// sphere's spin column) to its tangential components.
+pub fn tangential_coordinates<D: Scalar>(
+    basis: FrictionBasis,
+    terrain: &Terrain,
+    p: &[D; 3],
+    out: &mut [D],
+) {
+    if let Some(slope) = &terrain.slope {
+        let frame = slope.frame();
+        for (o, t) in out.iter_mut().zip(&frame[..basis.num_tangents()]) {
+            *o = p[0] * D::from(t[0]) + p[1] * D::from(t[1]) + p[2] * D::from(t[2]);
+        }
+        return;
+    }
     out[0] = p[0];
     if basis == FrictionBasis::Spatial {
         out[1] = p[1];
@@ -63,9 +80,19 @@ mod tests {
         assert_eq!(FrictionBasis::for_robot(true).num_directions(), 2);
         assert_eq!(FrictionBasis::for_robot(false).num_directions(), 4);
         let mut t = [0.0; 2];
-        tangential_coordinates::<f64>(FrictionBasis::Spatial, &[1.0, 2.0, 3.0], &mut t);
+        tangential_coordinates::<f64>(
+            FrictionBasis::Spatial,
+            &Terrain::flat(),
+            &[1.0, 2.0, 3.0],
+            &mut t,
+        );
         assert_eq!(t, [1.0, 2.0]);
-        tangential_coordinates::<f64>(FrictionBasis::Planar, &[4.0, 2.0, 3.0], &mut t);
+        tangential_coordinates::<f64>(
+            FrictionBasis::Planar,
+            &Terrain::flat(),
+            &[4.0, 2.0, 3.0],
+            &mut t,
+        );
         assert_eq!(t[0], 4.0);
     }
 }

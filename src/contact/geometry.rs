@@ -30,7 +30,7 @@ impl ScalarFunction for TerrainCoordinate<'_> {
             return signed_distance(&self.model.terrain, &p);
         }
         let mut t = [D::from(0.0); 2];
-        tangential_coordinates(self.model.basis, &p, &mut t);
+        tangential_coordinates(self.model.basis, &self.model.terrain, &p, &mut t);
         t[self.component - 1]
     }
 }

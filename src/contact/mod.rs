@@ -44,7 +44,9 @@ pub(crate) use tangential::{
     tangential_rate_hessian_in, tangential_rate_jacobian, tangential_rate_jacobian_in,
     tangential_slack,
 };
-pub use terrain::{Requirement, Step, Terrain, TerrainFeature};
+pub use terrain::{
+    MAX_SLOPE_ANGLE, Requirement, Slope, Step, Terrain, TerrainFeature, sin_cos_degrees,
+};
 pub(crate) use work::{
     contact_work, contact_work_contracted_in, contact_work_gradient, contact_work_hessian,
     contact_work_hessian_in, contact_work_third,

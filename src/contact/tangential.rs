@@ -26,13 +26,13 @@ fn tangential_rates<D: Scalar, M: Mechanics>(
     let moving: Vec<Dual<D>> = q.iter().zip(qdot).map(|(&a, &b)| Dual::new(a, b)).collect();
     let p = mech.contact_position(contact, &moving);
     let mut t = [Dual::from_re(D::from(0.0)); 2];
-    tangential_coordinates(model.basis, &p, &mut t);
+    tangential_coordinates(model.basis, &model.terrain, &p, &mut t);
     for (o, ti) in out.iter_mut().zip(t) {
         *o = ti.eps;
     }
     for (i, column) in mech.contact_spin_columns(contact, q) {
         let mut s = [D::from(0.0); 2];
-        tangential_coordinates(model.basis, &column, &mut s);
+        tangential_coordinates(model.basis, &model.terrain, &column, &mut s);
         for (o, si) in out.iter_mut().zip(s) {
             *o += si * qdot[i];
         }
@@ -83,7 +83,7 @@ pub fn spin_friction<D: Scalar, M: Mechanics>(
     out.fill(D::from(0.0));
     for (i, column) in mech.contact_spin_columns(contact, &z[..n]) {
         let mut s = [D::from(0.0); 2];
-        tangential_coordinates(model.basis, &column, &mut s);
+        tangential_coordinates(model.basis, &model.terrain, &column, &mut s);
         for d in 0..nt {
             out[i] += (beta[d] - beta[d + nt]) * s[d];
         }

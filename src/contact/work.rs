@@ -22,7 +22,7 @@ pub fn contact_work<D: Scalar, M: Mechanics>(
     let (c, beta) = (z[n], &z[n + 1..n + 1 + nd]);
     let mut work = c * signed_distance(&model.terrain, &p);
     let mut t = [D::from(0.0); 2];
-    tangential_coordinates(model.basis, &p, &mut t);
+    tangential_coordinates(model.basis, &model.terrain, &p, &mut t);
     for d in 0..nt {
         work += (beta[d] - beta[d + nt]) * t[d];
     }

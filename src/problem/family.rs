@@ -317,8 +317,23 @@ fn tokenize(s: &str) -> Result<Vec<Token>, String> {
     Ok(tokens)
 }
 
+/// A function an expression may call.
+type Function = fn(f64) -> f64;
+
+/// The functions an expression may call, of an angle in degrees (exact at multiples of 90°:
+/// `sind(180)` is 0, not 1.2e-16).
+const FUNCTIONS: [(&str, Function); 3] = [
+    ("sind", |d| crate::contact::sin_cos_degrees(d).0),
+    ("cosd", |d| crate::contact::sin_cos_degrees(d).1),
+    ("tand", |d| {
+        let (s, c) = crate::contact::sin_cos_degrees(d);
+        s / c
+    }),
+];
+
 /// Recursive descent: sum := product (('+'|'-') product)*, product := unary (('*'|'/')
-/// unary)*, unary := '-' unary | atom, atom := number | name | '(' sum ')'.
+/// unary)*, unary := '-' unary | atom, atom := number | name | function '(' sum ')' |
+/// '(' sum ')'.
 struct Parser<'a> {
     tokens: &'a [Token],
     at: usize,
@@ -387,6 +402,30 @@ impl Parser<'_> {
         self.at += 1;
         match token {
             Token::Number(x) => Ok(*x),
+            Token::Name(name) if matches!(self.tokens.get(self.at), Some(Token::Op('('))) => {
+                let f = FUNCTIONS
+                    .iter()
+                    .find(|(n, _)| n == name)
+                    .map(|(_, f)| f)
+                    .ok_or_else(|| {
+                        let names: Vec<&str> = FUNCTIONS.iter().map(|(n, _)| *n).collect();
+                        format!(
+                            "unknown function `{name}`; the functions are {}",
+                            names.join(", ")
+                        )
+                    })?;
+                self.at += 1;
+                self.deeper()?;
+                let x = self.sum()?;
+                self.depth -= 1;
+                match self.tokens.get(self.at) {
+                    Some(Token::Op(')')) => {
+                        self.at += 1;
+                        Ok(f(x))
+                    }
+                    _ => Err(format!("the `(` after `{name}` is not closed")),
+                }
+            }
             Token::Name(name) => self.parameters.get(name).copied().ok_or_else(|| {
                 let hint = nearest(name, self.parameters.keys().map(String::as_str))
                     .map(|s| format!(", did you mean `{s}`?"))
@@ -454,6 +493,24 @@ mod tests {
         assert_eq!(evaluate("-mu - -1", &p).unwrap(), 0.5);
         assert_eq!(evaluate("8 / 4 / 2", &p).unwrap(), 1.0);
         assert_eq!(evaluate("1e-3 * 2.5E2", &p).unwrap(), 0.25);
+    }
+
+    /// sind, cosd and tand take degrees, exactly at multiples of 90°, and nest.
+    #[test]
+    fn expressions_call_trigonometric_functions_of_degrees() {
+        let p = params();
+        assert_eq!(evaluate("sind(90)", &p).unwrap(), 1.0);
+        assert_eq!(evaluate("cosd(90)", &p).unwrap(), 0.0);
+        assert_eq!(evaluate("sind(-180)", &p).unwrap(), 0.0);
+        assert!((evaluate("sind(30)", &p).unwrap() - 0.5).abs() < 1e-15);
+        assert!((evaluate("2 * tand(45 * mu * 2)", &p).unwrap() - 2.0).abs() < 1e-15);
+        assert!((evaluate("cosd(sind(90) * 60)", &p).unwrap() - 0.5).abs() < 1e-15);
+        let e = evaluate("sin(30)", &p).unwrap_err();
+        assert!(
+            e.contains("unknown function `sin`") && e.contains("sind"),
+            "{e}"
+        );
+        assert!(evaluate("sind(30", &p).unwrap_err().contains("not closed"));
     }
 
     #[test]

@@ -53,6 +53,9 @@ pub struct RobotInfo {
     /// What the URDF reader repaired or ignored (`Model::warnings`), for `check` and
     /// `solve` to show.
     pub warnings: Vec<String>,
+    /// Whether every point of the robot moves in the x–z plane (friction along x alone,
+    /// [`crate::contact::FrictionBasis::for_robot`]).
+    pub moves_in_xz_plane: bool,
 }
 
 /// Why a URDF could not be read.
@@ -168,6 +171,7 @@ impl RobotInfo {
                 .collect(),
             coordinate_kinds,
             warnings: model.warnings().to_vec(),
+            moves_in_xz_plane: model.moves_in_xz_plane(),
         }
     }
 

@@ -219,6 +219,8 @@ pub struct TerrainSection {
     /// Smoothed steps H(x) = rise·½(1 + tanh((x − edge_x)/width)), heights add up.
     #[serde(default)]
     pub step: Vec<crate::contact::Step>,
+    /// The ground tilted: `angle` [deg] falling along `heading` [deg] from +x towards +y.
+    pub slope: Option<crate::contact::Slope>,
 }
 
 /// `[horizon]`: knots and time steps.

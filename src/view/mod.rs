@@ -250,8 +250,9 @@ pub struct Frame {
     pub links: Vec<([f64; 3], [f64; 4])>,
     /// Per contact: its point in the world.
     pub contacts: Vec<[f64; 3]>,
-    /// Per contact: the impulse of the interval starting here as a world vector (zero on
-    /// the last knot).
+    /// Per contact: the impulse of the interval starting here in the ground's contact frame,
+    /// [along t₁, along t₂, along n] ([`Terrain::frame`]; world x, y, z on flat ground; zero
+    /// on the last knot).
     pub impulses: Vec<[f64; 3]>,
 }
 
@@ -462,6 +463,8 @@ pub fn page_data(scene: &Scene, motions: &[Motion], drawing: &Drawing) -> Value 
             "x": xs.iter().map(|&x| round(x, d)).collect::<Vec<_>>(),
             "z": zs.iter().map(|&z| round(z, d)).collect::<Vec<_>>(),
             "y": [round(y0, d), round(y1, d)],
+            "slope_y": scene.terrain.slope_y(),
+            "frame": scene.terrain.frame(),
         },
         "max_impulse": max_impulse,
         "warnings": drawing.body.warnings,

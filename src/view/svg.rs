@@ -162,11 +162,11 @@ pub fn strip_svg(
     let width = pose_width(&boxes, drawing, margin);
     let mut z_lo = boxes.iter().map(|b| b[1]).fold(f64::MAX, f64::min);
     let z_hi = boxes.iter().map(|b| b[3]).fold(f64::MIN, f64::max) + margin;
-    for b in &boxes {
+    for (frame, b) in poses.iter().zip(&boxes) {
         let centre = (b[0] + b[2]) / 2.0;
         for i in 0..=20 {
             let x = centre - width / 2.0 + width * f64::from(i) / 20.0;
-            z_lo = z_lo.min(scene.terrain.height(x));
+            z_lo = z_lo.min(scene.terrain.height_at(x, section_y(frame)));
         }
     }
     let z_lo = z_lo - margin;
@@ -181,11 +181,17 @@ pub fn strip_svg(
         let sx = |x: f64| ox + (x - x_left) * px;
         let sz = |z: f64| (z_hi - z) * px;
         let _ = writeln!(svg, r#"<g class="pose" data-time="{}">"#, frame.time);
-        // Terrain: the profile filled down to the panel's bottom.
+        // Terrain: the profile through the pose's contacts filled down to the panel's bottom.
         let mut ground = format!("M{:.1},{:.1}", sx(x_left), sz(z_lo));
+        let y = section_y(frame);
         for j in 0..=60 {
             let x = x_left + width * f64::from(j) / 60.0;
-            let _ = write!(ground, " L{:.1},{:.1}", sx(x), sz(scene.terrain.height(x)));
+            let _ = write!(
+                ground,
+                " L{:.1},{:.1}",
+                sx(x),
+                sz(scene.terrain.height_at(x, y))
+            );
         }
         let _ = write!(ground, " L{:.1},{:.1} Z", sx(x_left + width), sz(z_lo));
         let _ = writeln!(
@@ -305,7 +311,12 @@ fn world_svg(
     let min_w = (7.0 * motion.detail.chars().count().max(40) as f64 + 12.0).min(MAX_WORLD_WIDTH);
     let widen = ((min_w / px - (x_hi - x_lo)) / 2.0).max(0.0);
     let (x_lo, x_hi) = (x_lo - widen, x_hi + widen);
-    let (xs, zs) = super::terrain_profile(&scene.terrain, x_lo, x_hi);
+    let (xs, mut zs) = super::terrain_profile(&scene.terrain, x_lo, x_hi);
+    // The section through the poses' contacts, on average.
+    let y = poses.iter().map(|f| section_y(f)).sum::<f64>() / poses.len().max(1) as f64;
+    for z in &mut zs {
+        *z += scene.terrain.slope_y() * y;
+    }
     let z_lo = boxes
         .iter()
         .map(|b| b[1])
@@ -356,6 +367,15 @@ fn world_svg(
     );
     svg.push_str("</g></svg>\n");
     svg
+}
+
+/// The world y of the terrain section a pose is drawn over: the mean y of its contact points
+/// (0 without contacts), so that a robot on a slope falling along y stands on its ground.
+fn section_y(frame: &super::Frame) -> f64 {
+    if frame.contacts.is_empty() {
+        return 0.0;
+    }
+    frame.contacts.iter().map(|p| p[1]).sum::<f64>() / frame.contacts.len() as f64
 }
 
 #[cfg(test)]

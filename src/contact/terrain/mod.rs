@@ -1,10 +1,13 @@
-//! The terrain: a flat ground plus smoothed steps, as a height map z = H(x). Each kind of
+//! The terrain: a ground plane, flat or tilted ([`Slope`]), plus smoothed steps along x on
+//! flat ground, as a height map z = H(x, y). Each kind of
 //! feature is one file here: a type whose serde fields are its problem-file entry, with its
 //! height and its checks ([`TerrainFeature`]). A new kind: its file, a field of [`Terrain`]
 //! and of the `[terrain]` section (`problem/schema.rs`), one line in `problem/validate/terrain.rs`.
 
+mod slope;
 mod step;
 
+pub use slope::{MAX_SLOPE_ANGLE, Slope, sin_cos_degrees};
 pub use step::Step;
 
 use crate::autodiff::Scalar;
@@ -29,13 +32,17 @@ pub enum Requirement {
     Positive,
 }
 
-/// The terrain: flat ground at `ground_height` plus smoothed steps (heights add up).
+/// The terrain: the ground through z = `ground_height` at the origin, flat or tilted by a
+/// slope, plus smoothed steps on flat ground (heights add up; validation refuses steps on
+/// a slope).
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Terrain {
-    /// World z of the flat ground far to the left of every step.
+    /// World z of the ground at x = y = 0 (and far to the left of every step).
     pub ground_height: f64,
     /// Smoothed steps along world x, added to the ground height.
     pub steps: Vec<Step>,
+    /// The ground's tilt, with the contact frame of the plane (None: flat, normal +z).
+    pub slope: Option<Slope>,
 }
 
 impl Terrain {
@@ -44,14 +51,42 @@ impl Terrain {
         Terrain::default()
     }
 
-    /// Terrain height H(x) at world x (length units).
+    /// Terrain height H(x) along world x at y = 0 (length units): the ground and its steps;
+    /// [`Terrain::height_at`] adds the slope's part in y.
     pub fn height<D: Scalar>(&self, x: D) -> D {
         let mut height = D::from(self.ground_height);
+        if let Some(slope) = &self.slope {
+            height += x * D::from(slope.gradient().0);
+        }
         // Each kind's features in turn.
         for step in &self.steps {
             height += step.height(x);
         }
         height
+    }
+
+    /// Terrain height H(x, y) at a world point (length units).
+    pub fn height_at(&self, x: f64, y: f64) -> f64 {
+        let height = self.height(x);
+        match &self.slope {
+            Some(slope) => height + slope.gradient().1 * y,
+            None => height,
+        }
+    }
+
+    /// The contact frame of the ground [t₁, t₂, n] (world unit vectors): the slope's
+    /// ([`Slope::frame`]), else world x, y and z. On a step's face the planner still uses
+    /// world x and y and the vertical distance.
+    pub fn frame(&self) -> [[f64; 3]; 3] {
+        match &self.slope {
+            Some(slope) => slope.frame(),
+            None => [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+        }
+    }
+
+    /// The slope's height change per unit world y (0 without one).
+    pub fn slope_y(&self) -> f64 {
+        self.slope.map_or(0.0, |s| s.gradient().1)
     }
 }
 
@@ -68,6 +103,7 @@ mod tests {
                 rise: 0.11,
                 width: 0.005,
             }],
+            slope: None,
         }
     }
 

@@ -49,7 +49,7 @@ pub(crate) fn check(ctx: &Context, raw: ProblemFile) -> Result<LoadedProblem, Pr
     let contacts = contacts::check_contacts(ctx, &raw.contacts, &robot)?;
     let (slack_weight, slack_mode, slack_tolerance) = slack::check_slack_penalty(ctx, &raw)?;
     columns::check_csv_columns(ctx, &robot, &contacts, slack_mode)?;
-    let terrain = terrain::check_terrain(ctx, &raw)?;
+    let terrain = terrain::check_terrain(ctx, &raw, &robot, &contacts)?;
     let knots = horizon::check_knots(ctx, &raw)?;
     size::check_nlp_fits(ctx, &robot, contacts.len(), knots)?;
     let time_steps = horizon::check_time_steps(ctx, &raw, knots)?;

@@ -128,6 +128,7 @@ mod tests {
             links: Vec::new(),
             contacts: Vec::new(),
             warnings: Vec::new(),
+            moves_in_xz_plane: true,
         }
     }
 

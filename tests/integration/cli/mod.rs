@@ -7,6 +7,7 @@ mod check;
 pub mod errors;
 mod gaits;
 mod hostile;
+mod incline;
 mod init;
 mod inputs;
 mod levels;
