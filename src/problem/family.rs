@@ -415,16 +415,7 @@ impl Parser<'_> {
                         )
                     })?;
                 self.at += 1;
-                self.deeper()?;
-                let x = self.sum()?;
-                self.depth -= 1;
-                match self.tokens.get(self.at) {
-                    Some(Token::Op(')')) => {
-                        self.at += 1;
-                        Ok(f(x))
-                    }
-                    _ => Err(format!("the `(` after `{name}` is not closed")),
-                }
+                self.closed_sum().map(f)
             }
             Token::Name(name) => self.parameters.get(name).copied().ok_or_else(|| {
                 let hint = nearest(name, self.parameters.keys().map(String::as_str))
@@ -444,19 +435,22 @@ impl Parser<'_> {
                 };
                 format!("unknown parameter `{name}`{hint}; {declared}")
             }),
-            Token::Op('(') => {
-                self.deeper()?;
-                let x = self.sum()?;
-                self.depth -= 1;
-                match self.tokens.get(self.at) {
-                    Some(Token::Op(')')) => {
-                        self.at += 1;
-                        Ok(x)
-                    }
-                    _ => Err("a `(` is not closed".into()),
-                }
-            }
+            Token::Op('(') => self.closed_sum(),
             Token::Op(c) => Err(format!("unexpected `{c}`")),
+        }
+    }
+
+    /// The sum after a `(` (already read) and its `)`.
+    fn closed_sum(&mut self) -> Result<f64, String> {
+        self.deeper()?;
+        let x = self.sum()?;
+        self.depth -= 1;
+        match self.tokens.get(self.at) {
+            Some(Token::Op(')')) => {
+                self.at += 1;
+                Ok(x)
+            }
+            _ => Err("a `(` is not closed".into()),
         }
     }
 }
