@@ -2,15 +2,15 @@
 //! impulses carried as forces (`crate::pipeline::levels`). That plan has contact modes: which
 //! contacts touch, stick or slide in each interval. With them fixed
 //! ([`Transcription::fix_contact_modes`]) the finer grid's NLP is a regular one, and the start
-//! nearly satisfies it, so it solves in tens of iterations (the hopper: 11, 22 and 27 at 41, 81
-//! and 161 knots). Its plan keeps the coarse grid's contact timing, which the relaxed NLP may
+//! nearly satisfies it, so it solves in tens of iterations (the hopper: 11 to 31 at 41 to 161
+//! knots). Its plan keeps the coarse grid's contact timing, which the relaxed NLP may
 //! move, and the relaxed solve from the same start may end at a worse optimum than that plan
 //! (BENCHMARKS.md: the hopper's ladders over seeded first levels). Both are solved; the lower
 //! solved objective is the level's plan.
 //!
 //! A problem whose slack is solved by a continuation (`slack.target`, `slack.homotopy`) starts
 //! its levels without the impulses, loose: this solve is not made for it (Spring Flamingo's
-//! 25-knot modes at 49 knots: 640 iterations to an objective of 140, where its homotopy found
+//! 25-knot modes at 49 knots: 516 iterations to an objective of 99.7, where its homotopy found
 //! 20.5).
 
 use super::solve::{SolveOptions, set_unless_given, solve_modes_fixed};
