@@ -498,7 +498,7 @@ fn committed_pages_are_what_the_viewer_draws() {
         );
         checked += 1;
     }
-    assert_eq!(checked, 13);
+    assert_eq!(checked, 15);
 }
 
 /// Markup in every name that reaches a page or a strip: the problem's name, a URDF link, a
