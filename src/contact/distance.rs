@@ -13,7 +13,7 @@ use crate::autodiff::Scalar;
 /// n·(p − o) with o = (0, 0, ground height): exact.
 pub fn signed_distance<D: Scalar>(terrain: &Terrain, p: &[D; 3]) -> D {
     if let Some(slope) = &terrain.slope {
-        let [_, _, n] = slope.frame();
+        let [_, _, n] = slope.frame;
         return p[0] * D::from(n[0])
             + p[1] * D::from(n[1])
             + (p[2] - D::from(terrain.ground_height)) * D::from(n[2]);

@@ -59,8 +59,7 @@ pub fn tangential_coordinates<D: Scalar>(
     out: &mut [D],
 ) {
     if let Some(slope) = &terrain.slope {
-        let frame = slope.frame();
-        for (o, t) in out.iter_mut().zip(&frame[..basis.num_tangents()]) {
+        for (o, t) in out.iter_mut().zip(&slope.frame[..basis.num_tangents()]) {
             *o = p[0] * D::from(t[0]) + p[1] * D::from(t[1]) + p[2] * D::from(t[2]);
         }
         return;

@@ -45,7 +45,8 @@ pub(crate) use tangential::{
     tangential_slack,
 };
 pub use terrain::{
-    MAX_SLOPE_ANGLE, Requirement, Slope, Step, Terrain, TerrainFeature, sin_cos_degrees,
+    MAX_SLOPE_ANGLE, Requirement, Slope, Step, Terrain, TerrainFeature, TiltedGround,
+    sin_cos_degrees,
 };
 pub(crate) use work::{
     contact_work, contact_work_contracted_in, contact_work_gradient, contact_work_hessian,

@@ -421,6 +421,10 @@ fn knot_slope(times: &[f64], values: &[Vec<f64>], k: usize, c: usize) -> f64 {
     };
     let (ta, tb, td) = (times[a], times[b], times[d]);
     let (ya, yb, yd) = (values[a][c], values[b][c], values[d][c]);
+    if !(ta < tb && tb < td) {
+        // Knots that share a time have no parabola through them: no slope.
+        return 0.0;
+    }
     let t = times[k];
     // Derivative of the Lagrange quadratic through the three knots, at t.
     ya * ((t - tb) + (t - td)) / ((ta - tb) * (ta - td))

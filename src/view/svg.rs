@@ -313,9 +313,11 @@ fn world_svg(
     let (x_lo, x_hi) = (x_lo - widen, x_hi + widen);
     let (xs, mut zs) = super::terrain_profile(&scene.terrain, x_lo, x_hi);
     // The section through the poses' contacts, on average.
-    let y = poses.iter().map(|f| section_y(f)).sum::<f64>() / poses.len().max(1) as f64;
-    for z in &mut zs {
-        *z += scene.terrain.slope_y() * y;
+    if scene.terrain.slope.is_some() {
+        let y = poses.iter().map(|f| section_y(f)).sum::<f64>() / poses.len().max(1) as f64;
+        for z in &mut zs {
+            *z += scene.terrain.slope_y() * y;
+        }
     }
     let z_lo = boxes
         .iter()

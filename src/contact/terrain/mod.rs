@@ -7,7 +7,7 @@
 mod slope;
 mod step;
 
-pub use slope::{MAX_SLOPE_ANGLE, Slope, sin_cos_degrees};
+pub use slope::{MAX_SLOPE_ANGLE, Slope, TiltedGround, sin_cos_degrees};
 pub use step::Step;
 
 use crate::autodiff::Scalar;
@@ -42,7 +42,7 @@ pub struct Terrain {
     /// Smoothed steps along world x, added to the ground height.
     pub steps: Vec<Step>,
     /// The ground's tilt, with the contact frame of the plane (None: flat, normal +z).
-    pub slope: Option<Slope>,
+    pub slope: Option<TiltedGround>,
 }
 
 impl Terrain {
@@ -56,7 +56,7 @@ impl Terrain {
     pub fn height<D: Scalar>(&self, x: D) -> D {
         let mut height = D::from(self.ground_height);
         if let Some(slope) = &self.slope {
-            height += x * D::from(slope.gradient().0);
+            height += x * D::from(slope.gradient.0);
         }
         // Each kind's features in turn.
         for step in &self.steps {
@@ -69,7 +69,7 @@ impl Terrain {
     pub fn height_at(&self, x: f64, y: f64) -> f64 {
         let height = self.height(x);
         match &self.slope {
-            Some(slope) => height + slope.gradient().1 * y,
+            Some(slope) => height + slope.gradient.1 * y,
             None => height,
         }
     }
@@ -79,14 +79,14 @@ impl Terrain {
     /// world x and y and the vertical distance.
     pub fn frame(&self) -> [[f64; 3]; 3] {
         match &self.slope {
-            Some(slope) => slope.frame(),
+            Some(slope) => slope.frame,
             None => [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
         }
     }
 
     /// The slope's height change per unit world y (0 without one).
     pub fn slope_y(&self) -> f64 {
-        self.slope.map_or(0.0, |s| s.gradient().1)
+        self.slope.map_or(0.0, |s| s.gradient.1)
     }
 }
 

@@ -23,6 +23,19 @@ pub struct Slope {
     pub heading: f64,
 }
 
+/// A [`Slope`] as the contact rows use it: its frame and its height's gradient, computed once
+/// when the problem is checked rather than in every distance and tangential coordinate of
+/// every callback.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TiltedGround {
+    /// The file's entry.
+    pub slope: Slope,
+    /// [`Slope::frame`]: [t₁, t₂, n].
+    pub frame: [[f64; 3]; 3],
+    /// [`Slope::gradient`]: (∂H/∂x, ∂H/∂y).
+    pub gradient: (f64, f64),
+}
+
 /// Largest tilt accepted [deg]: steeper planes are walls, not ground.
 pub const MAX_SLOPE_ANGLE: f64 = 80.0;
 
@@ -62,13 +75,17 @@ impl Slope {
         [t1, t2, n]
     }
 
-    /// The height it adds at (x, y): −tan θ (x cos ψ + y sin ψ).
-    pub fn height(&self, x: f64, y: f64) -> f64 {
-        let (gx, gy) = self.gradient();
-        gx * x + gy * y
+    /// The ground it tilts, its frame and gradient computed.
+    pub fn ground(self) -> TiltedGround {
+        TiltedGround {
+            slope: self,
+            frame: self.frame(),
+            gradient: self.gradient(),
+        }
     }
 
-    /// Its height's gradient (∂H/∂x, ∂H/∂y) = −tan θ (cos ψ, sin ψ).
+    /// Its height's gradient (∂H/∂x, ∂H/∂y) = −tan θ (cos ψ, sin ψ): the height it adds at
+    /// (x, y) is ∂H/∂x·x + ∂H/∂y·y.
     pub fn gradient(&self) -> (f64, f64) {
         let (s, c) = sin_cos_degrees(self.angle);
         let (sp, cp) = sin_cos_degrees(self.heading);
@@ -100,7 +117,7 @@ mod tests {
 
     /// The frame is orthonormal and right-handed at any tilt and heading, n is the plane's
     /// normal (perpendicular to its height's gradient directions), t₁ lies over +x; at
-    /// headings 0 and 90 the frame is the hand-computed one, without round-off.
+    /// headings 0 and 90 the frame is the hand-computed one, its zero parts exactly zero.
     #[test]
     fn the_frame_is_the_planes_own() {
         for (angle, heading) in [

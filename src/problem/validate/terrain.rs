@@ -2,7 +2,7 @@
 
 use super::context::Context;
 use super::values::{finite, positive};
-use crate::contact::{MAX_SLOPE_ANGLE, Requirement, Slope, Terrain, TerrainFeature};
+use crate::contact::{MAX_SLOPE_ANGLE, Requirement, Terrain, TerrainFeature, TiltedGround};
 use crate::problem::ProblemError;
 use crate::problem::schema::ProblemFile;
 use crate::problem::{ContactSpec, RobotInfo};
@@ -48,7 +48,7 @@ fn check_slope(
     raw: &ProblemFile,
     robot: &RobotInfo,
     contacts: &[ContactSpec],
-) -> Result<Option<Slope>, ProblemError> {
+) -> Result<Option<TiltedGround>, ProblemError> {
     let Some(slope) = raw.terrain.slope else {
         return Ok(None);
     };
@@ -88,5 +88,5 @@ fn check_slope(
             ),
         ));
     }
-    Ok(Some(slope))
+    Ok(Some(slope.ground()))
 }
