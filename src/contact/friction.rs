@@ -1,11 +1,8 @@
 //! Friction directions: which world tangential coordinates the friction impulses act along.
 
-use super::Terrain;
-use crate::autodiff::Scalar;
-
 /// The polyhedral friction cone's directions, fixed with the ground.
 ///
-/// With tangential coordinates t(q) ([`tangential_coordinates`]: world x, and y when
+/// With tangential coordinates t(q) ([`super::tangential_coordinates`]: world x, and y when
 /// spatial; on a slope the plane's tangents) of a contact point, the rows of D = ∂t/∂q are
 /// the friction directions, P = [D; −D], and the friction impulses are ordered β = [+x, −x]
 /// (planar, nd = 2) or β = [+x, +y, −x, −y] (spatial, nd = 4), x and y naming the plane's
@@ -47,32 +44,10 @@ impl FrictionBasis {
     }
 }
 
-/// Tangential coordinates of a world point: [p_x] (planar) or [p_x, p_y] (spatial), written
-/// into `out` (length `basis.num_tangents()`); on a slope its coordinates along the plane's
-/// tangents [t₁·p (, t₂·p)] ([`crate::contact::Slope::frame`]), so that the friction
-/// directions lie in the plane. Linear in p, so the same map takes a direction (a rolling
-/// sphere's spin column) to its tangential components.
-pub fn tangential_coordinates<D: Scalar>(
-    basis: FrictionBasis,
-    terrain: &Terrain,
-    p: &[D; 3],
-    out: &mut [D],
-) {
-    if let Some(slope) = &terrain.slope {
-        for (o, t) in out.iter_mut().zip(&slope.frame[..basis.num_tangents()]) {
-            *o = p[0] * D::from(t[0]) + p[1] * D::from(t[1]) + p[2] * D::from(t[2]);
-        }
-        return;
-    }
-    out[0] = p[0];
-    if basis == FrictionBasis::Spatial {
-        out[1] = p[1];
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::contact::{Terrain, tangential_coordinates};
 
     #[test]
     fn planar_models_get_two_directions_and_every_other_robot_four() {

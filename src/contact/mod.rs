@@ -8,8 +8,9 @@
 //! over [`crate::autodiff::Scalar`]; their derivatives are composed by the chain rule from the
 //! point's jet and forward AD of φ and t over p alone ([`ContactGeometry`]).
 //!
-//! Where things are: `terrain` (the height map and its features), `distance` (φ of a point),
-//! `friction` (the friction basis), `model` (the contact constants of a problem), `geometry`
+//! Where things are: `terrain` (the height map and its features), `surface` (the contact
+//! frame of the surface: φ and the tangential coordinates of a point), `friction` (the
+//! friction basis), `model` (the contact constants of a problem), `geometry`
 //! (K(q) = [φ, t] and its derivatives in q), and the rows, each a function of its inputs z:
 //! `gap` (φ and −cφ), `work` (the impulse J(q)ᵀλ as the gradient of the contact work),
 //! `tangential` (tangential velocity and a rolling sphere's spin friction), `complementarity`
@@ -17,11 +18,11 @@
 //! rows, the penalty form and the solution's and simulator's reports use).
 
 mod complementarity;
-mod distance;
 mod friction;
 mod gap;
 mod geometry;
 mod model;
+mod surface;
 mod tangential;
 mod terrain;
 mod work;
@@ -31,8 +32,11 @@ pub(crate) use complementarity::{
     Own, Partner, Products, complementarity, complementarity_hessian, complementarity_jacobian,
     cone, friction_cone, gap_product,
 };
-pub use distance::signed_distance;
-pub use friction::{FrictionBasis, tangential_coordinates};
+pub use friction::FrictionBasis;
+pub use surface::{
+    interval_world_impulses, signed_distance, surface_frame, tangential_coordinates,
+    world_impulse,
+};
 pub(crate) use gap::{
     contact_gap, distance, distance_hessian, distance_hessian_in, distance_jacobian,
     distance_jacobian_in, distance_with_gradient,
@@ -45,9 +49,11 @@ pub(crate) use tangential::{
     tangential_slack,
 };
 pub use terrain::{
-    MAX_SLOPE_ANGLE, Requirement, Slope, Step, Terrain, TerrainFeature, TiltedGround,
+    Block, HeightMap, HeightMapEntry, HeightMapError, MAX_HEIGHT_MAP_LINES, MAX_SLOPE_ANGLE,
+    MAX_STAIRS, Requirement, Shape, Slope, Stairs, Step, Terrain, TerrainFeature, TiltedGround,
     sin_cos_degrees,
 };
+pub(crate) use terrain::along;
 pub(crate) use work::{
     contact_work, contact_work_contracted_in, contact_work_gradient, contact_work_hessian,
     contact_work_hessian_in, contact_work_third,

@@ -40,6 +40,9 @@ pub struct Trajectory<'a> {
     pub normal_impulse: &'a [Vec<f64>],
     /// Friction impulses per interval (N−1 × nc × nd).
     pub friction_impulse: &'a [Vec<Vec<f64>>],
+    /// Each interval's impulse per contact as a world vector (N−1 × nc,
+    /// [`crate::contact::interval_world_impulses`]; empty: unknown, the cells left empty).
+    pub world_impulse: &'a [Vec<[f64; 3]>],
     /// Signed distances at every knot (N × nc).
     pub signed_distance: &'a [Vec<f64>],
     /// World positions of the contact points at every knot (N × nc; empty: unknown, the
@@ -286,6 +289,9 @@ pub fn columns(
                 source(),
             ));
         }
+        for axis in AXES {
+            out.push(column(format!("{c}_f{axis}"), &units.impulse, source()));
+        }
         out.push(column(format!("{c}_distance"), &units.length, source()));
         for axis in AXES {
             out.push(column(format!("{c}_{axis}"), &units.length, source()));
@@ -355,6 +361,14 @@ pub fn write_trajectory(trajectory: &Trajectory<'_>, units: &ColumnUnits) -> Str
                         .get(k)
                         .and_then(|b| b.get(i))
                         .and_then(|b| b.get(d)),
+                ));
+            }
+            for a in 0..AXES.len() {
+                row.push(cell(
+                    s.world_impulse
+                        .get(k)
+                        .and_then(|f| f.get(i))
+                        .map(|f| &f[a]),
                 ));
             }
             // A knot quantity: on every row, the last included.
@@ -643,6 +657,7 @@ mod tests {
             friction_directions: 2,
             normal_impulse: &[vec![1.0], vec![0.0]],
             friction_impulse: &[vec![vec![0.5, 0.0]], vec![vec![0.0, 0.0]]],
+            world_impulse: &[],
             signed_distance: &[vec![0.0], vec![0.1], vec![0.25]],
             contact_positions: &[
                 vec![[0.0, 0.0, 0.0]],

@@ -501,6 +501,7 @@ fn names_once(name: &str) -> bool {
         friction_directions: 2,
         normal_impulse: &impulses,
         friction_impulse: &[vec![vec![0.0, 0.0]]],
+        world_impulse: &[],
         signed_distance: &[vec![0.0], vec![0.0]],
         slack: &[vec![0.0]],
         contact_positions: &[vec![[0.0, 0.0, 0.0]], vec![[0.0, 0.0, 0.5]]],

@@ -441,11 +441,7 @@ mod tests {
         assert!((s.q_final[2].lower - 0.236).abs() < 1e-15);
         assert_eq!(
             s.terrain.steps,
-            vec![Step {
-                edge_x: 0.25,
-                rise: 0.11,
-                width: 0.005
-            }]
+            vec![Step::along_x(0.25, 0.11, 0.005)]
         );
         match &s.costs[0] {
             CostTerm::StateTracking(StateTracking {

@@ -216,9 +216,17 @@ pub struct ContactPointEntry {
 pub struct TerrainSection {
     /// Height of the flat ground [length] (default 0).
     pub ground_height: Option<f64>,
-    /// Smoothed steps H(x) = rise·½(1 + tanh((x − edge_x)/width)), heights add up.
+    /// Smoothed steps H = rise·½(1 + tanh((s − edge)/width)) along a heading; heights add up.
     #[serde(default)]
     pub step: Vec<crate::contact::Step>,
+    /// Flights of stairs: `count` steps `run` apart along a heading.
+    #[serde(default)]
+    pub stairs: Vec<crate::contact::Stairs>,
+    /// Raised blocks with smoothed edges.
+    #[serde(default)]
+    pub block: Vec<crate::contact::Block>,
+    /// Heights on a grid from a file next to the problem.
+    pub height_map: Option<crate::contact::HeightMapEntry>,
     /// The ground tilted: `angle` [deg] falling along `heading` [deg] from +x towards +y.
     pub slope: Option<crate::contact::Slope>,
 }

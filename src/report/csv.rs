@@ -25,6 +25,7 @@ pub fn solution_trajectory(s: &Solution) -> Trajectory<'_> {
         friction_directions: s.friction_directions,
         normal_impulse: &s.normal_impulse,
         friction_impulse: &s.friction_impulse,
+        world_impulse: &s.world_impulse,
         signed_distance: &s.signed_distance,
         contact_positions: &s.contact_positions,
         slack: &s.slack,

@@ -300,6 +300,7 @@ mod tests {
                 vec![0.0, 0.05],
                 vec![0.0, 0.2],
             ],
+            world_impulse: Vec::new(),
             // The toe moves back 0.05 on the first interval, the heel only forwards.
             contact_positions: [[0.0, -0.05, 0.1, 0.2], [0.0, 0.1, 0.2, 0.3]].iter().fold(
                 vec![Vec::new(); 4],

@@ -454,6 +454,7 @@ mod tests {
             friction_directions: 0,
             normal_impulse: &[],
             friction_impulse: &[],
+            world_impulse: &[],
             signed_distance: &[],
             contact_positions: &[],
             slack: &[],

@@ -4,6 +4,7 @@
 
 use serde_json::{Value, json};
 
+use crate::contact::{ContactModel, interval_world_impulses};
 use crate::discrete::Integrator;
 use crate::files::trajectory_csv::Trajectory;
 use crate::problem::LoadedProblem;
@@ -18,13 +19,25 @@ pub struct SimulationColumns {
     friction_directions: usize,
     normal: Vec<Vec<f64>>,
     friction: Vec<Vec<Vec<f64>>>,
+    world_impulse: Vec<Vec<[f64; 3]>>,
     slack: Vec<Vec<f64>>,
 }
 
 impl SimulationColumns {
     /// The names from `problem` and the impulses of `sim`.
     pub fn new(problem: &LoadedProblem, sim: &Simulation, friction_directions: usize) -> Self {
+        let normal: Vec<Vec<f64>> = sim.impulses.iter().map(|i| i.normal.clone()).collect();
+        let friction: Vec<Vec<Vec<f64>>> =
+            sim.impulses.iter().map(|i| i.friction.clone()).collect();
+        let model = ContactModel::new(
+            problem.robot.moves_in_xz_plane,
+            problem.spec.contacts.iter().map(|c| c.friction).collect(),
+            problem.spec.terrain.clone(),
+        );
+        let world_impulse =
+            interval_world_impulses(&model, &sim.contact_positions, &normal, &friction);
         SimulationColumns {
+            world_impulse,
             coordinate_names: problem.robot.coordinates.clone(),
             input_names: problem.robot.inputs.clone(),
             contact_names: problem
@@ -34,8 +47,8 @@ impl SimulationColumns {
                 .map(|c| c.name.clone())
                 .collect(),
             friction_directions,
-            normal: sim.impulses.iter().map(|i| i.normal.clone()).collect(),
-            friction: sim.impulses.iter().map(|i| i.friction.clone()).collect(),
+            normal,
+            friction,
             slack: sim.complementarity.iter().map(|&c| vec![c]).collect(),
         }
     }
@@ -53,6 +66,7 @@ impl SimulationColumns {
             friction_directions: self.friction_directions,
             normal_impulse: &self.normal,
             friction_impulse: &self.friction,
+            world_impulse: &self.world_impulse,
             signed_distance: &sim.distance,
             contact_positions: &sim.contact_positions,
             slack: &self.slack,

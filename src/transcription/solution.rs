@@ -59,6 +59,9 @@ pub struct Solution {
     pub signed_distance: Vec<Vec<f64>>,
     /// World position of every contact point at every knot (N × nc).
     pub contact_positions: Vec<Vec<[f64; 3]>>,
+    /// Each interval's impulse per contact as a world vector at the point where it acts
+    /// (N−1 × nc, [`crate::contact::interval_world_impulses`]).
+    pub world_impulse: Vec<Vec<[f64; 3]>>,
     /// Slacks per interval (N−1 × slacks per interval: 1, or 3·nc in per-contact mode; in
     /// penalty mode 1, the largest of the interval's three complementarity product sums).
     pub slack: Vec<Vec<f64>>,
@@ -290,7 +293,7 @@ impl Solution {
                 _ => (variables, peak),
             }
         };
-        let contact_positions = q
+        let contact_positions: Vec<Vec<[f64; 3]>> = q
             .iter()
             .map(|qk| {
                 (0..l.nc)
@@ -298,6 +301,12 @@ impl Solution {
                     .collect()
             })
             .collect();
+        let world_impulse = crate::contact::interval_world_impulses(
+            &t.context().contact,
+            &contact_positions,
+            &normal_impulse,
+            &friction_impulse,
+        );
         let (row_violations, _) = t.row_violations(x);
         let max_constraint_violation = row_violations.iter().fold(0.0_f64, |a, &b| a.max(b));
         let coordinate_names = t.mechanics().coordinate_names();
@@ -334,6 +343,7 @@ impl Solution {
             friction_impulse,
             signed_distance,
             contact_positions,
+            world_impulse,
             slack,
             max_slack,
             slack_peak,

@@ -37,10 +37,12 @@ pub enum Place {
         /// `x`, `y` or `z`.
         axis: char,
     },
-    /// The terrain's height at `x`.
+    /// The terrain's height at (`x`, `y`).
     Terrain {
         /// Where along x.
         x: f64,
+        /// Where along y.
+        y: f64,
     },
 }
 
@@ -62,7 +64,11 @@ fn place_text(place: &Place, unit: &str) -> String {
     match place {
         Place::Cell { row, column } => format!("row {row}, column `{column}`"),
         Place::Point { row, point, axis } => format!("row {row}: {point} at {axis}"),
-        Place::Terrain { x } => format!("the terrain's height at x = {} {unit}", short(*x)),
+        Place::Terrain { x, y } => format!(
+            "the terrain's height at x = {}, y = {} {unit}",
+            short(*x),
+            short(*y)
+        ),
     }
 }
 
@@ -138,14 +144,15 @@ pub fn check_drawable(
     for (i, (motion, frames)) in motions.iter().zip(&drawing.frames).enumerate() {
         check_motion(scene, motion, frames, far, &far_text).map_err(|e| (Some(i), e))?;
     }
-    let [x0, x1, _, _] = super::ground_extent(drawing);
-    let (xs, zs) = super::terrain_profile(&scene.terrain, x0, x1);
-    for (&x, &z) in xs.iter().zip(&zs) {
+    let [x0, x1, y0, y1] = super::ground_extent(drawing);
+    let (xs, ys, zs) = super::terrain_grid(&scene.terrain, [x0, x1, y0, y1]);
+    let points = ys.iter().zip(&zs).flat_map(|(&y, row)| xs.iter().zip(row).map(move |(&x, &z)| (x, y, z)));
+    for (x, y, z) in points {
         if !within(z, far) {
             return Err((
                 None,
                 Undrawable {
-                    place: Place::Terrain { x },
+                    place: Place::Terrain { x, y },
                     value: z,
                     unit: length.clone(),
                     limit: far_text,

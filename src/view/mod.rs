@@ -26,7 +26,7 @@ use std::path::{Path, PathBuf};
 
 use serde_json::{Value, json};
 
-use crate::contact::Terrain;
+use crate::contact::{FrictionBasis, Shape, Terrain, sin_cos_degrees, world_impulse};
 use crate::discrete::Mechanics;
 use crate::files::names::xml_escape;
 use crate::model::{LinkId, link_pose};
@@ -250,10 +250,10 @@ pub struct Frame {
     pub links: Vec<([f64; 3], [f64; 4])>,
     /// Per contact: its point in the world.
     pub contacts: Vec<[f64; 3]>,
-    /// Per contact: the impulse of the interval starting here in the ground's contact frame,
-    /// [along t₁, along t₂, along n] ([`Terrain::frame`]; world x, y, z on flat ground; zero
-    /// on the last knot).
-    pub impulses: Vec<[f64; 3]>,
+    /// Per contact: the impulse of the interval starting here as world vectors, its normal
+    /// part then its friction part ([`crate::contact::world_impulse`], in the surface's frame
+    /// at the contact point of the next knot, where it acts); zero on the last knot.
+    pub impulses: Vec<[[f64; 3]; 2]>,
 }
 
 /// The frames of `motion` the page keeps, with the model's kinematics at each.
@@ -277,17 +277,18 @@ pub fn frames(scene: &Scene, motion: &Motion) -> Vec<Frame> {
         let contacts = (0..nc)
             .map(|c| scene.mechanics.contact_position(c, q))
             .collect();
+        let acts_at = motion.q.get(k + 1).unwrap_or(q);
         let impulses = (0..nc)
             .map(|c| {
                 let normal = motion.normal.get(k).and_then(|n| n.get(c)).copied();
                 let beta = motion.friction.get(k).and_then(|f| f.get(c));
-                let b = |d: usize| beta.and_then(|b| b.get(d)).copied().unwrap_or(0.0);
-                let (fx, fy) = match beta.map_or(0, Vec::len) {
-                    4 => (b(0) - b(2), b(1) - b(3)),
-                    _ => (b(0) - b(1), 0.0),
-                };
-                let v = [fx, fy, normal.unwrap_or(0.0)];
-                v.map(|x| if x.is_finite() { x } else { 0.0 })
+                let finite = |x: f64| if x.is_finite() { x } else { 0.0 };
+                let friction: Vec<f64> = beta.map_or(vec![], |b| b.iter().map(|&x| finite(x)).collect());
+                let basis = FrictionBasis::for_robot(friction.len() != 4);
+                let p = scene.mechanics.contact_position(c, acts_at);
+                let normal = world_impulse(basis, &scene.terrain, p, finite(normal.unwrap_or(0.0)), &[]);
+                let friction = world_impulse(basis, &scene.terrain, p, 0.0, &friction);
+                [normal, friction].map(|v| v.map(finite))
             })
             .collect();
         Frame {
@@ -360,21 +361,45 @@ pub fn drawing(scene: &Scene, motions: &[Motion]) -> Drawing {
     Drawing { body, frames, size }
 }
 
-/// The terrain profile z = H(x) over [x0, x1], sampled finely enough for its steps.
-fn terrain_profile(terrain: &Terrain, x0: f64, x1: f64) -> (Vec<f64>, Vec<f64>) {
+/// The terrain's section z = H(x, y) over x in [x0, x1] at `y`, sampled finely enough for
+/// the edges that cross it.
+pub(crate) fn terrain_profile(terrain: &Terrain, x0: f64, x1: f64, y: f64) -> (Vec<f64>, Vec<f64>) {
     let mut xs: Vec<f64> = (0..=200)
         .map(|i| x0 + (x1 - x0) * i as f64 / 200.0)
         .collect();
-    for step in &terrain.steps {
-        for i in -8..=8 {
-            xs.push(step.edge_x + step.width * 0.5 * f64::from(i));
-        }
-    }
+    xs.extend(terrain.edges_along(0.0));
     xs.retain(|x| *x >= x0 && *x <= x1);
     xs.sort_by(f64::total_cmp);
     xs.dedup();
-    let zs = xs.iter().map(|&x| terrain.height(x)).collect();
+    let zs = xs.iter().map(|&x| terrain.height_at(x, y)).collect();
     (xs, zs)
+}
+
+/// The terrain a page draws over [x0, x1] × [y0, y1]: the grid lines along x and y and the
+/// heights on them (one row per y). Two lines along y where the heights vary along x only
+/// (bilinear interpolation then draws it exactly between them).
+pub(crate) fn terrain_grid(terrain: &Terrain, [x0, x1, y0, y1]: [f64; 4]) -> (Vec<f64>, Vec<f64>, Vec<Vec<f64>>) {
+    let (xs, _) = terrain_profile(terrain, x0, x1, y0);
+    let along_x_only = match terrain.shape() {
+        Shape::Flat | Shape::Plane(_) => true,
+        Shape::Profile(h) => sin_cos_degrees(h).0 == 0.0,
+        Shape::General => false,
+    };
+    let mut ys: Vec<f64> = if along_x_only {
+        vec![y0, y1]
+    } else {
+        let mut ys: Vec<f64> = (0..=80).map(|i| y0 + (y1 - y0) * i as f64 / 80.0).collect();
+        ys.extend(terrain.edges_along(90.0));
+        ys
+    };
+    ys.retain(|y| *y >= y0 && *y <= y1);
+    ys.sort_by(f64::total_cmp);
+    ys.dedup();
+    let zs = ys
+        .iter()
+        .map(|&y| xs.iter().map(|&x| terrain.height_at(x, y)).collect())
+        .collect();
+    (xs, ys, zs)
 }
 
 /// The ground a page draws, [x0, x1, y0, y1]: the frames' links and contact points with a
@@ -417,13 +442,16 @@ pub fn page_data(scene: &Scene, motions: &[Motion], drawing: &Drawing) -> Value 
         })
         .collect();
     let [x0, x1, y0, y1] = ground_extent(drawing);
-    let (xs, zs) = terrain_profile(&scene.terrain, x0, x1);
+    let (xs, ys, zs) = terrain_grid(&scene.terrain, [x0, x1, y0, y1]);
     let max_impulse = drawing
         .frames
         .iter()
         .flatten()
         .flat_map(|f| &f.impulses)
-        .map(|v| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt())
+        .map(|[n, f]| {
+            let v = [n[0] + f[0], n[1] + f[1], n[2] + f[2]];
+            (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
+        })
         .fold(0.0, f64::max);
     let tracks: Vec<Value> = motions
         .iter()
@@ -444,7 +472,7 @@ pub fn page_data(scene: &Scene, motions: &[Motion], drawing: &Drawing) -> Value 
                 "contacts": frames.iter().map(|f| f.contacts.iter().map(v3).collect::<Vec<_>>()).collect::<Vec<_>>(),
                 "impulses": frames.iter().map(|f| f.impulses.iter().map(|v| {
                     let s = if max_impulse > 0.0 { 1.0 / max_impulse } else { 0.0 };
-                    json!([round(v[0] * s, 4), round(v[1] * s, 4), round(v[2] * s, 4)])
+                    v.iter().flatten().map(|x| round(x * s, 4)).collect::<Vec<_>>()
                 }).collect::<Vec<_>>()).collect::<Vec<_>>(),
             })
         })
@@ -461,10 +489,8 @@ pub fn page_data(scene: &Scene, motions: &[Motion], drawing: &Drawing) -> Value 
         "parts": parts,
         "terrain": {
             "x": xs.iter().map(|&x| round(x, d)).collect::<Vec<_>>(),
-            "z": zs.iter().map(|&z| round(z, d)).collect::<Vec<_>>(),
-            "y": [round(y0, d), round(y1, d)],
-            "slope_y": scene.terrain.slope_y(),
-            "frame": scene.terrain.frame(),
+            "y": ys.iter().map(|&y| round(y, d)).collect::<Vec<_>>(),
+            "z": zs.iter().map(|row| row.iter().map(|&z| round(z, d)).collect::<Vec<_>>()).collect::<Vec<_>>(),
         },
         "max_impulse": max_impulse,
         "warnings": drawing.body.warnings,

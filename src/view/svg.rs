@@ -311,14 +311,9 @@ fn world_svg(
     let min_w = (7.0 * motion.detail.chars().count().max(40) as f64 + 12.0).min(MAX_WORLD_WIDTH);
     let widen = ((min_w / px - (x_hi - x_lo)) / 2.0).max(0.0);
     let (x_lo, x_hi) = (x_lo - widen, x_hi + widen);
-    let (xs, mut zs) = super::terrain_profile(&scene.terrain, x_lo, x_hi);
     // The section through the poses' contacts, on average.
-    if scene.terrain.slope.is_some() {
-        let y = poses.iter().map(|f| section_y(f)).sum::<f64>() / poses.len().max(1) as f64;
-        for z in &mut zs {
-            *z += scene.terrain.slope_y() * y;
-        }
-    }
+    let y = poses.iter().map(|f| section_y(f)).sum::<f64>() / poses.len().max(1) as f64;
+    let (xs, zs) = super::terrain_profile(&scene.terrain, x_lo, x_hi, y);
     let z_lo = boxes
         .iter()
         .map(|b| b[1])

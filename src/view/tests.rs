@@ -75,13 +75,14 @@ fn each_link_pose_per_frame_is_the_models_forward_kinematics() {
                 );
             }
         }
-        // The contact point is the model's, and the impulse is (friction +x − (−x), 0, normal).
+        // The contact point is the model's, and on flat ground the impulse is the normal
+        // along +z and the friction +x − (−x) along x.
         let c = scene.mechanics.contact_position(0, &motion.q[f]);
         assert_eq!(frame.contacts[0], c);
         let expected = if f + 1 < 30 {
-            [0.25, 0.0, 1.0]
+            [[0.0, 0.0, 1.0], [0.25, 0.0, 0.0]]
         } else {
-            [0.0; 3]
+            [[0.0; 3]; 2]
         };
         assert_eq!(frame.impulses[0], expected);
     }

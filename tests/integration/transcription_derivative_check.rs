@@ -91,7 +91,8 @@ fn littledog_passes_on_the_step_edge(overrides: &[&str], feet: &[usize]) {
     for &foot in feet {
         let x = foot_on_edge(&nlp, foot);
         let check = assert_passes(&p, &nlp, &x, &format!("foot {foot} on the edge"));
-        // The terrain slope is in play: ∂φ/∂base_x at a mid knot is −H'(x) ≈ −11 there.
+        // The terrain slope is in play: ∂φ/∂base_x at a mid knot is the normal's x part,
+        // −H′/√(1 + H′²) ≈ −0.996 there (H′ ≈ 11), where flat ground has 0.
         let k = l.knots / 2;
         let slope = check
             .entries
@@ -103,7 +104,7 @@ fn littledog_passes_on_the_step_edge(overrides: &[&str], feet: &[usize]) {
             })
             .unwrap();
         assert!(
-            slope.declared && slope.finite_difference < -1.0,
+            slope.declared && slope.finite_difference < -0.99,
             "{slope:?}"
         );
         // And at an interior point of the interval after that knot (a Galerkin member).
@@ -118,7 +119,7 @@ fn littledog_passes_on_the_step_edge(overrides: &[&str], feet: &[usize]) {
                 })
                 .unwrap();
             assert!(
-                slope.declared && slope.finite_difference < -1.0,
+                slope.declared && slope.finite_difference < -0.99,
                 "{slope:?}"
             );
         }

@@ -683,19 +683,19 @@ fn drop_lines_reach_the_terrain_and_trails_follow_the_feet() {
         .iter()
         .map(|q| scene_contacts(&scene, q))
         .collect();
-    let top = scene.terrain.height(10.0);
+    let top = scene.terrain.height_at(10.0, 0.0);
     assert!(top > 0.05, "the step's top at {top}");
     // The foot highest above the step's top.
     let (k, c) = (0..contacts.len())
         .flat_map(|k| (0..contacts[k].len()).map(move |c| (k, c)))
-        .filter(|&(k, c)| scene.terrain.height(contacts[k][c][0]) > 0.99 * top)
+        .filter(|&(k, c)| scene.terrain.height_at(contacts[k][c][0], contacts[k][c][1]) > 0.99 * top)
         .max_by(|a, b| {
             let gap = |(k, c): (usize, usize)| contacts[k][c][2] - top;
             gap(*a).total_cmp(&gap(*b))
         })
         .expect("a foot over the step");
     let foot = contacts[k][c];
-    let ground = [foot[0], foot[1], scene.terrain.height(foot[0])];
+    let ground = [foot[0], foot[1], scene.terrain.height_at(foot[0], foot[1])];
     assert!(foot[2] - ground[2] > 0.02, "foot {foot:?} over {ground:?}");
 
     let profile = tmp.path().join("profile");

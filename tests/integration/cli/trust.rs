@@ -28,8 +28,8 @@ fn solve(t: &TestDir, file: &Path, extra: &[&str], code: i32) -> (PathBuf, crate
 }
 
 /// The hopper jumping onto a 0.15 m platform from its linear guess: Ipopt reports an optimum
-/// (`solve_succeeded`) of the relaxed problem whose slack is 0.31, the foot pushing while above
-/// the ground. That is `relaxed_contact`, exit 1, with the contact, interval and slack named
+/// (`solve_succeeded`) of the relaxed problem whose slack is 0.034, the foot pushing while
+/// above the ground. That is `relaxed_contact`, exit 1, with the contact, interval and slack named
 /// and what to try; `summary.json` says so too.
 #[test]
 fn platform_hop_with_open_slack_is_relaxed_contact_not_solved() {
@@ -37,7 +37,7 @@ fn platform_hop_with_open_slack_is_relaxed_contact_not_solved() {
     let (out, run) = solve(&t, &fixture("hop_up.toml"), &[], 1);
     for text in [
         "status       relaxed_contact (Ipopt: solve_succeeded)",
-        "contact `foot_contact` at interval 2 (knots 2–3, t = 0.2–0.3 s,",
+        "contact `foot_contact` at interval 3 (knots 3–4, t = 0.3–0.4 s,",
         "above slack.tolerance 1e-4",
         "--starts",
         "warm start",
@@ -50,9 +50,9 @@ fn platform_hop_with_open_slack_is_relaxed_contact_not_solved() {
     assert_eq!(s["solved"], false);
     assert_eq!(s["ipopt_status"], "solve_succeeded");
     assert_eq!(s["slack_tolerance"], 1e-4);
-    assert!(s["max_slack"].as_f64().unwrap() > 0.1, "{}", s["max_slack"]);
+    assert!(s["max_slack"].as_f64().unwrap() > 0.01, "{}", s["max_slack"]);
     assert_eq!(s["max_slack_at"]["contact"], "foot_contact");
-    assert_eq!(s["max_slack_at"]["interval"], 2);
+    assert_eq!(s["max_slack_at"]["interval"], 3);
     // The slack variables hold it, not only products cancelled in the rows' sums: a higher
     // weight can close it.
     assert_eq!(s["max_slack_at"]["hidden"], false);
