@@ -33,27 +33,26 @@ pub(crate) use complementarity::{
     cone, friction_cone, gap_product,
 };
 pub use friction::FrictionBasis;
-pub use surface::{
-    interval_world_impulses, signed_distance, surface_frame, tangential_coordinates,
-    world_impulse,
-};
 pub(crate) use gap::{
     contact_gap, distance, distance_hessian, distance_hessian_in, distance_jacobian,
     distance_jacobian_in, distance_with_gradient,
 };
 pub(crate) use geometry::ContactGeometry;
 pub use model::ContactModel;
+pub use surface::{
+    interval_world_impulses, signed_distance, surface_frame, tangential_coordinates, world_impulse,
+};
 pub(crate) use tangential::{
     spin_friction, spin_friction_jacobian, tangential_rate, tangential_rate_hessian,
     tangential_rate_hessian_in, tangential_rate_jacobian, tangential_rate_jacobian_in,
     tangential_slack,
 };
+pub(crate) use terrain::along;
 pub use terrain::{
     Block, HeightMap, HeightMapEntry, HeightMapError, MAX_HEIGHT_MAP_LINES, MAX_SLOPE_ANGLE,
     MAX_STAIRS, Requirement, Shape, Slope, Stairs, Step, Terrain, TerrainFeature, TiltedGround,
     sin_cos_degrees,
 };
-pub(crate) use terrain::along;
 pub(crate) use work::{
     contact_work, contact_work_contracted_in, contact_work_gradient, contact_work_hessian,
     contact_work_hessian_in, contact_work_third,

@@ -134,7 +134,8 @@ pub fn world_impulse(
     let nt = basis.num_tangents();
     let mut out = n.map(|x| x * normal);
     for (d, t) in [t1, t2].iter().enumerate().take(nt) {
-        let net = friction.get(d).copied().unwrap_or(0.0) - friction.get(d + nt).copied().unwrap_or(0.0);
+        let net =
+            friction.get(d).copied().unwrap_or(0.0) - friction.get(d + nt).copied().unwrap_or(0.0);
         for (o, x) in out.iter_mut().zip(t) {
             *o += net * x;
         }
@@ -376,7 +377,10 @@ mod tests {
                             continue;
                         }
                         let fd = (plus[k] - minus[k]) / (2.0 * e);
-                        assert!((fd - frame[k][axis]).abs() < 1e-6, "{k} {axis} {fd} {frame:?}");
+                        assert!(
+                            (fd - frame[k][axis]).abs() < 1e-6,
+                            "{k} {axis} {fd} {frame:?}"
+                        );
                     }
                 }
             }
@@ -455,7 +459,11 @@ mod hessian_tests {
                 let (a, b) = (at(1.0), at(-1.0));
                 for i in 0..3 {
                     let fd = (a[i] - b[i]) / (2.0 * e);
-                    assert!((fd - h[(i, j)]).abs() < 1e-7, "{k} {i} {j}: {fd} {}", h[(i, j)]);
+                    assert!(
+                        (fd - h[(i, j)]).abs() < 1e-7,
+                        "{k} {i} {j}: {fd} {}",
+                        h[(i, j)]
+                    );
                 }
             }
         }

@@ -365,10 +365,7 @@ pub fn write_trajectory(trajectory: &Trajectory<'_>, units: &ColumnUnits) -> Str
             }
             for a in 0..AXES.len() {
                 row.push(cell(
-                    s.world_impulse
-                        .get(k)
-                        .and_then(|f| f.get(i))
-                        .map(|f| &f[a]),
+                    s.world_impulse.get(k).and_then(|f| f.get(i)).map(|f| &f[a]),
                 ));
             }
             // A knot quantity: on every row, the last included.

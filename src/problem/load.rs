@@ -439,10 +439,7 @@ mod tests {
         assert_eq!(s.q_final[0].lower, 0.45 - 0.01);
         assert_eq!(s.q_final[0].upper, 0.45 + 0.01);
         assert!((s.q_final[2].lower - 0.236).abs() < 1e-15);
-        assert_eq!(
-            s.terrain.steps,
-            vec![Step::along_x(0.25, 0.11, 0.005)]
-        );
+        assert_eq!(s.terrain.steps, vec![Step::along_x(0.25, 0.11, 0.005)]);
         match &s.costs[0] {
             CostTerm::StateTracking(StateTracking {
                 q_weights,

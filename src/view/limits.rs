@@ -146,7 +146,10 @@ pub fn check_drawable(
     }
     let [x0, x1, y0, y1] = super::ground_extent(drawing);
     let (xs, ys, zs) = super::terrain_grid(&scene.terrain, [x0, x1, y0, y1]);
-    let points = ys.iter().zip(&zs).flat_map(|(&y, row)| xs.iter().zip(row).map(move |(&x, &z)| (x, y, z)));
+    let points = ys
+        .iter()
+        .zip(&zs)
+        .flat_map(|(&y, row)| xs.iter().zip(row).map(move |(&x, &z)| (x, y, z)));
     for (x, y, z) in points {
         if !within(z, far) {
             return Err((

@@ -283,10 +283,12 @@ pub fn frames(scene: &Scene, motion: &Motion) -> Vec<Frame> {
                 let normal = motion.normal.get(k).and_then(|n| n.get(c)).copied();
                 let beta = motion.friction.get(k).and_then(|f| f.get(c));
                 let finite = |x: f64| if x.is_finite() { x } else { 0.0 };
-                let friction: Vec<f64> = beta.map_or(vec![], |b| b.iter().map(|&x| finite(x)).collect());
+                let friction: Vec<f64> =
+                    beta.map_or(vec![], |b| b.iter().map(|&x| finite(x)).collect());
                 let basis = FrictionBasis::for_robot(friction.len() != 4);
                 let p = scene.mechanics.contact_position(c, acts_at);
-                let normal = world_impulse(basis, &scene.terrain, p, finite(normal.unwrap_or(0.0)), &[]);
+                let normal =
+                    world_impulse(basis, &scene.terrain, p, finite(normal.unwrap_or(0.0)), &[]);
                 let friction = world_impulse(basis, &scene.terrain, p, 0.0, &friction);
                 [normal, friction].map(|v| v.map(finite))
             })
@@ -378,7 +380,10 @@ pub(crate) fn terrain_profile(terrain: &Terrain, x0: f64, x1: f64, y: f64) -> (V
 /// The terrain a page draws over [x0, x1] × [y0, y1]: the grid lines along x and y and the
 /// heights on them (one row per y). Two lines along y where the heights vary along x only
 /// (bilinear interpolation then draws it exactly between them).
-pub(crate) fn terrain_grid(terrain: &Terrain, [x0, x1, y0, y1]: [f64; 4]) -> (Vec<f64>, Vec<f64>, Vec<Vec<f64>>) {
+pub(crate) fn terrain_grid(
+    terrain: &Terrain,
+    [x0, x1, y0, y1]: [f64; 4],
+) -> (Vec<f64>, Vec<f64>, Vec<Vec<f64>>) {
     let (xs, _) = terrain_profile(terrain, x0, x1, y0);
     let along_x_only = match terrain.shape() {
         Shape::Flat | Shape::Plane(_) => true,

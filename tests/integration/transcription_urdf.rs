@@ -85,7 +85,10 @@ fn littledog_matches_spec_sizes_and_initial_values() {
     assert_eq!(t.hessian_pattern().nnz(), 16976);
     assert!(close(r.objective, 87.026825, 1e-8), "{r:?}");
     // The guess's feet cross the edge: the distance along the unit normal, (z − H)/σ.
-    assert!(close(r.max_constraint_violation, 3.693678427727354, 1e-8), "{r:?}");
+    assert!(
+        close(r.max_constraint_violation, 3.693678427727354, 1e-8),
+        "{r:?}"
+    );
     assert!(
         close(r.equality_residual_norm, 19.696784004023183, 1e-10),
         "{r:?}"

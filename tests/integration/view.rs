@@ -688,7 +688,12 @@ fn drop_lines_reach_the_terrain_and_trails_follow_the_feet() {
     // The foot highest above the step's top.
     let (k, c) = (0..contacts.len())
         .flat_map(|k| (0..contacts[k].len()).map(move |c| (k, c)))
-        .filter(|&(k, c)| scene.terrain.height_at(contacts[k][c][0], contacts[k][c][1]) > 0.99 * top)
+        .filter(|&(k, c)| {
+            scene
+                .terrain
+                .height_at(contacts[k][c][0], contacts[k][c][1])
+                > 0.99 * top
+        })
         .max_by(|a, b| {
             let gap = |(k, c): (usize, usize)| contacts[k][c][2] - top;
             gap(*a).total_cmp(&gap(*b))

@@ -49,7 +49,9 @@ pub enum HeightMapError {
         text: String,
     },
     /// A row of another length than the first.
-    #[error("line {line} has {found} heights where the first row has {expected}: every row needs the same number")]
+    #[error(
+        "line {line} has {found} heights where the first row has {expected}: every row needs the same number"
+    )]
     Ragged {
         /// 1-based line.
         line: usize,
@@ -59,7 +61,9 @@ pub enum HeightMapError {
         expected: usize,
     },
     /// Too few or too many grid lines.
-    #[error("{rows} rows of {columns} heights: a height map needs 2 to {MAX_HEIGHT_MAP_LINES} of each")]
+    #[error(
+        "{rows} rows of {columns} heights: a height map needs 2 to {MAX_HEIGHT_MAP_LINES} of each"
+    )]
     Size {
         /// Rows read.
         rows: usize,
@@ -281,7 +285,10 @@ mod tests {
         assert_eq!((map.nx, map.ny), (6, 5));
         for (x, y) in [(-0.1, 0.0), (0.13, 0.37), (0.4, 0.8), (0.2999, 0.0001)] {
             let z = map.height::<f64>(x, y);
-            assert!((z - (0.3 * x - 0.2 * y + 0.05)).abs() < 1e-14, "{x} {y} {z}");
+            assert!(
+                (z - (0.3 * x - 0.2 * y + 0.05)).abs() < 1e-14,
+                "{x} {y} {z}"
+            );
         }
     }
 

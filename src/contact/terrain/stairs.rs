@@ -56,7 +56,11 @@ impl TerrainFeature for Stairs {
     fn requirements(&self) -> Vec<(&'static str, f64, Requirement)> {
         vec![
             ("start", self.start, Requirement::Finite),
-            ("count", f64::from(self.count), Requirement::Count(MAX_STAIRS)),
+            (
+                "count",
+                f64::from(self.count),
+                Requirement::Count(MAX_STAIRS),
+            ),
             ("rise", self.rise, Requirement::Finite),
             ("run", self.run, Requirement::Positive),
             ("width", self.width, Requirement::Positive),

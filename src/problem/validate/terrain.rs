@@ -7,8 +7,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 use crate::contact::{
-    HeightMap, MAX_SLOPE_ANGLE, Requirement, Terrain, TerrainFeature, TiltedGround,
-    sin_cos_degrees,
+    HeightMap, MAX_SLOPE_ANGLE, Requirement, Terrain, TerrainFeature, TiltedGround, sin_cos_degrees,
 };
 use crate::files::input::{MAX_TEXT_BYTES, read_regular_text};
 use crate::problem::ProblemError;
@@ -57,7 +56,11 @@ pub(super) fn check_terrain(
 /// Checks every `[[terrain.<kind>]]` entry against its requirements, naming the field.
 fn check_features<F: TerrainFeature>(ctx: &Context, features: &[F]) -> Result<(), ProblemError> {
     for (i, feature) in features.iter().enumerate() {
-        check_requirements(ctx, &format!("terrain.{}[{i}]", F::NAME), feature.requirements())?;
+        check_requirements(
+            ctx,
+            &format!("terrain.{}[{i}]", F::NAME),
+            feature.requirements(),
+        )?;
     }
     Ok(())
 }
@@ -129,7 +132,12 @@ fn check_height_map(ctx: &Context, raw: &ProblemFile) -> Result<Option<HeightMap
     })?;
     HeightMap::parse(entry.clone(), &text)
         .map(Some)
-        .map_err(|e| ctx.invalid("terrain.height_map.file", format!("{}: {e}", path.display())))
+        .map_err(|e| {
+            ctx.invalid(
+                "terrain.height_map.file",
+                format!("{}: {e}", path.display()),
+            )
+        })
 }
 
 /// `[terrain.slope]`: its numbers in range, and nothing it cannot carry: features on it, or

@@ -22,5 +22,6 @@ mod sphere_contacts;
 mod study;
 pub mod sweep;
 mod sweep_slurm;
+mod terrain;
 mod trust;
 mod view_files;

@@ -50,7 +50,11 @@ fn platform_hop_with_open_slack_is_relaxed_contact_not_solved() {
     assert_eq!(s["solved"], false);
     assert_eq!(s["ipopt_status"], "solve_succeeded");
     assert_eq!(s["slack_tolerance"], 1e-4);
-    assert!(s["max_slack"].as_f64().unwrap() > 0.01, "{}", s["max_slack"]);
+    assert!(
+        s["max_slack"].as_f64().unwrap() > 0.01,
+        "{}",
+        s["max_slack"]
+    );
     assert_eq!(s["max_slack_at"]["contact"], "foot_contact");
     assert_eq!(s["max_slack_at"]["interval"], 3);
     // The slack variables hold it, not only products cancelled in the rows' sums: a higher
