@@ -120,6 +120,7 @@ pub fn check_report(spec: &ProblemSpec) -> Result<CheckReport, TranscriptionErro
     })
 }
 
+pub mod dynamics;
 pub mod feasibility;
 pub mod gains;
 pub mod kinematics;

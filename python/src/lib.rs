@@ -10,11 +10,13 @@
 //! library's), `watch.rs` (long calls, signals, progress), `problem.rs` (`Problem`),
 //! `solve.rs` (a solve), `solution.rs` (`Trajectory`, `Solution`), `pickle.rs` (the state
 //! results pickle with, checked on restoring), `simulation.rs` (`simulate`, `Simulation`),
-//! `sweep.rs` (sweeps, executor jobs), `html.rs` (notebook display).
+//! `sweep.rs` (sweeps, executor jobs), `html.rs` (notebook display), `kinematics.rs` and
+//! `dynamics.rs` (a robot's kinematics and dynamics at a configuration).
 
 use pyo3::prelude::*;
 
 mod convert;
+mod dynamics;
 mod errors;
 mod html;
 mod kinematics;
@@ -46,6 +48,7 @@ fn _problem_loads() -> usize {
 fn _vito(m: &Bound<'_, PyModule>) -> PyResult<()> {
     errors::register(m)?;
     kinematics::register(m)?;
+    dynamics::register(m)?;
     m.add_class::<problem::Problem>()?;
     m.add_class::<solution::Trajectory>()?;
     m.add_class::<solution::Solution>()?;
