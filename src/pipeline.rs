@@ -125,6 +125,7 @@ pub mod feasibility;
 pub mod gains;
 pub mod kinematics;
 pub mod levels;
+pub mod mujoco;
 pub mod output;
 pub mod simulation;
 pub mod trajectory_point;

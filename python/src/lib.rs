@@ -11,7 +11,8 @@
 //! `solve.rs` (a solve), `solution.rs` (`Trajectory`, `Solution`), `pickle.rs` (the state
 //! results pickle with, checked on restoring), `simulation.rs` (`simulate`, `Simulation`),
 //! `sweep.rs` (sweeps, executor jobs), `html.rs` (notebook display), `kinematics.rs` and
-//! `dynamics.rs` (a robot's kinematics and dynamics at a configuration).
+//! `dynamics.rs` (a robot's kinematics and dynamics at a configuration), `mujoco.rs` (a
+//! problem's world as MJCF for `vito.mujoco`).
 
 use pyo3::prelude::*;
 
@@ -21,6 +22,7 @@ mod errors;
 mod html;
 mod kinematics;
 mod load;
+mod mujoco;
 mod pickle;
 mod problem;
 mod simulation;
@@ -49,6 +51,7 @@ fn _vito(m: &Bound<'_, PyModule>) -> PyResult<()> {
     errors::register(m)?;
     kinematics::register(m)?;
     dynamics::register(m)?;
+    m.add_function(wrap_pyfunction!(mujoco::mujoco_model, m)?)?;
     m.add_class::<problem::Problem>()?;
     m.add_class::<solution::Trajectory>()?;
     m.add_class::<solution::Solution>()?;
