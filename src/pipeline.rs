@@ -120,10 +120,12 @@ pub fn check_report(spec: &ProblemSpec) -> Result<CheckReport, TranscriptionErro
     })
 }
 
+pub mod dynamics;
 pub mod feasibility;
 pub mod gains;
 pub mod kinematics;
 pub mod levels;
+pub mod mujoco;
 pub mod output;
 pub mod simulation;
 pub mod trajectory_point;

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The Python package (python/, `import vito`) in the project's virtual environment .venv:
 # creates .venv with Debian's python3 (python3-venv comes from vendor-config/install-deps.sh),
-# installs maturin, numpy, pandas, matplotlib and pytest (and, for the tests, dask[distributed]
-# and tqdm) from PyPI when missing, builds the
+# installs maturin, numpy, pandas, matplotlib and pytest (and, for the tests, dask[distributed],
+# tqdm, Pinocchio (`pin`), example-robot-data and MuJoCo) from PyPI when missing, builds the
 # extension module with maturin (release profile, into the workspace's target/) and installs
 # it into .venv; links .venv/bin/vito to target/release/vito (the command `vito.sweep` runs).
 #
@@ -32,6 +32,16 @@ if ! "$venv/bin/python" -c 'import dask.distributed, tqdm' 2>/dev/null; then
     "$venv/bin/python" -m pip install --quiet --disable-pip-version-check \
         'dask[distributed]' tqdm \
         || echo "install-python: dask[distributed] or tqdm could not be installed; their tests skip" >&2
+fi
+# The independent libraries the tests check vito against: Pinocchio (PyPI `pin`) and the
+# robots of example-robot-data (tests/python/test_pinocchio.py), MuJoCo (vito.mujoco, the
+# optional extra `vito[mujoco]`, tests/python/test_mujoco.py); their tests skip with a message
+# where they cannot be installed.
+if ! "$venv/bin/python" -c 'import pinocchio, mujoco, importlib.metadata as m; m.distribution("example-robot-data")' 2>/dev/null; then
+    echo "install-python: installing pin, example-robot-data and mujoco into $venv"
+    "$venv/bin/python" -m pip install --quiet --disable-pip-version-check \
+        pin example-robot-data mujoco \
+        || echo "install-python: pin, example-robot-data or mujoco could not be installed; their tests skip" >&2
 fi
 echo "install-python: building the extension module (maturin develop --release)"
 (cd "$root/python" && VIRTUAL_ENV="$venv" PATH="$venv/bin:$PATH" \

@@ -10,15 +10,19 @@
 //! library's), `watch.rs` (long calls, signals, progress), `problem.rs` (`Problem`),
 //! `solve.rs` (a solve), `solution.rs` (`Trajectory`, `Solution`), `pickle.rs` (the state
 //! results pickle with, checked on restoring), `simulation.rs` (`simulate`, `Simulation`),
-//! `sweep.rs` (sweeps, executor jobs), `html.rs` (notebook display).
+//! `sweep.rs` (sweeps, executor jobs), `html.rs` (notebook display), `kinematics.rs` and
+//! `dynamics.rs` (a robot's kinematics and dynamics at a configuration), `mujoco.rs` (a
+//! problem's world as MJCF for `vito.mujoco`).
 
 use pyo3::prelude::*;
 
 mod convert;
+mod dynamics;
 mod errors;
 mod html;
 mod kinematics;
 mod load;
+mod mujoco;
 mod pickle;
 mod problem;
 mod simulation;
@@ -46,6 +50,8 @@ fn _problem_loads() -> usize {
 fn _vito(m: &Bound<'_, PyModule>) -> PyResult<()> {
     errors::register(m)?;
     kinematics::register(m)?;
+    dynamics::register(m)?;
+    m.add_function(wrap_pyfunction!(mujoco::mujoco_model, m)?)?;
     m.add_class::<problem::Problem>()?;
     m.add_class::<solution::Trajectory>()?;
     m.add_class::<solution::Solution>()?;

@@ -62,6 +62,19 @@ pub fn potential_energy<D: Scalar>(model: &Model, q: &[D]) -> D {
     energy + spring_energy(model, q)
 }
 
+/// Generalised gravity g(q) = ∂V_g/∂q (length `nq`), V_g = −Σ m gravity·p_com: the gradient of
+/// [`potential_energy`] without its springs' share, the joint torques and base forces that
+/// hold the robot still against gravity (Pinocchio's `computeGeneralizedGravity`).
+pub fn generalized_gravity<D: Scalar>(model: &Model, q: &[D]) -> Vec<D> {
+    check_len(model, q.len(), "q");
+    let mut dq = vec![D::from(0.0); model.nq()];
+    super::potential_energy_gradient(model, q, &mut dq);
+    for spring in &model.springs {
+        dq[spring.coordinate] -= (q[spring.coordinate] - spring.rest) * spring.stiffness;
+    }
+    dq
+}
+
 /// Σ ½ k (q − rest)².
 pub(crate) fn spring_energy<D: Scalar>(model: &Model, q: &[D]) -> D {
     let mut energy = D::from(0.0);

@@ -27,7 +27,8 @@ pub use dynamics::{
     generalized_damping_force, generalized_input_force, generalized_point_force, inverse_dynamics,
 };
 pub use energy::{
-    generalized_momentum, kinetic_energy, mass_matrix, mass_matrix_entries, potential_energy,
+    generalized_gravity, generalized_momentum, kinetic_energy, mass_matrix, mass_matrix_entries,
+    potential_energy,
 };
 pub use energy_adjoint::{
     SweepBuffers, kinetic_energy_gradient, lagrangian_gradient, potential_energy_gradient,

@@ -49,6 +49,21 @@ pub fn seconds_per(name: &str) -> f64 {
         .map_or(1.0, |(_, s)| *s)
 }
 
+/// Metres per length unit `name` (1 for a name not in [`LENGTH_UNITS`]).
+pub fn metres_per(name: &str) -> f64 {
+    match name {
+        "km" => 1e3,
+        "dm" => 0.1,
+        "cm" => 1e-2,
+        "mm" => 1e-3,
+        "um" | "µm" => 1e-6,
+        "nm" => 1e-9,
+        "in" => 0.0254,
+        "ft" => 0.3048,
+        _ => 1.0,
+    }
+}
+
 /// SI: m, kg, s.
 pub(crate) fn si_units() -> Units {
     Units {

@@ -49,6 +49,7 @@ _os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 from ._vito import (  # noqa: E402
     IPOPT_VERSION,
+    Dynamics,
     Kinematics,
     Problem,
     ProblemError,
@@ -66,6 +67,7 @@ from ._sweep import SweepJob, run_job  # noqa: E402
 
 __all__ = [
     "IPOPT_VERSION",
+    "Dynamics",
     "Kinematics",
     "Problem",
     "ProblemError",
