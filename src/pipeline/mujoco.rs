@@ -41,6 +41,11 @@ pub enum MujocoError {
     /// A time step that is not a positive number.
     #[error("the time step must be a positive number of seconds, got {0}")]
     TimeStep(f64),
+    /// A terrain that is not drawn as planes and boxes.
+    #[error(
+        "the terrain has {0}; vito.mujoco builds flat ground, a slope, and steps and stairs along +x (heading 0) only"
+    )]
+    Terrain(&'static str),
 }
 
 /// A problem's MuJoCo model.
@@ -121,7 +126,7 @@ pub fn mujoco_model(problem: &LoadedProblem, timestep_s: f64) -> Result<MujocoMo
         2.0 * timestep
     );
     xml.push_str("  <worldbody>\n");
-    terrain(&mut xml, problem, point_radius);
+    terrain(&mut xml, problem, point_radius)?;
     let equalities = bodies(&mut xml, model, problem, point_radius);
     xml.push_str("  </worldbody>\n");
     if !equalities.is_empty() {
@@ -158,7 +163,11 @@ pub fn mujoco_model(problem: &LoadedProblem, timestep_s: f64) -> Result<MujocoMo
 
 /// The ground plane (tilted on a slope) and, for steps, one box per stretch of constant
 /// height between their edges.
-fn terrain(xml: &mut String, problem: &LoadedProblem, point_radius: f64) {
+fn terrain(
+    xml: &mut String,
+    problem: &LoadedProblem,
+    point_radius: f64,
+) -> Result<(), MujocoError> {
     let t = &problem.spec.terrain;
     let plane = |xml: &mut String, z: f64, normal: [f64; 3]| {
         let _ = writeln!(
@@ -170,9 +179,26 @@ fn terrain(xml: &mut String, problem: &LoadedProblem, point_radius: f64) {
     };
     if let Some(slope) = &t.slope {
         plane(xml, t.ground_height, slope.frame[2]);
-        return;
+        return Ok(());
     }
-    let mut steps: Vec<(f64, f64)> = t.steps.iter().map(|s| (s.edge_x, s.rise)).collect();
+    if !t.blocks.is_empty() {
+        return Err(MujocoError::Terrain("blocks"));
+    }
+    if t.height_map.is_some() {
+        return Err(MujocoError::Terrain("a height map"));
+    }
+    let along_x = |heading: f64| heading.rem_euclid(360.0) == 0.0;
+    if !t.steps.iter().all(|s| along_x(s.heading)) || !t.stairs.iter().all(|s| along_x(s.heading)) {
+        return Err(MujocoError::Terrain(
+            "steps or stairs along another heading",
+        ));
+    }
+    let mut steps: Vec<(f64, f64)> = t.steps.iter().map(|s| (s.edge, s.rise)).collect();
+    for flight in &t.stairs {
+        steps.extend(
+            (0..flight.count).map(|k| (flight.start + f64::from(k) * flight.run, flight.rise)),
+        );
+    }
     steps.sort_by(|a, b| a.0.total_cmp(&b.0));
     // (x from, x to, height above the ground) per stretch; the outer ones reach 100 m.
     let far = 100.0 * point_radius / POINT_RADIUS;
@@ -199,6 +225,7 @@ fn terrain(xml: &mut String, problem: &LoadedProblem, point_radius: f64) {
             vec3(centre)
         );
     }
+    Ok(())
 }
 
 /// The robot's bodies, depth first (written without recursion: a URDF may be deep); returns
