@@ -92,7 +92,7 @@ pub(crate) fn load(xml: &str, origin: &str, base: BaseType) -> Result<Model, Mod
     values::check_values(&robot, &extensions)?;
     let geometry = geometry::read(&robot)?;
     let mut model = build::build(&robot, &extensions, base, origin, warnings)?;
-    limits::check_coordinates(&model, origin)?;
+    limits::check_coordinates(&model, &robot, origin)?;
     // The first shapes listed under each name, looked up by name (a scan per link was
     // quadratic in the links).
     let mut by_name = std::collections::HashMap::with_capacity(geometry.len());

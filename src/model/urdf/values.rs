@@ -85,8 +85,11 @@ pub(super) fn check_values(robot: &urdf_rs::Robot, ext: &Extensions) -> Result<(
     // The first transmission on each joint, by joint name (a scan of the earlier ones per
     // transmission was quadratic in them).
     let mut first_on: std::collections::HashMap<&str, &str> = std::collections::HashMap::new();
-    for (name, joint, _) in &ext.transmissions {
-        if let Some(first) = first_on.insert(joint.as_str(), name.as_str()) {
+    for t in &ext.transmissions {
+        let (name, joint) = (&t.name, &t.joint);
+        if let Some(first) = first_on.insert(joint.as_str(), name.as_str())
+            && first != name
+        {
             return Err(bad(
                 "transmission",
                 name,
