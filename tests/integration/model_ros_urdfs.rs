@@ -204,3 +204,55 @@ fn the_coordinate_limit_names_joints_to_make_fixed() {
         96
     );
 }
+
+/// `--base auto`'s choice and reason: a root link `world` is bolted down, an arm whose
+/// links all stay above its root is mounted by it, a robot with end links below its trunk
+/// stands on them, a body without joints floats.
+#[test]
+fn auto_base_says_why() {
+    let choice = |xml: &str| load(xml).auto_base();
+    // An arm standing up from its mount (links 0.1 m above each joint).
+    let up = |name: &str, parent: &str, child: &str| {
+        joint(name, "revolute", parent, child).replace("xyz=\"0 0 -0.1\"", "xyz=\"0 0 0.1\"")
+    };
+    let arm = robot(&(link("mount") + &link("upper") + &up("shoulder", "mount", "upper")));
+    let c = choice(&arm);
+    assert_eq!(c.base, BaseType::Fixed);
+    assert!(
+        c.reason
+            .starts_with("no end link or contact reaches below its root link `mount`"),
+        "{}",
+        c.reason
+    );
+    let world = robot(
+        &(r#"<link name="world"/>
+"#
+        .to_string()
+            + &link("upper")
+            + &joint("leg", "revolute", "world", "upper")),
+    );
+    let c = choice(&world);
+    assert_eq!(c.base, BaseType::Fixed);
+    assert_eq!(
+        c.reason,
+        "its root link `world` bolts it to the world; `--base floating` frees it"
+    );
+    // Two legs hanging 0.1 m below the trunk: a robot standing on them.
+    let legs = robot(
+        &(link("trunk")
+            + &link("left")
+            + &link("right")
+            + &joint("left_hip", "revolute", "trunk", "left")
+            + &joint("right_hip", "revolute", "trunk", "right")),
+    );
+    let c = choice(&legs);
+    assert_eq!(c.base, BaseType::Floating);
+    assert!(
+        c.reason
+            .starts_with("`left`, `right` reach below its root link `trunk`"),
+        "{}",
+        c.reason
+    );
+    let body = robot(&link("brick"));
+    assert_eq!(choice(&body).base, BaseType::Floating);
+}
