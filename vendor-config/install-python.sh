@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The Python package (python/, `import vito`) in the project's virtual environment .venv:
 # creates .venv with Debian's python3 (python3-venv comes from vendor-config/install-deps.sh),
-# installs maturin, numpy, pandas, matplotlib and pytest (and, for the tests, dask[distributed]
-# and tqdm) from PyPI when missing, builds the
+# installs maturin, numpy, pandas, matplotlib and pytest (and, for the tests, dask[distributed],
+# tqdm, example-robot-data and pin) from PyPI when missing, builds the
 # extension module with maturin (release profile, into the workspace's target/) and installs
 # it into .venv; links .venv/bin/vito to target/release/vito (the command `vito.sweep` runs).
 #
@@ -32,6 +32,16 @@ if ! "$venv/bin/python" -c 'import dask.distributed, tqdm' 2>/dev/null; then
     "$venv/bin/python" -m pip install --quiet --disable-pip-version-check \
         'dask[distributed]' tqdm \
         || echo "install-python: dask[distributed] or tqdm could not be installed; their tests skip" >&2
+fi
+# The robot-file tests (tests/python/test_robot_files.py) and `make robots-table`: the URDFs of
+# example-robot-data and Pinocchio's URDF reader (pin); those tests skip with a message where
+# they cannot be installed (no network).
+if ! "$venv/bin/python" -c 'import importlib.metadata as m; m.version("example-robot-data")' 2>/dev/null \
+    || ! "$venv/bin/python" -c 'import pinocchio' 2>/dev/null; then
+    echo "install-python: installing example-robot-data and pin into $venv"
+    "$venv/bin/python" -m pip install --quiet --disable-pip-version-check \
+        example-robot-data pin \
+        || echo "install-python: example-robot-data or pin could not be installed; their tests skip" >&2
 fi
 echo "install-python: building the extension module (maturin develop --release)"
 (cd "$root/python" && VIRTUAL_ENV="$venv" PATH="$venv/bin:$PATH" \

@@ -256,3 +256,33 @@ fn auto_base_says_why() {
     let body = robot(&link("brick"));
     assert_eq!(choice(&body).base, BaseType::Floating);
 }
+
+/// A limit of 1e19 or more (Ipopt's infinity) is no limit, as `inf` is: the portable
+/// robot files write `1e20` where urdfdom refuses `inf`, and load exactly as before.
+#[test]
+fn limits_from_1e19_are_no_limits() {
+    let urdf = |lower: &str, upper: &str, effort: &str| {
+        robot(
+            &(link("base")
+                + &link("slider")
+                + &format!(
+                    r#"<joint name="x" type="prismatic"><parent link="base"/><child link="slider"/><axis xyz="1 0 0"/><limit lower="{lower}" upper="{upper}" effort="{effort}" velocity="{effort}"/></joint>
+<transmission name="t"><joint name="x"/></transmission>
+"#
+                )),
+        )
+    };
+    let open = load(&urdf("-inf", "inf", "inf"));
+    let large = load(&urdf("-1e20", "1e20", "1e20"));
+    assert_eq!(
+        open.coordinate_limits(),
+        [(f64::NEG_INFINITY, f64::INFINITY)]
+    );
+    assert_eq!(large.coordinate_limits(), open.coordinate_limits());
+    assert_eq!(large.effort_limits(), [f64::INFINITY]);
+    assert_eq!(large.warnings(), open.warnings());
+    // Below Ipopt's infinity a limit is a limit.
+    let finite = load(&urdf("-1e18", "1e18", "1e18"));
+    assert_eq!(finite.coordinate_limits(), [(-1e18, 1e18)]);
+    assert_eq!(finite.effort_limits(), [1e18]);
+}
