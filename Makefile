@@ -7,6 +7,8 @@
 #   make test-slow  the slow tests (#[ignore]d by default)
 #   make lint       rustfmt and clippy, as CI checks them
 #   make test-slurm a sweep through `sbatch --array` on a private single-node Slurm (root, apt)
+#   make robots-table  docs/robots.md: every URDF of example-robot-data (PyPI, into .venv)
+#                   through vito inspect, init and check, beside Pinocchio's verdict
 #   make pages      the pages and strips under results/ (results/pages.txt) redrawn by this build
 #   make bench      the timing harnesses in benches/ (print figures)
 #   make bench-casadi  `vito bench` beside the independent CasADi implementation (CasADi 3.8.2
@@ -23,7 +25,7 @@ OUT ?= out/hopper_2d
 # solve lock already gives one solve per process); parallel work uses processes.
 export OPENBLAS_NUM_THREADS ?= 1
 
-.PHONY: deps build demo python test test-python test-wheel test-slow test-slurm lint pages bench bench-casadi robustness ladders fuzz fuzz-python test-debian13
+.PHONY: deps build demo python test test-python test-wheel test-slow test-slurm lint pages bench bench-casadi robustness ladders fuzz fuzz-python test-debian13 robots-table
 
 deps:
 	bash vendor-config/install-deps.sh
@@ -67,6 +69,10 @@ test-slurm: deps
 lint:
 	$(CARGO) fmt --check
 	$(CARGO) clippy --all-targets -- -D warnings
+
+# The example-robot-data table (tools/robots_table.py, the package from vendor-config/install-python.sh).
+robots-table: python
+	.venv/bin/python tools/robots_table.py --vito target/release/vito --out docs/robots.md
 
 # Every page, strip and sweep plot results/pages.txt lists, redrawn from the committed
 # trajectories (`cargo test --release --test integration view::committed_pages` checks that

@@ -34,7 +34,8 @@ if ! "$venv/bin/python" -c 'import dask.distributed, tqdm' 2>/dev/null; then
         || echo "install-python: dask[distributed] or tqdm could not be installed; their tests skip" >&2
 fi
 # The independent libraries the tests check vito against: Pinocchio (PyPI `pin`) and the
-# robots of example-robot-data (tests/python/test_pinocchio.py), MuJoCo (vito.mujoco, the
+# robots of example-robot-data (tests/python/test_pinocchio.py, test_robot_files.py and
+# `make robots-table`), MuJoCo (vito.mujoco, the
 # optional extra `vito[mujoco]`, tests/python/test_mujoco.py); their tests skip with a message
 # where they cannot be installed.
 if ! "$venv/bin/python" -c 'import pinocchio, mujoco, importlib.metadata as m; m.distribution("example-robot-data")' 2>/dev/null; then

@@ -30,8 +30,9 @@ pub struct Args {
 /// Base joint choice on the command line (`init` and `inspect` alike).
 #[derive(Debug, Clone, Copy, ValueEnum)]
 pub enum BaseArg {
-    /// `fixed` when the URDF already moves its root itself (prismatic joints from its root
-    /// link, as a planar hopper's x and z), else `floating`.
+    /// `fixed` for a robot bolted down (a root link `world`, prismatic joints from its root
+    /// link as a planar hopper's x and z, or no end link below its root: an arm, a hand),
+    /// else `floating`.
     Auto,
     Fixed,
     Planar,
@@ -39,21 +40,19 @@ pub enum BaseArg {
 }
 
 impl BaseArg {
-    /// The base for `urdf`: as asked, or for `auto` by [`vito::model::Model::slides_its_root`].
-    pub(super) fn resolve(self, urdf: &Path) -> Result<BaseType, CliError> {
+    /// The base for `urdf`: as asked, or for `auto` by [`vito::model::Model::auto_base`],
+    /// with the reason it gives.
+    pub(super) fn resolve(self, urdf: &Path) -> Result<(BaseType, Option<String>), CliError> {
         Ok(match self {
             BaseArg::Auto => {
                 let fixed = vito::model::Model::from_urdf_file(urdf, BaseType::Fixed)
                     .map_err(|e| CliError::Input(vito::model::describe(urdf, &e)))?;
-                if fixed.slides_its_root() {
-                    BaseType::Fixed
-                } else {
-                    BaseType::Floating
-                }
+                let choice = fixed.auto_base();
+                (choice.base, Some(choice.reason))
             }
-            BaseArg::Fixed => BaseType::Fixed,
-            BaseArg::Planar => BaseType::Planar,
-            BaseArg::Floating => BaseType::Floating,
+            BaseArg::Fixed => (BaseType::Fixed, None),
+            BaseArg::Planar => (BaseType::Planar, None),
+            BaseArg::Floating => (BaseType::Floating, None),
         })
     }
 }

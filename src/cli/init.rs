@@ -24,6 +24,13 @@ pub(super) fn init(urdf: &Path, base: BaseType, out: Option<&Path>) -> Result<u8
         .map_err(|e| CliError::Input(e.to_string()))?;
     let model = vito::model::Model::from_urdf_file(urdf, base)
         .map_err(|e| CliError::Input(vito::model::describe(urdf, &e)))?;
+    if model.nq() == 0 {
+        return Err(CliError::Input(format!(
+            "{}: with a fixed base the robot has no coordinates (no moving joints); choose \
+             --base floating or --base planar",
+            urdf.display()
+        )));
+    }
     let urdf_text = match out {
         Some(_) => vito::files::paths::reference_from(urdf, out),
         // Printed: relative to the file stdout goes to, when it is one; else absolute, so
@@ -36,8 +43,7 @@ pub(super) fn init(urdf: &Path, base: BaseType, out: Option<&Path>) -> Result<u8
                 .to_string(),
         },
     };
-    let text = vito::problem::starter_problem(&model, &robot, base, &urdf_text)
-        .map_err(|e| CliError::Input(format!("{}: {e}", urdf.display())))?;
+    let text = vito::problem::starter_problem(&model, &robot, base, &urdf_text);
     match out {
         None => {
             let mut stdout = std::io::stdout().lock();

@@ -6,10 +6,16 @@ use vito::model::BaseType;
 
 use super::error::CliError;
 
-pub(super) fn inspect(urdf: &Path, base: BaseType, json: bool) -> Result<u8, CliError> {
+/// `base` as resolved, with the reason `--base auto` gave (none for a base asked for).
+pub(super) fn inspect(
+    urdf: &Path,
+    (base, reason): (BaseType, Option<String>),
+    json: bool,
+) -> Result<u8, CliError> {
     let model = vito::model::Model::from_urdf_file(urdf, base)
         .map_err(|e| CliError::Input(vito::model::describe(urdf, &e)))?;
-    let inspection = vito::model::inspect(&model);
+    let mut inspection = vito::model::inspect(&model);
+    inspection.base_reason = reason;
     if json {
         let text = serde_json::to_string_pretty(&inspection)
             .map_err(|e| CliError::Internal(e.to_string()))?;

@@ -208,7 +208,7 @@ fn dispatch(args: Args) -> Result<u8, CliError> {
             },
         ),
         Command::Init { urdf, base, out } => {
-            init::init(&urdf, base.resolve(&urdf)?, out.as_deref())
+            init::init(&urdf, base.resolve(&urdf)?.0, out.as_deref())
         }
         Command::Inspect { urdf, base, json } => {
             inspect::inspect(&urdf, base.resolve(&urdf)?, json)

@@ -124,7 +124,7 @@ pub enum ModelError {
         /// The limit, as words.
         limit: String,
         /// How to fix it.
-        fix: &'static str,
+        fix: Box<str>,
     },
     /// An element is malformed: a Drake extension, or a value vito cannot use (a NaN
     /// origin, limits in the wrong order, a second transmission on a joint...).

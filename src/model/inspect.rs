@@ -77,6 +77,9 @@ pub struct Inspection {
     pub robot: String,
     /// Base type (`fixed`, `planar`, `floating`).
     pub base: String,
+    /// Why `--base auto` chose it, and how to choose the other (`None` for a base asked
+    /// for).
+    pub base_reason: Option<String>,
     /// Coordinate names in order.
     pub coordinates: Vec<String>,
     /// Coordinates with limits and damping.
@@ -160,6 +163,7 @@ pub fn inspect(model: &Model) -> Inspection {
     Inspection {
         robot: model.name().to_string(),
         base: base.to_string(),
+        base_reason: None,
         coordinates: names.to_vec(),
         coordinate_details,
         inputs: model.input_names().to_vec(),
@@ -216,6 +220,9 @@ fn bound(x: Option<f64>, unbounded: &str) -> String {
 impl fmt::Display for Inspection {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         writeln!(f, "robot {} ({} base)", self.robot, self.base)?;
+        if let Some(reason) = &self.base_reason {
+            writeln!(f, "base {} (--base auto): {reason}", self.base)?;
+        }
         writeln!(f, "total mass: {} kg", trimmed_decimal(self.total_mass, 9))?;
         writeln!(f, "coordinates ({}):", self.coordinates.len())?;
         for (i, c) in self.coordinate_details.iter().enumerate() {

@@ -7,6 +7,7 @@
 //! [`crate::autodiff::Scalar`], so plain floats and (nested) dual numbers flow through the same formulas.
 
 mod actuation;
+mod auto_base;
 pub(crate) mod dynamics;
 pub(crate) mod energy;
 mod energy_adjoint;
@@ -23,6 +24,7 @@ pub(crate) mod tree;
 mod urdf;
 
 pub use actuation::{Actuation, AppliedActuation, NotActuatable};
+pub use auto_base::BaseChoice;
 pub use dynamics::{
     generalized_damping_force, generalized_input_force, generalized_point_force, inverse_dynamics,
 };

@@ -29,7 +29,7 @@ pub use robot::{RobotError, RobotInfo, UrdfContact};
 pub(crate) use source::toml_error_message;
 pub use source::{edit_distance, nearest};
 pub use spec::*;
-pub use starter::{StarterError, starter_problem};
+pub use starter::starter_problem;
 pub use tracking::{TrackingFeedback, TrackingGain};
 pub use units::Units;
 pub(crate) use validate::memory_available;

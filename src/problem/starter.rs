@@ -17,6 +17,120 @@ fn fmt_limit(x: f64) -> String {
     }
 }
 
+/// `name` as a TOML key: bare when TOML reads it as one key (letters, digits, `_`, `-`),
+/// else quoted (a dotted joint name such as `joint_0.0` would be read as a table).
+fn toml_key(name: &str) -> String {
+    let bare = !name.is_empty()
+        && name
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
+    if bare {
+        name.to_string()
+    } else {
+        toml_string(name)
+    }
+}
+
+/// `text` as a TOML basic string, with TOML's escapes (Rust's `{:?}` writes `\u{1b}`,
+/// which TOML refuses).
+fn toml_string(text: &str) -> String {
+    let mut out = String::with_capacity(text.len() + 2);
+    out.push('"');
+    for c in text.chars() {
+        match c {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            '\n' => out.push_str("\\n"),
+            '\t' => out.push_str("\\t"),
+            '\r' => out.push_str("\\r"),
+            c if c.is_control() => out.push_str(&format!("\\u{:04X}", c as u32)),
+            c => out.push(c),
+        }
+    }
+    out.push('"');
+    out
+}
+
+/// Renames feet whose `trajectory.csv` columns would clash with the robot's coordinates,
+/// inputs or another foot (a link `base` beside a free base's `base_x`): `<name>_foot`,
+/// then `<name>_foot2`, … A renamed URDF contact is written out as a point of its own.
+fn clash_free(robot: &RobotInfo, feet: &mut [Foot]) {
+    use crate::files::trajectory_csv::{ColumnUnits, columns, repeated_column};
+    let units = ColumnUnits {
+        time: String::new(),
+        length: String::new(),
+        coordinates: Vec::new(),
+        inputs: Vec::new(),
+        impulse: String::new(),
+    };
+    // As `vito check` lists them: 4 friction directions, one slack per interval.
+    let clashes = |names: &[String]| {
+        repeated_column(&columns(
+            &robot.coordinates,
+            &robot.inputs,
+            names,
+            4,
+            1,
+            &units,
+        ))
+        .is_some()
+    };
+    let mut chosen: Vec<String> = Vec::with_capacity(feet.len());
+    let tries = feet.len() + 2;
+    for foot in feet.iter_mut() {
+        let original = foot.name.clone();
+        let mut k = 0;
+        loop {
+            let candidate = match k {
+                0 => original.clone(),
+                1 => format!("{original}_foot"),
+                _ => format!("{original}_foot{k}"),
+            };
+            chosen.push(candidate);
+            if !clashes(&chosen) || k > tries {
+                break;
+            }
+            chosen.pop();
+            k += 1;
+        }
+        if let Some(name) = chosen.last()
+            && *name != original
+        {
+            foot.name = name.clone();
+            foot.from_urdf = false;
+        }
+    }
+}
+
+/// The `from_urdf` line for these feet: `"all"` when every URDF contact is among them under
+/// its own name, else the list of those that are, or `"none"`.
+fn from_urdf_line(robot: &RobotInfo, feet: &[Foot], comment: &str) -> String {
+    let kept: Vec<String> = feet
+        .iter()
+        .filter(|f| f.from_urdf)
+        .map(|f| toml_string(&f.name))
+        .collect();
+    if !robot.contacts.is_empty() && kept.len() == robot.contacts.len() {
+        format!("from_urdf = \"all\"   # {comment}\n")
+    } else if kept.is_empty() {
+        "from_urdf = \"none\"\n".into()
+    } else {
+        format!("from_urdf = [{}]   # {comment}\n", kept.join(", "))
+    }
+}
+
+/// A `[[contacts.point]]` for each foot that is not a URDF contact under its own name.
+fn contact_points(feet: &[Foot]) -> String {
+    let mut t = String::new();
+    for foot in feet.iter().filter(|f| !f.from_urdf) {
+        t.push_str(&format!(
+            "[[contacts.point]]   # an end link of the URDF\nname = {}\nlink = {}\npoint = [{:?}, {:?}, {:?}]   # in the link frame [m]\nradius = {:?}   # a sphere around point [m]; 0: a point\n",
+            toml_string(&foot.name), toml_string(&foot.link), foot.centre[0], foot.centre[1], foot.centre[2], foot.radius
+        ));
+    }
+    t
+}
+
 /// Names of end links that are feet.
 const FOOT_WORDS: [&str; 5] = ["foot", "feet", "toe", "sole", "paw"];
 
@@ -156,74 +270,61 @@ fn standing(model: &Model, robot: &RobotInfo) -> (Vec<f64>, Vec<Foot>) {
     (q, feet)
 }
 
-/// Why no starter can be written.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error(
-    "the starter's pose puts contact `{contact}` {depth:.3} m below the ground and no \
-     coordinate of a {base} base lifts the robot onto it; use --base floating (or planar), \
-     or a URDF whose root slides vertically"
-)]
-pub struct StarterError {
-    /// The lowest contact.
-    pub contact: String,
-    /// How far below the ground it starts (m, positive).
-    pub depth: f64,
-    /// The base asked for.
-    pub base: &'static str,
-}
-
 /// A starter problem: every coordinate named with its limits, the contacts, a fixed
 /// horizon, a state-tracking and an input cost, and the reference Ipopt options. With a
 /// fixed base it moves the first coordinate to 0; with a free base it stands in place on
 /// its feet (`model` finds them and the base height).
 ///
-/// A starter whose contacts would start below the ground (a fixed base that nothing lifts)
-/// is an error, not a file `vito check` would warn about.
-pub fn starter_problem(
-    model: &Model,
-    robot: &RobotInfo,
-    base: BaseType,
-    urdf: &str,
-) -> Result<String, StarterError> {
+/// A fixed-base robot whose contacts would start below z = 0 (nothing lifts it) stands on
+/// ground lowered to its lowest contact.
+pub fn starter_problem(model: &Model, robot: &RobotInfo, base: BaseType, urdf: &str) -> String {
     if base != BaseType::Fixed {
-        return Ok(standing_problem(model, robot, base, urdf));
+        return standing_problem(model, robot, base, urdf);
     }
     let contacts = urdf_feet(robot);
     let mut pose = nominal_pose(robot);
     lift_onto_ground(model, &contacts, &mut pose);
-    if let Some((foot, z)) = contacts
+    // A robot bolted down with contacts below its root (an arm's collision spheres around
+    // its mounting) stands on ground lowered to its lowest contact, rounded down to the mm.
+    let lowest = contacts
         .iter()
-        .map(|f| (f, height(model, f, &pose)))
-        .min_by(|a, b| a.1.total_cmp(&b.1))
-        .filter(|&(_, z)| z < -1e-9)
-    {
-        return Err(StarterError {
-            contact: foot.name.clone(),
-            depth: -z,
-            base: "fixed",
-        });
-    }
+        .map(|f| height(model, f, &pose))
+        .fold(0.0, f64::min);
+    let ground = if lowest < 0.0 {
+        // Down to the mm, unless within round-off of one (the brick's −0.025 m).
+        let mm = lowest * 1000.0;
+        let down = if (mm - mm.round()).abs() < 1e-9 {
+            mm.round()
+        } else {
+            mm.floor()
+        };
+        (down / 1000.0).min(lowest)
+    } else {
+        0.0
+    };
+    let mut feet = contacts;
+    clash_free(robot, &mut feet);
     let mut t = robot_section(base, urdf);
     t.push_str("[contacts]\n");
-    if robot.contacts.is_empty() {
+    if feet.is_empty() {
         t.push_str(
             "# The URDF declares no point contacts (collision spheres of radius 0). Add some:\n",
         );
         t.push_str("# [[contacts.point]]\n# name = \"foot\"\n# link = \"...\"\n# point = [0.0, 0.0, 0.0]\n");
         t.push_str("from_urdf = \"none\"\n");
     } else {
-        let names: Vec<String> = robot
-            .contacts
-            .iter()
-            .map(|c| format!("{:?}", c.name))
-            .collect();
-        t.push_str(&format!(
-            "from_urdf = \"all\"   # or a subset: [{}]\n",
-            names.join(", ")
-        ));
+        t.push_str(&from_urdf_line(robot, &feet, "or a subset of them"));
     }
-    t.push_str("friction = 1.0   # Coulomb coefficient for every contact\n\n");
-    t.push_str("[terrain]\nground_height = 0.0\n");
+    t.push_str("friction = 1.0   # Coulomb coefficient for every contact\n");
+    t.push_str(&contact_points(&feet));
+    t.push('\n');
+    if ground < 0.0 {
+        t.push_str(&format!(
+            "[terrain]\nground_height = {ground:?}   # [m] at the lowest contact (the root is bolted at z = 0)\n"
+        ));
+    } else {
+        t.push_str("[terrain]\nground_height = 0.0\n");
+    }
     t.push_str("# [[terrain.step]]   # a smoothed step: rise·½(1 + tanh((x − edge_x)/width))\n");
     t.push_str("# edge_x = 0.25\n# rise = 0.1\n# width = 0.005\n\n");
     t.push_str("[horizon]\nknots = 21\ntime_step = 0.05   # fixed h [s]; or total_time = [t_min, t_max] for free equal steps\n\n");
@@ -234,7 +335,7 @@ pub fn starter_problem(
     t.push_str("tolerance = 0.0   # q_N within goal ± tolerance (0: fixed)\n");
     t.push_str("[final.q]\n");
     if let Some(first) = robot.coordinates.first() {
-        t.push_str(&format!("{first} = 0.0\n"));
+        t.push_str(&format!("{} = 0.0\n", toml_key(first)));
     }
     t.push_str("\n# [[bounds]]   # extra bounds on one coordinate\n# coordinate = \"...\"\n# knots = \"all\"   # all | interior | first | last | [0, 5, 9]\n# lower = 0.0\n# upper = 1.0\n\n");
     t.push_str(&format!(
@@ -244,7 +345,7 @@ pub fn starter_problem(
     if !robot.inputs.is_empty() {
         t.push_str(&format!(
             "# bounds = {{ {} = [-1.0, 1.0] }}\n",
-            robot.inputs[0]
+            toml_key(&robot.inputs[0])
         ));
     }
     t.push('\n');
@@ -256,13 +357,11 @@ pub fn starter_problem(
     if !robot.inputs.is_empty() {
         t.push_str("[[cost]]\ntype = \"input\"\nweights = { default = 0.01 }\n\n");
     }
-    t.push_str(&steering_examples(
-        robot.contacts.iter().map(|c| c.name.as_str()),
-    ));
+    t.push_str(&steering_examples(feet.iter().map(|f| f.name.as_str())));
     t.push_str("[slack]\nweight = 100.0   # α on Σ s (complementarity relaxation)\nmode = \"per_interval\"\n\n");
     t.push_str("[initial_guess]\nto = \"final\"   # q linear from q_1 to the goal; or warm_start = \"out/x/trajectory.csv\"\n\n");
     t.push_str(&solver_section());
-    Ok(t)
+    t
 }
 
 /// The `[solver]` sections of every starter.
@@ -288,7 +387,10 @@ fn robot_section(base: BaseType, urdf: &str) -> String {
     t.push_str("# Units: SI (m, kg, s, rad, N, N·m) unless [robot] units says otherwise.\n");
     t.push_str("# Every coordinate, input and contact is addressed by its URDF name.\n\n");
     t.push_str("[robot]\n");
-    t.push_str(&format!("urdf = {urdf:?}   # relative to this file\n"));
+    t.push_str(&format!(
+        "urdf = {}   # relative to this file\n",
+        toml_string(urdf)
+    ));
     t.push_str(&format!(
         "base = \"{base_name}\"   # fixed | planar | floating\n"
     ));
@@ -307,7 +409,8 @@ fn pose_table(robot: &RobotInfo, q: &[f64]) -> String {
             CoordinateKind::Angular => "rad",
         };
         t.push_str(&format!(
-            "{name} = {:?}   # [{unit}] limits {} .. {}\n",
+            "{} = {:?}   # [{unit}] limits {} .. {}\n",
+            toml_key(name),
             q[i],
             fmt_limit(lim.lower),
             fmt_limit(lim.upper)
@@ -318,7 +421,8 @@ fn pose_table(robot: &RobotInfo, q: &[f64]) -> String {
 
 /// A free-base robot standing in place on its feet for half a second.
 fn standing_problem(model: &Model, robot: &RobotInfo, base: BaseType, urdf: &str) -> String {
-    let (q, feet) = standing(model, robot);
+    let (q, mut feet) = standing(model, robot);
+    clash_free(robot, &mut feet);
     let mut t = robot_section(base, urdf);
     t.push_str("# A stand-in-place problem: the robot stands on flat ground in a nominal pose\n");
     t.push_str("# (joints at 0, or mid-range where 0 is outside their limits), its lowest feet\n");
@@ -328,18 +432,15 @@ fn standing_problem(model: &Model, robot: &RobotInfo, base: BaseType, urdf: &str
         t.push_str("# No feet found (no collision spheres, no end links): add contacts.\n");
         t.push_str("# [[contacts.point]]\n# name = \"foot\"\n# link = \"...\"\n# point = [0.0, 0.0, 0.0]\n# radius = 0.0\n");
         t.push_str("from_urdf = \"none\"\n");
-    } else if feet.iter().all(|f| f.from_urdf) {
-        t.push_str("from_urdf = \"all\"   # the URDF's collision spheres\n");
     } else {
-        t.push_str("from_urdf = \"none\"\n");
-    }
-    t.push_str("friction = 1.0   # Coulomb coefficient for every contact\n");
-    for foot in feet.iter().filter(|f| !f.from_urdf) {
-        t.push_str(&format!(
-            "[[contacts.point]]   # an end link of the URDF\nname = {:?}\nlink = {:?}\npoint = [{:?}, {:?}, {:?}]   # in the link frame [m]\nradius = {:?}   # a sphere around point [m]; 0: a point\n",
-            foot.name, foot.link, foot.centre[0], foot.centre[1], foot.centre[2], foot.radius
+        t.push_str(&from_urdf_line(
+            robot,
+            &feet,
+            "the URDF's collision spheres",
         ));
     }
+    t.push_str("friction = 1.0   # Coulomb coefficient for every contact\n");
+    t.push_str(&contact_points(&feet));
     t.push_str("\n[terrain]\nground_height = 0.0\n\n");
     t.push_str("[horizon]\nknots = 11\ntime_step = 0.05   # fixed h [s]: T = 0.5 s\n\n");
     t.push_str("[initial]\nv = \"zero\"   # at rest\n");
@@ -349,7 +450,7 @@ fn standing_problem(model: &Model, robot: &RobotInfo, base: BaseType, urdf: &str
     t.push_str("tolerance = 0.0   # q_N within goal ± tolerance (0: fixed)\n");
     t.push_str("[final.q]   # coordinates not named keep their initial value\n");
     if let Some(first) = robot.coordinates.first() {
-        t.push_str(&format!("{first} = {:?}\n", q[0]));
+        t.push_str(&format!("{} = {:?}\n", toml_key(first), q[0]));
     }
     t.push('\n');
     t.push_str(&format!(
@@ -380,7 +481,13 @@ fn steering_examples<'a>(contacts: impl Iterator<Item = &'a str>) -> String {
     let offsets: Vec<String> = names
         .iter()
         .enumerate()
-        .map(|(i, n)| format!("{n} = {}", if i % 2 == 0 { "0.0" } else { "0.5" }))
+        .map(|(i, n)| {
+            format!(
+                "{} = {}",
+                toml_key(n),
+                if i % 2 == 0 { "0.0" } else { "0.5" }
+            )
+        })
         .collect();
     let mut t = String::new();
     t.push_str(
@@ -391,7 +498,8 @@ fn steering_examples<'a>(contacts: impl Iterator<Item = &'a str>) -> String {
         "# [[frame]]\n# type = \"clearance\"   # position | clearance | orientation | velocity\n",
     );
     t.push_str(&format!(
-        "# contact = \"{first}\"   # or link = \"...\" with point = [x, y, z]\n"
+        "# contact = {}   # or link = \"...\" with point = [x, y, z]\n",
+        toml_string(first)
     ));
     t.push_str("# window = [0.35, 0.45]   # [s] (its swing in the gait below); or knots = \"all\" | \"interior\" | \"final\" | [3, 4]\n");
     t.push_str("# lower = 0.02   # [m]\n#\n");

@@ -19,6 +19,7 @@ mod model_errors;
 mod model_mechanics;
 mod model_point_jet;
 mod model_robots;
+mod model_ros_urdfs;
 mod model_user_urdfs;
 mod sim;
 mod study;

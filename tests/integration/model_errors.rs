@@ -1,7 +1,7 @@
 //! The URDF loader rejects malformed models with a message that names the culprit, repairs
 //! only what is unambiguous, reports what it ignores, and never panics on input.
 
-use vito::model::{BaseType, Model, ModelError, sample};
+use vito::model::{BaseType, Model, ModelError, mass_matrix, sample};
 use vito::random::SeededRng;
 
 /// A link with a valid inertial.
@@ -109,24 +109,54 @@ fn negative_and_non_finite_masses_are_rejected() {
     }
 }
 
+/// A moving body whose inertia is not positive definite is kept as written (as ROS's
+/// parsers and Pinocchio keep it) with a warning naming it, and a second warning when the
+/// mass matrix is singular; a mass matrix with a negative eigenvalue is refused.
 #[test]
-fn non_positive_definite_inertias_are_rejected() {
-    for inertia in [
-        r#"ixx="1" ixy="0" ixz="0" iyy="-1" iyz="0" izz="1""#,
-        r#"ixx="1" ixy="2" ixz="0" iyy="1" iyz="0" izz="1""#,
-        r#"ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0""#,
-    ] {
+fn non_positive_definite_inertias_are_named() {
+    let model_with = |inertia: &str| {
         let bad = format!(
             r#"<link name="wobbly"><inertial><mass value="1"/><inertia {inertia}/></inertial></link>"#
         );
-        let body = link("base") + &bad + &joint("j", "revolute", "base", "wobbly");
-        let (e, msg) = reject(&robot(&body));
-        assert!(matches!(e, ModelError::Invalid { .. }), "{e:?}");
-        assert!(
-            msg.contains("\"wobbly\"") && msg.contains("positive definite"),
-            "{msg}"
-        );
-    }
+        robot(&(link("base") + &bad + &joint("j", "revolute", "base", "wobbly")))
+    };
+    // Negative kinetic energy about the joint's axis (y): refused.
+    let (e, msg) = reject(&model_with(
+        r#"ixx="1" ixy="0" ixz="0" iyy="-1" iyz="0" izz="1""#,
+    ));
+    assert!(matches!(e, ModelError::Invalid { .. }), "{e:?}");
+    assert!(
+        msg.contains("\"wobbly\"")
+            && msg.contains("positive definite")
+            && msg.contains("negative eigenvalue (-1e0) along `j`"),
+        "{msg}"
+    );
+    // Indefinite, but 1 about the axis: loads, the mass matrix is fine.
+    let m = Model::from_urdf_str(
+        &model_with(r#"ixx="1" ixy="2" ixz="0" iyy="1" iyz="0" izz="1""#),
+        BaseType::Fixed,
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let w = m.warnings().join("\n");
+    assert!(
+        w.contains("<link name=\"wobbly\"> <inertial>: the rigid body has an inertia that is not positive definite")
+            && w.contains("kept as written")
+            && !w.contains("singular"),
+        "{w}"
+    );
+    assert_eq!(mass_matrix(&m, &[0.3])[(0, 0)], 1.0);
+    // Zero: loads, and the mass matrix is singular along the joint.
+    let m = Model::from_urdf_str(
+        &model_with(r#"ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0""#),
+        BaseType::Fixed,
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let w = m.warnings().join("\n");
+    assert!(
+        w.contains("\"wobbly\"")
+            && w.contains("mass matrix is singular at the nominal pose along `j`"),
+        "{w}"
+    );
 }
 
 #[test]
@@ -183,13 +213,6 @@ fn other_malformed_inputs_are_named() {
         + r#"<loop_joint name="pin" type="continuous"><axis xyz="0 1 0"/><link1 link="b" xyz="0 0 0"/><link2 link="moon" xyz="0 0 0"/></loop_joint>"#;
     let (_, msg) = reject(&robot(&body));
     assert!(msg.contains("'pin'") && msg.contains("'moon'"), "{msg}");
-    // Transmission on a fixed joint.
-    let body = link("base")
-        + &link("b")
-        + &joint("weld", "fixed", "base", "b")
-        + r#"<transmission name="drive"><joint name="weld"/></transmission>"#;
-    let (_, msg) = reject(&robot(&body));
-    assert!(msg.contains("'drive'") && msg.contains("'weld'"), "{msg}");
     // Not XML.
     let (e, _) = reject("<robot name=\"r\"><link name=\"a\">");
     assert!(matches!(e, ModelError::Xml { .. }), "{e:?}");

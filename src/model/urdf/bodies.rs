@@ -12,6 +12,10 @@ use crate::model::{BaseType, ContactPoint, IgnoredCollision, ModelError};
 pub(super) struct Findings {
     pub(super) problems: Vec<String>,
     pub(super) warnings: Vec<String>,
+    /// Moving bodies whose inertia is not positive definite: problems when the mass matrix
+    /// is not positive definite either, else warnings (the bodies beyond them carry the
+    /// inertia the coordinates need, as in iCub's and Romeo's URDFs).
+    pub(super) inertias: Vec<String>,
 }
 
 /// The rigid bodies: tree frames with their lumped masses, and where each link sits.
@@ -35,7 +39,11 @@ pub(super) fn bodies(
     coordinates: &Coordinates,
     findings: &mut Findings,
 ) -> Result<Bodies, ModelError> {
-    let Findings { problems, warnings } = findings;
+    let Findings {
+        problems,
+        warnings,
+        inertias,
+    } = findings;
     let base_frames = base_chain(base);
     let mut frames: Vec<Frame> = Vec::with_capacity(base_frames.len() + robot.links.len());
     for (k, &(motion, axis, coordinate)) in base_frames.iter().enumerate() {
@@ -138,7 +146,7 @@ pub(super) fn bodies(
             check_body(
                 &(frame.mass, frame.com, frame.inertia),
                 &body_links[i],
-                problems,
+                inertias,
             );
         }
         moves.push(moving);

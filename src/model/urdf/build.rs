@@ -6,6 +6,7 @@ use std::collections::{HashMap, HashSet};
 
 use super::bodies::{Findings, bodies, contact_points};
 use super::extensions::Extensions;
+use super::inertia::{MassMatrixDefect, mass_matrix_defect};
 use super::joint_elements::{JointCoordinates, actuators, loop_closures, springs};
 use super::parts::{Coordinates, NameIndex, Tree};
 use crate::model::actuation::AppliedActuation;
@@ -33,7 +34,11 @@ pub(super) fn build(
         joint_of: &joint_of,
         joint_coordinate: &coordinates.joint_coordinate,
     };
-    let mut findings = Findings { problems, warnings };
+    let mut findings = Findings {
+        problems,
+        warnings,
+        inertias: Vec::new(),
+    };
     let bodies = bodies(
         robot,
         ext,
@@ -46,6 +51,7 @@ pub(super) fn build(
     let Findings {
         problems,
         mut warnings,
+        inertias,
     } = findings;
     if !problems.is_empty() {
         return Err(ModelError::Invalid {
@@ -86,8 +92,51 @@ pub(super) fn build(
         geometry: Vec::new(),
     };
     model.actuate_by_default();
+    if !inertias.is_empty() {
+        // Kept as written, as ROS's parsers and Pinocchio keep them (iCub's point masses,
+        // Romeo's hips), unless they make kinetic energy negative.
+        match mass_matrix_defect(&model) {
+            Some(MassMatrixDefect {
+                coordinates,
+                negative: Some(eigenvalue),
+            }) => {
+                return Err(ModelError::Invalid {
+                    origin: origin.to_string(),
+                    problems: inertias
+                        .into_iter()
+                        .map(|p| {
+                            format!(
+                                "{p}{FIX_INERTIA}: the mass matrix has a negative eigenvalue \
+                                 ({eigenvalue:e}) along {} at the nominal pose",
+                                crate::files::names::list_names(&coordinates, 8)
+                            )
+                        })
+                        .collect(),
+                });
+            }
+            defect => {
+                model.warnings.extend(
+                    inertias
+                        .into_iter()
+                        .map(|p| format!("{p}; kept as written")),
+                );
+                if let Some(MassMatrixDefect { coordinates, .. }) = defect {
+                    model.warnings.push(format!(
+                        "the mass matrix is singular at the nominal pose along {}: nothing \
+                         with inertia moves with them, so a plan may move them at no \
+                         cost{FIX_INERTIA}, or make their joints fixed",
+                        crate::files::names::list_names(&coordinates, 8)
+                    ));
+                }
+            }
+        }
+    }
     Ok(model)
 }
+
+/// The fix named with an inertia that is not positive definite.
+const FIX_INERTIA: &str = "; give the links positive-definite <inertia> values (a body that \
+                           turns needs rotational inertia about every axis)";
 
 /// Link and joint indices by name; a name used twice is an error.
 fn index_names(robot: &urdf_rs::Robot) -> Result<(NameIndex<'_>, NameIndex<'_>), ModelError> {

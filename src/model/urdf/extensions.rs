@@ -31,8 +31,34 @@ pub(super) struct Extensions {
     pub(super) limit_presence: HashMap<String, (bool, bool, bool)>,
     pub(super) springs: Vec<RawSpring>,
     pub(super) loops: Vec<RawLoop>,
-    /// (transmission name, joint name, reduction).
-    pub(super) transmissions: Vec<(String, String, f64)>,
+    /// The joints the `<transmission>`s drive, one entry per joint, in document order.
+    pub(super) transmissions: Vec<RawTransmission>,
+}
+
+/// One joint a `<transmission>` drives.
+pub(super) struct RawTransmission {
+    /// The transmission's name.
+    pub(super) name: String,
+    /// The joint it names.
+    pub(super) joint: String,
+    /// Its `<mechanicalReduction>` (1 when absent).
+    pub(super) reduction: f64,
+    /// The transmission's line.
+    pub(super) line: u32,
+}
+
+/// Where transmissions name the joints they drive: `<joint name>` (ROS's
+/// SimpleTransmission, and every joint of a differential or four-bar transmission, whatever
+/// its `<role>`), a PR2 wrist's `<flexJoint>` and `<rollJoint>` and a PR2 gripper's
+/// `<gap_joint>` (its `<passive_joint>`s follow and are not driven).
+const DRIVEN_JOINT_TAGS: &[&str] = &["joint", "flexJoint", "rollJoint", "gap_joint"];
+
+/// The joints a `<transmission>` drives, in document order.
+fn transmission_joints<'a>(node: Node<'a, '_>) -> Vec<&'a str> {
+    node.children()
+        .filter(|c| DRIVEN_JOINT_TAGS.contains(&c.tag_name().name()))
+        .filter_map(|c| c.attribute("name"))
+        .collect()
 }
 
 pub(super) struct RawSpring {
@@ -151,17 +177,15 @@ pub(super) fn read_extensions(
             "force_element" => read_force_element(node, &name, &mut ext, warnings)?,
             "loop_joint" => ext.loops.push(read_loop_joint(node, &name)?),
             "transmission" => {
-                let joint = node
-                    .children()
-                    .find(|c| c.has_tag_name("joint"))
-                    .and_then(|j| j.attribute("name"))
-                    .ok_or_else(|| {
-                        bad(
-                            "transmission",
-                            &name,
-                            "has no <joint name=\"...\"/>; name the actuated joint".into(),
-                        )
-                    })?;
+                let at = line(node);
+                let joints = transmission_joints(node);
+                if joints.is_empty() {
+                    warnings.push(format!(
+                        "line {at}: transmission '{name}' names no joint (<joint name=\"...\"/>, \
+                         or a PR2 transmission's <flexJoint>, <rollJoint> or <gap_joint>); ignored"
+                    ));
+                    continue;
+                }
                 let reduction = match node
                     .children()
                     .find(|c| c.has_tag_name("mechanicalReduction"))
@@ -185,7 +209,14 @@ pub(super) fn read_extensions(
                         ),
                     ));
                 }
-                ext.transmissions.push((name, joint.to_string(), reduction));
+                for joint in joints {
+                    ext.transmissions.push(RawTransmission {
+                        name: name.clone(),
+                        joint: joint.to_string(),
+                        reduction,
+                        line: at,
+                    });
+                }
             }
             _ if KNOWN_TOP_LEVEL.contains(&tag) => {}
             _ => warnings.push(format!(

@@ -64,8 +64,9 @@ fn describe(i: &[[f64; 3]; 3]) -> String {
 
 /// Checks the lumped inertia of one moving rigid body: positive definite when it has mass.
 /// `links` are the body's URDF links with mass (the moving one first, then those fixed to
-/// it), each with its "line N: " prefix.
-pub(super) fn check_body(body: &MassPiece, links: &[(String, String)], problems: &mut Vec<String>) {
+/// it), each with its "line N: " prefix. A body that is not is listed in `flawed`, to be
+/// reported with what it does to the mass matrix ([`mass_matrix_defect`]).
+pub(super) fn check_body(body: &MassPiece, links: &[(String, String)], flawed: &mut Vec<String>) {
     let (mass, _, inertia) = body;
     if *mass == 0.0 || positive_definite(inertia) {
         return;
@@ -85,12 +86,64 @@ pub(super) fn check_body(body: &MassPiece, links: &[(String, String)], problems:
     } else {
         String::new()
     };
-    problems.push(format!(
+    flawed.push(format!(
         "{at}<link name=\"{first}\"> <inertial>: the rigid body{lumped} has an inertia that is \
-         not positive definite ({}); fix the <inertia> values (a body that turns needs \
-         rotational inertia about every axis)",
+         not positive definite ({})",
         describe(inertia)
     ));
+}
+
+/// What the mass matrix of `model` is at the nominal pose (every coordinate at 0, or
+/// mid-range where 0 is outside its limits), when it is not positive definite.
+pub(super) struct MassMatrixDefect {
+    /// The coordinates along which it is singular or indefinite: those with the largest
+    /// components of the eigenvectors whose eigenvalues are at most 1e-12 of the largest.
+    pub(super) coordinates: Vec<String>,
+    /// Its most negative eigenvalue, when one is below −1e-9 of the largest (kinetic
+    /// energy that can be negative).
+    pub(super) negative: Option<f64>,
+}
+
+/// The mass matrix's defect at the nominal pose; `None` when it is positive definite.
+pub(super) fn mass_matrix_defect(model: &crate::model::Model) -> Option<MassMatrixDefect> {
+    let q: Vec<f64> = model
+        .coordinate_limits()
+        .iter()
+        .map(|&(lo, hi)| {
+            if lo.is_finite() && hi.is_finite() && !(lo..=hi).contains(&0.0) {
+                0.5 * (lo + hi)
+            } else {
+                0.0_f64.clamp(lo, hi)
+            }
+        })
+        .collect();
+    let eigen = crate::model::mass_matrix(model, &q).symmetric_eigen();
+    let largest = eigen
+        .eigenvalues
+        .iter()
+        .fold(0.0_f64, |m, e| m.max(e.abs()));
+    let mut coordinates: Vec<String> = Vec::new();
+    let mut negative: Option<f64> = None;
+    for (k, &value) in eigen.eigenvalues.iter().enumerate() {
+        if value > 1e-12 * largest {
+            continue;
+        }
+        if value < -1e-9 * largest {
+            negative = Some(negative.map_or(value, |n| n.min(value)));
+        }
+        let direction = eigen.eigenvectors.column(k);
+        let biggest = direction.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+        for (i, x) in direction.iter().enumerate() {
+            let name = &model.coordinate_names()[i];
+            if x.abs() >= 0.5 * biggest && !coordinates.contains(name) {
+                coordinates.push(name.clone());
+            }
+        }
+    }
+    (!coordinates.is_empty()).then_some(MassMatrixDefect {
+        coordinates,
+        negative,
+    })
 }
 
 /// Combines rigidly attached masses into one body: total mass, centre of mass, and the

@@ -17,16 +17,13 @@ pub(super) struct JointCoordinates<'a> {
 }
 
 impl JointCoordinates<'_> {
-    /// The coordinate of `joint`, named by `element` `owner`; an undefined or fixed joint is
-    /// an error naming both.
-    fn of(&self, element: &'static str, owner: &str, joint: &str) -> Result<usize, ModelError> {
-        let j = self.joint_of.get(joint).copied().ok_or_else(|| {
-            bad(
-                element,
-                owner,
-                format!("refers to joint '{joint}', which is not defined"),
-            )
-        })?;
+    /// The coordinate of `joint`, or why it has none: not defined, fixed, or a mimic.
+    fn coordinate(&self, joint: &str) -> Result<usize, String> {
+        let j = self
+            .joint_of
+            .get(joint)
+            .copied()
+            .ok_or_else(|| format!("refers to joint '{joint}', which is not defined"))?;
         self.joint_coordinate[j].ok_or_else(|| {
             let why = match &self.robot.joints[j].mimic {
                 Some(m) if self.robot.joints[j].joint_type != urdf_rs::JointType::Fixed => {
@@ -37,12 +34,15 @@ impl JointCoordinates<'_> {
                 }
                 _ => "is fixed and has no coordinate".to_string(),
             };
-            bad(
-                element,
-                owner,
-                format!("acts on joint '{joint}', which {why}"),
-            )
+            format!("acts on joint '{joint}', which {why}")
         })
+    }
+
+    /// The coordinate of `joint`, named by `element` `owner`; an undefined or fixed joint is
+    /// an error naming both.
+    fn of(&self, element: &'static str, owner: &str, joint: &str) -> Result<usize, ModelError> {
+        self.coordinate(joint)
+            .map_err(|problem| bad(element, owner, problem))
     }
 }
 
@@ -162,11 +162,24 @@ pub(super) fn actuators(
     warnings: &mut Vec<String>,
 ) -> Result<Vec<Actuator>, ModelError> {
     let mut transmission_of: HashMap<usize, usize> = HashMap::new();
-    for (t, (name, joint, reduction)) in ext.transmissions.iter().enumerate() {
-        let coordinate = joints.of("transmission", name, joint)?;
-        if *reduction != 1.0 {
+    for (t, raw) in ext.transmissions.iter().enumerate() {
+        let (name, joint) = (&raw.name, &raw.joint);
+        // A transmission on a joint that cannot take an input (one of another model, a
+        // fixed joint, a mimic) is ignored, as ROS's parsers and Pinocchio ignore it.
+        let coordinate = match joints.coordinate(joint) {
+            Ok(c) => c,
+            Err(problem) => {
+                warnings.push(format!(
+                    "line {}: transmission '{name}' {problem}; ignored (no input)",
+                    raw.line
+                ));
+                continue;
+            }
+        };
+        if raw.reduction != 1.0 {
             warnings.push(format!(
-                "transmission '{name}': mechanicalReduction {reduction} ignored (vito uses 1)"
+                "transmission '{name}': mechanicalReduction {} ignored (vito uses 1)",
+                raw.reduction
             ));
         }
         let j = joints.joint_of[joint.as_str()];

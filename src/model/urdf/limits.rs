@@ -71,7 +71,8 @@ pub(super) fn check_nesting(xml: &str, origin: &str) -> Result<(), ModelError> {
                     what: format!("it has more than {MAX_ELEMENTS} elements (line {line})"),
                     limit: format!("{MAX_ELEMENTS} elements"),
                     fix: "remove the visuals, collisions and elements vito does not read, or \
-                          merge rigidly connected links",
+                          merge rigidly connected links"
+                        .into(),
                 });
             }
             let mut j = start + 1;
@@ -90,7 +91,8 @@ pub(super) fn check_nesting(xml: &str, origin: &str) -> Result<(), ModelError> {
                                 ),
                                 limit: format!("{MAX_ATTRIBUTES} attributes per element"),
                                 fix: "a URDF element has a few attributes (name, xyz, rpy, …); \
-                                      remove the others",
+                                      remove the others"
+                                    .into(),
                             });
                         }
                     }
@@ -118,7 +120,9 @@ pub(super) fn check_nesting(xml: &str, origin: &str) -> Result<(), ModelError> {
                         origin: origin.to_owned(),
                         what: format!("elements nest more than {MAX_DEPTH} deep at line {line}"),
                         limit: format!("{MAX_DEPTH} levels deep"),
-                        fix: "a URDF's elements sit a few levels below <robot>; close the open elements",
+                        fix: "a URDF's elements sit a few levels below <robot>; close the open \
+                              elements"
+                            .into(),
                     });
                 }
             }
@@ -144,28 +148,112 @@ pub(super) fn check_counts(doc: &Document, origin: &str) -> Result<(), ModelErro
                 origin: origin.to_owned(),
                 what: format!("it has {count} <{kind}> elements"),
                 limit: format!("{MAX_LINKS} links and {MAX_LINKS} joints"),
-                fix: "merge rigidly connected links, or split the model",
+                fix: "merge rigidly connected links, or split the model".into(),
             });
         }
     }
     Ok(())
 }
 
-/// Refuses a model with more than [`MAX_COORDINATES`] coordinates.
+/// Refuses a model with more than [`MAX_COORDINATES`] coordinates, naming joints whose
+/// fixing would bring it within the limit ([`joints_to_fix`]).
 pub(super) fn check_coordinates(
     model: &crate::model::Model,
+    robot: &urdf_rs::Robot,
     origin: &str,
 ) -> Result<(), ModelError> {
     let n = model.nq();
     if n > MAX_COORDINATES {
+        let base = model.base().coordinate_names().len();
+        let mut fix = String::from("make joints that need not move `fixed`");
+        if let Some(hint) = joints_to_fix(robot, n - MAX_COORDINATES) {
+            fix.push_str(&format!(", {hint}"));
+        }
+        if base > 0 && n - base <= MAX_COORDINATES {
+            fix.push_str(&format!(
+                "; or load it with `--base fixed` ({} coordinates)",
+                n - base
+            ));
+        }
+        fix.push_str("; or model fewer links");
         return Err(ModelError::TooLarge {
             origin: origin.to_owned(),
             what: format!("it has {n} coordinates (moving joints and base)"),
             limit: format!("{MAX_COORDINATES} coordinates"),
-            fix: "make joints that need not move `fixed`, or model fewer links",
+            fix: fix.into(),
         });
     }
     Ok(())
+}
+
+/// Which joints to make fixed to drop at least `excess` coordinates: the moving joints
+/// below the branching links nearest the ends of the tree (a hand's palm, whose fingers
+/// branch from it), largest first, as many as it takes. `None` when no such link holds
+/// `excess` of them.
+fn joints_to_fix(robot: &urdf_rs::Robot, excess: usize) -> Option<String> {
+    use std::collections::HashMap;
+    let index: HashMap<&str, usize> = robot
+        .links
+        .iter()
+        .enumerate()
+        .map(|(i, l)| (l.name.as_str(), i))
+        .collect();
+    let mut children: Vec<Vec<(usize, bool)>> = vec![Vec::new(); robot.links.len()];
+    let mut has_parent = vec![false; robot.links.len()];
+    for joint in &robot.joints {
+        let (Some(&p), Some(&c)) = (
+            index.get(joint.parent.link.as_str()),
+            index.get(joint.child.link.as_str()),
+        ) else {
+            continue;
+        };
+        let moves = joint.joint_type != urdf_rs::JointType::Fixed && joint.mimic.is_none();
+        children[p].push((c, moves));
+        has_parent[c] = true;
+    }
+    // Coordinates below each link, and whether a branching link lies below it, by one
+    // pass children first (a depth-first order; the tree was checked when the model was
+    // built).
+    let root = has_parent.iter().position(|&h| !h)?;
+    let mut order = Vec::with_capacity(robot.links.len());
+    let mut stack = vec![root];
+    while let Some(l) = stack.pop() {
+        order.push(l);
+        stack.extend(children[l].iter().map(|&(c, _)| c));
+    }
+    let mut below = vec![0usize; robot.links.len()];
+    let mut branching_below = vec![false; robot.links.len()];
+    let mut ends: Vec<usize> = Vec::new();
+    for &l in order.iter().rev() {
+        let moving_branches = children[l]
+            .iter()
+            .filter(|&&(c, moves)| moves || below[c] > 0)
+            .count();
+        below[l] = children[l]
+            .iter()
+            .map(|&(c, moves)| below[c] + usize::from(moves))
+            .sum();
+        let deeper = children[l].iter().any(|&(c, _)| branching_below[c]);
+        let branches = moving_branches >= 2;
+        if branches && !deeper && l != root {
+            ends.push(l);
+        }
+        branching_below[l] = branches || deeper;
+    }
+    ends.sort_by_key(|&l| std::cmp::Reverse(below[l]));
+    let mut dropped = 0;
+    let mut named = Vec::new();
+    for &l in &ends {
+        if dropped >= excess {
+            break;
+        }
+        dropped += below[l];
+        named.push(format!(
+            "the {} below link `{}`",
+            below[l], robot.links[l].name
+        ));
+    }
+    (dropped >= excess).then(|| format!("e.g. {}", named.join(" and ")))
 }
 
 #[cfg(test)]

@@ -16,6 +16,10 @@
 //! limit"), `pi`-expressions such as `-pi/4` in `<limit>`, commas in `xyz`/`rpy`, a one-value
 //! mesh `scale`, capitalised joint types, and stray `/` text.
 //!
+//! A `<limit>` value of magnitude [`values::NO_LIMIT`] (1e19, Ipopt's infinity) or more is no
+//! limit, as `inf` is: portable URDFs write it where urdfdom (ROS's and Pinocchio's reader)
+//! needs a finite number.
+//!
 //! Visual and collision shapes are kept for drawing only (`geometry`: checked, never read
 //! as mechanics; mesh files are not opened here).
 //!
@@ -85,14 +89,15 @@ pub(crate) fn load(xml: &str, origin: &str, base: BaseType) -> Result<Model, Mod
     let doc = Document::parse(&repaired).map_err(|e| xml_error(origin, e))?;
     limits::check_counts(&doc, origin)?;
     let extensions = extensions::read_extensions(&doc, &mut warnings)?;
-    let robot = urdf_rs::read_from_string(&repaired).map_err(|e| ModelError::Urdf {
+    let mut robot = urdf_rs::read_from_string(&repaired).map_err(|e| ModelError::Urdf {
         origin: origin.to_string(),
         message: e.to_string(),
     })?;
+    values::open_limits(&mut robot);
     values::check_values(&robot, &extensions)?;
     let geometry = geometry::read(&robot)?;
     let mut model = build::build(&robot, &extensions, base, origin, warnings)?;
-    limits::check_coordinates(&model, origin)?;
+    limits::check_coordinates(&model, &robot, origin)?;
     // The first shapes listed under each name, looked up by name (a scan per link was
     // quadratic in the links).
     let mut by_name = std::collections::HashMap::with_capacity(geometry.len());

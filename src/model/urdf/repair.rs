@@ -47,6 +47,24 @@ pub(super) fn repair(
             continue;
         }
         let tag = node.tag_name().name();
+        // A visual material's `<texture/>` without a file (iCub's and Romeo's URDFs have
+        // them): vito draws no textures, and the URDF reader refuses one without a file.
+        if tag == "texture" && node.attribute("filename").is_none() {
+            let material = node
+                .parent_element()
+                .filter(|p| p.has_tag_name("material"))
+                .and_then(|p| p.attribute("name"))
+                .map_or_else(String::new, |m| format!(" in <material name=\"{m}\">"));
+            warnings.push(format!(
+                "line {}: <texture>{material} has no filename and is not used by vito; ignored",
+                line(node.range().start)
+            ));
+            edits.push(Edit {
+                range: node.range(),
+                text: String::new(),
+            });
+            continue;
+        }
         for attr in node.attributes() {
             let value = attr.value();
             let name = attr.name();

@@ -5,6 +5,28 @@
 use super::extensions::{Extensions, bad};
 use crate::model::ModelError;
 
+/// A joint limit of this magnitude or more is no limit: Ipopt's infinity
+/// (`nlp_upper_bound_inf`), which a portable URDF writes (e.g. `1e20`) where `inf` would do,
+/// since urdfdom, ROS's and Pinocchio's reader, refuses `inf`.
+pub(super) const NO_LIMIT: f64 = 1e19;
+
+/// Reads every `<limit>` value of magnitude [`NO_LIMIT`] or more as infinite (lower
+/// −∞; upper, effort and velocity +∞), so a file that writes `1e20` plans exactly as one
+/// that writes `inf`.
+pub(super) fn open_limits(robot: &mut urdf_rs::Robot) {
+    for joint in &mut robot.joints {
+        let limit = &mut joint.limit;
+        if limit.lower <= -NO_LIMIT {
+            limit.lower = f64::NEG_INFINITY;
+        }
+        for value in [&mut limit.upper, &mut limit.effort, &mut limit.velocity] {
+            if *value >= NO_LIMIT {
+                *value = f64::INFINITY;
+            }
+        }
+    }
+}
+
 /// Whether every entry is a finite number.
 fn finite(values: &[f64]) -> bool {
     values.iter().all(|v| v.is_finite())
@@ -85,8 +107,11 @@ pub(super) fn check_values(robot: &urdf_rs::Robot, ext: &Extensions) -> Result<(
     // The first transmission on each joint, by joint name (a scan of the earlier ones per
     // transmission was quadratic in them).
     let mut first_on: std::collections::HashMap<&str, &str> = std::collections::HashMap::new();
-    for (name, joint, _) in &ext.transmissions {
-        if let Some(first) = first_on.insert(joint.as_str(), name.as_str()) {
+    for t in &ext.transmissions {
+        let (name, joint) = (&t.name, &t.joint);
+        if let Some(first) = first_on.insert(joint.as_str(), name.as_str())
+            && first != name
+        {
             return Err(bad(
                 "transmission",
                 name,

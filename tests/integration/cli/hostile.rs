@@ -526,7 +526,8 @@ fn silently_accepted_urdf_mistakes_are_errors() {
 #[test]
 fn model_warnings_are_shown_by_check() {
     let t = TestDir::with_hopper("model_warnings");
-    let u = hopper_urdf().replacen(" effort=\"10\" velocity=\"inf\"", " effort=\"10\"", 1);
+    let u = hopper_urdf().replacen(" effort=\"10\" velocity=\"1e20\"", " effort=\"10\"", 1);
+    assert_ne!(u, hopper_urdf());
     t.write("robots/hopper_2d.urdf", &u);
     t.write("p.toml", &hopper_text());
     let run = t.vito().args(["check", "p.toml"]).assert_exit(0);
@@ -1285,9 +1286,10 @@ fn every_exit_code_is_documented_and_reached() {
 
 /// `init` and `inspect` choose the same base by default: fixed for the
 /// hopper, whose URDF slides its root itself (no six extra coordinates), standing on the
-/// ground; a fixed-base starter whose contacts would start under the ground is an error.
+/// ground; a fixed-base starter whose contacts would start under the ground stands on
+/// ground lowered to its lowest contact.
 #[test]
-fn init_base_defaults_to_inspects_and_refuses_feet_under_ground() {
+fn init_base_defaults_to_inspects_and_lowers_the_ground_under_a_bolted_robot() {
     let t = TestDir::with_hopper("init_base_defaults_to_inspects");
     let inspect = t
         .vito()
@@ -1295,7 +1297,10 @@ fn init_base_defaults_to_inspects_and_refuses_feet_under_ground() {
         .assert_exit(0)
         .stdout;
     assert!(
-        inspect.contains("(fixed base)") && inspect.contains("coordinates (4)"),
+        inspect.contains("(fixed base)")
+            && inspect.contains("coordinates (4)")
+            && inspect
+                .contains("base fixed (--base auto): its own prismatic joints move its root link"),
         "{inspect}"
     );
     t.vito()
@@ -1310,7 +1315,35 @@ fn init_base_defaults_to_inspects_and_refuses_feet_under_ground() {
         "{}",
         check.stderr
     );
-    // The brick welded to the world: its corners start under the ground, nothing lifts it.
+    // An arm bolted down at z = 0 with a collision sphere 0.05 m under its mount: the
+    // ground is lowered to it, and the starter checks.
+    let arm = r#"<?xml version="1.0"?>
+<robot name="arm">
+  <link name="mount"><collision><origin xyz="0 0 -0.05"/><geometry><sphere radius="0"/></geometry></collision></link>
+  <link name="upper"><inertial><origin xyz="0 0 0.2"/><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
+  <joint name="shoulder" type="revolute"><parent link="mount"/><child link="upper"/><axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="10" velocity="1"/></joint>
+</robot>
+"#;
+    std::fs::write(t.path().join("arm.urdf"), arm).unwrap();
+    let inspect = t.vito().args(["inspect", "arm.urdf"]).assert_exit(0).stdout;
+    assert!(
+        inspect.contains(
+            "base fixed (--base auto): no end link or contact reaches below its root link `mount`"
+        ),
+        "{inspect}"
+    );
+    t.vito()
+        .args(["init", "arm.urdf", "--out", "a.toml"])
+        .assert_exit(0);
+    let starter = std::fs::read_to_string(t.path().join("a.toml")).unwrap();
+    assert!(starter.contains("ground_height = -0.05   #"), "{starter}");
+    let check = t.vito().args(["check", "a.toml"]).assert_exit(0);
+    assert!(
+        !check.stderr.contains("below the terrain"),
+        "{}",
+        check.stderr
+    );
+    // A fixed base without moving joints has nothing to plan: refused, naming the fix.
     let brick = crate::cli::util::problems_dir().join("robots/brick.urdf");
     let run = t
         .vito()
@@ -1318,7 +1351,7 @@ fn init_base_defaults_to_inspects_and_refuses_feet_under_ground() {
         .args(["--base", "fixed", "--out", "b.toml"])
         .assert_exit(2);
     assert!(
-        run.stderr.contains("below the ground") && run.stderr.contains("--base floating"),
+        run.stderr.contains("no coordinates") && run.stderr.contains("--base floating"),
         "{}",
         run.stderr
     );
