@@ -654,7 +654,7 @@ mod tests {
             friction_directions: 2,
             normal_impulse: &[vec![1.0], vec![0.0]],
             friction_impulse: &[vec![vec![0.5, 0.0]], vec![vec![0.0, 0.0]]],
-            world_impulse: &[],
+            world_impulse: &[vec![[0.5, 0.0, 1.0]], vec![[0.0, 0.0, 2.0]]],
             signed_distance: &[vec![0.0], vec![0.1], vec![0.25]],
             contact_positions: &[
                 vec![[0.0, 0.0, 0.0]],
@@ -669,17 +669,18 @@ mod tests {
             text.lines().next(),
             Some(
                 "time [s],x [m],theta [rad],x_dot [m/s],theta_dot [rad/s],u_theta [N·m],\
-                 toe_normal [N·s],toe_friction_+x [N·s],toe_friction_-x [N·s],toe_distance [m],\
+                 toe_normal [N·s],toe_friction_+x [N·s],toe_friction_-x [N·s],\
+                 toe_fx [N·s],toe_fy [N·s],toe_fz [N·s],toe_distance [m],\
                  toe_x [m],toe_y [m],toe_z [m],slack"
             )
         );
         assert_eq!(
             text.lines().nth(3),
-            Some("0.3,0.5,2,1.25,17.5,,,,,0.25,0.5,0,0.25,")
+            Some("0.3,0.5,2,1.25,17.5,,,,,,,,0.25,0.5,0,0.25,")
         );
         assert_eq!(
             text.lines().nth(1),
-            Some("0,0,0.5,0,0,3,1,0.5,0,0,0,0,0,1e-9")
+            Some("0,0,0.5,0,0,3,1,0.5,0,0.5,0,1,0,0,0,0,1e-9")
         );
         // Asked in another order than written.
         let back = read_trajectory(&text, &names(&["theta", "x"]), &inputs).unwrap();

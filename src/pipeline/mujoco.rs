@@ -62,18 +62,7 @@ pub struct MujocoModel {
 
 /// Escapes text for an XML attribute value.
 fn attr(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    for c in text.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&apos;"),
-            _ => out.push(c),
-        }
-    }
-    out
+    crate::files::names::xml_escape(text)
 }
 
 fn vec3(v: [f64; 3]) -> String {

@@ -355,7 +355,7 @@ mod tests {
         let units = ColumnUnits::x_theta_sample();
         let text = trajectory_csv(&s, &units);
         let header = text.lines().next().unwrap();
-        assert!(header.starts_with("time [s],x [m],theta [rad],x_dot [m/s],theta_dot [rad/s],u_theta [N·m],toe_normal [N·s],toe_friction_+x [N·s],toe_friction_-x [N·s],toe_distance [m],"));
+        assert!(header.starts_with("time [s],x [m],theta [rad],x_dot [m/s],theta_dot [rad/s],u_theta [N·m],toe_normal [N·s],toe_friction_+x [N·s],toe_friction_-x [N·s],toe_fx [N·s],toe_fy [N·s],toe_fz [N·s],toe_distance [m],"));
         assert!(header.ends_with(",slack"));
         let table = read_csv(&text).unwrap();
         assert_eq!(table.rows(), 4);
