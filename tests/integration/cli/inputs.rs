@@ -109,8 +109,8 @@ fn a_joint_with_a_negative_effort_limit_is_never_actuated() {
     let t = TestDir::with_hopper("negative_effort_never_actuated");
     let urdf = t.path().join("robots/hopper_2d.urdf");
     let text = std::fs::read_to_string(&urdf).unwrap().replacen(
-        r#"<limit lower="-inf" upper="inf" effort="inf" velocity="inf"/>"#,
-        r#"<limit lower="-inf" upper="inf" effort="-5" velocity="inf"/>"#,
+        r#"<limit lower="-1e20" upper="1e20" effort="1e20" velocity="1e20"/>"#,
+        r#"<limit lower="-1e20" upper="1e20" effort="-5" velocity="1e20"/>"#,
         1,
     );
     std::fs::write(&urdf, text).unwrap();
