@@ -28,8 +28,8 @@ fn solve(t: &TestDir, file: &Path, extra: &[&str], code: i32) -> (PathBuf, crate
 }
 
 /// The hopper jumping onto a 0.15 m platform from its linear guess: Ipopt reports an optimum
-/// (`solve_succeeded`) of the relaxed problem whose slack is 0.034, the foot pushing while
-/// above the ground. That is `relaxed_contact`, exit 1, with the contact, interval and slack named
+/// (`solve_succeeded`) of the relaxed problem whose slack is 0.034 (0.044 with Ipopt 3.14), the
+/// foot pushing while above the ground. That is `relaxed_contact`, exit 1, with the contact, interval and slack named
 /// and what to try; `summary.json` says so too.
 #[test]
 fn platform_hop_with_open_slack_is_relaxed_contact_not_solved() {
@@ -37,7 +37,7 @@ fn platform_hop_with_open_slack_is_relaxed_contact_not_solved() {
     let (out, run) = solve(&t, &fixture("hop_up.toml"), &[], 1);
     for text in [
         "status       relaxed_contact (Ipopt: solve_succeeded)",
-        "contact `foot_contact` at interval 3 (knots 3–4, t = 0.3–0.4 s,",
+        "contact `foot_contact` at interval ",
         "above slack.tolerance 1e-4",
         "--starts",
         "warm start",
@@ -56,7 +56,16 @@ fn platform_hop_with_open_slack_is_relaxed_contact_not_solved() {
         s["max_slack"]
     );
     assert_eq!(s["max_slack_at"]["contact"], "foot_contact");
-    assert_eq!(s["max_slack_at"]["interval"], 3);
+    // Which interval holds it is Ipopt's path (3 with Debian 12's Ipopt 3.11, 5 with Debian
+    // 13's 3.14): the terminal names the one summary.json records, with its knots and times.
+    let j = s["max_slack_at"]["interval"].as_u64().unwrap();
+    let named = format!(
+        "at interval {j} (knots {j}–{}, t = {:.1}–{:.1} s,",
+        j + 1,
+        0.1 * j as f64,
+        0.1 * (j + 1) as f64
+    );
+    assert!(run.stdout.contains(&named), "{named:?} in\n{}", run.stdout);
     // The slack variables hold it, not only products cancelled in the rows' sums: a higher
     // weight can close it.
     assert_eq!(s["max_slack_at"]["hidden"], false);
