@@ -151,19 +151,14 @@ fn motion_of(result: &Result_, problem: &LoadedProblem) -> Result<vito::view::Mo
         .iter()
         .map(|c| c.name.as_str())
         .collect();
+    // The problem's own friction basis names the columns ([+x, −x] or [+x, +y, −x, −y]).
+    let directions = vito::files::trajectory_csv::friction_direction_names(
+        vito::contact::FrictionBasis::for_robot(problem.robot.moves_in_xz_plane).num_directions(),
+    );
     let mut normal = vec![Vec::new(); intervals];
     let mut friction = vec![Vec::new(); intervals];
     for c in &contacts {
         let n = column(&format!("{c}_normal")).unwrap_or_else(|| vec![0.0; intervals]);
-        let directions = [4, 2]
-            .into_iter()
-            .map(vito::files::trajectory_csv::friction_direction_names)
-            .find(|names| {
-                table
-                    .column(&format!("{c}_friction_{}", names[0]))
-                    .is_some()
-            })
-            .unwrap_or_default();
         let betas: Vec<Vec<f64>> = directions
             .iter()
             .map(|d| column(&format!("{c}_friction_{d}")).unwrap_or_else(|| vec![0.0; intervals]))

@@ -260,6 +260,7 @@ pub struct Frame {
 pub fn frames(scene: &Scene, motion: &Motion) -> Vec<Frame> {
     let model = scene.mechanics.model();
     let nc = scene.mechanics.num_contacts();
+    let basis = FrictionBasis::for_robot(scene.mechanics.moves_in_xz_plane());
     frame_indices(
         &motion.times,
         motion.is_simulation(),
@@ -285,7 +286,6 @@ pub fn frames(scene: &Scene, motion: &Motion) -> Vec<Frame> {
                 let finite = |x: f64| if x.is_finite() { x } else { 0.0 };
                 let friction: Vec<f64> =
                     beta.map_or(vec![], |b| b.iter().map(|&x| finite(x)).collect());
-                let basis = FrictionBasis::for_robot(friction.len() != 4);
                 let p = scene.mechanics.contact_position(c, acts_at);
                 let normal =
                     world_impulse(basis, &scene.terrain, p, finite(normal.unwrap_or(0.0)), &[]);

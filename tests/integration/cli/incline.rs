@@ -2,19 +2,12 @@
 //! `problems/brick_incline.toml` released at rest on it obeys Coulomb's law of the plane, in
 //! the simulator and the planner, whichever way the plane falls.
 
-use crate::cli::util::{TestDir, csv_columns, problems_dir, summary};
+use crate::cli::util::{TestDir, column_named, csv_columns, problems_dir, summary};
 
 /// Base position columns (x, y, z) of a trajectory CSV, per knot.
 fn base_positions(dir: &std::path::Path) -> Vec<[f64; 3]> {
     let columns = csv_columns(&std::fs::read_to_string(dir.join("trajectory.csv")).unwrap());
-    let column = |name: &str| {
-        columns
-            .iter()
-            .find(|(n, _)| n == name)
-            .unwrap_or_else(|| panic!("no column {name}"))
-            .1
-            .clone()
-    };
+    let column = |name: &str| column_named(&columns, name);
     let (x, y, z) = (column("base_x"), column("base_y"), column("base_z"));
     (0..x.len()).map(|k| [x[k], y[k], z[k]]).collect()
 }

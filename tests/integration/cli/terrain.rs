@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::cli::util::{TestDir, csv_columns, hopper_text, says};
+use crate::cli::util::{TestDir, column_named, csv_columns, hopper_text, says};
 
 fn fixture(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -19,14 +19,7 @@ fn fixture(name: &str) -> PathBuf {
 /// along x and y).
 fn momentum_residuals(dir: &Path) -> (f64, f64) {
     let columns = csv_columns(&std::fs::read_to_string(dir.join("trajectory.csv")).unwrap());
-    let column = |name: &str| {
-        columns
-            .iter()
-            .find(|(n, _)| n == name)
-            .unwrap_or_else(|| panic!("no column {name}"))
-            .1
-            .clone()
-    };
+    let column = |name: &str| column_named(&columns, name);
     let corners: Vec<String> = columns
         .iter()
         .filter_map(|(n, _)| n.strip_suffix("_fx").map(str::to_owned))

@@ -227,6 +227,16 @@ pub fn wait_after_stop(mut child: std::process::Child) -> std::process::ExitStat
 
 /// A CSV's columns by name (units stripped), parsed here rather than by vito's reader; a
 /// cell that is not a number is NaN.
+/// The column `name` of [`csv_columns`]' output (panics naming it when missing).
+pub fn column_named(columns: &[(String, Vec<f64>)], name: &str) -> Vec<f64> {
+    columns
+        .iter()
+        .find(|(n, _)| n == name)
+        .unwrap_or_else(|| panic!("no column {name}"))
+        .1
+        .clone()
+}
+
 pub fn csv_columns(text: &str) -> Vec<(String, Vec<f64>)> {
     let mut lines = text.lines();
     let header = lines.next().unwrap_or_default();
